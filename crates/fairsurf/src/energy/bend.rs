@@ -1,0 +1,60 @@
+//! The thin-plate (bend) energy `½ ∫∫ |R_uu|² + 2|R_uv|² + |R_vv|² du dv`: the
+//! fairness part of Wu & Yang's E2 (eq. 2) and the biharmonic functional whose
+//! Euler–Lagrange equation is Δ²R = 0.
+
+use super::{check_weight, fairness, EnergyTerm, Hessian, Measure, TermForm};
+use crate::Result;
+
+/// `w · ½ ∫∫ |R_uu|² + 2|R_uv|² + |R_vv|²` (exact) or the same summed over a
+/// sample grid (eq. 5 applied to E2).
+///
+/// ```
+/// use fairsurf::{Bend, EnergyTerm, TensorPatch};
+/// // z = u² over the unit square: R_uu = (0,0,2), so the energy is ½·4 = 2.
+/// let p = TensorPatch::from_fn(2, 1, |i, j| [i as f64 / 2.0, j as f64, if i == 2 { 1.0 } else { 0.0 }]);
+/// let e = Bend::new(1.0).form((2, 1)).unwrap().value(p.points());
+/// assert!((e - 2.0).abs() < 1e-14);
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bend {
+    /// The weight w (≥ 0).
+    pub weight: f64,
+    /// Exact integral or sample sum.
+    pub measure: Measure,
+}
+
+impl Bend {
+    /// The exact thin-plate energy with weight w.
+    pub fn new(weight: f64) -> Self {
+        Self {
+            weight,
+            measure: Measure::Exact,
+        }
+    }
+
+    /// The same term measured by `measure`.
+    pub fn with_measure(mut self, measure: Measure) -> Self {
+        self.measure = measure;
+        self
+    }
+}
+
+impl EnergyTerm for Bend {
+    fn name(&self) -> &'static str {
+        "bend"
+    }
+
+    fn form(&self, degree: (usize, usize)) -> Result<TermForm> {
+        check_weight("bend weight", self.weight)?;
+        let h = fairness(
+            degree,
+            &self.measure,
+            &[((2, 0), 1.0), ((1, 1), 2.0), ((0, 2), 1.0)],
+            self.weight,
+        );
+        Ok(TermForm {
+            hessian: Hessian::PerCoordinate(h),
+            center: None,
+        })
+    }
+}

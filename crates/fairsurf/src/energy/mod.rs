@@ -1,0 +1,254 @@
+//! Energy terms as exact quadratic forms over the control points.
+//!
+//! Every term of Wu & Yang 2015 (eq. 1, 2 and the sampled eq. 5) has the form
+//!
+//! ```text
+//! E_t(P) = ½ (x − s)ᵀ H_t (x − s)
+//! ```
+//!
+//! with x the control points of the patch, H_t symmetric positive
+//! semi-definite and s a centre (zero except for the guide surface, where it
+//! is the guide's control net). Terms that treat x, y and z alike
+//! (stretch, bend, guide) have a per-coordinate (n+1)(m+1)-square Hessian; the
+//! normal-field term couples the coordinates and has a 3(n+1)(m+1)-square one,
+//! ordered point-major (x of P_00, y of P_00, z of P_00, x of P_01, …).
+//!
+//! Integrals are exact (closed-form Bernstein product integrals, see
+//! [`crate::basis::product_integral`]); sampled terms are exact sums.
+
+mod bend;
+mod guide_surface;
+mod kron;
+mod normal_field;
+mod stretch;
+
+pub use bend::Bend;
+pub use guide_surface::GuideSurface;
+pub use normal_field::{NormalField, NormalGuide};
+pub use stretch::Stretch;
+
+pub(crate) use kron::{form, Axis};
+
+use crate::vec3::Vec3;
+use crate::{Error, Result};
+use faer::Mat;
+use std::fmt::Debug;
+
+/// A term of the total energy: contributes one quadratic form.
+pub trait EnergyTerm: Debug + Send + Sync {
+    /// The term's name in reports: "stretch", "bend", "normal_field", …
+    fn name(&self) -> &'static str;
+
+    /// The term's Hessian and centre for a patch of the given degree, or an
+    /// error naming what in the term is invalid (negative weight, wrong size…).
+    fn form(&self, degree: (usize, usize)) -> Result<TermForm>;
+}
+
+/// The Hessian of a quadratic energy term.
+#[derive(Clone, Debug)]
+pub enum Hessian {
+    /// The same (n+1)(m+1)-square matrix acts on x, y and z separately.
+    PerCoordinate(Mat<f64>),
+    /// One 3(n+1)(m+1)-square matrix over all coordinates, point-major.
+    Coupled(Mat<f64>),
+}
+
+/// `E(x) = ½ (x − s)ᵀ H (x − s)`: one term, assembled.
+#[derive(Clone, Debug)]
+pub struct TermForm {
+    /// H.
+    pub hessian: Hessian,
+    /// s, one point per control point; `None` for the origin.
+    pub center: Option<Vec<Vec3>>,
+}
+
+impl TermForm {
+    /// The term's value at the control points `x` (row-major net).
+    ///
+    /// Evaluated as ½ dᵀHd with d = x − s (never expanded), so a small value
+    /// keeps its relative accuracy.
+    pub fn value(&self, x: &[Vec3]) -> f64 {
+        let d: Vec<Vec3> = match &self.center {
+            None => x.to_vec(),
+            Some(s) => x
+                .iter()
+                .zip(s)
+                .map(|(a, b)| crate::vec3::sub(*a, *b))
+                .collect(),
+        };
+        match &self.hessian {
+            Hessian::PerCoordinate(h) => (0..3)
+                .map(|c| {
+                    let v: Vec<f64> = d.iter().map(|p| p[c]).collect();
+                    0.5 * quad(h, &v)
+                })
+                .sum(),
+            Hessian::Coupled(h) => {
+                let v: Vec<f64> = d.iter().flat_map(|p| p.iter().copied()).collect();
+                0.5 * quad(h, &v)
+            }
+        }
+    }
+}
+
+/// vᵀ H v.
+pub(crate) fn quad(h: &Mat<f64>, v: &[f64]) -> f64 {
+    let mut s = 0.0;
+    for j in 0..v.len() {
+        if v[j] == 0.0 {
+            continue;
+        }
+        let col: f64 = (0..v.len()).map(|i| h[(i, j)] * v[i]).sum();
+        s += col * v[j];
+    }
+    s
+}
+
+/// How a term is measured over the parameter square.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Measure {
+    /// ∫∫ over [0, 1]², exactly (Wu & Yang eq. 1–2).
+    Exact,
+    /// Σ over a uniform sample grid (Wu & Yang eq. 5).
+    Grid(SampleGrid),
+}
+
+/// The uniform grid `u_ip = ip/np`, `v_jp = jp/mp` of Wu & Yang §4, with
+/// (np+1)(mp+1) samples numbered row-major: sample `ip·(mp+1) + jp`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SampleGrid {
+    np: usize,
+    mp: usize,
+}
+
+impl SampleGrid {
+    /// The grid with np+1 by mp+1 samples.
+    ///
+    /// # Panics
+    /// If np or mp is 0; see [`SampleGrid::try_new`].
+    pub fn new(np: usize, mp: usize) -> Self {
+        Self::try_new(np, mp).expect("SampleGrid::new")
+    }
+
+    /// The grid, or an error when np or mp is 0 (one sample per direction has
+    /// no spacing).
+    pub fn try_new(np: usize, mp: usize) -> Result<Self> {
+        if np == 0 || mp == 0 {
+            return Err(Error::Mismatch {
+                what: "sample grid".into(),
+                expected: "np ≥ 1 and mp ≥ 1".into(),
+                got: format!("[{np}, {mp}]"),
+            });
+        }
+        Ok(Self { np, mp })
+    }
+
+    /// (np, mp).
+    pub fn size(&self) -> (usize, usize) {
+        (self.np, self.mp)
+    }
+
+    /// Number of samples, (np+1)(mp+1).
+    pub fn len(&self) -> usize {
+        (self.np + 1) * (self.mp + 1)
+    }
+
+    /// Always false.
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+
+    /// u_0 … u_np.
+    pub fn us(&self) -> Vec<f64> {
+        (0..=self.np).map(|i| i as f64 / self.np as f64).collect()
+    }
+
+    /// v_0 … v_mp.
+    pub fn vs(&self) -> Vec<f64> {
+        (0..=self.mp).map(|j| j as f64 / self.mp as f64).collect()
+    }
+
+    /// (u, v) of sample k.
+    pub fn param(&self, k: usize) -> (f64, f64) {
+        let (i, j) = (k / (self.mp + 1), k % (self.mp + 1));
+        (i as f64 / self.np as f64, j as f64 / self.mp as f64)
+    }
+
+    pub(crate) fn axes(&self) -> (Axis, Axis) {
+        (Axis::Samples(self.us()), Axis::Samples(self.vs()))
+    }
+
+    /// The (np+1)×(mp+1) weight table from per-sample weights (or all ones).
+    pub(crate) fn weight_table(&self, weights: Option<&[f64]>) -> Mat<f64> {
+        Mat::from_fn(self.np + 1, self.mp + 1, |i, j| {
+            weights.map_or(1.0, |w| w[i * (self.mp + 1) + j])
+        })
+    }
+
+    /// Checks a per-sample list's length.
+    pub(crate) fn check_len(&self, what: &str, got: usize) -> Result<()> {
+        if got != self.len() {
+            return Err(Error::Mismatch {
+                what: what.into(),
+                expected: format!(
+                    "{} samples ((np+1)(mp+1) for grid [{}, {}])",
+                    self.len(),
+                    self.np,
+                    self.mp
+                ),
+                got: got.to_string(),
+            });
+        }
+        Ok(())
+    }
+}
+
+impl Measure {
+    /// The axes and unit weight table for an unweighted term.
+    pub(crate) fn unit(&self) -> ((Axis, Axis), Mat<f64>) {
+        match self {
+            Measure::Exact => (
+                (Axis::Bernstein(0), Axis::Bernstein(0)),
+                Mat::from_fn(1, 1, |_, _| 1.0),
+            ),
+            Measure::Grid(g) => (g.axes(), g.weight_table(None)),
+        }
+    }
+}
+
+/// Checks that a weight is finite and ≥ 0.
+pub(crate) fn check_weight(what: &str, w: f64) -> Result<()> {
+    if !w.is_finite() {
+        return Err(Error::NotFinite { what: what.into() });
+    }
+    if w < 0.0 {
+        return Err(Error::NegativeWeight {
+            what: what.into(),
+            value: w,
+        });
+    }
+    Ok(())
+}
+
+/// Checks every per-sample weight.
+pub(crate) fn check_weights(what: &str, ws: &[f64]) -> Result<()> {
+    ws.iter()
+        .enumerate()
+        .try_for_each(|(k, &w)| check_weight(&format!("{what}[{k}]"), w))
+}
+
+/// Sum of derivative patterns `Σ c · form(pattern)` for an unweighted measure.
+pub(crate) fn fairness(
+    degree: (usize, usize),
+    measure: &Measure,
+    patterns: &[((usize, usize), f64)],
+    weight: f64,
+) -> Mat<f64> {
+    let ((au, av), w) = measure.unit();
+    let n = (degree.0 + 1) * (degree.1 + 1);
+    let mut h = Mat::<f64>::zeros(n, n);
+    for &(pattern, c) in patterns {
+        h += faer::Scale(weight * c) * form(degree, pattern, (&au, &av), &w);
+    }
+    h
+}

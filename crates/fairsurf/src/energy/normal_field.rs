@@ -1,0 +1,214 @@
+//! The normal-field term of Wu & Yang 2015:
+//! `½ λ ∫∫ (R_u·N)² + (R_v·N)² du dv` (eq. 1–2) with N a tensor Bézier field of
+//! any degree (n1, m1), or its sampled form
+//! `½ Σ λ_ij [(R_u(u_i,v_j)·N_ij)² + (R_v(u_i,v_j)·N_ij)²]` (eq. 5) with unit
+//! normals N_ij on a grid. It pulls the surface's tangent planes toward the
+//! planes orthogonal to N, and couples x, y and z.
+
+use super::{check_weight, check_weights, form, Axis, EnergyTerm, Hessian, SampleGrid, TermForm};
+use crate::basis::binomial;
+use crate::vec3::{is_finite, normalize, Vec3};
+use crate::{Error, Result, TensorPatch};
+use faer::Mat;
+
+/// Where the guiding normals come from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum NormalGuide {
+    /// A tensor Bézier field N(u, v) = Σ B_i^{n1}(u) B_j^{m1}(v) N_ij, integrated
+    /// exactly. N need not be unit length: Wu & Yang's continuous functional
+    /// uses the field as given.
+    Field(TensorPatch),
+    /// Normals at the samples of a grid (eq. 5), row-major over (ip, jp); they
+    /// are normalized before use. `weights` are the per-sample λ_ij, multiplied
+    /// with the term's weight (all 1 when `None`).
+    Samples {
+        /// The sample grid.
+        grid: SampleGrid,
+        /// One normal per sample.
+        normals: Vec<Vec3>,
+        /// Optional per-sample weights.
+        weights: Option<Vec<f64>>,
+    },
+}
+
+impl NormalGuide {
+    /// Samples a Bézier field on a grid: N(u_i, v_j) normalized, with optional
+    /// per-sample weights. A zero normal at a sample is an error.
+    pub fn sample_field(
+        field: &TensorPatch,
+        grid: SampleGrid,
+        weights: Option<Vec<f64>>,
+    ) -> Result<Self> {
+        let normals = (0..grid.len())
+            .map(|k| {
+                let (u, v) = grid.param(k);
+                field.eval(u, v)
+            })
+            .collect();
+        Ok(NormalGuide::Samples {
+            grid,
+            normals,
+            weights,
+        })
+    }
+}
+
+/// The normal-field term with weight λ (≥ 0).
+#[derive(Clone, Debug, PartialEq)]
+pub struct NormalField {
+    /// λ.
+    pub weight: f64,
+    /// The guiding normals.
+    pub guide: NormalGuide,
+}
+
+impl NormalField {
+    /// The exact term with a Bézier normal field.
+    pub fn new(weight: f64, field: TensorPatch) -> Self {
+        Self {
+            weight,
+            guide: NormalGuide::Field(field),
+        }
+    }
+
+    /// The sampled term (eq. 5).
+    pub fn sampled(
+        weight: f64,
+        grid: SampleGrid,
+        normals: Vec<Vec3>,
+        weights: Option<Vec<f64>>,
+    ) -> Self {
+        Self {
+            weight,
+            guide: NormalGuide::Samples {
+                grid,
+                normals,
+                weights,
+            },
+        }
+    }
+
+    /// The unit guiding normal at (u, v): the field normalized, or for samples
+    /// the normal of the nearest sample. `None` where the field vanishes.
+    pub fn direction(&self, u: f64, v: f64) -> Option<Vec3> {
+        match &self.guide {
+            NormalGuide::Field(f) => normalize(f.eval(u, v)),
+            NormalGuide::Samples { grid, normals, .. } => {
+                let (np, mp) = grid.size();
+                let i = (u * np as f64).round().clamp(0.0, np as f64) as usize;
+                let j = (v * mp as f64).round().clamp(0.0, mp as f64) as usize;
+                normalize(normals[i * (mp + 1) + j])
+            }
+        }
+    }
+
+    /// The (a, b) weight tables and axes: ω_ab = λ N_a N_b as Bernstein
+    /// coefficients (exact) or per-sample values.
+    fn weight_tables(&self) -> Result<((Axis, Axis), Vec<Mat<f64>>)> {
+        let lam = self.weight;
+        match &self.guide {
+            NormalGuide::Field(f) => {
+                let (n1, m1) = f.degree();
+                let tables = pairs()
+                    .map(|(a, b)| {
+                        let mut t = product_table(f, a, b);
+                        t *= faer::Scale(lam);
+                        t
+                    })
+                    .collect();
+                Ok(((Axis::Bernstein(2 * n1), Axis::Bernstein(2 * m1)), tables))
+            }
+            NormalGuide::Samples {
+                grid,
+                normals,
+                weights,
+            } => {
+                grid.check_len("normal_field samples", normals.len())?;
+                if let Some(w) = weights {
+                    grid.check_len("normal_field sample weights", w.len())?;
+                    check_weights("normal_field sample weight", w)?;
+                }
+                let units = normals
+                    .iter()
+                    .enumerate()
+                    .map(|(k, &nrm)| {
+                        if !is_finite(nrm) {
+                            return Err(Error::NotFinite {
+                                what: format!("normal sample {k}"),
+                            });
+                        }
+                        normalize(nrm).ok_or(Error::ZeroNormal {
+                            what: format!("normal sample {k}"),
+                        })
+                    })
+                    .collect::<Result<Vec<_>>>()?;
+                let base = grid.weight_table(weights.as_deref());
+                let (_, mp) = grid.size();
+                let tables = pairs()
+                    .map(|(a, b)| {
+                        Mat::from_fn(base.nrows(), base.ncols(), |i, j| {
+                            let nk = units[i * (mp + 1) + j];
+                            lam * base[(i, j)] * nk[a] * nk[b]
+                        })
+                    })
+                    .collect();
+                Ok((grid.axes(), tables))
+            }
+        }
+    }
+}
+
+/// The six coordinate pairs (a, b) with a ≤ b.
+fn pairs() -> impl Iterator<Item = (usize, usize)> {
+    (0..3).flat_map(|a| (a..3).map(move |b| (a, b)))
+}
+
+/// Bernstein coefficients, degree (2n1, 2m1), of N_a · N_b.
+fn product_table(f: &TensorPatch, a: usize, b: usize) -> Mat<f64> {
+    let (n1, m1) = f.degree();
+    let mut t = Mat::<f64>::zeros(2 * n1 + 1, 2 * m1 + 1);
+    for r in 0..=n1 {
+        for s in 0..=m1 {
+            let x = f.point(r, s)[a] * binomial(n1, r) * binomial(m1, s);
+            if x == 0.0 {
+                continue;
+            }
+            for r2 in 0..=n1 {
+                for s2 in 0..=m1 {
+                    let y = f.point(r2, s2)[b] * binomial(n1, r2) * binomial(m1, s2);
+                    t[(r + r2, s + s2)] += x * y;
+                }
+            }
+        }
+    }
+    Mat::from_fn(2 * n1 + 1, 2 * m1 + 1, |p, q| {
+        t[(p, q)] / (binomial(2 * n1, p) * binomial(2 * m1, q))
+    })
+}
+
+impl EnergyTerm for NormalField {
+    fn name(&self) -> &'static str {
+        "normal_field"
+    }
+
+    fn form(&self, degree: (usize, usize)) -> Result<TermForm> {
+        check_weight("normal_field weight", self.weight)?;
+        let ((au, av), tables) = self.weight_tables()?;
+        let np = (degree.0 + 1) * (degree.1 + 1);
+        let mut h = Mat::<f64>::zeros(3 * np, 3 * np);
+        for ((a, b), w) in pairs().zip(&tables) {
+            let q = form(degree, (1, 0), (&au, &av), w) + form(degree, (0, 1), (&au, &av), w);
+            for qq in 0..np {
+                for p in 0..np {
+                    let x = q[(p, qq)];
+                    h[(3 * p + a, 3 * qq + b)] = x;
+                    h[(3 * p + b, 3 * qq + a)] = x;
+                }
+            }
+        }
+        Ok(TermForm {
+            hessian: Hessian::Coupled(h),
+            center: None,
+        })
+    }
+}

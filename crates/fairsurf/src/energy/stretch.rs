@@ -1,0 +1,59 @@
+//! The membrane (stretch) energy `½ ∫∫ |R_u|² + |R_v|² du dv`: the Dirichlet
+//! functional, the fairness part of Wu & Yang's E1 (eq. 1); Veltkamp &
+//! Wesselink's stretch (eq. 6) in the parametric form.
+
+use super::{check_weight, fairness, EnergyTerm, Hessian, Measure, TermForm};
+use crate::Result;
+
+/// `w · ½ ∫∫ |R_u|² + |R_v|²` (exact) or `w · ½ Σ_samples |R_u|² + |R_v|²` (eq. 5).
+///
+/// ```
+/// use fairsurf::{EnergyTerm, Stretch, TensorPatch};
+/// // The unit square as a bilinear patch: R_u = (1,0,0), R_v = (0,1,0), D = 1.
+/// let sq = TensorPatch::from_fn(1, 1, |i, j| [i as f64, j as f64, 0.0]);
+/// let d = Stretch::new(1.0).form((1, 1)).unwrap().value(sq.points());
+/// assert!((d - 1.0).abs() < 1e-15);
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct Stretch {
+    /// The weight w (≥ 0).
+    pub weight: f64,
+    /// Exact integral or sample sum.
+    pub measure: Measure,
+}
+
+impl Stretch {
+    /// The exact membrane energy with weight w.
+    pub fn new(weight: f64) -> Self {
+        Self {
+            weight,
+            measure: Measure::Exact,
+        }
+    }
+
+    /// The same term measured by `measure`.
+    pub fn with_measure(mut self, measure: Measure) -> Self {
+        self.measure = measure;
+        self
+    }
+}
+
+impl EnergyTerm for Stretch {
+    fn name(&self) -> &'static str {
+        "stretch"
+    }
+
+    fn form(&self, degree: (usize, usize)) -> Result<TermForm> {
+        check_weight("stretch weight", self.weight)?;
+        let h = fairness(
+            degree,
+            &self.measure,
+            &[((1, 0), 1.0), ((0, 1), 1.0)],
+            self.weight,
+        );
+        Ok(TermForm {
+            hessian: Hessian::PerCoordinate(h),
+            center: None,
+        })
+    }
+}

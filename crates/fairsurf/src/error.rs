@@ -1,0 +1,96 @@
+//! The one error type of the math crate.
+
+/// Everything that can go wrong in fairsurf's math: each variant carries the
+/// offending data (which term, which index, expected against got).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A control net has the wrong number of points for its degree.
+    #[error("a degree {degree:?} net needs {expected} control points, got {got}")]
+    ControlPointCount {
+        /// (n, m) of the net.
+        degree: (usize, usize),
+        /// (n+1)(m+1).
+        expected: usize,
+        /// What was given.
+        got: usize,
+    },
+    /// A Bézier curve needs at least one control point.
+    #[error("a Bézier curve needs at least one control point")]
+    EmptyCurve,
+    /// A number that must be finite is NaN or infinite.
+    #[error("{what} is not finite")]
+    NotFinite {
+        /// Which value, e.g. "control point (2, 3)".
+        what: String,
+    },
+    /// A weight that must be ≥ 0 is negative.
+    #[error("{what} must be ≥ 0, got {value}")]
+    NegativeWeight {
+        /// Which weight.
+        what: String,
+        /// Its value.
+        value: f64,
+    },
+    /// A degree or size that must match another does not.
+    #[error("{what}: expected {expected}, got {got}")]
+    Mismatch {
+        /// What is compared.
+        what: String,
+        /// What was needed.
+        expected: String,
+        /// What was given.
+        got: String,
+    },
+    /// A prescribed normal is zero, so it has no direction.
+    #[error("{what} is the zero vector and has no direction")]
+    ZeroNormal {
+        /// Which normal.
+        what: String,
+    },
+    /// Nothing to solve for.
+    #[error("no free control points: {why}")]
+    NoFreePoints {
+        /// Why (e.g. which rings are fixed at which degree).
+        why: String,
+    },
+    /// The problem has no energy term to minimize.
+    #[error("the problem has no energy term: add stretch, bend, normal_field or guide_surface")]
+    NoEnergy,
+    /// A free control point has no initial value but one is needed.
+    #[error("{what}")]
+    MissingValue {
+        /// What is missing and why it is needed.
+        what: String,
+    },
+    /// The energy does not determine the free control points.
+    #[error(
+        "the system for the {unknowns} free coordinates is not positive definite \
+         (Cholesky pivot {pivot} failed): {hint}"
+    )]
+    NotPositiveDefinite {
+        /// Number of unknowns.
+        unknowns: usize,
+        /// Index of the failing pivot.
+        pivot: usize,
+        /// What usually causes it for this problem.
+        hint: String,
+    },
+    /// The system is numerically singular: its estimated condition number is
+    /// beyond what double precision can resolve.
+    #[error(
+        "the system for the {unknowns} free coordinates is numerically singular \
+         (condition number ≈ {condition:.2e}): {hint}"
+    )]
+    Singular {
+        /// Number of unknowns.
+        unknowns: usize,
+        /// Estimated 2-norm condition number of the equilibrated system.
+        condition: f64,
+        /// What usually causes it.
+        hint: String,
+    },
+}
+
+/// `Result` with fairsurf's [`Error`].
+pub type Result<T, E = Error> = std::result::Result<T, E>;

@@ -1,0 +1,64 @@
+//! # fairsurf
+//!
+//! Fair surfaces by exact energy minimization. This crate is the math: the
+//! Bernstein basis with exact product integrals, Bézier curves and
+//! tensor-product patches, energy terms assembled as exact quadratic forms,
+//! and a solver that reports how good its answer is. No files, no HTTP.
+//!
+//! The central problem is Wu & Yang 2015 ("Variational surface design under
+//! normal field guidance"): given some control points of a tensor Bézier
+//! patch R, find the others minimizing
+//!
+//! ```text
+//! E1 = ½ ∫∫ |R_u|² + |R_v|² + λ[(R_u·N)² + (R_v·N)²] + γ|R − S|²        (eq. 1)
+//! E2 = ½ ∫∫ |R_uu|² + 2|R_uv|² + |R_vv|² + λ[(R_u·N)² + (R_v·N)²] + γ|R − S|²   (eq. 2)
+//! ```
+//!
+//! or their sampled forms (eq. 5), or any weighted sum of the terms.
+//!
+//! ```
+//! use fairsurf::{Bend, NormalField, Problem, TensorPatch};
+//! // A 5×5 net: flat boundary, a bump inside.
+//! let net = TensorPatch::from_fn(5, 5, |i, j| {
+//!     let bump = if (1..5).contains(&i) && (1..5).contains(&j) { 1.0 } else { 0.0 };
+//!     [i as f64 / 5.0, j as f64 / 5.0, bump]
+//! });
+//! // Thin plate guided toward the normal (0, 0, 1), two rings fixed (G1 filling).
+//! let up = TensorPatch::new(0, 0, vec![[0.0, 0.0, 1.0]]);
+//! let sol = Problem::new((5, 5))
+//!     .with_fixed_rings(&net, 2)
+//!     .with_term(Bend::new(1.0))
+//!     .with_term(NormalField::new(10.0, up))
+//!     .solve()
+//!     .unwrap();
+//! assert!(sol.report.relative_gradient < 1e-14);
+//! println!("energy {} area {}", sol.report.energy, sol.report.measures.unwrap().area);
+//! ```
+
+mod curve;
+mod error;
+mod mesh;
+mod solve;
+mod tensor;
+mod vec3;
+
+pub mod analysis;
+pub mod basis;
+pub mod energy;
+
+pub use curve::BezierCurve;
+pub use energy::{
+    Bend, EnergyTerm, GuideSurface, Measure, NormalField, NormalGuide, SampleGrid, Stretch,
+};
+pub use error::{Error, Result};
+pub use mesh::TriMesh;
+pub use solve::{
+    Problem, Solution, SolveOptions, SolveReport, SurfaceMeasures, TermEnergy, Timings,
+};
+pub use tensor::{SurfaceDerivatives, TensorPatch};
+pub use vec3::Vec3;
+
+/// Small vector helpers on [`Vec3`].
+pub mod vector {
+    pub use crate::vec3::{add, angle, cross, dot, is_finite, norm, normalize, scale, sub};
+}

@@ -1,0 +1,114 @@
+//! Tessellation of a patch into a triangle mesh with exact normals.
+
+use crate::vec3::{cross, normalize, sub, Vec3};
+use crate::TensorPatch;
+
+/// A triangle mesh: positions, unit normals and (u, v) per vertex,
+/// counter-clockwise triangles (seen from the side the normals point to).
+#[derive(Clone, Debug, PartialEq)]
+pub struct TriMesh {
+    /// Vertex positions.
+    pub positions: Vec<Vec3>,
+    /// Unit vertex normals.
+    pub normals: Vec<Vec3>,
+    /// Parameters (u, v) of each vertex.
+    pub uvs: Vec<[f64; 2]>,
+    /// Vertex indices, three per triangle.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl TriMesh {
+    /// Samples the patch on a (ru+1)×(rv+1) uniform parameter grid (ru, rv ≥ 1)
+    /// and splits each cell into two triangles. Normals are the patch's exact
+    /// unit normals; where the patch is not regular (a collapsed edge) the
+    /// normal is taken a tiny step inside the domain, and failing that from
+    /// the adjacent mesh faces.
+    pub fn from_patch(patch: &TensorPatch, ru: usize, rv: usize) -> Self {
+        let (ru, rv) = (ru.max(1), rv.max(1));
+        let mut positions = Vec::with_capacity((ru + 1) * (rv + 1));
+        let mut normals = Vec::with_capacity(positions.capacity());
+        let mut uvs = Vec::with_capacity(positions.capacity());
+        for i in 0..=ru {
+            for j in 0..=rv {
+                let (u, v) = (i as f64 / ru as f64, j as f64 / rv as f64);
+                let d = patch.derivatives(u, v);
+                positions.push(d.point);
+                uvs.push([u, v]);
+                let inside = |t: f64| (t + if t < 0.5 { 1e-7 } else { -1e-7 }).clamp(0.0, 1.0);
+                let n = d.normal().or_else(|| patch.normal(inside(u), inside(v)));
+                normals.push(n.unwrap_or([f64::NAN; 3]));
+            }
+        }
+        let idx = |i: usize, j: usize| (i * (rv + 1) + j) as u32;
+        let mut triangles = Vec::with_capacity(2 * ru * rv);
+        for i in 0..ru {
+            for j in 0..rv {
+                // R_u × R_v orientation: (i,j) → (i+1,j) → (i+1,j+1) is counter-clockwise.
+                triangles.push([idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)]);
+                triangles.push([idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)]);
+            }
+        }
+        let mut mesh = Self {
+            positions,
+            normals,
+            uvs,
+            triangles,
+        };
+        mesh.repair_normals();
+        mesh
+    }
+
+    /// Replaces missing (NaN) normals by the normalized sum of adjacent face
+    /// normals, or +z when even that vanishes.
+    fn repair_normals(&mut self) {
+        if self.normals.iter().all(|n| !n[0].is_nan()) {
+            return;
+        }
+        let mut acc = vec![[0.0; 3]; self.positions.len()];
+        for t in &self.triangles {
+            let [a, b, c] = t.map(|k| self.positions[k as usize]);
+            let f = cross(sub(b, a), sub(c, a));
+            for &k in t {
+                acc[k as usize] = crate::vec3::add(acc[k as usize], f);
+            }
+        }
+        for (n, a) in self.normals.iter_mut().zip(acc) {
+            if n[0].is_nan() {
+                *n = normalize(a).unwrap_or([0.0, 0.0, 1.0]);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grid_counts_and_orientation() {
+        let p = TensorPatch::from_fn(2, 2, |i, j| [i as f64, j as f64, 0.0]);
+        let m = TriMesh::from_patch(&p, 4, 3);
+        assert_eq!(m.positions.len(), 20);
+        assert_eq!(m.triangles.len(), 24);
+        for t in &m.triangles {
+            let [a, b, c] = t.map(|k| m.positions[k as usize]);
+            assert!(
+                cross(sub(b, a), sub(c, a))[2] > 0.0,
+                "counter-clockwise about +z"
+            );
+        }
+    }
+
+    #[test]
+    fn collapsed_edge_gets_a_finite_normal() {
+        let cone = TensorPatch::from_fn(2, 2, |i, j| {
+            if j == 0 {
+                [0.0; 3]
+            } else {
+                [i as f64 - 1.0, j as f64, 1.0]
+            }
+        });
+        let m = TriMesh::from_patch(&cone, 4, 4);
+        assert!(m.normals.iter().all(|n| n.iter().all(|c| c.is_finite())));
+    }
+}

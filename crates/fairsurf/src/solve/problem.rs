@@ -1,0 +1,415 @@
+//! A variational problem over one tensor-product Bézier patch: which control
+//! points are known, which terms make the energy, and the solve.
+//!
+//! Minimizing `E(x) = Σ_t ½ (x − s_t)ᵀ H_t (x − s_t)` over the free control
+//! points x_F with the known ones x_K held is the linear system
+//! `H_FF x_F = b_F − H_FK x_K`, `b = Σ_t H_t s_t` — Wu & Yang 2015, eq. (3)
+//! for E1 and eq. (4) for E2, here assembled from the exact forms rather than
+//! written out coefficient by coefficient.
+
+use super::dense::{norm_max, solve_spd, SpdOptions};
+use super::report::{SolveReport, TermEnergy, Timings};
+use crate::analysis::measures;
+use crate::energy::{EnergyTerm, Hessian, TermForm};
+use crate::vec3::{is_finite, Vec3};
+use crate::{Error, Result, TensorPatch};
+use faer::Mat;
+use std::time::Instant;
+
+/// A problem: degree, known control points, and energy terms.
+///
+/// ```
+/// use fairsurf::{Problem, Stretch, TensorPatch};
+/// // A 3×3 net with a lifted middle: fix the boundary, free the centre.
+/// let net = TensorPatch::from_fn(2, 2, |i, j| [i as f64, j as f64, if (i, j) == (1, 1) { 5.0 } else { 0.0 }]);
+/// let sol = Problem::new((2, 2)).with_fixed_rings(&net, 1).with_term(Stretch::new(1.0)).solve().unwrap();
+/// // The Dirichlet extremal of a planar boundary is planar.
+/// assert!(sol.patch.point(1, 1)[2].abs() < 1e-14);
+/// assert!(sol.report.relative_gradient < 1e-14);
+/// ```
+#[derive(Debug)]
+pub struct Problem {
+    degree: (usize, usize),
+    known: Vec<Option<Vec3>>,
+    terms: Vec<Box<dyn EnergyTerm>>,
+}
+
+/// Options for [`Problem::solve_with`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolveOptions {
+    /// At most this many steps of iterative refinement (default 10).
+    pub max_refinement_steps: usize,
+    /// Estimate the condition number (default true; costs ~60 mat-vecs).
+    pub estimate_condition: bool,
+    /// Above this estimated condition number the system is reported
+    /// singular instead of solved (default 1e15).
+    pub singular_condition: f64,
+    /// Compute area and functionals of the result (default true).
+    pub analyse: bool,
+}
+
+impl Default for SolveOptions {
+    fn default() -> Self {
+        Self {
+            max_refinement_steps: 10,
+            estimate_condition: true,
+            singular_condition: 1e15,
+            analyse: true,
+        }
+    }
+}
+
+impl SolveOptions {
+    /// Sets [`SolveOptions::analyse`].
+    pub fn with_analyse(mut self, on: bool) -> Self {
+        self.analyse = on;
+        self
+    }
+
+    /// Sets [`SolveOptions::estimate_condition`].
+    pub fn with_condition_estimate(mut self, on: bool) -> Self {
+        self.estimate_condition = on;
+        self
+    }
+}
+
+/// A solved problem: the surface and how good it is.
+#[derive(Clone, Debug)]
+pub struct Solution {
+    /// The patch with every control point filled.
+    pub patch: TensorPatch,
+    /// Energies, gradient, residual, conditioning, timings.
+    pub report: SolveReport,
+}
+
+impl Problem {
+    /// A problem of degree (n, m) with every control point free and no terms.
+    pub fn new(degree: (usize, usize)) -> Self {
+        let n = (degree.0 + 1) * (degree.1 + 1);
+        Self {
+            degree,
+            known: vec![None; n],
+            terms: Vec::new(),
+        }
+    }
+
+    /// (n, m).
+    pub fn degree(&self) -> (usize, usize) {
+        self.degree
+    }
+
+    /// Known control points (`None` = free), row-major.
+    pub fn known(&self) -> &[Option<Vec3>] {
+        &self.known
+    }
+
+    /// The energy terms.
+    pub fn terms(&self) -> &[Box<dyn EnergyTerm>] {
+        &self.terms
+    }
+
+    /// Fixes P_ij at p.
+    ///
+    /// # Panics
+    /// If (i, j) is outside the net.
+    pub fn fix(&mut self, i: usize, j: usize, p: Vec3) -> &mut Self {
+        let m = self.degree.1;
+        assert!(
+            i <= self.degree.0 && j <= m,
+            "control point ({i}, {j}) outside the net"
+        );
+        self.known[i * (m + 1) + j] = Some(p);
+        self
+    }
+
+    /// Sets the known points all at once (`None` = free), row-major.
+    pub fn with_known(mut self, known: Vec<Option<Vec3>>) -> Result<Self> {
+        if known.len() != self.known.len() {
+            return Err(Error::ControlPointCount {
+                degree: self.degree,
+                expected: self.known.len(),
+                got: known.len(),
+            });
+        }
+        self.known = known;
+        Ok(self)
+    }
+
+    /// Fixes the outer k rings of control points at their values in `net`
+    /// and frees every other point. k = 1 fixes the boundary curves (C0 to
+    /// the surroundings); k = 2 also the cross-boundary derivatives (G1 hole
+    /// filling and blending, Wu & Yang §3.2).
+    ///
+    /// # Panics
+    /// If `net` has another degree.
+    pub fn with_fixed_rings(mut self, net: &TensorPatch, k: usize) -> Self {
+        assert_eq!(net.degree(), self.degree, "net degree");
+        let (n, m) = self.degree;
+        for i in 0..=n {
+            for j in 0..=m {
+                let ring = i.min(j).min(n - i).min(m - j);
+                self.known[i * (m + 1) + j] = (ring < k).then(|| net.point(i, j));
+            }
+        }
+        self
+    }
+
+    /// Adds an energy term.
+    pub fn with_term(mut self, term: impl EnergyTerm + 'static) -> Self {
+        self.terms.push(Box::new(term));
+        self
+    }
+
+    /// Adds a boxed energy term.
+    pub fn push_term(&mut self, term: Box<dyn EnergyTerm>) {
+        self.terms.push(term);
+    }
+
+    /// Solves with default options.
+    pub fn solve(&self) -> Result<Solution> {
+        self.solve_with(&SolveOptions::default())
+    }
+
+    /// Minimizes the energy over the free control points.
+    pub fn solve_with(&self, opts: &SolveOptions) -> Result<Solution> {
+        let t_total = Instant::now();
+        let free: Vec<usize> = (0..self.known.len())
+            .filter(|&k| self.known[k].is_none())
+            .collect();
+        if free.is_empty() {
+            return Err(Error::NoFreePoints {
+                why: "every control point is known".into(),
+            });
+        }
+        for (k, p) in self.known.iter().enumerate() {
+            if let Some(p) = p.filter(|p| !is_finite(*p)) {
+                let _ = p;
+                let m = self.degree.1;
+                return Err(Error::NotFinite {
+                    what: format!("known control point ({}, {})", k / (m + 1), k % (m + 1)),
+                });
+            }
+        }
+        if self.terms.is_empty() {
+            return Err(Error::NoEnergy);
+        }
+        let t = Instant::now();
+        let forms = self
+            .terms
+            .iter()
+            .map(|t| t.form(self.degree))
+            .collect::<Result<Vec<_>>>()?;
+        let sys = System::assemble(&forms, &self.known);
+        let (h_ff, rhs) = sys.reduce(&free);
+        let assemble = t.elapsed().as_secs_f64();
+
+        let t = Instant::now();
+        let spd = SpdOptions {
+            max_refinement_steps: opts.max_refinement_steps,
+            estimate_condition: opts.estimate_condition,
+            singular_condition: opts.singular_condition,
+        };
+        let sol = solve_spd(&h_ff, &rhs, spd, &self.hint())?;
+        let solve = t.elapsed().as_secs_f64() - sol.factor_seconds;
+
+        let points = sys.fill(&free, &sol.x);
+        let patch = TensorPatch::try_new(self.degree.0, self.degree.1, points).map_err(|_| {
+            Error::NotFinite {
+                what: "the solution (the system overflowed)".into(),
+            }
+        })?;
+        let (gradient_norm, relative_gradient) = sys.gradient(&free, &patch);
+        let rhs_norm = rhs.norm_l2();
+        let residual = if rhs_norm > 0.0 {
+            sol.residual.norm_l2() / rhs_norm
+        } else {
+            sol.residual.norm_l2()
+        };
+
+        let terms: Vec<TermEnergy> = self
+            .terms
+            .iter()
+            .zip(&forms)
+            .map(|(t, f)| TermEnergy {
+                name: t.name().to_string(),
+                value: f.value(patch.points()),
+            })
+            .collect();
+        let t = Instant::now();
+        let measures = opts.analyse.then(|| measures(&patch));
+        let analyse = t.elapsed().as_secs_f64();
+        let report = SolveReport {
+            energy: terms.iter().map(|t| t.value).sum(),
+            terms,
+            gradient_norm,
+            relative_gradient,
+            residual,
+            condition_estimate: sol.condition,
+            refinement_steps: sol.refinement_steps,
+            unknowns: h_ff.nrows(),
+            free_points: free.len(),
+            coupled: sys.coupled,
+            measures,
+            timings: Timings {
+                assemble,
+                factor: sol.factor_seconds,
+                solve,
+                analyse,
+                total: t_total.elapsed().as_secs_f64(),
+            },
+        };
+        Ok(Solution { patch, report })
+    }
+
+    fn hint(&self) -> String {
+        let names: Vec<&str> = self.terms.iter().map(|t| t.name()).collect();
+        format!(
+            "the energy ({}) does not determine the free control points; a stretch or bend \
+             weight > 0, or a guide_surface weight > 0, makes it positive definite",
+            names.join(" + ")
+        )
+    }
+}
+
+/// The assembled system over all control points: E = ½ XᵀHX − BᵀX + c with
+/// X of one column per coordinate (per-coordinate) or one column of all
+/// coordinates point-major (coupled).
+struct System {
+    coupled: bool,
+    h: Mat<f64>,
+    b: Mat<f64>,
+    /// Known values (free entries 0), laid out like b.
+    x: Mat<f64>,
+}
+
+impl System {
+    fn assemble(forms: &[TermForm], known: &[Option<Vec3>]) -> Self {
+        let np = known.len();
+        let coupled = forms
+            .iter()
+            .any(|f| matches!(f.hessian, Hessian::Coupled(_)));
+        let (dim, cols) = if coupled { (3 * np, 1) } else { (np, 3) };
+        // (row, col) of coordinate c of point p in the layout.
+        let at = |p: usize, c: usize| if coupled { (3 * p + c, 0) } else { (p, c) };
+        let mut h = Mat::<f64>::zeros(dim, dim);
+        let mut b = Mat::<f64>::zeros(dim, cols);
+        for f in forms {
+            let mut ht = Mat::<f64>::zeros(dim, dim);
+            match &f.hessian {
+                Hessian::Coupled(m) => ht += m,
+                Hessian::PerCoordinate(m) if coupled => {
+                    for q in 0..np {
+                        for p in 0..np {
+                            for c in 0..3 {
+                                ht[(3 * p + c, 3 * q + c)] = m[(p, q)];
+                            }
+                        }
+                    }
+                }
+                Hessian::PerCoordinate(m) => ht += m,
+            }
+            if let Some(s) = &f.center {
+                let mut sv = Mat::<f64>::zeros(dim, cols);
+                for (p, sp) in s.iter().enumerate() {
+                    for c in 0..3 {
+                        sv[at(p, c)] = sp[c];
+                    }
+                }
+                b += &ht * &sv;
+            }
+            h += &ht;
+        }
+        let mut x = Mat::<f64>::zeros(dim, cols);
+        for (p, k) in known.iter().enumerate() {
+            if let Some(v) = k {
+                for c in 0..3 {
+                    x[at(p, c)] = v[c];
+                }
+            }
+        }
+        Self { coupled, h, b, x }
+    }
+
+    /// Row indices of the free unknowns.
+    fn free_rows(&self, free: &[usize]) -> Vec<usize> {
+        if self.coupled {
+            free.iter()
+                .flat_map(|&p| (0..3).map(move |c| 3 * p + c))
+                .collect()
+        } else {
+            free.to_vec()
+        }
+    }
+
+    /// H_FF and b_F − H_FK x_K.
+    fn reduce(&self, free: &[usize]) -> (Mat<f64>, Mat<f64>) {
+        let rows = self.free_rows(free);
+        let h_ff = Mat::from_fn(rows.len(), rows.len(), |i, j| self.h[(rows[i], rows[j])]);
+        // x has zeros at free rows, so H x = H_FK x_K on the free rows.
+        let hx = &self.h * &self.x;
+        let rhs = Mat::from_fn(rows.len(), self.b.ncols(), |i, c| {
+            self.b[(rows[i], c)] - hx[(rows[i], c)]
+        });
+        (h_ff, rhs)
+    }
+
+    /// All control points: known ones as given, free ones from the solution.
+    fn fill(&self, free: &[usize], xf: &Mat<f64>) -> Vec<Vec3> {
+        let mut x = self.x.clone();
+        for (i, &r) in self.free_rows(free).iter().enumerate() {
+            for c in 0..x.ncols() {
+                x[(r, c)] = xf[(i, c)];
+            }
+        }
+        self.points(&x)
+    }
+
+    fn points(&self, x: &Mat<f64>) -> Vec<Vec3> {
+        let np = if self.coupled {
+            x.nrows() / 3
+        } else {
+            x.nrows()
+        };
+        (0..np)
+            .map(|p| {
+                if self.coupled {
+                    [x[(3 * p, 0)], x[(3 * p + 1, 0)], x[(3 * p + 2, 0)]]
+                } else {
+                    [x[(p, 0)], x[(p, 1)], x[(p, 2)]]
+                }
+            })
+            .collect()
+    }
+
+    /// (‖g‖₂, normwise backward error) of g = (H X − B) on the free rows at the
+    /// patch's control points, each entry a compensated dot product.
+    fn gradient(&self, free: &[usize], patch: &TensorPatch) -> (f64, f64) {
+        let mut x = Mat::<f64>::zeros(self.x.nrows(), self.x.ncols());
+        for (p, v) in patch.points().iter().enumerate() {
+            for c in 0..3 {
+                if self.coupled {
+                    x[(3 * p + c, 0)] = v[c];
+                } else {
+                    x[(p, c)] = v[c];
+                }
+            }
+        }
+        let rows = self.free_rows(free);
+        let mut g2 = 0.0;
+        let mut g_inf: f64 = 0.0;
+        let mut h_inf: f64 = 0.0;
+        let mut b_inf: f64 = 0.0;
+        for &r in &rows {
+            let hr = self.h.col_as_slice(r); // row r of symmetric H
+            h_inf = h_inf.max(hr.iter().map(|v| v.abs()).sum());
+            for c in 0..x.ncols() {
+                let g = -super::dense::dot2_residual(self.b[(r, c)], hr, x.col_as_slice(c));
+                g2 += g * g;
+                g_inf = g_inf.max(g.abs());
+                b_inf = b_inf.max(self.b[(r, c)].abs());
+            }
+        }
+        let denom = h_inf * norm_max(&x) + b_inf;
+        (g2.sqrt(), if denom > 0.0 { g_inf / denom } else { g_inf })
+    }
+}

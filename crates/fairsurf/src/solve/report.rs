@@ -1,0 +1,71 @@
+//! What a solve says about its result: every number needed to judge it.
+
+/// The value of one energy term at the solution.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TermEnergy {
+    /// The term's name ("stretch", "bend", "normal_field", "guide_surface", …).
+    pub name: String,
+    /// Its value, weights included.
+    pub value: f64,
+}
+
+/// Wall-clock seconds spent in each stage.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Timings {
+    /// Building every term's quadratic form and the system.
+    pub assemble: f64,
+    /// Cholesky factorization.
+    pub factor: f64,
+    /// Triangular solves, refinement and condition estimate.
+    pub solve: f64,
+    /// Area, functionals and other measures of the result.
+    pub analyse: f64,
+    /// Everything.
+    pub total: f64,
+}
+
+/// Geometric measures of a surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceMeasures {
+    /// Area ∫∫ |R_u × R_v| by adaptive Gauss–Legendre quadrature.
+    pub area: f64,
+    /// Estimated absolute error of `area`.
+    pub area_error: f64,
+    /// Dirichlet functional D = ½ ∫∫ |R_u|² + |R_v|², exact.
+    pub dirichlet: f64,
+    /// Biharmonic (thin-plate) functional B = ½ ∫∫ |R_uu|² + 2|R_uv|² + |R_vv|², exact.
+    pub biharmonic: f64,
+}
+
+/// Everything a solve knows about its answer.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolveReport {
+    /// Each term's energy at the solution.
+    pub terms: Vec<TermEnergy>,
+    /// Their sum: the minimized energy.
+    pub energy: f64,
+    /// ‖∂E/∂x‖₂ over the free coordinates, computed from the assembled
+    /// energy in twice-working precision.
+    pub gradient_norm: f64,
+    /// Normwise backward error ‖g‖∞ / (‖H‖∞‖x‖∞ + ‖b‖∞) (rows of the free
+    /// coordinates): how far the energy would have to be perturbed for the
+    /// result to be its exact minimizer. About ε means as good as double allows.
+    pub relative_gradient: f64,
+    /// ‖g‖₂ / ‖rhs‖₂ of the reduced system (0 when the right-hand side is 0).
+    pub residual: f64,
+    /// Estimated 2-norm condition number of the equilibrated reduced system.
+    pub condition_estimate: f64,
+    /// Iterative refinement steps taken.
+    pub refinement_steps: usize,
+    /// Number of scalar unknowns solved for.
+    pub unknowns: usize,
+    /// Number of free control points.
+    pub free_points: usize,
+    /// Whether the coordinates were coupled (a normal-field term) or solved
+    /// as three systems with one matrix.
+    pub coupled: bool,
+    /// Area and functionals of the result (`None` when analysis was off).
+    pub measures: Option<SurfaceMeasures>,
+    /// Time per stage.
+    pub timings: Timings,
+}

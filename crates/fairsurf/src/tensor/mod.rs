@@ -1,0 +1,5 @@
+//! Tensor-product Bézier patches.
+
+mod patch;
+
+pub use patch::{SurfaceDerivatives, TensorPatch};

@@ -1,0 +1,331 @@
+//! Tensor-product Bézier patches
+//! `R(u, v) = Σ_{i=0}^{n} Σ_{j=0}^{m} B_i^n(u) B_j^m(v) P_ij`, (u, v) ∈ [0, 1]².
+
+use crate::basis::bernstein_derivatives;
+use crate::curve::{de_casteljau_split, elevate_points};
+use crate::vec3::{add, cross, is_finite, normalize, scale, Vec3};
+use crate::{Error, Result};
+
+/// A tensor-product Bézier patch of degree (n, m) with control points P_ij,
+/// stored row-major: row i (0..=n) goes with u, column j (0..=m) with v,
+/// `points[i·(m+1) + j] = P_ij`.
+///
+/// ```
+/// use fairsurf::TensorPatch;
+/// // The bilinear patch over the unit square.
+/// let p = TensorPatch::from_fn(1, 1, |i, j| [i as f64, j as f64, 0.0]);
+/// assert_eq!(p.eval(0.25, 0.5), [0.25, 0.5, 0.0]);
+/// assert_eq!(p.normal(0.3, 0.3), Some([0.0, 0.0, 1.0]));
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct TensorPatch {
+    degree: (usize, usize),
+    points: Vec<Vec3>,
+}
+
+/// Position and partial derivatives up to second order at one (u, v).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceDerivatives {
+    /// R(u, v)
+    pub point: Vec3,
+    /// ∂R/∂u
+    pub du: Vec3,
+    /// ∂R/∂v
+    pub dv: Vec3,
+    /// ∂²R/∂u²
+    pub duu: Vec3,
+    /// ∂²R/∂u∂v
+    pub duv: Vec3,
+    /// ∂²R/∂v²
+    pub dvv: Vec3,
+}
+
+impl SurfaceDerivatives {
+    /// The unit normal R_u × R_v / |R_u × R_v|, or `None` where the patch is
+    /// not regular.
+    pub fn normal(&self) -> Option<Vec3> {
+        normalize(cross(self.du, self.dv))
+    }
+}
+
+impl TensorPatch {
+    /// A patch of degree (n, m) from its (n+1)(m+1) control points, row-major.
+    ///
+    /// # Panics
+    /// If the count is wrong or a coordinate is not finite; see
+    /// [`TensorPatch::try_new`].
+    pub fn new(n: usize, m: usize, points: Vec<Vec3>) -> Self {
+        Self::try_new(n, m, points).expect("TensorPatch::new")
+    }
+
+    /// A patch of degree (n, m), or an error naming the bad count or point.
+    pub fn try_new(n: usize, m: usize, points: Vec<Vec3>) -> Result<Self> {
+        let expected = (n + 1) * (m + 1);
+        if points.len() != expected {
+            return Err(Error::ControlPointCount {
+                degree: (n, m),
+                expected,
+                got: points.len(),
+            });
+        }
+        if let Some(k) = points.iter().position(|&p| !is_finite(p)) {
+            return Err(Error::NotFinite {
+                what: format!("control point ({}, {})", k / (m + 1), k % (m + 1)),
+            });
+        }
+        Ok(Self {
+            degree: (n, m),
+            points,
+        })
+    }
+
+    /// A patch whose control point P_ij is `f(i, j)`.
+    ///
+    /// # Panics
+    /// If `f` returns a non-finite coordinate.
+    pub fn from_fn(n: usize, m: usize, mut f: impl FnMut(usize, usize) -> Vec3) -> Self {
+        let points = (0..=n)
+            .flat_map(|i| (0..=m).map(move |j| (i, j)))
+            .map(|(i, j)| f(i, j))
+            .collect();
+        Self::new(n, m, points)
+    }
+
+    /// (n, m).
+    pub fn degree(&self) -> (usize, usize) {
+        self.degree
+    }
+
+    /// Number of control points, (n+1)(m+1).
+    pub fn len(&self) -> usize {
+        self.points.len()
+    }
+
+    /// Always false: a patch has at least one control point.
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+
+    /// All control points, row-major.
+    pub fn points(&self) -> &[Vec3] {
+        &self.points
+    }
+
+    /// Index of P_ij in [`TensorPatch::points`].
+    pub fn index(&self, i: usize, j: usize) -> usize {
+        i * (self.degree.1 + 1) + j
+    }
+
+    /// P_ij.
+    pub fn point(&self, i: usize, j: usize) -> Vec3 {
+        self.points[self.index(i, j)]
+    }
+
+    /// Replaces P_ij.
+    ///
+    /// # Panics
+    /// If p is not finite or (i, j) is out of range.
+    pub fn set_point(&mut self, i: usize, j: usize, p: Vec3) {
+        assert!(is_finite(p), "control points must be finite");
+        let k = self.index(i, j);
+        self.points[k] = p;
+    }
+
+    /// R(u, v).
+    pub fn eval(&self, u: f64, v: f64) -> Vec3 {
+        self.combine(&self.basis(u, v, 0), 0, 0)
+    }
+
+    /// R and its partial derivatives to second order at (u, v).
+    pub fn derivatives(&self, u: f64, v: f64) -> SurfaceDerivatives {
+        let b = self.basis(u, v, 2);
+        SurfaceDerivatives {
+            point: self.combine(&b, 0, 0),
+            du: self.combine(&b, 1, 0),
+            dv: self.combine(&b, 0, 1),
+            duu: self.combine(&b, 2, 0),
+            duv: self.combine(&b, 1, 1),
+            dvv: self.combine(&b, 0, 2),
+        }
+    }
+
+    /// The unit normal R_u × R_v / |R_u × R_v| at (u, v), or `None` where the
+    /// patch is not regular (e.g. a corner with collapsed edges).
+    pub fn normal(&self, u: f64, v: f64) -> Option<Vec3> {
+        self.derivatives(u, v).normal()
+    }
+
+    /// Splits at u = t into the patches over [0, t]×[0, 1] and [t, 1]×[0, 1].
+    pub fn subdivide_u(&self, t: f64) -> (TensorPatch, TensorPatch) {
+        let (n, m) = self.degree;
+        let mut lo = self.clone();
+        let mut hi = self.clone();
+        for j in 0..=m {
+            let column: Vec<Vec3> = (0..=n).map(|i| self.point(i, j)).collect();
+            let (l, r) = de_casteljau_split(&column, t);
+            for i in 0..=n {
+                lo.points[i * (m + 1) + j] = l[i];
+                hi.points[i * (m + 1) + j] = r[i];
+            }
+        }
+        (lo, hi)
+    }
+
+    /// Splits at v = t into the patches over [0, 1]×[0, t] and [0, 1]×[t, 1].
+    pub fn subdivide_v(&self, t: f64) -> (TensorPatch, TensorPatch) {
+        let (a, b) = self.transposed().subdivide_u(t);
+        (a.transposed(), b.transposed())
+    }
+
+    /// The same surface with parameters swapped: Q_ji = P_ij, degree (m, n).
+    pub fn transposed(&self) -> TensorPatch {
+        let (n, m) = self.degree;
+        TensorPatch::from_fn(m, n, |j, i| self.point(i, j))
+    }
+
+    /// The same surface written with degree (n + ru, m + rv).
+    pub fn elevate(&self, ru: usize, rv: usize) -> TensorPatch {
+        let (n, m) = self.degree;
+        // Elevate every column in u, then every row in v.
+        let cols: Vec<Vec<Vec3>> = (0..=m)
+            .map(|j| elevate_points(&(0..=n).map(|i| self.point(i, j)).collect::<Vec<_>>(), ru))
+            .collect();
+        let rows: Vec<Vec<Vec3>> = (0..=n + ru)
+            .map(|i| elevate_points(&cols.iter().map(|c| c[i]).collect::<Vec<_>>(), rv))
+            .collect();
+        TensorPatch::new(n + ru, m + rv, rows.into_iter().flatten().collect())
+    }
+
+    /// A copy with each control point mapped by `f`.
+    pub fn map(&self, f: impl FnMut(&Vec3) -> Vec3) -> TensorPatch {
+        let (n, m) = self.degree;
+        TensorPatch::new(n, m, self.points.iter().map(f).collect())
+    }
+
+    fn basis(&self, u: f64, v: f64, order: usize) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
+        let (n, m) = self.degree;
+        (
+            bernstein_derivatives(n, u, order),
+            bernstein_derivatives(m, v, order),
+        )
+    }
+
+    fn combine(&self, (bu, bv): &(Vec<Vec<f64>>, Vec<Vec<f64>>), ru: usize, rv: usize) -> Vec3 {
+        let m = self.degree.1;
+        let mut acc = [0.0; 3];
+        for (i, &wu) in bu[ru].iter().enumerate() {
+            if wu == 0.0 {
+                continue;
+            }
+            let mut row = [0.0; 3];
+            for (j, &wv) in bv[rv].iter().enumerate() {
+                row = add(row, scale(self.points[i * (m + 1) + j], wv));
+            }
+            acc = add(acc, scale(row, wu));
+        }
+        acc
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::vec3::{norm, sub};
+
+    fn wavy() -> TensorPatch {
+        TensorPatch::from_fn(4, 3, |i, j| {
+            let (x, y) = (i as f64 / 4.0, j as f64 / 3.0);
+            [
+                x + 0.1 * y,
+                y - 0.05 * x * x,
+                (3.0 * x).sin() * (2.0 * y).cos(),
+            ]
+        })
+    }
+
+    #[test]
+    fn corners_are_interpolated() {
+        let p = wavy();
+        assert_eq!(p.eval(0.0, 0.0), p.point(0, 0));
+        assert!(norm(sub(p.eval(1.0, 1.0), p.point(4, 3))) < 1e-15);
+        assert!(norm(sub(p.eval(1.0, 0.0), p.point(4, 0))) < 1e-15);
+    }
+
+    #[test]
+    fn derivatives_match_finite_differences() {
+        let p = wavy();
+        let h = 1e-5;
+        for &(u, v) in &[(0.3, 0.6), (0.9, 0.1), (0.5, 0.5)] {
+            let d = p.derivatives(u, v);
+            let du = p.derivatives(u + h, v);
+            let dm = p.derivatives(u - h, v);
+            let vp = p.derivatives(u, v + h);
+            let vm = p.derivatives(u, v - h);
+            let fd = |a: Vec3, b: Vec3| scale(sub(a, b), 0.5 / h);
+            assert!(norm(sub(fd(du.point, dm.point), d.du)) < 1e-8);
+            assert!(norm(sub(fd(vp.point, vm.point), d.dv)) < 1e-8);
+            assert!(norm(sub(fd(du.du, dm.du), d.duu)) < 1e-7);
+            assert!(norm(sub(fd(vp.du, vm.du), d.duv)) < 1e-7);
+            assert!(norm(sub(fd(du.dv, dm.dv), d.duv)) < 1e-7);
+            assert!(norm(sub(fd(vp.dv, vm.dv), d.dvv)) < 1e-7);
+        }
+    }
+
+    #[test]
+    fn subdivision_reproduces_the_pieces() {
+        let p = wavy();
+        let (a, b) = p.subdivide_u(0.4);
+        let (c, d) = p.subdivide_v(0.7);
+        for &(s, t) in &[(0.0, 0.0), (0.3, 0.8), (1.0, 0.5)] {
+            assert!(norm(sub(a.eval(s, t), p.eval(0.4 * s, t))) < 1e-14);
+            assert!(norm(sub(b.eval(s, t), p.eval(0.4 + 0.6 * s, t))) < 1e-14);
+            assert!(norm(sub(c.eval(s, t), p.eval(s, 0.7 * t))) < 1e-14);
+            assert!(norm(sub(d.eval(s, t), p.eval(s, 0.7 + 0.3 * t))) < 1e-14);
+        }
+    }
+
+    #[test]
+    fn elevation_keeps_the_surface() {
+        let p = wavy();
+        let e = p.elevate(2, 3);
+        assert_eq!(e.degree(), (6, 6));
+        for &(s, t) in &[(0.1, 0.9), (0.5, 0.5), (0.77, 0.23)] {
+            assert!(norm(sub(e.eval(s, t), p.eval(s, t))) < 1e-14);
+        }
+    }
+
+    #[test]
+    fn normal_of_a_plane_is_constant_and_degenerate_corner_is_none() {
+        let plane = TensorPatch::from_fn(3, 2, |i, j| [i as f64, 2.0 * j as f64, 0.0]);
+        assert_eq!(plane.normal(0.2, 0.9), Some([0.0, 0.0, 1.0]));
+        // Collapse the edge v = 0 to one point: R_u = 0 there.
+        let cone = TensorPatch::from_fn(2, 2, |i, j| {
+            if j == 0 {
+                [0.0; 3]
+            } else {
+                [i as f64, j as f64, 1.0]
+            }
+        });
+        assert_eq!(cone.normal(0.5, 0.0), None);
+    }
+
+    #[test]
+    fn wrong_count_and_nan_are_errors() {
+        assert!(matches!(
+            TensorPatch::try_new(2, 2, vec![[0.0; 3]; 8]),
+            Err(Error::ControlPointCount {
+                expected: 9,
+                got: 8,
+                ..
+            })
+        ));
+        let mut pts = vec![[0.0; 3]; 4];
+        pts[3][1] = f64::NAN;
+        assert_eq!(
+            TensorPatch::try_new(1, 1, pts),
+            Err(Error::NotFinite {
+                what: "control point (1, 1)".into()
+            })
+        );
+    }
+}
