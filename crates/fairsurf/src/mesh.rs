@@ -28,10 +28,12 @@ impl TriMesh {
         let mut positions = Vec::with_capacity((ru + 1) * (rv + 1));
         let mut normals = Vec::with_capacity(positions.capacity());
         let mut uvs = Vec::with_capacity(positions.capacity());
-        for i in 0..=ru {
-            for j in 0..=rv {
-                let (u, v) = (i as f64 / ru as f64, j as f64 / rv as f64);
-                let d = patch.derivatives(u, v);
+        let us: Vec<f64> = (0..=ru).map(|i| i as f64 / ru as f64).collect();
+        let vs: Vec<f64> = (0..=rv).map(|j| j as f64 / rv as f64).collect();
+        let grid = patch.grid_derivatives(&us, &vs);
+        for (i, &u) in us.iter().enumerate() {
+            for (j, &v) in vs.iter().enumerate() {
+                let d = grid[i * (rv + 1) + j];
                 positions.push(d.point);
                 uvs.push([u, v]);
                 let inside = |t: f64| (t + if t < 0.5 { 1e-7 } else { -1e-7 }).clamp(0.0, 1.0);

@@ -48,18 +48,25 @@ pub fn area(patch: &TensorPatch) -> Area {
 
 fn area_on_grid(patch: &TensorPatch, gl: &GaussLegendre, k: usize) -> f64 {
     let h = 1.0 / k as f64;
+    // The k×k panels' Gauss nodes form one tensor grid of (kq)² points.
+    let ts: Vec<f64> = (0..k)
+        .flat_map(|a| gl.nodes.iter().map(move |&s| (a as f64 + s) * h))
+        .collect();
+    let ws: Vec<f64> = (0..k)
+        .flat_map(|_| gl.weights.iter().map(|&w| w * h))
+        .collect();
+    let d = patch.grid_derivatives(&ts, &ts);
     let mut total = 0.0;
-    for a in 0..k {
-        for b in 0..k {
-            let mut panel = 0.0;
-            for (&s, &ws) in gl.nodes.iter().zip(&gl.weights) {
-                for (&t, &wt) in gl.nodes.iter().zip(&gl.weights) {
-                    let d = patch.derivatives((a as f64 + s) * h, (b as f64 + t) * h);
-                    panel += ws * wt * norm(cross(d.du, d.dv));
-                }
-            }
-            total += panel * h * h;
-        }
+    for (a, wa) in ws.iter().enumerate() {
+        let row: f64 = ws
+            .iter()
+            .enumerate()
+            .map(|(b, wb)| {
+                let x = &d[a * ts.len() + b];
+                wb * norm(cross(x.du, x.dv))
+            })
+            .sum();
+        total += wa * row;
     }
     total
 }

@@ -64,18 +64,27 @@ pub fn bernstein_all(n: usize, t: f64) -> Vec<f64> {
 /// Derivatives of all degree-n Bernstein polynomials up to `order`:
 /// `out[r][i] = dʳ/dtʳ B_i^n(t)`, for r = 0..=order.
 ///
-/// Uses `dʳ B_i^n = n!/(n−r)! Σ_s (−1)^{r−s} C(r,s) B_{i−s}^{n−r}`.
+/// Uses `dʳ B_i^n = n!/(n−r)! Σ_s (−1)^{r−s} C(r,s) B_{i−s}^{n−r}`: each order is
+/// the forward difference of the next lower degree's values.
 pub fn bernstein_derivatives(n: usize, t: f64, order: usize) -> Vec<Vec<f64>> {
     (0..=order)
         .map(|r| {
+            let mut out = vec![0.0; n + 1];
             if r > n {
-                return vec![0.0; n + 1];
+                return out;
             }
+            // Start from B^{n−r}, then apply r times: c_i ← (k)(c_{i−1} − c_i)
+            // raising the degree k−1 → k (with c_{−1} = c_{k} = 0).
             let low = bernstein_all(n - r, t);
-            let d = derivative_matrix(n, r);
-            (0..=n)
-                .map(|i| (0..=n - r).map(|k| d[(k, i)] * low[k]).sum())
-                .collect()
+            out[..=n - r].copy_from_slice(&low);
+            for k in n - r + 1..=n {
+                for i in (0..=k).rev() {
+                    let left = if i > 0 { out[i - 1] } else { 0.0 };
+                    let here = if i < k { out[i] } else { 0.0 };
+                    out[i] = k as f64 * (left - here);
+                }
+            }
+            out
         })
         .collect()
 }

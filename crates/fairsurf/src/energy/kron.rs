@@ -64,31 +64,47 @@ pub(crate) fn weighted_kron(w: &Mat<f64>, mu: &[Mat<f64>], mv: &[Mat<f64>]) -> M
     debug_assert_eq!((w.nrows(), w.ncols()), (mu.len(), mv.len()));
     let nu = mu[0].nrows();
     let nv = mv[0].nrows();
+    // Flatten the small matrices once: tiny faer operations cost more in
+    // overhead than in arithmetic here.
+    let flat = |ms: &[Mat<f64>], k: usize| -> Vec<f64> {
+        ms.iter()
+            .flat_map(|m| (0..k * k).map(move |e| m[(e / k, e % k)]))
+            .collect()
+    };
+    let mu_flat = flat(mu, nu);
+    let mv_flat = flat(mv, nv);
     let mut out = Mat::<f64>::zeros(nu * nv, nu * nv);
-    for (beta, mvb) in mv.iter().enumerate() {
+    let mut t = vec![0.0; nu * nu];
+    for beta in 0..mv.len() {
         // T_β = Σ_α W[α][β] M^u_α
-        let mut t = Mat::<f64>::zeros(nu, nu);
+        t.iter_mut().for_each(|x| *x = 0.0);
         let mut any = false;
-        for (alpha, mua) in mu.iter().enumerate() {
+        for alpha in 0..mu.len() {
             let c = w[(alpha, beta)];
             if c != 0.0 {
-                t += faer::Scale(c) * mua;
                 any = true;
+                for (x, &m) in t
+                    .iter_mut()
+                    .zip(&mu_flat[alpha * nu * nu..(alpha + 1) * nu * nu])
+                {
+                    *x += c * m;
+                }
             }
         }
         if !any {
             continue;
         }
+        let mvb = &mv_flat[beta * nv * nv..(beta + 1) * nv * nv];
         for k in 0..nu {
-            for i in 0..nu {
-                let tik = t[(i, k)];
-                if tik == 0.0 {
-                    continue;
-                }
-                for l in 0..nv {
-                    let col = k * nv + l;
+            for l in 0..nv {
+                let col = out.col_as_slice_mut(k * nv + l);
+                for i in 0..nu {
+                    let tik = t[i * nu + k];
+                    if tik == 0.0 {
+                        continue;
+                    }
                     for j in 0..nv {
-                        out[(i * nv + j, col)] += tik * mvb[(j, l)];
+                        col[i * nv + j] += tik * mvb[j * nv + l];
                     }
                 }
             }

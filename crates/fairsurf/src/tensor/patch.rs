@@ -149,6 +149,46 @@ impl TensorPatch {
         }
     }
 
+    /// Derivatives at every (u, v) of a tensor grid, u-major:
+    /// `out[a·vs.len() + b]` is at `(us[a], vs[b])`. Contracts the u-direction
+    /// once per u-value, so each point costs O(m) rather than O(nm).
+    pub fn grid_derivatives(&self, us: &[f64], vs: &[f64]) -> Vec<SurfaceDerivatives> {
+        let (n, m) = self.degree;
+        let bv: Vec<Vec<Vec<f64>>> = vs.iter().map(|&v| bernstein_derivatives(m, v, 2)).collect();
+        let mut out = Vec::with_capacity(us.len() * vs.len());
+        for &u in us {
+            let bu = bernstein_derivatives(n, u, 2);
+            // q[r][j] = Σ_i dʳB_i^n(u) P_ij
+            let q: Vec<Vec<Vec3>> = (0..3)
+                .map(|r| {
+                    (0..=m)
+                        .map(|j| {
+                            (0..=n).fold([0.0; 3], |acc, i| {
+                                add(acc, scale(self.points[i * (m + 1) + j], bu[r][i]))
+                            })
+                        })
+                        .collect()
+                })
+                .collect();
+            for b in &bv {
+                let c = |r: usize, s: usize| {
+                    q[r].iter()
+                        .zip(&b[s])
+                        .fold([0.0; 3], |acc, (p, &w)| add(acc, scale(*p, w)))
+                };
+                out.push(SurfaceDerivatives {
+                    point: c(0, 0),
+                    du: c(1, 0),
+                    dv: c(0, 1),
+                    duu: c(2, 0),
+                    duv: c(1, 1),
+                    dvv: c(0, 2),
+                });
+            }
+        }
+        out
+    }
+
     /// The unit normal R_u × R_v / |R_u × R_v| at (u, v), or `None` where the
     /// patch is not regular (e.g. a corner with collapsed edges).
     pub fn normal(&self, u: f64, v: f64) -> Option<Vec3> {
@@ -268,6 +308,30 @@ mod tests {
             assert!(norm(sub(fd(vp.du, vm.du), d.duv)) < 1e-7);
             assert!(norm(sub(fd(du.dv, dm.dv), d.duv)) < 1e-7);
             assert!(norm(sub(fd(vp.dv, vm.dv), d.dvv)) < 1e-7);
+        }
+    }
+
+    #[test]
+    fn grid_derivatives_equal_pointwise_ones() {
+        let p = wavy();
+        let us = [0.0, 0.3, 1.0];
+        let vs = [0.1, 0.55];
+        let g = p.grid_derivatives(&us, &vs);
+        for (a, &u) in us.iter().enumerate() {
+            for (b, &v) in vs.iter().enumerate() {
+                let d = p.derivatives(u, v);
+                let e = g[a * vs.len() + b];
+                for (x, y) in [
+                    (d.point, e.point),
+                    (d.du, e.du),
+                    (d.dv, e.dv),
+                    (d.duu, e.duu),
+                    (d.duv, e.duv),
+                    (d.dvv, e.dvv),
+                ] {
+                    assert!(norm(sub(x, y)) < 1e-13);
+                }
+            }
         }
     }
 
