@@ -1,1 +1,78 @@
-fn main() {}
+//! The `fairsurf` command: solve scene files, evaluate surfaces, print the
+//! scene schema. Exit status: 0 success, 2 bad input (unreadable or invalid
+//! scene, a problem the solver refuses), 1 anything else (e.g. a failed write).
+
+mod eval;
+mod solve;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Fair surfaces by exact energy minimization (Wu & Yang 2015 and friends).
+#[derive(Parser)]
+#[command(name = "fairsurf", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Solve scene files: fill the free control points by minimizing the energy.
+    Solve(solve::Args),
+    /// Evaluate points and unit normals of a solved surface at given (u, v).
+    Eval(eval::Args),
+    /// Print the JSON Schema of scene files.
+    Schema,
+}
+
+/// An error with the exit status it deserves.
+pub(crate) struct Failure {
+    pub code: u8,
+    pub message: String,
+}
+
+impl From<fairsurf_io::Error> for Failure {
+    fn from(e: fairsurf_io::Error) -> Self {
+        let code = match e {
+            fairsurf_io::Error::Write { .. } => 1,
+            _ => 2,
+        };
+        Failure {
+            code,
+            message: e.to_string(),
+        }
+    }
+}
+
+impl Failure {
+    pub(crate) fn input(message: impl Into<String>) -> Self {
+        Failure {
+            code: 2,
+            message: message.into(),
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Solve(a) => solve::run(a),
+        Command::Eval(a) => eval::run(a),
+        Command::Schema => {
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&fairsurf_io::Scene::json_schema()).expect("schema")
+            );
+            Ok(())
+        }
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(f) => {
+            // One line: the message names the file and the JSON path.
+            eprintln!("error: {}", f.message.replace('\n', " "));
+            ExitCode::from(f.code)
+        }
+    }
+}

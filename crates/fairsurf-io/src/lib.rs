@@ -1,1 +1,37 @@
-//! placeholder
+//! # fairsurf-io
+//!
+//! Files for fairsurf: the JSON scene format (with a JSON Schema generated
+//! from its types), validation of a scene into a [`fairsurf::Problem`] with
+//! errors that name the JSON path, result files that can be solved again,
+//! and mesh writers (OBJ, PLY, STL). Every file is written to a temporary
+//! name and renamed, so a failure never leaves a partial file.
+//!
+//! ```
+//! let text = r#"{
+//!   "surface": {"type": "tensor", "degree": [2, 2], "control_points": [
+//!     [[0,0,0], [0,1,0], [0,2,0]],
+//!     [[1,0,0], null,    [1,2,0]],
+//!     [[2,0,0], [2,1,0], [2,2,0]]]},
+//!   "energy": {"stretch": 1}
+//! }"#;
+//! let scene = fairsurf_io::Scene::from_json(text).unwrap();
+//! let solved = scene.solve().unwrap();
+//! assert!((solved.solution.patch.point(1, 1)[0] - 1.0).abs() < 1e-14);
+//! ```
+
+mod atomic;
+mod error;
+mod mesh;
+mod result;
+mod scene;
+mod validate;
+
+pub use atomic::write_atomic;
+pub use error::{Error, Result};
+pub use mesh::{write_mesh, MeshFormat};
+pub use result::{report_json, SolvedScene};
+pub use scene::{
+    EnergySpec, GuideSurfaceSpec, Net, NormalFieldSpec, NumberOrGrid, SamplingSpec, Scene,
+    SurfaceSpec, TensorSpec,
+};
+pub use validate::Built;

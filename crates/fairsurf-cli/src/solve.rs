@@ -1,0 +1,196 @@
+//! `fairsurf solve`.
+
+use crate::Failure;
+use fairsurf::TriMesh;
+use fairsurf_io::{write_mesh, MeshFormat, Scene, SolvedScene};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Scene files (JSON). Several may be given: then -o names a directory.
+    #[arg(required = true)]
+    scenes: Vec<PathBuf>,
+    /// Result file (one scene) or directory (several; created if missing,
+    /// results named SCENE.result.json). Without it nothing is written.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Also write the surface as a triangle mesh: .obj, .ply or .stl (one scene only).
+    #[arg(long)]
+    mesh: Option<PathBuf>,
+    /// Mesh resolution: quads per parameter direction.
+    #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    resolution: u32,
+    /// Print the report as JSON on standard output instead of the summary.
+    #[arg(long)]
+    json: bool,
+    /// Print nothing on success.
+    #[arg(short, long)]
+    quiet: bool,
+}
+
+pub fn run(a: Args) -> Result<(), Failure> {
+    let many = a.scenes.len() > 1;
+    if many && a.mesh.is_some() {
+        return Err(Failure::input(
+            "--mesh takes a single scene; solve the scenes one at a time to mesh them",
+        ));
+    }
+    if let Some(m) = &a.mesh {
+        MeshFormat::from_path(m)?;
+    }
+    if many {
+        if let Some(dir) = &a.output {
+            std::fs::create_dir_all(dir).map_err(|e| Failure {
+                code: 1,
+                message: format!("cannot create directory {}: {e}", dir.display()),
+            })?;
+        }
+    }
+    let bar = progress(a.scenes.len());
+    let mut failures = 0;
+    for path in &a.scenes {
+        bar.set_message(path.display().to_string());
+        let out = match (&a.output, many) {
+            (Some(o), false) => Some(o.clone()),
+            (Some(dir), true) => Some(dir.join(result_name(path))),
+            (None, _) => None,
+        };
+        match solve_one(path, out.as_deref(), &a) {
+            Ok(lines) => {
+                if !a.quiet {
+                    bar.suspend(|| println!("{lines}"));
+                }
+            }
+            Err(f) if many => {
+                failures += 1;
+                bar.suspend(|| eprintln!("error: {}", f.message.replace('\n', " ")));
+            }
+            Err(f) => return Err(f),
+        }
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    if failures > 0 {
+        return Err(Failure::input(format!(
+            "{failures} of {} scenes failed",
+            a.scenes.len()
+        )));
+    }
+    Ok(())
+}
+
+fn progress(n: usize) -> ProgressBar {
+    if n < 2 || !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(n as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:30} {pos}/{len} {elapsed} {msg}")
+            .expect("valid template"),
+    );
+    bar
+}
+
+fn result_name(scene: &Path) -> String {
+    let stem = scene
+        .file_stem()
+        .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
+    format!("{stem}.result.json")
+}
+
+fn solve_one(path: &Path, out: Option<&Path>, a: &Args) -> Result<String, Failure> {
+    let with_file = |e: fairsurf_io::Error| {
+        let mut f = Failure::from(e);
+        f.message = format!("{}: {}", path.display(), f.message);
+        f
+    };
+    let scene = Scene::read(path).map_err(with_file)?;
+    let spinner = spinner_for(&scene);
+    let solved = scene.solve().map_err(with_file);
+    spinner.finish_and_clear();
+    let solved = solved?;
+    let mut written = Vec::new();
+    if let Some(o) = out {
+        solved.write(o)?;
+        written.push(o.display().to_string());
+    }
+    if let Some(m) = &a.mesh {
+        let r = a.resolution as usize;
+        write_mesh(m, &TriMesh::from_patch(&solved.solution.patch, r, r))?;
+        written.push(m.display().to_string());
+    }
+    if a.json {
+        return Ok(serde_json::to_string_pretty(&solved.report_json()).expect("json"));
+    }
+    Ok(summary(path, &solved, &written))
+}
+
+/// A spinner on a terminal for solves that take noticeable time.
+fn spinner_for(scene: &Scene) -> ProgressBar {
+    let [n, m] = scene.tensor().degree;
+    if n.max(m) < 16 || !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let s = ProgressBar::new_spinner();
+    s.set_message(format!("assembling and solving degree {n}×{m}"));
+    s.enable_steady_tick(std::time::Duration::from_millis(100));
+    s
+}
+
+fn summary(path: &Path, s: &SolvedScene, written: &[String]) -> String {
+    let r = &s.solution.report;
+    let (n, m) = s.solution.patch.degree();
+    let mut lines = vec![format!(
+        "{}: degree {n}×{m}, {} free points ({} unknowns{})",
+        path.display(),
+        r.free_points,
+        r.unknowns,
+        if r.coupled {
+            ", coordinates coupled"
+        } else {
+            ""
+        }
+    )];
+    let terms: Vec<String> = r
+        .terms
+        .iter()
+        .map(|t| format!("{} {:.10e}", t.name, t.value))
+        .collect();
+    lines.push(format!(
+        "  energy {:.10e} = {}",
+        r.energy,
+        terms.join(" + ")
+    ));
+    if let Some(ms) = &r.measures {
+        lines.push(format!(
+            "  area {:.12} (±{:.1e})  dirichlet {:.10e}  biharmonic {:.10e}",
+            ms.area, ms.area_error, ms.dirichlet, ms.biharmonic
+        ));
+    }
+    lines.push(format!(
+        "  gradient {:.2e} (relative {:.2e})  residual {:.2e}  condition ≈ {:.2e}  refinement steps {}",
+        r.gradient_norm, r.relative_gradient, r.residual, r.condition_estimate, r.refinement_steps
+    ));
+    if let Some(d) = &s.normal_deviation {
+        lines.push(format!(
+            "  normal deviation from N: max {:.3}°, mean {:.3}°",
+            d.max.to_degrees(),
+            d.mean.to_degrees()
+        ));
+    }
+    if let Some(d) = s.guide_distance {
+        lines.push(format!("  max distance to the guide surface {d:.6e}"));
+    }
+    for note in &s.built.notes {
+        lines.push(format!("  note: {note}"));
+    }
+    let wrote = if written.is_empty() {
+        String::new()
+    } else {
+        format!(" → wrote {}", written.join(", "))
+    };
+    lines.push(format!("  {:.3} s{wrote}", r.timings.total));
+    lines.join("\n")
+}

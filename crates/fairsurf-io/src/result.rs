@@ -1,0 +1,177 @@
+//! Result files: the scene written back with every control point filled and
+//! a `"report"`. A result file is itself a scene that solves to the same
+//! surface: free points are listed in `free_points` (or implied by
+//! `fixed_rings`) and a default guide surface is written out explicitly.
+
+use crate::scene::{GuideSurfaceSpec, Net, Scene, SurfaceSpec, TensorSpec};
+use crate::validate::Built;
+use crate::{write_atomic, Result};
+use fairsurf::analysis::{normal_deviation, NormalDeviation};
+use fairsurf::{Solution, SolveOptions, SolveReport, TensorPatch};
+use serde_json::{json, Map, Value};
+use std::path::Path;
+
+/// A solved scene: what was asked, how it was read, and the answer.
+#[derive(Debug)]
+pub struct SolvedScene {
+    /// The scene as given.
+    pub scene: Scene,
+    /// The validated problem and what was assumed.
+    pub built: Built,
+    /// The surface and the solver's report.
+    pub solution: Solution,
+    /// Angle between the result's normals and the guiding field.
+    pub normal_deviation: Option<NormalDeviation>,
+    /// max |R − S| over a 33×33 grid, for a guide surface S.
+    pub guide_distance: Option<f64>,
+}
+
+impl Scene {
+    /// Validates and solves with default options.
+    pub fn solve(&self) -> Result<SolvedScene> {
+        self.solve_with(&SolveOptions::default())
+    }
+
+    /// Validates and solves.
+    pub fn solve_with(&self, opts: &SolveOptions) -> Result<SolvedScene> {
+        let built = self.build()?;
+        let solution = built.problem.solve_with(opts)?;
+        let normal_deviation = built
+            .normal_field
+            .as_ref()
+            .map(|f| normal_deviation(&solution.patch, f, built.deviation_grid));
+        let guide_distance = built
+            .guide
+            .as_ref()
+            .map(|s| max_distance(&solution.patch, s));
+        Ok(SolvedScene {
+            scene: self.clone(),
+            built,
+            solution,
+            normal_deviation,
+            guide_distance,
+        })
+    }
+}
+
+fn max_distance(r: &TensorPatch, s: &TensorPatch) -> f64 {
+    let k = 32;
+    let mut d: f64 = 0.0;
+    for i in 0..=k {
+        for j in 0..=k {
+            let (u, v) = (i as f64 / k as f64, j as f64 / k as f64);
+            d = d.max(fairsurf::vector::norm(fairsurf::vector::sub(
+                r.eval(u, v),
+                s.eval(u, v),
+            )));
+        }
+    }
+    d
+}
+
+/// A net as JSON rows.
+pub(crate) fn net_json(p: &TensorPatch) -> Net {
+    let (n, m) = p.degree();
+    (0..=n)
+        .map(|i| (0..=m).map(|j| Some(p.point(i, j).to_vec())).collect())
+        .collect()
+}
+
+impl SolvedScene {
+    /// The result as a scene: every control point filled, the free ones
+    /// listed, the guide written out, and the report attached.
+    pub fn result_scene(&self) -> Scene {
+        let mut out = self.scene.clone();
+        let patch = &self.solution.patch;
+        let (n, m) = patch.degree();
+        out.surface = SurfaceSpec::Tensor(TensorSpec {
+            degree: [n, m],
+            control_points: net_json(patch),
+        });
+        if out.fixed_rings.is_none() {
+            out.free_points = Some(
+                self.built
+                    .free
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, &f)| f)
+                    .map(|(k, _)| [k / (m + 1), k % (m + 1)])
+                    .collect(),
+            );
+        }
+        if let (Some(g), Some(spec)) = (&self.built.guide, &self.scene.energy.guide_surface) {
+            if spec.control_points.is_none() {
+                let (a, b) = g.degree();
+                out.energy.guide_surface = Some(GuideSurfaceSpec {
+                    weight: spec.weight,
+                    degree: Some([a, b]),
+                    control_points: Some(net_json(g)),
+                });
+            }
+        }
+        out.report = Some(self.report_json());
+        out
+    }
+
+    /// The `"report"` object.
+    pub fn report_json(&self) -> Value {
+        let mut r = report_json(&self.solution.report);
+        let o = r.as_object_mut().expect("object");
+        if let Some(d) = &self.normal_deviation {
+            o.insert(
+                "normal_deviation_deg".into(),
+                json!({"max": d.max.to_degrees(), "mean": d.mean.to_degrees(), "rms": d.rms.to_degrees(), "samples": d.samples}),
+            );
+        }
+        if let Some(d) = self.guide_distance {
+            o.insert("guide_distance_max".into(), json!(d));
+        }
+        o.insert("notes".into(), json!(self.built.notes));
+        r
+    }
+
+    /// Writes the result file (atomically).
+    pub fn write(&self, path: &Path) -> Result<()> {
+        let v = serde_json::to_vec_pretty(&self.result_scene()).expect("a scene serializes");
+        write_atomic(path, |w| {
+            w.write_all(&v)?;
+            w.write_all(b"\n")
+        })
+    }
+}
+
+/// A [`SolveReport`] as JSON: energies, accuracy, measures, timings.
+pub fn report_json(r: &SolveReport) -> Value {
+    let mut terms = Map::new();
+    for t in &r.terms {
+        // Two terms of one kind (possible through the library) are summed.
+        let prev = terms.get(&t.name).and_then(Value::as_f64).unwrap_or(0.0);
+        terms.insert(t.name.clone(), json!(prev + t.value));
+    }
+    let finite = |x: f64| if x.is_finite() { json!(x) } else { Value::Null };
+    let mut o = json!({
+        "energy": r.energy,
+        "terms": terms,
+        "gradient_norm": r.gradient_norm,
+        "relative_gradient": r.relative_gradient,
+        "residual": r.residual,
+        "condition_estimate": finite(r.condition_estimate),
+        "refinement_steps": r.refinement_steps,
+        "unknowns": r.unknowns,
+        "free_points": r.free_points,
+        "coupled": r.coupled,
+        "timings_s": {
+            "assemble": r.timings.assemble, "factor": r.timings.factor, "solve": r.timings.solve,
+            "analyse": r.timings.analyse, "total": r.timings.total,
+        },
+        "fairsurf_version": env!("CARGO_PKG_VERSION"),
+    });
+    if let Some(m) = &r.measures {
+        let obj = o.as_object_mut().expect("object");
+        obj.insert("area".into(), json!(m.area));
+        obj.insert("area_error".into(), json!(m.area_error));
+        obj.insert("dirichlet".into(), json!(m.dirichlet));
+        obj.insert("biharmonic".into(), json!(m.biharmonic));
+    }
+    o
+}

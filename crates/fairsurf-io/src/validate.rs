@@ -1,0 +1,483 @@
+//! From a parsed [`Scene`] to a [`Problem`]: every check that serde cannot
+//! do, each failing with the JSON path of the offending value.
+
+use crate::scene::{EnergySpec, Net, NumberOrGrid, Scene};
+use crate::{Error, Result};
+use fairsurf::{
+    Bend, GuideSurface, Measure, NormalField, Problem, SampleGrid, Stretch, TensorPatch, Vec3,
+};
+
+/// Largest accepted degree: the dense system of a degree-40 patch with a
+/// normal field has 3·39² ≈ 4,600 unknowns (a 170 MB matrix).
+pub const MAX_DEGREE: usize = 40;
+/// Largest accepted sample grid size per direction.
+pub const MAX_GRID: usize = 2000;
+
+/// A validated scene, ready to solve.
+#[derive(Debug)]
+pub struct Built {
+    /// The problem.
+    pub problem: Problem,
+    /// The given net when it has no null: the initial surface.
+    pub initial: Option<TensorPatch>,
+    /// Whether each control point is free, row-major.
+    pub free: Vec<bool>,
+    /// The normal-field term, for measuring the result against it.
+    pub normal_field: Option<NormalField>,
+    /// Grid on which to measure the normal deviation.
+    pub deviation_grid: (usize, usize),
+    /// The guide surface S, as used.
+    pub guide: Option<TensorPatch>,
+    /// What was assumed where the scene was silent.
+    pub notes: Vec<String>,
+}
+
+impl Scene {
+    /// Checks the scene and builds its problem.
+    pub fn build(&self) -> Result<Built> {
+        let t = self.tensor();
+        let [n, m] = t.degree;
+        for (k, d) in [n, m].into_iter().enumerate() {
+            if d == 0 || d > MAX_DEGREE {
+                return Err(Error::scene(
+                    format!("surface.degree[{k}]"),
+                    format!("expected 1 to {MAX_DEGREE}, got {d}"),
+                ));
+            }
+        }
+        let given = parse_net(&t.control_points, "surface.control_points", (n, m), true)?;
+        let free = self.free_mask(&given, (n, m))?;
+        let initial = given
+            .iter()
+            .all(Option::is_some)
+            .then(|| TensorPatch::new(n, m, given.iter().map(|p| p.expect("all given")).collect()));
+        let known: Vec<Option<Vec3>> = given
+            .iter()
+            .zip(&free)
+            .map(|(p, &f)| if f { None } else { *p })
+            .collect();
+        let mut problem = Problem::new((n, m)).with_known(known)?;
+        let mut built = Built {
+            problem: Problem::new((n, m)),
+            initial,
+            free,
+            normal_field: None,
+            deviation_grid: (32, 32),
+            guide: None,
+            notes: Vec::new(),
+        };
+        self.add_terms(&mut problem, &mut built, &given)?;
+        built.problem = problem;
+        Ok(built)
+    }
+
+    /// The surface as a patch when every control point is given (a result
+    /// file, or a scene with no null), else an error naming the first null.
+    pub fn surface_patch(&self) -> Result<TensorPatch> {
+        let t = self.tensor();
+        let [n, m] = t.degree;
+        let pts = parse_net(&t.control_points, "surface.control_points", (n, m), true)?;
+        if let Some(k) = pts.iter().position(Option::is_none) {
+            return Err(Error::scene(
+                format!("surface.control_points[{}][{}]", k / (m + 1), k % (m + 1)),
+                "is null: solve the scene first and use the result file",
+            ));
+        }
+        Ok(TensorPatch::new(
+            n,
+            m,
+            pts.into_iter().map(|p| p.expect("checked")).collect(),
+        ))
+    }
+
+    fn free_mask(&self, given: &[Option<Vec3>], (n, m): (usize, usize)) -> Result<Vec<bool>> {
+        let at = |k: usize| (k / (m + 1), k % (m + 1));
+        let mut free: Vec<bool> = given.iter().map(Option::is_none).collect();
+        if let Some(k) = self.fixed_rings {
+            if k == 0 {
+                return Err(Error::scene(
+                    "fixed_rings",
+                    "expected k ≥ 1 (omit fixed_rings to fix exactly the given points)",
+                ));
+            }
+            if self.free_points.is_some() {
+                return Err(Error::scene(
+                    "free_points",
+                    "cannot be combined with fixed_rings",
+                ));
+            }
+            if n < 2 * k || m < 2 * k {
+                return Err(Error::scene(
+                    "fixed_rings",
+                    format!(
+                        "{k} fixed ring(s) leave no free control point at degree [{n}, {m}]: both degrees must be at least {}",
+                        2 * k
+                    ),
+                ));
+            }
+            for (q, f) in free.iter_mut().enumerate() {
+                let (i, j) = at(q);
+                let ring = i.min(j).min(n - i).min(m - j);
+                *f = ring >= k;
+                if !*f && given[q].is_none() {
+                    return Err(Error::scene(
+                        format!("surface.control_points[{i}][{j}]"),
+                        format!("is null but lies in the {k} fixed ring(s); give its value"),
+                    ));
+                }
+            }
+        }
+        for (q, &[i, j]) in self.free_points.iter().flatten().enumerate() {
+            if i > n || j > m {
+                return Err(Error::scene(
+                    format!("free_points[{q}]"),
+                    format!("[{i}, {j}] is outside the degree [{n}, {m}] net"),
+                ));
+            }
+            free[i * (m + 1) + j] = true;
+        }
+        if !free.contains(&true) {
+            return Err(Error::scene(
+                "surface.control_points",
+                "no free control point: mark free points with null, list them in free_points, or set fixed_rings",
+            ));
+        }
+        Ok(free)
+    }
+
+    fn add_terms(&self, pb: &mut Problem, built: &mut Built, given: &[Option<Vec3>]) -> Result<()> {
+        let e: &EnergySpec = &self.energy;
+        let [n, m] = self.tensor().degree;
+        let grid = match &e.sampling {
+            None => None,
+            Some(s) => {
+                for (k, d) in s.grid.into_iter().enumerate() {
+                    if d == 0 || d > MAX_GRID {
+                        return Err(Error::scene(
+                            format!("energy.sampling.grid[{k}]"),
+                            format!("expected 1 to {MAX_GRID}, got {d}"),
+                        ));
+                    }
+                }
+                Some(SampleGrid::new(s.grid[0], s.grid[1]))
+            }
+        };
+        let measure = grid.map_or(Measure::Exact, Measure::Grid);
+        let (mut stretch, mut bend) = (e.stretch, e.bend);
+        if stretch.is_none() && bend.is_none() {
+            if self.fixed_rings.unwrap_or(0) >= 2 {
+                bend = Some(1.0);
+                built.notes.push(
+                    "energy.bend defaulted to 1 (no stretch or bend given, fixed_rings ≥ 2)".into(),
+                );
+            } else {
+                stretch = Some(1.0);
+                built
+                    .notes
+                    .push("energy.stretch defaulted to 1 (no stretch or bend given)".into());
+            }
+        }
+        if let Some(w) = stretch {
+            check_weight("energy.stretch", w)?;
+            pb.push_term(Box::new(Stretch::new(w).with_measure(measure.clone())));
+        }
+        if let Some(w) = bend {
+            check_weight("energy.bend", w)?;
+            pb.push_term(Box::new(Bend::new(w).with_measure(measure.clone())));
+        }
+        if let Some(nf) = self.normal_term(grid, built)? {
+            built.normal_field = Some(nf.clone());
+            pb.push_term(Box::new(nf));
+        }
+        if let Some(g) = self.guide_term(grid, given, (n, m))? {
+            built.guide = Some(g.surface.clone());
+            pb.push_term(Box::new(g));
+        }
+        Ok(())
+    }
+
+    fn normal_term(
+        &self,
+        grid: Option<SampleGrid>,
+        built: &mut Built,
+    ) -> Result<Option<NormalField>> {
+        let e = &self.energy;
+        let sampling = e.sampling.as_ref();
+        let field = match &e.normal_field {
+            Some(f) => {
+                check_weight("energy.normal_field.weight", f.weight)?;
+                match &f.control_points {
+                    Some(cp) => {
+                        let patch = parse_patch(cp, f.degree, "energy.normal_field")?;
+                        Some((f.weight, Some(patch)))
+                    }
+                    None if sampling.is_some_and(|s| s.normal_samples.is_some()) => Some((f.weight, None)),
+                    None => {
+                        return Err(Error::scene(
+                            "energy.normal_field.control_points",
+                            "required (the Bézier field N), unless energy.sampling.normal_samples gives the normals",
+                        ))
+                    }
+                }
+            }
+            None if sampling.is_some_and(|s| s.normal_samples.is_some()) => Some((1.0, None)),
+            None => None,
+        };
+        if let (None, Some(s)) = (&field, sampling) {
+            if s.normal_weights.is_some() {
+                return Err(Error::scene(
+                    "energy.sampling.normal_weights",
+                    "needs energy.normal_field or energy.sampling.normal_samples",
+                ));
+            }
+        }
+        let Some((weight, patch)) = field else {
+            return Ok(None);
+        };
+        let Some(g) = grid else {
+            let patch = patch.expect("without sampling the field has control points");
+            return Ok(Some(NormalField::new(weight, patch)));
+        };
+        let s = sampling.expect("grid comes from sampling");
+        let (np, mp) = g.size();
+        built.deviation_grid = (np, mp);
+        let normals: Vec<Vec3> = match &s.normal_samples {
+            Some(ns) => {
+                let pts = parse_net(ns, "energy.sampling.normal_samples", (np, mp), false)?;
+                pts.into_iter()
+                    .enumerate()
+                    .map(|(k, p)| {
+                        let p = p.expect("no null");
+                        if fairsurf::vector::norm(p) == 0.0 {
+                            return Err(Error::scene(
+                                format!(
+                                    "energy.sampling.normal_samples[{}][{}]",
+                                    k / (mp + 1),
+                                    k % (mp + 1)
+                                ),
+                                "is the zero vector and has no direction",
+                            ));
+                        }
+                        Ok(p)
+                    })
+                    .collect::<Result<_>>()?
+            }
+            None => {
+                let f = patch.expect("field given when samples are not");
+                (0..g.len())
+                    .map(|k| {
+                        let (u, v) = g.param(k);
+                        let p = f.eval(u, v);
+                        if fairsurf::vector::normalize(p).is_none() {
+                            return Err(Error::scene(
+                                "energy.normal_field.control_points",
+                                format!("N vanishes at sample (u, v) = ({u}, {v}), so it has no direction there"),
+                            ));
+                        }
+                        Ok(p)
+                    })
+                    .collect::<Result<_>>()?
+            }
+        };
+        let weights = parse_weights(
+            s.normal_weights.as_ref(),
+            "energy.sampling.normal_weights",
+            (np, mp),
+        )?;
+        Ok(Some(NormalField::sampled(weight, g, normals, weights)))
+    }
+
+    fn guide_term(
+        &self,
+        grid: Option<SampleGrid>,
+        given: &[Option<Vec3>],
+        (n, m): (usize, usize),
+    ) -> Result<Option<GuideSurface>> {
+        let e = &self.energy;
+        let Some(gs) = &e.guide_surface else {
+            if e.sampling
+                .as_ref()
+                .is_some_and(|s| s.guide_weights.is_some())
+            {
+                return Err(Error::scene(
+                    "energy.sampling.guide_weights",
+                    "needs energy.guide_surface",
+                ));
+            }
+            return Ok(None);
+        };
+        check_weight("energy.guide_surface.weight", gs.weight)?;
+        let surface = match &gs.control_points {
+            Some(cp) => {
+                let p = parse_patch(cp, gs.degree, "energy.guide_surface")?;
+                let (a, b) = p.degree();
+                if a > n || b > m {
+                    return Err(Error::scene(
+                        "energy.guide_surface.degree",
+                        format!("expected at most the surface's degree [{n}, {m}], got [{a}, {b}]"),
+                    ));
+                }
+                p
+            }
+            None => {
+                if let Some(k) = given.iter().position(Option::is_none) {
+                    return Err(Error::scene(
+                        "energy.guide_surface.control_points",
+                        format!(
+                            "required because surface.control_points[{}][{}] is null (the default guide surface is the initial net)",
+                            k / (m + 1),
+                            k % (m + 1)
+                        ),
+                    ));
+                }
+                TensorPatch::new(n, m, given.iter().map(|p| p.expect("checked")).collect())
+            }
+        };
+        let mut term = GuideSurface::new(gs.weight, surface);
+        if let Some(g) = grid {
+            let s = e.sampling.as_ref().expect("grid from sampling");
+            let w = parse_weights(
+                s.guide_weights.as_ref(),
+                "energy.sampling.guide_weights",
+                g.size(),
+            )?;
+            term = term.with_measure(Measure::Grid(g), w);
+        }
+        Ok(Some(term))
+    }
+}
+
+fn check_weight(path: &str, w: f64) -> Result<()> {
+    if !w.is_finite() {
+        return Err(Error::scene(
+            path,
+            format!("expected a finite number, got {w}"),
+        ));
+    }
+    if w < 0.0 {
+        return Err(Error::scene(
+            path,
+            format!("expected a weight ≥ 0, got {w}"),
+        ));
+    }
+    Ok(())
+}
+
+/// Rows × columns of points `[x, y, z]` (or null where allowed), row-major.
+fn parse_net(
+    net: &Net,
+    path: &str,
+    (n, m): (usize, usize),
+    allow_null: bool,
+) -> Result<Vec<Option<Vec3>>> {
+    if net.len() != n + 1 {
+        return Err(Error::scene(
+            path,
+            format!("expected {} rows, got {}", n + 1, net.len()),
+        ));
+    }
+    let mut out = Vec::with_capacity((n + 1) * (m + 1));
+    for (i, row) in net.iter().enumerate() {
+        if row.len() != m + 1 {
+            return Err(Error::scene(
+                format!("{path}[{i}]"),
+                format!("expected {} points, got {}", m + 1, row.len()),
+            ));
+        }
+        for (j, p) in row.iter().enumerate() {
+            let here = || format!("{path}[{i}][{j}]");
+            match p {
+                None if allow_null => out.push(None),
+                None => return Err(Error::scene(here(), "expected 3 numbers, got null")),
+                Some(c) if c.len() != 3 => {
+                    return Err(Error::scene(
+                        here(),
+                        format!("expected 3 numbers, got {}", c.len()),
+                    ))
+                }
+                Some(c) => {
+                    if let Some(k) = c.iter().position(|x| !x.is_finite()) {
+                        return Err(Error::scene(
+                            format!("{}[{k}]", here()),
+                            "expected a finite number",
+                        ));
+                    }
+                    out.push(Some([c[0], c[1], c[2]]));
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// A complete net whose degree is given or read off its shape.
+fn parse_patch(net: &Net, degree: Option<[usize; 2]>, path: &str) -> Result<TensorPatch> {
+    let cp = format!("{path}.control_points");
+    let [n, m] = match degree {
+        Some(d) => d,
+        None => {
+            let rows = net.len();
+            let cols = net.first().map_or(0, Vec::len);
+            if rows == 0 || cols == 0 {
+                return Err(Error::scene(
+                    cp,
+                    "expected at least one row of at least one point",
+                ));
+            }
+            [rows - 1, cols - 1]
+        }
+    };
+    if n > MAX_DEGREE || m > MAX_DEGREE {
+        return Err(Error::scene(
+            format!("{path}.degree"),
+            format!("expected degrees ≤ {MAX_DEGREE}, got [{n}, {m}]"),
+        ));
+    }
+    let pts = parse_net(net, &cp, (n, m), false)?;
+    Ok(TensorPatch::new(
+        n,
+        m,
+        pts.into_iter().map(|p| p.expect("no null")).collect(),
+    ))
+}
+
+/// Per-sample weights: one number or a (np+1)×(mp+1) grid, each finite ≥ 0.
+fn parse_weights(
+    w: Option<&NumberOrGrid>,
+    path: &str,
+    (np, mp): (usize, usize),
+) -> Result<Option<Vec<f64>>> {
+    match w {
+        None => Ok(None),
+        Some(NumberOrGrid::Number(x)) => {
+            check_weight(path, *x)?;
+            Ok(Some(vec![*x; (np + 1) * (mp + 1)]))
+        }
+        Some(NumberOrGrid::Grid(rows)) => {
+            if rows.len() != np + 1 {
+                return Err(Error::scene(
+                    path,
+                    format!("expected {} rows (grid[0] + 1), got {}", np + 1, rows.len()),
+                ));
+            }
+            let mut out = Vec::with_capacity((np + 1) * (mp + 1));
+            for (i, row) in rows.iter().enumerate() {
+                if row.len() != mp + 1 {
+                    return Err(Error::scene(
+                        format!("{path}[{i}]"),
+                        format!(
+                            "expected {} numbers (grid[1] + 1), got {}",
+                            mp + 1,
+                            row.len()
+                        ),
+                    ));
+                }
+                for (j, &x) in row.iter().enumerate() {
+                    check_weight(&format!("{path}[{i}][{j}]"), x)?;
+                    out.push(x);
+                }
+            }
+            Ok(Some(out))
+        }
+    }
+}
