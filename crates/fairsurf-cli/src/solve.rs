@@ -112,6 +112,9 @@ fn solve_one(path: &Path, out: Option<&Path>, a: &Args) -> Result<String, Failur
     spinner.finish_and_clear();
     let solved = solved?;
     let mut written = Vec::new();
+    for file in out.iter().copied().chain(a.mesh.as_deref()) {
+        ensure_parent(file)?;
+    }
     if let Some(o) = out {
         solved.write(o)?;
         written.push(o.display().to_string());
@@ -125,6 +128,16 @@ fn solve_one(path: &Path, out: Option<&Path>, a: &Args) -> Result<String, Failur
         return Ok(serde_json::to_string_pretty(&solved.report_json()).expect("json"));
     }
     Ok(summary(path, &solved, &written))
+}
+
+fn ensure_parent(file: &Path) -> Result<(), Failure> {
+    match file.parent() {
+        Some(d) if !d.as_os_str().is_empty() => std::fs::create_dir_all(d).map_err(|e| Failure {
+            code: 1,
+            message: format!("cannot create directory {}: {e}", d.display()),
+        }),
+        _ => Ok(()),
+    }
 }
 
 /// A spinner on a terminal for solves that take noticeable time.

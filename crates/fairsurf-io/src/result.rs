@@ -3,7 +3,7 @@
 //! surface: free points are listed in `free_points` (or implied by
 //! `fixed_rings`) and a default guide surface is written out explicitly.
 
-use crate::scene::{GuideSurfaceSpec, Net, Scene, SurfaceSpec, TensorSpec};
+use crate::scene::{GuideSurfaceSpec, Net, Scene, SurfaceKind, SurfaceSpec};
 use crate::validate::Built;
 use crate::{write_atomic, Result};
 use fairsurf::analysis::{normal_deviation, NormalDeviation};
@@ -84,10 +84,11 @@ impl SolvedScene {
         let mut out = self.scene.clone();
         let patch = &self.solution.patch;
         let (n, m) = patch.degree();
-        out.surface = SurfaceSpec::Tensor(TensorSpec {
+        out.surface = SurfaceSpec {
+            kind: SurfaceKind::Tensor,
             degree: [n, m],
             control_points: net_json(patch),
-        });
+        };
         if out.fixed_rings.is_none() {
             out.free_points = Some(
                 self.built

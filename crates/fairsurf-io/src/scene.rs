@@ -45,31 +45,32 @@ pub struct Scene {
 }
 
 /// The kind of surface.
-#[derive(Clone, Debug, Serialize, Deserialize, JsonSchema)]
-#[serde(tag = "type", rename_all = "snake_case")]
-pub enum SurfaceSpec {
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum SurfaceKind {
     /// A tensor-product Bézier patch of degree (n, m).
-    Tensor(TensorSpec),
+    #[default]
+    Tensor,
 }
 
-impl Default for SurfaceSpec {
-    fn default() -> Self {
-        SurfaceSpec::Tensor(TensorSpec {
-            degree: [1, 1],
-            control_points: Vec::new(),
-        })
-    }
-}
-
-/// A tensor-product Bézier patch `R(u,v) = Σ B_i^n(u) B_j^m(v) P_ij`.
-#[derive(Clone, Debug, Serialize, Deserialize, JsonSchema)]
+/// The surface: a tensor-product Bézier patch `R(u,v) = Σ B_i^n(u) B_j^m(v) P_ij`.
+///
+/// (A plain struct with a `type` field rather than a tagged enum: serde's
+/// tagged enums buffer their content and lose the JSON path of errors inside.)
+#[derive(Clone, Debug, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
-pub struct TensorSpec {
+pub struct SurfaceSpec {
+    /// `"tensor"`.
+    #[serde(rename = "type")]
+    pub kind: SurfaceKind,
     /// `[n, m]`: degree in u and in v, each 1 to 40.
     pub degree: [usize; 2],
     /// (n+1) rows of (m+1) points `[x, y, z]` or `null` (free, no initial value).
     pub control_points: Net,
 }
+
+/// The tensor surface (the only kind so far).
+pub type TensorSpec = SurfaceSpec;
 
 /// The energy `E = w_s·stretch + w_b·bend + λ·normal_field + γ·guide_surface`.
 /// Without `sampling` every term is an exact integral over [0,1]²
@@ -192,8 +193,6 @@ impl Scene {
 
     /// The tensor part of the surface.
     pub fn tensor(&self) -> &TensorSpec {
-        match &self.surface {
-            SurfaceSpec::Tensor(t) => t,
-        }
+        &self.surface
     }
 }

@@ -1,1 +1,86 @@
-fn main() {}
+//! Assembly and solve of Wu & Yang's E1 (membrane) and E2 (thin plate) with a
+//! normal field (λ = 10, a degree-3×3 Bézier field) and a guide surface
+//! (γ = 1), at degrees 5, 10, 20, 30. Run: `cargo bench -p fairsurf`.
+#![allow(missing_docs)]
+
+use fairsurf::{
+    Bend, EnergyTerm, GuideSurface, NormalField, Problem, SolveOptions, Stretch, TensorPatch,
+};
+
+fn main() {
+    divan::main();
+}
+
+fn net(n: usize) -> TensorPatch {
+    TensorPatch::from_fn(n, n, |i, j| {
+        let (x, y) = (i as f64 / n as f64, j as f64 / n as f64);
+        [x, y, 0.3 * (3.0 * x).sin() * (2.0 * y + 0.5).cos()]
+    })
+}
+
+fn field() -> TensorPatch {
+    TensorPatch::from_fn(3, 3, |i, j| {
+        [0.2 * (i as f64 - 1.5), 0.15 * (j as f64 - 1.5), 1.0]
+    })
+}
+
+fn terms(n: usize, thin_plate: bool) -> Vec<Box<dyn EnergyTerm>> {
+    let fair: Box<dyn EnergyTerm> = if thin_plate {
+        Box::new(Bend::new(1.0))
+    } else {
+        Box::new(Stretch::new(1.0))
+    };
+    vec![
+        fair,
+        Box::new(NormalField::new(10.0, field())),
+        Box::new(GuideSurface::new(1.0, net(n))),
+    ]
+}
+
+fn problem(n: usize, thin_plate: bool) -> Problem {
+    let mut p = Problem::new((n, n)).with_fixed_rings(&net(n), if thin_plate { 2 } else { 1 });
+    for t in terms(n, thin_plate) {
+        p.push_term(t);
+    }
+    p
+}
+
+const DEGREES: [usize; 4] = [5, 10, 20, 30];
+
+/// Exact quadratic forms of all three terms (no solve).
+#[divan::bench(args = DEGREES, sample_count = 5)]
+fn assemble_membrane(n: usize) {
+    for t in terms(n, false) {
+        divan::black_box(t.form((n, n)).unwrap());
+    }
+}
+
+#[divan::bench(args = DEGREES, sample_count = 5)]
+fn assemble_thin_plate(n: usize) {
+    for t in terms(n, true) {
+        divan::black_box(t.form((n, n)).unwrap());
+    }
+}
+
+/// Assembly, reduction, Cholesky, refinement, condition estimate, report
+/// energies (no area).
+#[divan::bench(args = DEGREES, sample_count = 5)]
+fn solve_membrane(bencher: divan::Bencher, n: usize) {
+    let p = problem(n, false);
+    let opts = SolveOptions::default().with_analyse(false);
+    bencher.bench(|| p.solve_with(&opts).unwrap());
+}
+
+#[divan::bench(args = DEGREES, sample_count = 5)]
+fn solve_thin_plate(bencher: divan::Bencher, n: usize) {
+    let p = problem(n, true);
+    let opts = SolveOptions::default().with_analyse(false);
+    bencher.bench(|| p.solve_with(&opts).unwrap());
+}
+
+/// Area to 1e-13 relative by adaptive Gauss–Legendre.
+#[divan::bench(args = DEGREES, sample_count = 5)]
+fn area(bencher: divan::Bencher, n: usize) {
+    let p = net(n);
+    bencher.bench(|| fairsurf::analysis::area(&p));
+}

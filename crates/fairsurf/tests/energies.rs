@@ -114,10 +114,10 @@ fn sampled_terms_equal_direct_sums() {
     let grid = SampleGrid::new(7, 9);
     let mut rng = Rng::new(5);
     let normals: Vec<[f64; 3]> = (0..grid.len())
-        .map(|_| [rng.next(), rng.next(), 1.5 + rng.next()])
+        .map(|_| [rng.uniform(), rng.uniform(), 1.5 + rng.uniform()])
         .collect();
-    let lam_w: Vec<f64> = (0..grid.len()).map(|_| 1.0 + rng.next()).collect();
-    let gam_w: Vec<f64> = (0..grid.len()).map(|_| 2.0 + rng.next()).collect();
+    let lam_w: Vec<f64> = (0..grid.len()).map(|_| 1.0 + rng.uniform()).collect();
+    let gam_w: Vec<f64> = (0..grid.len()).map(|_| 2.0 + rng.uniform()).collect();
     let (mut st, mut be, mut nf, mut gs) = (0.0, 0.0, 0.0, 0.0);
     for k in 0..grid.len() {
         let (u, v) = grid.param(k);

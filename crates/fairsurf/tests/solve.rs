@@ -152,7 +152,10 @@ fn planar_boundary_gives_a_planar_surface() {
     let e2 = fairsurf::vector::cross(nrm, e1);
     let mut rng = Rng::new(4);
     let net = TensorPatch::from_fn(7, 6, |i, j| {
-        let (a, b) = (i as f64 + 0.3 * rng.next(), j as f64 + 0.3 * rng.next());
+        let (a, b) = (
+            i as f64 + 0.3 * rng.uniform(),
+            j as f64 + 0.3 * rng.uniform(),
+        );
         [
             2.0 + a * e1[0] + b * e2[0],
             -1.0 + a * e1[1] + b * e2[1],

@@ -104,7 +104,7 @@ impl NormalField {
 
     /// The (a, b) weight tables and axes: ω_ab = λ N_a N_b as Bernstein
     /// coefficients (exact) or per-sample values.
-    fn weight_tables(&self) -> Result<((Axis, Axis), Vec<Mat<f64>>)> {
+    fn weight_tables(&self) -> Result<WeightTables> {
         let lam = self.weight;
         match &self.guide {
             NormalGuide::Field(f) => {
@@ -157,6 +157,9 @@ impl NormalField {
         }
     }
 }
+
+/// Axes and the six weight tables of the coordinate pairs (a, b), a ≤ b.
+type WeightTables = ((Axis, Axis), Vec<Mat<f64>>);
 
 /// The six coordinate pairs (a, b) with a ≤ b.
 fn pairs() -> impl Iterator<Item = (usize, usize)> {

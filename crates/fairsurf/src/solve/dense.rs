@@ -77,7 +77,8 @@ pub(crate) fn solve_spd(
         let x_new = &x + &dx;
         let r_new = residual(h, &x_new, b);
         let nr = norm_max(&r_new);
-        if !(nr < best) {
+        // NaN compares false too: stop on it.
+        if nr.is_nan() || nr >= best {
             break;
         }
         steps += 1;

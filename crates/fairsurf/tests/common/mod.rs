@@ -11,7 +11,7 @@ impl Rng {
         Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
     }
     /// Uniform in [−1, 1).
-    pub fn next(&mut self) -> f64 {
+    pub fn uniform(&mut self) -> f64 {
         self.0 ^= self.0 >> 12;
         self.0 ^= self.0 << 25;
         self.0 ^= self.0 >> 27;
@@ -19,7 +19,7 @@ impl Rng {
         (x >> 11) as f64 / (1u64 << 52) as f64 - 1.0
     }
     pub fn vec3(&mut self) -> Vec3 {
-        [self.next(), self.next(), self.next()]
+        [self.uniform(), self.uniform(), self.uniform()]
     }
 }
 
@@ -29,9 +29,9 @@ pub fn random_net(n: usize, m: usize, seed: u64) -> TensorPatch {
     TensorPatch::from_fn(n, m, |i, j| {
         let (x, y) = (i as f64 / n as f64, j as f64 / m as f64);
         [
-            x + 0.05 * r.next(),
-            y + 0.05 * r.next(),
-            0.3 * (3.0 * x).sin() * (2.0 * y + 0.5).cos() + 0.1 * r.next(),
+            x + 0.05 * r.uniform(),
+            y + 0.05 * r.uniform(),
+            0.3 * (3.0 * x).sin() * (2.0 * y + 0.5).cos() + 0.1 * r.uniform(),
         ]
     })
 }

@@ -1,0 +1,273 @@
+//! The `fairsurf` command as a user meets it: exit statuses, one-line errors
+//! that name the file and JSON path, files written whole or not at all.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn fairsurf(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_fairsurf"))
+        .args(args)
+        .output()
+        .expect("runs")
+}
+
+fn examples() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
+}
+
+fn tmpdir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("fairsurf-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn solve_writes_result_and_meshes() {
+    let d = tmpdir("solve");
+    let scene = examples().join("quickstart.json");
+    for ext in ["obj", "ply", "stl"] {
+        let out = d.join(format!("sub/r_{ext}.json"));
+        let mesh = d.join(format!("sub/m.{ext}"));
+        let o = fairsurf(&[
+            "solve",
+            scene.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--mesh",
+            mesh.to_str().unwrap(),
+            "--resolution",
+            "8",
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        for key in ["area", "dirichlet", "biharmonic", "energy", "gradient_norm"] {
+            assert!(v["report"][key].is_number(), "report.{key}");
+        }
+        assert!(
+            v["surface"]["control_points"][1][1].is_array(),
+            "free point filled"
+        );
+        let bytes = std::fs::read(&mesh).unwrap();
+        match ext {
+            "obj" => {
+                let t = String::from_utf8(bytes).unwrap();
+                assert_eq!(t.lines().filter(|l| l.starts_with("v ")).count(), 81);
+                assert_eq!(t.lines().filter(|l| l.starts_with("vn ")).count(), 81);
+                assert_eq!(t.lines().filter(|l| l.starts_with("f ")).count(), 128);
+            }
+            "ply" => {
+                let header_end = bytes
+                    .windows(11)
+                    .position(|w| w == b"end_header\n")
+                    .unwrap()
+                    + 11;
+                // 81 vertices × (3 doubles + 3 floats) + 128 faces × (1 + 3·4) bytes
+                assert_eq!(bytes.len() - header_end, 81 * 36 + 128 * 13);
+            }
+            _ => assert_eq!(bytes.len(), 84 + 128 * 50, "binary STL size"),
+        }
+    }
+    let stl = std::fs::File::open(d.join("sub/m.stl")).unwrap();
+    let mesh = stl_io_read(stl);
+    assert_eq!(mesh, 128);
+}
+
+fn stl_io_read(f: std::fs::File) -> usize {
+    // Count facets from the binary header: an independent reading of the file.
+    use std::io::Read;
+    let mut b = Vec::new();
+    std::io::BufReader::new(f).read_to_end(&mut b).unwrap();
+    u32::from_le_bytes([b[80], b[81], b[82], b[83]]) as usize
+}
+
+#[test]
+fn bad_scene_exits_2_with_the_json_path_and_writes_nothing() {
+    let d = tmpdir("bad");
+    let scene = d.join("bad.json");
+    let text = std::fs::read_to_string(examples().join("quickstart.json")).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let mut v = v;
+    v["surface"]["control_points"][3][2] = serde_json::json!([3, 2]);
+    std::fs::write(&scene, v.to_string()).unwrap();
+    let out = d.join("out.json");
+    let o = fairsurf(&[
+        "solve",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(
+        e.contains("surface.control_points[3][2]: expected 3 numbers, got 2"),
+        "{e}"
+    );
+    assert_eq!(e.trim().lines().count(), 1, "one line: {e}");
+    assert!(!out.exists());
+    assert_eq!(
+        std::fs::read_dir(&d).unwrap().count(),
+        1,
+        "nothing but the scene"
+    );
+}
+
+#[test]
+fn unreadable_and_malformed_files_exit_2() {
+    let o = fairsurf(&["solve", "/no/such/file.json"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("cannot read /no/such/file.json"),
+        "{}",
+        stderr(&o)
+    );
+    let d = tmpdir("malformed");
+    let p = d.join("x.json");
+    std::fs::write(&p, "{\"surface\": [").unwrap();
+    let o = fairsurf(&["solve", p.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("line 1"), "{}", stderr(&o));
+}
+
+#[test]
+fn singular_energy_exits_2_and_says_why() {
+    let d = tmpdir("singular");
+    let p = d.join("s.json");
+    std::fs::write(
+        &p,
+        r#"{"surface": {"type": "tensor", "degree": [2, 2], "control_points": [
+            [[0,0,0],[0,1,0],[0,2,0]], [[1,0,0],null,[1,2,0]], [[2,0,0],[2,1,0],[2,2,0]]]},
+            "energy": {"stretch": 0, "normal_field": {"control_points": [[[0,0,1]]]}}}"#,
+    )
+    .unwrap();
+    let o = fairsurf(&[
+        "solve",
+        p.to_str().unwrap(),
+        "-o",
+        d.join("r.json").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("stretch or bend"), "{}", stderr(&o));
+    assert!(!d.join("r.json").exists());
+}
+
+#[test]
+fn unwritable_output_exits_1_and_leaves_nothing() {
+    let d = tmpdir("unwritable");
+    let blocker = d.join("file");
+    std::fs::write(&blocker, "x").unwrap();
+    // A directory path through a regular file cannot be created.
+    let out = blocker.join("r.json");
+    let o = fairsurf(&[
+        "solve",
+        examples().join("quickstart.json").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+}
+
+#[test]
+fn bad_mesh_extension_exits_2_before_solving() {
+    let o = fairsurf(&[
+        "solve",
+        examples().join("quickstart.json").to_str().unwrap(),
+        "--mesh",
+        "x.dxf",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains(".obj, .ply or .stl"));
+}
+
+#[test]
+fn several_scenes_go_to_a_directory() {
+    let d = tmpdir("many");
+    let a = examples().join("quickstart.json");
+    let b = examples().join("wu_yang_fig1_l10_g0.json");
+    let o = fairsurf(&[
+        "solve",
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        "-o",
+        d.join("res").to_str().unwrap(),
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(d.join("res/quickstart.result.json").exists());
+    assert!(d.join("res/wu_yang_fig1_l10_g0.result.json").exists());
+    assert!(o.stdout.is_empty(), "quiet");
+}
+
+#[test]
+fn eval_reads_a_result_and_refuses_an_unsolved_scene() {
+    let d = tmpdir("eval");
+    let out = d.join("r.json");
+    let scene = examples().join("quickstart.json");
+    assert!(fairsurf(&[
+        "solve",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "-q"
+    ])
+    .status
+    .success());
+    let o = fairsurf(&[
+        "eval",
+        out.to_str().unwrap(),
+        "--uv",
+        "0,0",
+        "--uv",
+        "1,1",
+        "--grid",
+        "2",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v.as_array().unwrap().len(), 2 + 9);
+    assert_eq!(
+        v[0]["point"],
+        serde_json::json!([0.0, 0.0, 0.0]),
+        "corner interpolated"
+    );
+    assert_eq!(v[1]["point"], serde_json::json!([3.0, 3.0, 0.0]));
+    let n = v[0]["normal"].as_array().unwrap();
+    let len: f64 = n.iter().map(|c| c.as_f64().unwrap().powi(2)).sum::<f64>();
+    assert!((len - 1.0).abs() < 1e-12);
+    let o = fairsurf(&["eval", scene.to_str().unwrap(), "--uv", "0.5,0.5"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("surface.control_points[1][1]: is null"),
+        "{}",
+        stderr(&o)
+    );
+    let o = fairsurf(&["eval", out.to_str().unwrap(), "--uv", "1.5,0"]);
+    assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn schema_is_json_and_help_is_everywhere() {
+    let o = fairsurf(&["schema"]);
+    assert!(o.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(v["properties"]["surface"].is_object());
+    for sub in [
+        &["--help"][..],
+        &["solve", "--help"],
+        &["eval", "--help"],
+        &["schema", "--help"],
+    ] {
+        let o = fairsurf(sub);
+        assert!(o.status.success() && !o.stdout.is_empty(), "{sub:?}");
+    }
+    assert_eq!(
+        fairsurf(&["solve"]).status.code(),
+        Some(2),
+        "missing argument"
+    );
+}

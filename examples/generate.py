@@ -1,0 +1,226 @@
+#!/usr/bin/env python3
+"""Writes the example scenes of examples/ (run from anywhere: python3 examples/generate.py).
+
+They rebuild the setups of Wu & Yang 2015, section 5. The paper does not print its
+control points, so each scene constructs data of the same kind: degree, fixed rings,
+kind of normal field (continuous Bezier or sampled), and the lambda/gamma values of
+the figures. Plain standard library; output is deterministic.
+"""
+import json
+import math
+import os
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def binom(n, k):
+    return math.comb(n, k)
+
+
+def bern(n, t):
+    return [binom(n, i) * t**i * (1 - t) ** (n - i) for i in range(n + 1)]
+
+
+def dbern(n, t):
+    if n == 0:
+        return [0.0]
+    low = bern(n - 1, t)
+    return [n * ((low[i - 1] if i > 0 else 0.0) - (low[i] if i < n else 0.0)) for i in range(n + 1)]
+
+
+def patch_eval(net, u, v, du=False, dv=False):
+    n, m = len(net) - 1, len(net[0]) - 1
+    bu = dbern(n, u) if du else bern(n, u)
+    bv = dbern(m, v) if dv else bern(m, v)
+    return [sum(bu[i] * bv[j] * net[i][j][c] for i in range(n + 1) for j in range(m + 1)) for c in range(3)]
+
+
+def unit(a):
+    l = math.sqrt(sum(x * x for x in a))
+    return [x / l for x in a]
+
+
+def cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def patch_normal(net, u, v):
+    return unit(cross(patch_eval(net, u, v, du=True), patch_eval(net, u, v, dv=True)))
+
+
+def graph_net(n, m, f, sx=1.0, sy=1.0):
+    """Control net with x, y on a uniform grid and z = f at the Greville points."""
+    return [[[sx * i / n, sy * j / m, f(i / n, j / m)] for j in range(m + 1)] for i in range(n + 1)]
+
+
+def r(x):
+    return round(x, 12)
+
+
+def clean(net):
+    return [[None if p is None else [r(c) for c in p] for p in row] for row in net]
+
+
+def sampled_normals(net, np_, mp, override=None):
+    out = []
+    for i in range(np_ + 1):
+        row = []
+        for j in range(mp + 1):
+            u, v = i / np_, j / mp
+            nrm = override(u, v) if override else None
+            row.append([r(c) for c in (nrm or patch_normal(net, u, v))])
+        out.append(row)
+    return out
+
+
+def write(name, scene):
+    with open(os.path.join(HERE, name), "w") as f:
+        json.dump(scene, f, indent=1)
+        f.write("\n")
+
+
+def fig1():
+    # A degree-5x5 dome-saddle; the field asks for the normals of a ridge running along v.
+    n = 5
+    init = graph_net(n, n, lambda x, y: 0.25 * math.sin(math.pi * x) * math.sin(math.pi * y))
+    ridge = lambda x, y: 0.5 * math.exp(-12 * (x - 0.5) ** 2) * math.sin(math.pi * y)
+    target = graph_net(n, n, ridge)
+    field = [[[r(c) for c in patch_normal(target, i / n, j / n)] for j in range(n + 1)] for i in range(n + 1)]
+    for lam, gam in [(10, 0), (50, 0), (10, 100), (10, 200)]:
+        energy = {"stretch": 1, "normal_field": {"weight": lam, "degree": [n, n], "control_points": field}}
+        if gam:
+            energy["guide_surface"] = {"weight": gam}
+        write(f"wu_yang_fig1_l{lam}_g{gam}.json", {
+            "name": f"Wu & Yang Fig. 1: extended membrane, lambda = {lam}, gamma = {gam}",
+            "description": "Degree 5x5, boundary fixed; a degree-5x5 Bezier normal field of a ridge; "
+                           "the guide surface (when gamma > 0) is the initial dome.",
+            "surface": {"type": "tensor", "degree": [n, n], "control_points": clean(init)},
+            "fixed_rings": 1,
+            "energy": energy,
+        })
+
+
+def hat(x, y):
+    # A hat whose brim waves along the boundary.
+    d = math.hypot(x - 0.5, y - 0.5)
+    return 0.45 * math.exp(-10 * d * d) + 0.06 * math.sin(4 * math.pi * x) * math.sin(4 * math.pi * y) * (1 - math.exp(-20 * d * d))
+
+
+def fig2_3():
+    n, g = 8, 32
+    init = graph_net(n, n, hat)
+    def flat_top(u, v):
+        return [0.0, 0.0, 1.0] if math.hypot(u - 0.5, v - 0.5) < 0.22 else None
+    normals2 = sampled_normals(init, g, g, flat_top)
+    write("wu_yang_fig2_dirichlet.json", {
+        "name": "Wu & Yang Fig. 2(c): Dirichlet extremal of the hat's boundary",
+        "surface": {"type": "tensor", "degree": [n, n], "control_points": clean(init)},
+        "fixed_rings": 1,
+        "energy": {"stretch": 1},
+    })
+    for lam in [1, 10, 50]:
+        write(f"wu_yang_fig2_l{lam}.json", {
+            "name": f"Wu & Yang Fig. 2: sampled extended membrane, lambda = {lam}, gamma = 0",
+            "description": "8x8 hat with a wavy brim; 33x33 sampled unit normals: vertical on the top "
+                           "(flatten it), the initial surface's elsewhere.",
+            "surface": {"type": "tensor", "degree": [n, n], "control_points": clean(init)},
+            "fixed_rings": 1,
+            "energy": {"stretch": 1, "normal_field": {"weight": lam},
+                       "sampling": {"grid": [g, g], "normal_samples": normals2}},
+        })
+    # Fig. 3: same hat, normals of a sharper, taller cone; weights only near the apex.
+    cone = graph_net(n, n, lambda x, y: 0.7 * max(0.0, 1 - 2.2 * math.hypot(x - 0.5, y - 0.5)))
+    normals3 = sampled_normals(cone, g, g)
+    weights = [[r(1.0 + 4.0 * math.exp(-20 * ((i / g - 0.5) ** 2 + (j / g - 0.5) ** 2))) for j in range(g + 1)] for i in range(g + 1)]
+    for lam in [10, 50]:
+        write(f"wu_yang_fig3_l{lam}.json", {
+            "name": f"Wu & Yang Fig. 3: sampled extended membrane toward a cone, lambda = {lam}",
+            "description": "Same hat; sampled normals of a cone, per-sample weights raised near the apex.",
+            "surface": {"type": "tensor", "degree": [n, n], "control_points": clean(init)},
+            "fixed_rings": 1,
+            "energy": {"stretch": 1, "normal_field": {"weight": lam},
+                       "sampling": {"grid": [g, g], "normal_samples": normals3, "normal_weights": weights}},
+        })
+
+
+def fig4():
+    # Hole filling: the ground truth has a salient crease-like ridge; its outer two rings
+    # give G1 data; the interior starts flat (bilinear) and the normals come from the truth.
+    n, g = 7, 28
+    truth_f = lambda x, y: 0.5 * math.exp(-30 * (x - y) ** 2) * math.sin(math.pi * x) * math.sin(math.pi * y) + 0.15 * x
+    truth = graph_net(n, n, truth_f)
+    init = [[list(p) for p in row] for row in truth]
+    for i in range(2, n - 1):
+        for j in range(2, n - 1):
+            init[i][j][2] = 0.15 * i / n  # the plane z = 0.15 x: the feature is lost
+    normals = sampled_normals(truth, g, g)
+    for lam in [0, 500]:
+        energy = {"bend": 1, "sampling": {"grid": [g, g]}}
+        if lam:
+            energy["normal_field"] = {"weight": lam}
+            energy["sampling"]["normal_samples"] = normals
+        write(f"wu_yang_fig4_l{lam}.json", {
+            "name": f"Wu & Yang Fig. 4: 7x7 hole filling, thin plate, lambda = {lam}",
+            "description": "Two outer rings fixed from a ground-truth surface with a diagonal ridge (G1 to the "
+                           "surroundings); sampled normals of the ground truth guide the filling.",
+            "surface": {"type": "tensor", "degree": [n, n], "control_points": clean(init)},
+            "fixed_rings": 2,
+            "energy": energy,
+        })
+    os.makedirs(os.path.join(HERE, "data"), exist_ok=True)
+    write("data/wu_yang_fig4_ground_truth.json", {
+        "name": "Wu & Yang Fig. 4(d): the ground truth of the hole-filling examples",
+        "surface": {"type": "tensor", "degree": [n, n], "control_points": clean(truth)},
+        "free_points": [],
+        "energy": {"bend": 1},
+    })
+
+
+def fig5():
+    # Bi-quintic transition between a floor (z = 0, small u) and a raised shelf (large u)
+    # with a sharp-ish shoulder in the truth; rings 0-1 and 4-5 come from the two sides.
+    n, g = 5, 25
+    step = lambda x, y: 0.5 / (1 + math.exp(-14 * (x - 0.5 - 0.12 * math.sin(2 * math.pi * y))))
+    truth = graph_net(n, n, step)
+    init = [[list(p) for p in row] for row in truth]
+    for i in range(2, 4):
+        for j in range(2, 4):
+            init[i][j][2] = 0.5 * i / n
+    normals = sampled_normals(truth, g, g)
+    for lam in [5, 500]:
+        write(f"wu_yang_fig5_l{lam}.json", {
+            "name": f"Wu & Yang Fig. 5: bi-quintic transition surface, lambda = {lam}",
+            "description": "Outer two rings fixed (G1 to the surfaces it joins); sampled normals of a "
+                           "wavy step guide the blend.",
+            "surface": {"type": "tensor", "degree": [n, n], "control_points": clean(init)},
+            "fixed_rings": 2,
+            "energy": {"bend": 1, "normal_field": {"weight": lam},
+                       "sampling": {"grid": [g, g], "normal_samples": normals}},
+        })
+    write("wu_yang_fig5_thin_plate.json", {
+        "name": "Wu & Yang Fig. 5(b): the same transition by the plain thin-plate energy",
+        "surface": {"type": "tensor", "degree": [n, n], "control_points": clean(init)},
+        "fixed_rings": 2,
+        "energy": {"bend": 1},
+    })
+
+
+def quickstart():
+    write("quickstart.json", {
+        "name": "Quick start: a 4x4 membrane with a free interior",
+        "description": "Boundary of a saddle; the four inner points are null (free, no initial value).",
+        "surface": {"type": "tensor", "degree": [3, 3], "control_points": [
+            [[0, 0, 0], [0, 1, 0.3], [0, 2, 0.3], [0, 3, 0]],
+            [[1, 0, -0.3], None, None, [1, 3, -0.3]],
+            [[2, 0, -0.3], None, None, [2, 3, -0.3]],
+            [[3, 0, 0], [3, 1, 0.3], [3, 2, 0.3], [3, 3, 0]]]},
+        "energy": {"stretch": 1, "normal_field": {"weight": 5, "degree": [0, 0], "control_points": [[[0, 0, 1]]]}},
+    })
+
+
+if __name__ == "__main__":
+    quickstart()
+    fig1()
+    fig2_3()
+    fig4()
+    fig5()
