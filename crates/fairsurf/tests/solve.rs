@@ -11,7 +11,8 @@ use fairsurf::{
 };
 
 fn total(terms: &[Box<dyn EnergyTerm>], degree: (usize, usize), x: &[Vec3]) -> f64 {
-    terms.iter().map(|t| t.form(degree).unwrap().value(x)).sum()
+    let p = TensorPatch::new(degree.0, degree.1, x.to_vec());
+    terms.iter().map(|t| t.value(&p).unwrap()).sum()
 }
 
 /// E1 and E2 with λ > 0 and γ > 0: the relative gradient at the solution is
@@ -469,4 +470,95 @@ fn report_is_complete() {
         .unwrap();
     assert!(quick.report.measures.is_none() && quick.report.condition_estimate.is_nan());
     assert!(max_dist(&quick.patch, &sol.patch) == 0.0);
+}
+
+/// The Jacobi-basis preconditioner and the plain equilibrated Bernstein
+/// solve give the same minimizer where both work.
+#[test]
+fn both_bases_agree_where_both_work() {
+    for deg in [6, 10, 13] {
+        let net = random_net(deg, deg, 40 + deg as u64);
+        let pb = Problem::new((deg, deg))
+            .with_fixed_rings(&net, 1)
+            .with_term(Stretch::new(1.0))
+            .with_term(NormalField::new(10.0, tilted_field()));
+        let plain = SolveOptions {
+            tensor_basis: false,
+            ..SolveOptions::default()
+        };
+        let a = pb.solve_with(&plain).unwrap();
+        let b = pb.solve().unwrap();
+        assert_eq!(
+            (a.report.basis.as_str(), b.report.basis.as_str()),
+            ("bernstein", "jacobi")
+        );
+        let d = max_dist(&a.patch, &b.patch);
+        assert!(
+            d < 1e-10 * a.report.condition_estimate.max(1.0),
+            "deg {deg}: {d}"
+        );
+        assert!((a.report.energy - b.report.energy).abs() <= 1e-12 * a.report.energy);
+    }
+}
+
+/// Past degree ~17 the equilibrated Bernstein system is beyond double
+/// precision (condition > 1/ε): without the better basis the solve refuses
+/// with a clear error rather than returning garbage; with it, degree 24 E1
+/// and E2 with λ > 0 are solved to a backward error near ε and are true
+/// minimizers.
+#[test]
+fn high_degree_needs_and_gets_the_better_basis() {
+    let deg = 24;
+    let net = random_net(deg, deg, 7);
+    let plain = SolveOptions {
+        tensor_basis: false,
+        ..SolveOptions::default().with_analyse(false)
+    };
+    let stretch = Problem::new((deg, deg))
+        .with_fixed_rings(&net, 1)
+        .with_term(Stretch::new(1.0));
+    let refused = stretch.solve_with(&plain).unwrap_err();
+    assert!(
+        matches!(
+            refused,
+            Error::NotPositiveDefinite { .. } | Error::Singular { .. }
+        ),
+        "{refused}"
+    );
+    for rings in [1, 2] {
+        let mut pb = Problem::new((deg, deg)).with_fixed_rings(&net, rings);
+        pb = if rings == 1 {
+            pb.with_term(Stretch::new(1.0))
+        } else {
+            pb.with_term(Bend::new(1.0))
+        };
+        let pb = pb
+            .with_term(NormalField::new(10.0, tilted_field()))
+            .with_term(GuideSurface::new(1.0, net.clone()));
+        let sol = pb
+            .solve_with(&SolveOptions::default().with_analyse(false))
+            .unwrap();
+        let r = &sol.report;
+        assert_eq!(r.basis, "jacobi");
+        assert!(
+            r.relative_gradient < 1e-14,
+            "rings {rings}: {}",
+            r.relative_gradient
+        );
+        assert!(
+            r.condition_estimate < 1e4,
+            "rings {rings}: {}",
+            r.condition_estimate
+        );
+        let e0 = total(pb.terms(), (deg, deg), sol.patch.points());
+        let mut rng = Rng::new(rings as u64);
+        let mut x = sol.patch.points().to_vec();
+        for (k, p) in x.iter_mut().enumerate() {
+            if pb.known()[k].is_none() {
+                let d = rng.vec3();
+                *p = [p[0] + 1e-4 * d[0], p[1] + 1e-4 * d[1], p[2] + 1e-4 * d[2]];
+            }
+        }
+        assert!(total(pb.terms(), (deg, deg), &x) > e0);
+    }
 }

@@ -2,7 +2,9 @@
 //! fairness part of Wu & Yang's E2 (eq. 2) and the biharmonic functional whose
 //! Euler–Lagrange equation is Δ²R = 0.
 
-use super::{check_weight, fairness, EnergyTerm, Hessian, Measure, TermForm};
+use super::{
+    check_weight, fairness, fairness_value, EnergyTerm, Hessian, Measure, Space, TermForm,
+};
 use crate::Result;
 
 /// `w · ½ ∫∫ |R_uu|² + 2|R_uv|² + |R_vv|²` (exact) or the same summed over a
@@ -44,10 +46,21 @@ impl EnergyTerm for Bend {
         "bend"
     }
 
-    fn form(&self, degree: (usize, usize)) -> Result<TermForm> {
+    fn value(&self, patch: &crate::TensorPatch) -> Result<f64> {
+        check_weight("bend weight", self.weight)?;
+        Ok(fairness_value(
+            patch.degree(),
+            &self.measure,
+            &[((2, 0), 1.0), ((1, 1), 2.0), ((0, 2), 1.0)],
+            self.weight,
+            patch.points(),
+        ))
+    }
+
+    fn form_in(&self, space: &Space) -> Result<TermForm> {
         check_weight("bend weight", self.weight)?;
         let h = fairness(
-            degree,
+            space,
             &self.measure,
             &[((2, 0), 1.0), ((1, 1), 2.0), ((0, 2), 1.0)],
             self.weight,

@@ -2,7 +2,10 @@
 //! or `½ Σ γ_ij |R(u_i,v_j) − S(u_i,v_j)|²` (eq. 5). It keeps the surface close
 //! to a given Bézier surface S (by default the initial one).
 
-use super::{check_weight, check_weights, form, EnergyTerm, Hessian, Measure, TermForm};
+use super::{
+    check_weight, check_weights, derivative_net, form, pattern_value, EnergyTerm, Hessian, Measure,
+    Space, TermForm,
+};
 use crate::{Error, Result, TensorPatch};
 
 /// `γ · ½ ∫∫ |R − S|²` (exact) or the sampled sum with per-sample weights.
@@ -55,13 +58,43 @@ impl EnergyTerm for GuideSurface {
         "guide_surface"
     }
 
-    fn form(&self, degree: (usize, usize)) -> Result<TermForm> {
+    fn value(&self, patch: &TensorPatch) -> Result<f64> {
+        check_weight("guide_surface weight", self.weight)?;
+        let degree = patch.degree();
+        let s = self.surface_at(degree)?;
+        let diff: Vec<crate::Vec3> = patch
+            .points()
+            .iter()
+            .zip(s.points())
+            .map(|(a, b)| crate::vector::sub(*a, *b))
+            .collect();
+        let ((au, av), w) = match &self.measure {
+            Measure::Exact => self.measure.unit(),
+            Measure::Grid(g) => {
+                if let Some(w) = &self.sample_weights {
+                    g.check_len("guide_surface sample weights", w.len())?;
+                    check_weights("guide_surface sample weight", w)?;
+                }
+                (g.axes(), g.weight_table(self.sample_weights.as_deref()))
+            }
+        };
+        let total: f64 = (0..3)
+            .map(|c| {
+                let d = derivative_net(&diff, degree, (0, 0), c);
+                pattern_value(degree, (0, 0), (&au, &av), &w, &d, &d)
+            })
+            .sum();
+        Ok(0.5 * self.weight * total)
+    }
+
+    fn form_in(&self, space: &Space) -> Result<TermForm> {
+        let degree = space.degree();
         check_weight("guide_surface weight", self.weight)?;
         let s = self.surface_at(degree)?;
         let h = match &self.measure {
             Measure::Exact => {
                 let ((au, av), w) = self.measure.unit();
-                faer::Scale(self.weight) * form(degree, (0, 0), (&au, &av), &w)
+                faer::Scale(self.weight) * form(space, (0, 0), (&au, &av), &w)
             }
             Measure::Grid(g) => {
                 if let Some(w) = &self.sample_weights {
@@ -70,12 +103,12 @@ impl EnergyTerm for GuideSurface {
                 }
                 let (au, av) = g.axes();
                 let w = g.weight_table(self.sample_weights.as_deref());
-                faer::Scale(self.weight) * form(degree, (0, 0), (&au, &av), &w)
+                faer::Scale(self.weight) * form(space, (0, 0), (&au, &av), &w)
             }
         };
         Ok(TermForm {
             hessian: Hessian::PerCoordinate(h),
-            center: Some(s.points().to_vec()),
+            center: space.is_bernstein().then(|| s.points().to_vec()),
         })
     }
 }

@@ -5,7 +5,10 @@
 //! normals N_ij on a grid. It pulls the surface's tangent planes toward the
 //! planes orthogonal to N, and couples x, y and z.
 
-use super::{check_weight, check_weights, form, Axis, EnergyTerm, Hessian, SampleGrid, TermForm};
+use super::{
+    check_weight, check_weights, derivative_net, form, pattern_value, Axis, EnergyTerm, Hessian,
+    SampleGrid, Space, TermForm,
+};
 use crate::basis::binomial;
 use crate::vec3::{is_finite, normalize, Vec3};
 use crate::{Error, Result, TensorPatch};
@@ -194,13 +197,30 @@ impl EnergyTerm for NormalField {
         "normal_field"
     }
 
-    fn form(&self, degree: (usize, usize)) -> Result<TermForm> {
+    fn value(&self, patch: &TensorPatch) -> Result<f64> {
         check_weight("normal_field weight", self.weight)?;
         let ((au, av), tables) = self.weight_tables()?;
-        let np = (degree.0 + 1) * (degree.1 + 1);
+        let degree = patch.degree();
+        let mut total = 0.0;
+        for pattern in [(1, 0), (0, 1)] {
+            let nets: Vec<Mat<f64>> = (0..3)
+                .map(|c| derivative_net(patch.points(), degree, pattern, c))
+                .collect();
+            for ((a, b), w) in pairs().zip(&tables) {
+                let twice = if a == b { 1.0 } else { 2.0 };
+                total += twice * pattern_value(degree, pattern, (&au, &av), w, &nets[a], &nets[b]);
+            }
+        }
+        Ok(0.5 * total)
+    }
+
+    fn form_in(&self, space: &Space) -> Result<TermForm> {
+        check_weight("normal_field weight", self.weight)?;
+        let ((au, av), tables) = self.weight_tables()?;
+        let np = space.len();
         let mut h = Mat::<f64>::zeros(3 * np, 3 * np);
         for ((a, b), w) in pairs().zip(&tables) {
-            let q = form(degree, (1, 0), (&au, &av), w) + form(degree, (0, 1), (&au, &av), w);
+            let q = form(space, (1, 0), (&au, &av), w) + form(space, (0, 1), (&au, &av), w);
             for qq in 0..np {
                 for p in 0..np {
                     let x = q[(p, qq)];

@@ -2,7 +2,9 @@
 //! functional, the fairness part of Wu & Yang's E1 (eq. 1); Veltkamp &
 //! Wesselink's stretch (eq. 6) in the parametric form.
 
-use super::{check_weight, fairness, EnergyTerm, Hessian, Measure, TermForm};
+use super::{
+    check_weight, fairness, fairness_value, EnergyTerm, Hessian, Measure, Space, TermForm,
+};
 use crate::Result;
 
 /// `w · ½ ∫∫ |R_u|² + |R_v|²` (exact) or `w · ½ Σ_samples |R_u|² + |R_v|²` (eq. 5).
@@ -43,10 +45,21 @@ impl EnergyTerm for Stretch {
         "stretch"
     }
 
-    fn form(&self, degree: (usize, usize)) -> Result<TermForm> {
+    fn value(&self, patch: &crate::TensorPatch) -> Result<f64> {
+        check_weight("stretch weight", self.weight)?;
+        Ok(fairness_value(
+            patch.degree(),
+            &self.measure,
+            &[((1, 0), 1.0), ((0, 1), 1.0)],
+            self.weight,
+            patch.points(),
+        ))
+    }
+
+    fn form_in(&self, space: &Space) -> Result<TermForm> {
         check_weight("stretch weight", self.weight)?;
         let h = fairness(
-            degree,
+            space,
             &self.measure,
             &[((1, 0), 1.0), ((0, 1), 1.0)],
             self.weight,

@@ -12,6 +12,7 @@
 //! 4. estimates the 2-norm condition number of Â (power iteration for λ_max,
 //!    inverse iteration with the factor for λ_min) and reports it.
 
+use super::jacobi::TensorBasis;
 use crate::{Error, Result};
 use faer::linalg::solvers::{Llt, Solve};
 use faer::{Mat, Side};
@@ -38,13 +39,17 @@ pub(crate) struct SpdSolution {
     pub factor_seconds: f64,
 }
 
-/// Solves H X = B for symmetric positive definite H (only its lower triangle
-/// need be right; H must be symmetric).
+/// Solves H X = B for symmetric positive definite H.
+///
+/// With `precond = (Ĥ, Q)`, Ĥ ≈ Qᵀ H Q assembled in a better-conditioned
+/// basis is factored instead and serves as the preconditioner of iterative
+/// refinement on H itself.
 pub(crate) fn solve_spd(
     h: &Mat<f64>,
     b: &Mat<f64>,
     opts: SpdOptions,
     hint: &str,
+    precond: Option<(&Mat<f64>, &TensorBasis)>,
 ) -> Result<SpdSolution> {
     let n = h.nrows();
     let not_pd = |pivot| Error::NotPositiveDefinite {
@@ -52,20 +57,30 @@ pub(crate) fn solve_spd(
         pivot,
         hint: hint.to_string(),
     };
-    if let Some(i) = (0..n).find(|&i| !(h[(i, i)] > 0.0 && h[(i, i)].is_finite())) {
+    // With a preconditioner, factor H in the basis Q (assembled there
+    // directly); refinement below still measures H itself.
+    let basis = precond.map(|p| p.1);
+    let m = precond.map_or(h, |p| p.0);
+    if let Some(i) = (0..n).find(|&i| !(m[(i, i)] > 0.0 && m[(i, i)].is_finite())) {
         return Err(not_pd(i));
     }
-    let s: Vec<f64> = (0..n).map(|i| 1.0 / h[(i, i)].sqrt()).collect();
-    let a = Mat::from_fn(n, n, |i, j| s[i] * h[(i, j)] * s[j]);
+    let s: Vec<f64> = (0..n).map(|i| 1.0 / m[(i, i)].sqrt()).collect();
+    let a = Mat::from_fn(n, n, |i, j| s[i] * m[(i, j)] * s[j]);
     let t0 = std::time::Instant::now();
     let llt = a.llt(Side::Lower).map_err(|e| match e {
         faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } => not_pd(index),
     })?;
     let factor_seconds = t0.elapsed().as_secs_f64();
     let solve = |r: &Mat<f64>| -> Mat<f64> {
+        let rq = basis.map(|q| q.apply(r, true));
+        let r = rq.as_ref().unwrap_or(r);
         let mut y = Mat::from_fn(n, r.ncols(), |i, c| s[i] * r[(i, c)]);
         llt.solve_in_place(&mut y);
-        Mat::from_fn(n, r.ncols(), |i, c| s[i] * y[(i, c)])
+        let y = Mat::from_fn(n, r.ncols(), |i, c| s[i] * y[(i, c)]);
+        match basis {
+            Some(q) => q.apply(&y, false),
+            None => y,
+        }
     };
 
     let mut x = solve(b);
@@ -198,7 +213,7 @@ mod tests {
         let h = Mat::from_fn(n, n, |i, j| 1.0 / (i + j + 1) as f64);
         let x_true = Mat::from_fn(n, 1, |i, _| (i + 1) as f64);
         let b = &h * &x_true;
-        let sol = solve_spd(&h, &b, opts(), "test").unwrap();
+        let sol = solve_spd(&h, &b, opts(), "test", None).unwrap();
         let r = norm_max(&residual(&h, &sol.x, &b));
         assert!(r <= 1e-15 * norm_max(&b), "residual {r}");
         // cond₂ of the 8×8 Hilbert matrix is 1.5258e10; equilibration lowers it a little.
@@ -215,14 +230,14 @@ mod tests {
         h[(2, 2)] = -1.0;
         let b = Mat::<f64>::zeros(3, 1);
         assert!(matches!(
-            solve_spd(&h, &b, opts(), "x"),
+            solve_spd(&h, &b, opts(), "x", None),
             Err(Error::NotPositiveDefinite { pivot: 2, .. })
         ));
         // Rank one: [[1,1],[1,1]] passes the diagonal test, fails as singular.
         let h = Mat::from_fn(2, 2, |_, _| 1.0);
         let b = Mat::<f64>::zeros(2, 1);
         assert!(matches!(
-            solve_spd(&h, &b, opts(), "x"),
+            solve_spd(&h, &b, opts(), "x", None),
             Err(Error::NotPositiveDefinite { .. } | Error::Singular { .. })
         ));
     }

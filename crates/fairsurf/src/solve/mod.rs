@@ -1,6 +1,7 @@
 //! Problems, the solve, and what a solve reports.
 
 mod dense;
+mod jacobi;
 mod problem;
 mod report;
 

@@ -8,8 +8,10 @@
 //! written out coefficient by coefficient.
 
 use super::dense::{norm_max, solve_spd, SpdOptions};
+use super::jacobi::TensorBasis;
 use super::report::{SolveReport, TermEnergy, Timings};
 use crate::analysis::measures;
+use crate::energy::Space;
 use crate::energy::{EnergyTerm, Hessian, TermForm};
 use crate::vec3::{is_finite, Vec3};
 use crate::{Error, Result, TensorPatch};
@@ -37,7 +39,7 @@ pub struct Problem {
 /// Options for [`Problem::solve_with`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SolveOptions {
-    /// At most this many steps of iterative refinement (default 10).
+    /// At most this many steps of iterative refinement (default 30).
     pub max_refinement_steps: usize,
     /// Estimate the condition number (default true; costs ~60 mat-vecs).
     pub estimate_condition: bool,
@@ -46,15 +48,19 @@ pub struct SolveOptions {
     pub singular_condition: f64,
     /// Compute area and functionals of the result (default true).
     pub analyse: bool,
+    /// Factor in the orthogonal Jacobi-weighted basis when the free points
+    /// form a tensor block (default true; see the `basis` of the report).
+    pub tensor_basis: bool,
 }
 
 impl Default for SolveOptions {
     fn default() -> Self {
         Self {
-            max_refinement_steps: 10,
+            max_refinement_steps: 30,
             estimate_condition: true,
             singular_condition: 1e15,
             analyse: true,
+            tensor_basis: true,
         }
     }
 }
@@ -209,7 +215,38 @@ impl Problem {
             estimate_condition: opts.estimate_condition,
             singular_condition: opts.singular_condition,
         };
-        let sol = solve_spd(&h_ff, &rhs, spd, &self.hint())?;
+        let block = if opts.tensor_basis {
+            self.free_block(&free)
+        } else {
+            None
+        };
+        let pre = match block {
+            Some((ru, rv)) => {
+                let space = Space::jacobi(self.degree, ru, rv);
+                let forms = self
+                    .terms
+                    .iter()
+                    .map(|t| t.form_in(&space))
+                    .collect::<Result<Vec<_>>>()?;
+                let h = hessian_sum(&forms, space.len(), sys.coupled);
+                let q = TensorBasis::new(
+                    self.degree.0,
+                    ru,
+                    self.degree.1,
+                    rv,
+                    if sys.coupled { 3 } else { 1 },
+                );
+                q.map(|q| (h, q))
+            }
+            None => None,
+        };
+        let sol = solve_spd(
+            &h_ff,
+            &rhs,
+            spd,
+            &self.hint(),
+            pre.as_ref().map(|(h, q)| (h, q)),
+        )?;
         let solve = t.elapsed().as_secs_f64() - sol.factor_seconds;
 
         let points = sys.fill(&free, &sol.x);
@@ -226,15 +263,16 @@ impl Problem {
             sol.residual.norm_l2()
         };
 
-        let terms: Vec<TermEnergy> = self
+        let terms = self
             .terms
             .iter()
-            .zip(&forms)
-            .map(|(t, f)| TermEnergy {
-                name: t.name().to_string(),
-                value: f.value(patch.points()),
+            .map(|t| {
+                Ok(TermEnergy {
+                    name: t.name().to_string(),
+                    value: t.value(&patch)?,
+                })
             })
-            .collect();
+            .collect::<Result<Vec<_>>>()?;
         let t = Instant::now();
         let measures = opts.analyse.then(|| measures(&patch));
         let analyse = t.elapsed().as_secs_f64();
@@ -245,6 +283,7 @@ impl Problem {
             relative_gradient,
             residual,
             condition_estimate: sol.condition,
+            basis: if pre.is_some() { "jacobi" } else { "bernstein" }.to_string(),
             refinement_steps: sol.refinement_steps,
             unknowns: h_ff.nrows(),
             free_points: free.len(),
@@ -261,6 +300,22 @@ impl Problem {
         Ok(Solution { patch, report })
     }
 
+    /// When the free points are exactly a block of contiguous rows ×
+    /// contiguous columns, its margins ((a, b), (c, d)): rows a..=n−b,
+    /// columns c..=m−d.
+    fn free_block(&self, free: &[usize]) -> Option<((usize, usize), (usize, usize))> {
+        let (n, m) = self.degree;
+        let (mut i0, mut i1, mut j0, mut j1) = (usize::MAX, 0, usize::MAX, 0);
+        for &p in free {
+            let (i, j) = (p / (m + 1), p % (m + 1));
+            (i0, i1, j0, j1) = (i0.min(i), i1.max(i), j0.min(j), j1.max(j));
+        }
+        if free.len() != (i1 - i0 + 1) * (j1 - j0 + 1) {
+            return None;
+        }
+        Some(((i0, n - i1), (j0, m - j1)))
+    }
+
     fn hint(&self) -> String {
         let names: Vec<&str> = self.terms.iter().map(|t| t.name()).collect();
         format!(
@@ -269,6 +324,36 @@ impl Problem {
             names.join(" + ")
         )
     }
+}
+
+/// One term's Hessian over `np` basis functions in the system's layout:
+/// per-coordinate stays np×np; in a coupled system it becomes 3np×3np.
+fn expand(h: &Hessian, np: usize, coupled: bool) -> Mat<f64> {
+    match h {
+        Hessian::Coupled(m) => m.clone(),
+        Hessian::PerCoordinate(m) if coupled => {
+            let mut ht = Mat::<f64>::zeros(3 * np, 3 * np);
+            for q in 0..np {
+                for p in 0..np {
+                    for c in 0..3 {
+                        ht[(3 * p + c, 3 * q + c)] = m[(p, q)];
+                    }
+                }
+            }
+            ht
+        }
+        Hessian::PerCoordinate(m) => m.clone(),
+    }
+}
+
+/// Σ of the terms' Hessians in the system's layout.
+fn hessian_sum(forms: &[TermForm], np: usize, coupled: bool) -> Mat<f64> {
+    let dim = if coupled { 3 * np } else { np };
+    let mut h = Mat::<f64>::zeros(dim, dim);
+    for f in forms {
+        h += expand(&f.hessian, np, coupled);
+    }
+    h
 }
 
 /// The assembled system over all control points: E = ½ XᵀHX − BᵀX + c with
@@ -294,20 +379,7 @@ impl System {
         let mut h = Mat::<f64>::zeros(dim, dim);
         let mut b = Mat::<f64>::zeros(dim, cols);
         for f in forms {
-            let mut ht = Mat::<f64>::zeros(dim, dim);
-            match &f.hessian {
-                Hessian::Coupled(m) => ht += m,
-                Hessian::PerCoordinate(m) if coupled => {
-                    for q in 0..np {
-                        for p in 0..np {
-                            for c in 0..3 {
-                                ht[(3 * p + c, 3 * q + c)] = m[(p, q)];
-                            }
-                        }
-                    }
-                }
-                Hessian::PerCoordinate(m) => ht += m,
-            }
+            let ht = expand(&f.hessian, np, coupled);
             if let Some(s) = &f.center {
                 let mut sv = Mat::<f64>::zeros(dim, cols);
                 for (p, sp) in s.iter().enumerate() {

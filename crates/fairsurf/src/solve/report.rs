@@ -53,8 +53,13 @@ pub struct SolveReport {
     pub relative_gradient: f64,
     /// ‖g‖₂ / ‖rhs‖₂ of the reduced system (0 when the right-hand side is 0).
     pub residual: f64,
-    /// Estimated 2-norm condition number of the equilibrated reduced system.
+    /// Estimated 2-norm condition number of the matrix actually factored:
+    /// the equilibrated reduced system, in the basis named by `basis`.
     pub condition_estimate: f64,
+    /// The basis the system was factored in: "jacobi" (tensor block of free
+    /// points: orthogonal Jacobi-weighted polynomials, refinement on the
+    /// Bernstein system) or "bernstein" (any other free set).
+    pub basis: String,
     /// Iterative refinement steps taken.
     pub refinement_steps: usize,
     /// Number of scalar unknowns solved for.
