@@ -96,32 +96,13 @@ pub(crate) fn weighted_kron(w: &Mat<f64>, mu: &[Mat<f64>], mv: &[Mat<f64>]) -> M
     let nv = mv[0].nrows();
     // Flatten the small matrices once: tiny faer operations cost more in
     // overhead than in arithmetic here.
-    let flat = |ms: &[Mat<f64>], k: usize| -> Vec<f64> {
-        ms.iter()
-            .flat_map(|m| (0..k * k).map(move |e| m[(e / k, e % k)]))
-            .collect()
-    };
-    let mu_flat = flat(mu, nu);
-    let mv_flat = flat(mv, nv);
+    let mu_flat = flatten(mu);
+    let mv_flat = flatten(mv);
     let mut out = Mat::<f64>::zeros(nu * nv, nu * nv);
     let mut t = vec![0.0; nu * nu];
     for beta in 0..mv.len() {
-        // T_β = Σ_α W[α][β] M^u_α
-        t.iter_mut().for_each(|x| *x = 0.0);
-        let mut any = false;
-        for alpha in 0..mu.len() {
-            let c = w[(alpha, beta)];
-            if c != 0.0 {
-                any = true;
-                for (x, &m) in t
-                    .iter_mut()
-                    .zip(&mu_flat[alpha * nu * nu..(alpha + 1) * nu * nu])
-                {
-                    *x += c * m;
-                }
-            }
-        }
-        if !any {
+        // T_β = Σ_α W[α][β] M^u_α (row-major)
+        if !sum_factor(w, beta, &mu_flat, nu, &mut t) {
             continue;
         }
         let mvb = &mv_flat[beta * nv * nv..(beta + 1) * nv * nv];
@@ -141,6 +122,36 @@ pub(crate) fn weighted_kron(w: &Mat<f64>, mu: &[Mat<f64>], mv: &[Mat<f64>]) -> M
         }
     }
     out
+}
+
+/// Square k×k matrices, each flattened row-major, one after the other.
+fn flatten(ms: &[Mat<f64>]) -> Vec<f64> {
+    ms.iter()
+        .flat_map(|m| {
+            let k = m.nrows();
+            (0..k * k).map(move |e| m[(e / k, e % k)])
+        })
+        .collect()
+}
+
+/// `out ← Σ_α W[α][β] M_α` over flattened k×k matrices; false (and `out`
+/// zero) when column β of W is all zero.
+fn sum_factor(w: &Mat<f64>, beta: usize, flat: &[f64], k: usize, out: &mut [f64]) -> bool {
+    out.iter_mut().for_each(|x| *x = 0.0);
+    let mut any = false;
+    for alpha in 0..w.nrows() {
+        let c = w[(alpha, beta)];
+        if c != 0.0 {
+            any = true;
+            for (x, &m) in out
+                .iter_mut()
+                .zip(&flat[alpha * k * k..(alpha + 1) * k * k])
+            {
+                *x += c * m;
+            }
+        }
+    }
+    any
 }
 
 /// One derivative pattern `∂ᵘ^{ru} ∂ᵛ^{rv}` of a degree (n, m) patch, integrated
@@ -188,32 +199,15 @@ pub(crate) fn pattern_value(
     let tu = axis_matrices(&Basis1d::Bernstein(n - r), 0, axis_u);
     let tv = axis_matrices(&Basis1d::Bernstein(m - s), 0, axis_v);
     let (ku, kv) = (n - r + 1, m - s + 1);
-    let tu_flat: Vec<f64> = tu
-        .iter()
-        .flat_map(|m| (0..ku * ku).map(move |e| m[(e % ku, e / ku)]))
-        .collect();
+    let tu_flat = flatten(&tu);
     let mut total = 0.0;
     let mut u = vec![0.0; ku * ku];
     for (beta, tvb) in tv.iter().enumerate() {
         // U_β = Σ_α W_αβ T^u_α (sum factorization), then ⟨A, U_β B T^v_β⟩.
-        u.iter_mut().for_each(|x| *x = 0.0);
-        let mut any = false;
-        for alpha in 0..tu.len() {
-            let c = w[(alpha, beta)];
-            if c != 0.0 {
-                any = true;
-                for (x, &t) in u
-                    .iter_mut()
-                    .zip(&tu_flat[alpha * ku * ku..(alpha + 1) * ku * ku])
-                {
-                    *x += c * t;
-                }
-            }
-        }
-        if !any {
+        if !sum_factor(w, beta, &tu_flat, ku, &mut u) {
             continue;
         }
-        let um = Mat::from_fn(ku, ku, |i, j| u[j * ku + i]);
+        let um = Mat::from_fn(ku, ku, |i, j| u[i * ku + j]);
         let t = um * (b * tvb);
         for j in 0..kv {
             for i in 0..ku {
