@@ -29,7 +29,7 @@ pub use normal_field::{NormalField, NormalGuide};
 pub use space::Space;
 pub use stretch::Stretch;
 
-pub(crate) use space::{Basis1d, JacobiBlock};
+pub(crate) use space::Basis1d;
 
 pub(crate) use kron::{derivative_net, form, pattern_value, Axis};
 

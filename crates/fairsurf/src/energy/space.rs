@@ -111,7 +111,6 @@ pub(crate) struct JacobiBlock {
 impl JacobiBlock {
     pub(crate) fn new(n: usize, a: usize, b: usize) -> Self {
         let d = n - a - b;
-        let (alpha, beta) = ((2 * b) as f64, (2 * a) as f64);
         let mut q = Mat::<f64>::zeros(d + 1, d + 1);
         let mut scales = vec![1.0; d + 1];
         for j in 0..=d {
@@ -135,7 +134,6 @@ impl JacobiBlock {
             }
             scales[j] = s;
         }
-        let _ = (alpha, beta);
         Self {
             n,
             a,

@@ -17,7 +17,7 @@
 //! and uses that factorization to refine the solution of the exact Bernstein
 //! system, whose residual it keeps measuring.
 
-use crate::energy::JacobiBlock;
+use crate::energy::{Basis1d, Space};
 use faer::Mat;
 
 /// The change of basis `x = (Q_u ⊗ Q_v ⊗ I_c) y` over a tensor block of free
@@ -30,23 +30,16 @@ pub(crate) struct TensorBasis {
 }
 
 impl TensorBasis {
-    /// The basis for free rows `a..=n−b` (u) and columns `c..=m−d` (v), or
-    /// `None` if a range is empty.
-    pub(crate) fn new(
-        n: usize,
-        (a, b): (usize, usize),
-        m: usize,
-        (c, d): (usize, usize),
-        inner: usize,
-    ) -> Option<Self> {
-        if a + b > n || c + d > m {
-            return None;
+    /// The change of basis of a Jacobi [`Space`] (`None` for a Bernstein one).
+    pub(crate) fn from_space(space: &Space, inner: usize) -> Option<Self> {
+        match (&space.u, &space.v) {
+            (Basis1d::Jacobi(u), Basis1d::Jacobi(v)) => Some(Self {
+                qu: u.q.clone(),
+                qv: v.q.clone(),
+                inner,
+            }),
+            _ => None,
         }
-        Some(Self {
-            qu: JacobiBlock::new(n, a, b).q,
-            qv: JacobiBlock::new(m, c, d).q,
-            inner,
-        })
     }
 
     /// x ← Q x (transpose = false) or Qᵀ x (transpose = true), column by column.
@@ -96,7 +89,7 @@ mod tests {
 
     #[test]
     fn apply_and_transpose_are_adjoint() {
-        let tb = TensorBasis::new(6, (1, 1), 5, (2, 1), 3).unwrap();
+        let tb = TensorBasis::from_space(&Space::jacobi((6, 5), (1, 1), (2, 1)), 3).unwrap();
         let len = 5 * 3 * 3;
         let x = Mat::from_fn(len, 1, |i, _| (i as f64 * 0.37).sin());
         let y = Mat::from_fn(len, 1, |i, _| (i as f64 * 0.11).cos());

@@ -188,8 +188,7 @@ impl Problem {
             });
         }
         for (k, p) in self.known.iter().enumerate() {
-            if let Some(p) = p.filter(|p| !is_finite(*p)) {
-                let _ = p;
+            if p.is_some_and(|p| !is_finite(p)) {
                 let m = self.degree.1;
                 return Err(Error::NotFinite {
                     what: format!("known control point ({}, {})", k / (m + 1), k % (m + 1)),
@@ -229,14 +228,7 @@ impl Problem {
                     .map(|t| t.form_in(&space))
                     .collect::<Result<Vec<_>>>()?;
                 let h = hessian_sum(&forms, space.len(), sys.coupled);
-                let q = TensorBasis::new(
-                    self.degree.0,
-                    ru,
-                    self.degree.1,
-                    rv,
-                    if sys.coupled { 3 } else { 1 },
-                );
-                q.map(|q| (h, q))
+                TensorBasis::from_space(&space, if sys.coupled { 3 } else { 1 }).map(|q| (h, q))
             }
             None => None,
         };
@@ -326,23 +318,37 @@ impl Problem {
     }
 }
 
-/// One term's Hessian over `np` basis functions in the system's layout:
-/// per-coordinate stays np×np; in a coupled system it becomes 3np×3np.
-fn expand(h: &Hessian, np: usize, coupled: bool) -> Mat<f64> {
-    match h {
-        Hessian::Coupled(m) => m.clone(),
+/// Adds one term's Hessian into `h` in the system's layout: a per-coordinate
+/// block stays np×np, or is spread over the three coordinates of a coupled
+/// 3np×3np system. In place: no per-term copy of a system-sized matrix.
+fn add_hessian(h: &mut Mat<f64>, term: &Hessian, coupled: bool) {
+    match term {
         Hessian::PerCoordinate(m) if coupled => {
-            let mut ht = Mat::<f64>::zeros(3 * np, 3 * np);
-            for q in 0..np {
-                for p in 0..np {
+            for q in 0..m.ncols() {
+                for p in 0..m.nrows() {
                     for c in 0..3 {
-                        ht[(3 * p + c, 3 * q + c)] = m[(p, q)];
+                        h[(3 * p + c, 3 * q + c)] += m[(p, q)];
                     }
                 }
             }
-            ht
         }
-        Hessian::PerCoordinate(m) => m.clone(),
+        Hessian::PerCoordinate(m) | Hessian::Coupled(m) => *h += m,
+    }
+}
+
+/// H_t s for a term with centre s, in the system's layout.
+fn center_rhs(term: &Hessian, s: &[Vec3], coupled: bool) -> Mat<f64> {
+    let np = s.len();
+    match term {
+        Hessian::PerCoordinate(m) => {
+            let r = m * Mat::from_fn(np, 3, |p, c| s[p][c]);
+            if coupled {
+                Mat::from_fn(3 * np, 1, |i, _| r[(i / 3, i % 3)])
+            } else {
+                r
+            }
+        }
+        Hessian::Coupled(m) => m * Mat::from_fn(3 * np, 1, |i, _| s[i / 3][i % 3]),
     }
 }
 
@@ -351,7 +357,7 @@ fn hessian_sum(forms: &[TermForm], np: usize, coupled: bool) -> Mat<f64> {
     let dim = if coupled { 3 * np } else { np };
     let mut h = Mat::<f64>::zeros(dim, dim);
     for f in forms {
-        h += expand(&f.hessian, np, coupled);
+        add_hessian(&mut h, &f.hessian, coupled);
     }
     h
 }
@@ -376,20 +382,12 @@ impl System {
         let (dim, cols) = if coupled { (3 * np, 1) } else { (np, 3) };
         // (row, col) of coordinate c of point p in the layout.
         let at = |p: usize, c: usize| if coupled { (3 * p + c, 0) } else { (p, c) };
-        let mut h = Mat::<f64>::zeros(dim, dim);
+        let h = hessian_sum(forms, np, coupled);
         let mut b = Mat::<f64>::zeros(dim, cols);
         for f in forms {
-            let ht = expand(&f.hessian, np, coupled);
             if let Some(s) = &f.center {
-                let mut sv = Mat::<f64>::zeros(dim, cols);
-                for (p, sp) in s.iter().enumerate() {
-                    for c in 0..3 {
-                        sv[at(p, c)] = sp[c];
-                    }
-                }
-                b += &ht * &sv;
+                b += center_rhs(&f.hessian, s, coupled);
             }
-            h += &ht;
         }
         let mut x = Mat::<f64>::zeros(dim, cols);
         for (p, k) in known.iter().enumerate() {
