@@ -218,7 +218,120 @@ def quickstart():
     })
 
 
+# Monterde & Ugail 2004. The degree-5 semicircle polygon of section 2.1, as printed.
+SEMICIRCLE5 = [[-1.0, 0.0], [-1.0, 0.72], [-0.515308, 1.25143], [0.515308, 1.25143], [1.0, 0.72], [1.0, 0.0]]
+
+
+def solve_linear(a, b):
+    """Gaussian elimination with partial pivoting (small dense systems)."""
+    n = len(a)
+    m = [row[:] + [b[i]] for i, row in enumerate(a)]
+    for c in range(n):
+        p = max(range(c, n), key=lambda k: abs(m[k][c]))
+        m[c], m[p] = m[p], m[c]
+        for k in range(c + 1, n):
+            f = m[k][c] / m[c][c]
+            for j in range(c, n + 1):
+                m[k][j] -= f * m[c][j]
+    x = [0.0] * n
+    for c in reversed(range(n)):
+        x[c] = (m[c][n] - sum(m[c][j] * x[j] for j in range(c + 1, n))) / m[c][c]
+    return x
+
+
+def interpolate5(f):
+    """Degree-5 Bezier curve through f(k/5), k = 0..5 (f returns a list of coordinates)."""
+    a = [bern(5, k / 5) for k in range(6)]
+    vals = [f(k / 5) for k in range(6)]
+    cols = [solve_linear(a, [v[c] for v in vals]) for c in range(len(vals[0]))]
+    return [[cols[c][i] for c in range(len(cols))] for i in range(6)]
+
+
+def ring_net(n, m, rows0, rowsn, cols0, colsm):
+    """A net with the given boundary (row i=0, row i=n, column j=0, column j=m), inner points null."""
+    net = [[None] * (m + 1) for _ in range(n + 1)]
+    for j in range(m + 1):
+        net[0][j], net[n][j] = rows0[j], rowsn[j]
+    for i in range(n + 1):
+        net[i][0], net[i][m] = cols0[i], colsm[i]
+    return net
+
+
+def monterde_ugail():
+    s = SEMICIRCLE5
+    # Model problem (section 2.1, Table 1): semicircles of radius 1 (z = 0) and 0.5 (z = 1),
+    # joined by straight side curves. This placement reproduces Table 1 to the printed digits.
+    model = [[[s[j][0] * (1 - 0.5 * i / 5), s[j][1] * (1 - 0.5 * i / 5), i / 5] for j in range(6)] for i in range(6)]
+    model = ring_net(5, 5, model[0], model[5], [row[0] for row in model], [row[5] for row in model])
+    cite = "Monterde & Ugail 2004"
+    write("monterde_ugail_model_harmonic.json", {
+        "name": f"{cite}, Fig. 1: the harmonic Bezier surface of the model problem",
+        "description": "Determined by the first and last rows (the two semicircles) alone (Prop. 1).",
+        "surface": {"type": "tensor", "degree": [5, 5], "control_points": clean(model)},
+        "method": "harmonic",
+    })
+    write("monterde_ugail_model.json", {
+        "name": f"{cite}, Fig. 2 / Table 1: the biharmonic Bezier surface of the model problem",
+        "description": "Semicircles of radius 1 and 0.5 (the printed degree-5 polygon) one unit apart, "
+                       "straight side curves. `fairsurf compare` prints Table 1.",
+        "surface": {"type": "tensor", "degree": [5, 5], "control_points": clean(model)},
+        "method": "biharmonic",
+    })
+    # Catenoid (section 4.3.2, Table 2): (cosh v cos u, cosh v sin u, v), u in [0, pi], v in [0, arccosh 2].
+    # Edge curves: the printed polygon scaled to radius 1 and 2; side curves: the catenary
+    # (cosh v, v) interpolated at six equally spaced parameters (Table 2 to about 5 digits).
+    a = math.acosh(2.0)
+    side = interpolate5(lambda t: [math.cosh(a * t), a * t])
+    cat = ring_net(
+        5, 5,
+        [[p[0], p[1], 0.0] for p in s],
+        [[2 * p[0], 2 * p[1], a] for p in s],
+        [[-q[0], 0.0, q[1]] for q in side],
+        [[q[0], 0.0, q[1]] for q in side],
+    )
+    write("monterde_ugail_catenoid.json", {
+        "name": f"{cite}, Fig. 4 / Table 2: biharmonic surface with the boundary of a catenoid",
+        "description": "Degree-5 approximations of the boundary of (cosh v cos u, cosh v sin u, v) "
+                       "(the paper misprints the second coordinate), whose exact area is 7.51007.",
+        "surface": {"type": "tensor", "degree": [5, 5], "control_points": clean(cat)},
+        "method": "biharmonic",
+    })
+    # Fig. 7 / Table 4: four semicircles of radius 1 standing on the sides of a 2x2 square
+    # (they lie on a sphere of radius sqrt 2). Reproduces Table 4 to the printed digits.
+    def arc(k, along):
+        p = s[k]
+        return along(1 + p[0], p[1])
+    fig7 = ring_net(
+        5, 5,
+        [arc(j, lambda x, z: [x, 0.0, z]) for j in range(6)],
+        [arc(j, lambda x, z: [x, 2.0, z]) for j in range(6)],
+        [arc(i, lambda y, z: [0.0, y, z]) for i in range(6)],
+        [arc(i, lambda y, z: [2.0, y, z]) for i in range(6)],
+    )
+    write("monterde_ugail_fig7.json", {
+        "name": f"{cite}, Fig. 7 / Table 4: four semicircles on a sphere, biharmonic surface",
+        "surface": {"type": "tensor", "degree": [5, 5], "control_points": clean(fig7)},
+        "method": "biharmonic",
+    })
+    write("monterde_ugail_fig7_harmonic_mask.json", {
+        "name": f"{cite}, Table 4: the same boundary filled by the harmonic mask",
+        "surface": {"type": "tensor", "degree": [5, 5], "control_points": clean(fig7)},
+        "method": "harmonic_mask",
+    })
+    # The biharmonic mask needs two rings: a 7x7 net whose two outer rings sample z = sin(pi u) sin(pi v).
+    n = 7
+    bump = [[[i / n, j / n, r(math.sin(math.pi * i / n) * math.sin(math.pi * j / n)) if min(i, j, n - i, n - j) <= 1 else None]
+             for j in range(n + 1)] for i in range(n + 1)]
+    bump = [[p if p[2] is not None else None for p in row] for row in bump]
+    write("biharmonic_mask_bump.json", {
+        "name": f"{cite}, eq. (7): the biharmonic mask fills a 7x7 net from its two outer rings",
+        "surface": {"type": "tensor", "degree": [n, n], "control_points": clean(bump)},
+        "method": "biharmonic_mask",
+    })
+
+
 if __name__ == "__main__":
+    monterde_ugail()
     quickstart()
     fig1()
     fig2_3()

@@ -2,6 +2,7 @@
 //! scene schema. Exit status: 0 success, 2 bad input (unreadable or invalid
 //! scene, a problem the solver refuses), 1 anything else (e.g. a failed write).
 
+mod compare;
 mod eval;
 mod solve;
 
@@ -18,8 +19,12 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Solve scene files: fill the free control points by minimizing the energy.
+    /// Solve scene files: fill the free control points by minimizing the
+    /// energy, or build the surface by the scene's method.
     Solve(solve::Args),
+    /// Compare four surfaces with the scene's boundary: harmonic extremal,
+    /// harmonic mask, biharmonic surface, biharmonic extremal (Monterde & Ugail §4).
+    Compare(compare::Args),
     /// Evaluate points and unit normals of a solved surface at given (u, v).
     Eval(eval::Args),
     /// Print the JSON Schema of scene files.
@@ -58,6 +63,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Solve(a) => solve::run(a),
+        Command::Compare(a) => compare::run(a),
         Command::Eval(a) => eval::run(a),
         Command::Schema => {
             println!(

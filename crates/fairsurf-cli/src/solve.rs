@@ -2,7 +2,7 @@
 
 use crate::Failure;
 use fairsurf::TriMesh;
-use fairsurf_io::{write_mesh, MeshFormat, Scene, SolvedScene};
+use fairsurf_io::{write_mesh, MeshFormat, Outcome, Scene, SolvedScene};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -121,7 +121,7 @@ fn solve_one(path: &Path, out: Option<&Path>, a: &Args) -> Result<String, Failur
     }
     if let Some(m) = &a.mesh {
         let r = a.resolution as usize;
-        write_mesh(m, &TriMesh::from_patch(&solved.solution.patch, r, r))?;
+        write_mesh(m, &TriMesh::from_patch(solved.patch(), r, r))?;
         written.push(m.display().to_string());
     }
     if a.json {
@@ -153,39 +153,74 @@ fn spinner_for(scene: &Scene) -> ProgressBar {
 }
 
 fn summary(path: &Path, s: &SolvedScene, written: &[String]) -> String {
-    let r = &s.solution.report;
-    let (n, m) = s.solution.patch.degree();
-    let mut lines = vec![format!(
-        "{}: degree {n}×{m}, {} free points ({} unknowns{})",
-        path.display(),
-        r.free_points,
-        r.unknowns,
-        if r.coupled {
-            ", coordinates coupled"
-        } else {
-            ""
+    let (n, m) = s.patch().degree();
+    let mut lines = Vec::new();
+    let total = match &s.outcome {
+        Outcome::Minimized(sol) => {
+            let r = &sol.report;
+            lines.push(format!(
+                "{}: degree {n}×{m}, {} free points ({} unknowns{})",
+                path.display(),
+                r.free_points,
+                r.unknowns,
+                if r.coupled {
+                    ", coordinates coupled"
+                } else {
+                    ""
+                }
+            ));
+            let terms: Vec<String> = r
+                .terms
+                .iter()
+                .map(|t| format!("{} {:.10e}", t.name, t.value))
+                .collect();
+            lines.push(format!(
+                "  energy {:.10e} = {}",
+                r.energy,
+                terms.join(" + ")
+            ));
+            measures_lines(&mut lines, r.measures.as_ref());
+            lines.push(format!(
+                "  gradient {:.2e} (relative {:.2e})  residual {:.2e}  condition ≈ {:.2e}  refinement steps {}",
+                r.gradient_norm, r.relative_gradient, r.residual, r.condition_estimate, r.refinement_steps
+            ));
+            r.timings.total
         }
-    )];
-    let terms: Vec<String> = r
-        .terms
-        .iter()
-        .map(|t| format!("{} {:.10e}", t.name, t.value))
-        .collect();
-    lines.push(format!(
-        "  energy {:.10e} = {}",
-        r.energy,
-        terms.join(" + ")
-    ));
-    if let Some(ms) = &r.measures {
-        lines.push(format!(
-            "  area {:.12} (±{:.1e})  dirichlet {:.10e}  biharmonic {:.10e}",
-            ms.area, ms.area_error, ms.dirichlet, ms.biharmonic
-        ));
-    }
-    lines.push(format!(
-        "  gradient {:.2e} (relative {:.2e})  residual {:.2e}  condition ≈ {:.2e}  refinement steps {}",
-        r.gradient_norm, r.relative_gradient, r.residual, r.condition_estimate, r.refinement_steps
-    ));
+        Outcome::Constructed(c) => {
+            let r = &c.report;
+            lines.push(format!(
+                "{}: degree {n}×{m}, {} surface, {} free points",
+                path.display(),
+                r.method.name(),
+                r.unknowns
+            ));
+            lines.push(format!(
+                "  {}: max {:.2e} relative to the net (backward error {:.2e}){}",
+                r.method.equations(),
+                r.residual,
+                r.backward_error,
+                if r.exact {
+                    ""
+                } else {
+                    " — NOT exact: least-squares net, no such surface has this boundary"
+                }
+            ));
+            if r.condition_estimate.is_finite() {
+                lines.push(format!(
+                    "  condition ≈ {:.2e}  refinement steps {}",
+                    r.condition_estimate, r.refinement_steps
+                ));
+            }
+            for o in &r.overridden {
+                lines.push(format!(
+                    "  note: P[{}][{}] is determined by the other points: given {:?}, used {:?}",
+                    o.index.0, o.index.1, o.given, o.determined
+                ));
+            }
+            measures_lines(&mut lines, r.measures.as_ref());
+            r.timings.total
+        }
+    };
     if let Some(d) = &s.normal_deviation {
         lines.push(format!(
             "  normal deviation from N: max {:.3}°, mean {:.3}°",
@@ -204,6 +239,28 @@ fn summary(path: &Path, s: &SolvedScene, written: &[String]) -> String {
     } else {
         format!(" → wrote {}", written.join(", "))
     };
-    lines.push(format!("  {:.3} s{wrote}", r.timings.total));
+    lines.push(format!("  {total:.3} s{wrote}"));
     lines.join("\n")
+}
+
+fn measures_lines(lines: &mut Vec<String>, ms: Option<&fairsurf::SurfaceMeasures>) {
+    if let Some(ms) = ms {
+        lines.push(format!(
+            "  area {:.12} (±{:.1e})  dirichlet {:.10e}  biharmonic {:.10e}",
+            ms.area, ms.area_error, ms.dirichlet, ms.biharmonic
+        ));
+        let h = &ms.abs_mean_curvature;
+        lines.push(format!(
+            "  |H| min {:.4e} max {:.4e} mean {:.4e} ({} grid points{})",
+            h.min,
+            h.max,
+            h.mean,
+            h.samples,
+            if h.singular > 0 {
+                format!(", {} singular skipped", h.singular)
+            } else {
+                String::new()
+            }
+        ));
+    }
 }

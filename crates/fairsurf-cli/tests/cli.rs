@@ -271,3 +271,101 @@ fn schema_is_json_and_help_is_everywhere() {
         "missing argument"
     );
 }
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+#[test]
+fn compare_prints_the_table_with_the_smallest_marked() {
+    let scene = examples().join("monterde_ugail_model.json");
+    let o = fairsurf(&["compare", scene.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let t = stdout(&o);
+    // Table 1: the biharmonic surface has the least area, the harmonic
+    // extremal the least Dirichlet value, the biharmonic extremal the least
+    // biharmonic value.
+    let row = |label: &str| {
+        t.lines()
+            .find(|l| l.starts_with(label))
+            .unwrap()
+            .to_string()
+    };
+    assert!(row("area").contains("2.515078431*"), "{t}");
+    assert!(row("harmonic ").contains("2.781167271*"), "{t}");
+    assert!(row("biharmonic ").contains("20.46342698*"), "{t}");
+    assert_eq!(row("area").matches('*').count(), 1);
+
+    let o = fairsurf(&["compare", "--json", scene.to_str().unwrap()]);
+    assert!(o.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let a = v["biharmonic_surface"]["area"].as_f64().unwrap();
+    assert!((a - 2.51508).abs() < 5e-6);
+}
+
+#[test]
+fn compare_errors_exit_2_naming_the_field() {
+    let d = tmpdir("compare");
+    let f = d.join("bad.json");
+    std::fs::write(
+        &f,
+        r#"{"surface": {"type": "tensor", "degree": [2, 2], "control_points": [
+            [[0,0,0], null, [0,2,0]], [[1,0,0], null, [1,2,0]], [[2,0,0], [2,1,0], [2,2,0]]]}}"#,
+    )
+    .unwrap();
+    let o = fairsurf(&["compare", f.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(e.contains("surface.control_points[0][1]"), "{e}");
+    assert_eq!(e.lines().count(), 1);
+}
+
+#[test]
+fn solve_by_method_reports_the_construction() {
+    let scene = examples().join("monterde_ugail_model_harmonic.json");
+    let o = fairsurf(&["solve", scene.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let t = stdout(&o);
+    assert!(t.contains("harmonic surface"), "{t}");
+    assert!(t.contains("Bernstein coefficients of Δx"), "{t}");
+    assert!(t.contains("|H| min"), "{t}");
+    let o = fairsurf(&["solve", "--json", scene.to_str().unwrap()]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["method"], "harmonic");
+    assert_eq!(v["exact"], true);
+    assert!(v["residual"].as_f64().unwrap() < 1e-12);
+    assert!(v["abs_mean_curvature"]["mean"].as_f64().unwrap() > 0.0);
+
+    // No biharmonic surface of degree 4×6 for a generic boundary: exit 2.
+    let d = tmpdir("method");
+    let f = d.join("b46.json");
+    let rows: Vec<String> = (0..=4)
+        .map(|i| {
+            let p: Vec<String> = (0..=6)
+                .map(|j| format!("[{i}, {j}, {}]", ((i * 3 + j * 5) % 7) as f64 * 0.1))
+                .collect();
+            format!("[{}]", p.join(","))
+        })
+        .collect();
+    std::fs::write(
+        &f,
+        format!(
+            r#"{{"surface": {{"type": "tensor", "degree": [4, 6], "control_points": [{}]}}, "method": "biharmonic"}}"#,
+            rows.join(",")
+        ),
+    )
+    .unwrap();
+    let o = fairsurf(&[
+        "solve",
+        f.to_str().unwrap(),
+        "-o",
+        d.join("r.json").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("no biharmonic Bézier surface"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!d.join("r.json").exists(), "no output on failure");
+}

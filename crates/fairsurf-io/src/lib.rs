@@ -16,10 +16,11 @@
 //! }"#;
 //! let scene = fairsurf_io::Scene::from_json(text).unwrap();
 //! let solved = scene.solve().unwrap();
-//! assert!((solved.solution.patch.point(1, 1)[0] - 1.0).abs() < 1e-14);
+//! assert!((solved.patch().point(1, 1)[0] - 1.0).abs() < 1e-14);
 //! ```
 
 mod atomic;
+mod compare;
 mod error;
 mod mesh;
 mod result;
@@ -27,11 +28,12 @@ mod scene;
 mod validate;
 
 pub use atomic::write_atomic;
+pub use compare::comparison_json;
 pub use error::{Error, Result};
 pub use mesh::{write_mesh, MeshFormat};
-pub use result::{report_json, SolvedScene};
+pub use result::{construction_report_json, report_json, Outcome, SolvedScene};
 pub use scene::{
-    EnergySpec, GuideSurfaceSpec, Net, NormalFieldSpec, NumberOrGrid, SamplingSpec, Scene,
+    EnergySpec, GuideSurfaceSpec, Method, Net, NormalFieldSpec, NumberOrGrid, SamplingSpec, Scene,
     SurfaceSpec, TensorSpec,
 };
-pub use validate::Built;
+pub use validate::{Built, Plan};

@@ -4,10 +4,11 @@
 //! `fixed_rings`) and a default guide surface is written out explicitly.
 
 use crate::scene::{GuideSurfaceSpec, Net, Scene, SurfaceKind, SurfaceSpec};
-use crate::validate::Built;
+use crate::validate::{Built, Plan};
 use crate::{write_atomic, Result};
-use fairsurf::analysis::{normal_deviation, NormalDeviation};
-use fairsurf::{Solution, SolveOptions, SolveReport, TensorPatch};
+use fairsurf::analysis::{normal_deviation, AbsMeanCurvature, NormalDeviation};
+use fairsurf::harmonic::{Construction, ConstructionReport};
+use fairsurf::{Solution, SolveOptions, SolveReport, SurfaceMeasures, TensorPatch};
 use serde_json::{json, Map, Value};
 use std::path::Path;
 
@@ -18,12 +19,62 @@ pub struct SolvedScene {
     pub scene: Scene,
     /// The validated problem and what was assumed.
     pub built: Built,
-    /// The surface and the solver's report.
-    pub solution: Solution,
+    /// The surface and its report.
+    pub outcome: Outcome,
     /// Angle between the result's normals and the guiding field.
     pub normal_deviation: Option<NormalDeviation>,
     /// max |R − S| over a 33×33 grid, for a guide surface S.
     pub guide_distance: Option<f64>,
+}
+
+/// The answer: a minimized energy or a construction from the boundary.
+#[derive(Clone, Debug)]
+pub enum Outcome {
+    /// `method: "minimize"`.
+    Minimized(Solution),
+    /// A harmonic / biharmonic surface or mask.
+    Constructed(Construction),
+}
+
+impl Outcome {
+    /// The surface.
+    pub fn patch(&self) -> &TensorPatch {
+        match self {
+            Outcome::Minimized(s) => &s.patch,
+            Outcome::Constructed(c) => &c.patch,
+        }
+    }
+
+    /// Area, functionals and curvature, when computed.
+    pub fn measures(&self) -> Option<&SurfaceMeasures> {
+        match self {
+            Outcome::Minimized(s) => s.report.measures.as_ref(),
+            Outcome::Constructed(c) => c.report.measures.as_ref(),
+        }
+    }
+
+    /// The minimization's solution, if this was one.
+    pub fn solution(&self) -> Option<&Solution> {
+        match self {
+            Outcome::Minimized(s) => Some(s),
+            Outcome::Constructed(_) => None,
+        }
+    }
+
+    /// The construction, if this was one.
+    pub fn construction(&self) -> Option<&Construction> {
+        match self {
+            Outcome::Minimized(_) => None,
+            Outcome::Constructed(c) => Some(c),
+        }
+    }
+}
+
+impl SolvedScene {
+    /// The surface.
+    pub fn patch(&self) -> &TensorPatch {
+        self.outcome.patch()
+    }
 }
 
 impl Scene {
@@ -35,19 +86,32 @@ impl Scene {
     /// Validates and solves.
     pub fn solve_with(&self, opts: &SolveOptions) -> Result<SolvedScene> {
         let built = self.build()?;
-        let solution = built.problem.solve_with(opts)?;
+        let outcome = match &built.plan {
+            Plan::Minimize(problem) => Outcome::Minimized(problem.solve_with(opts)?),
+            Plan::Construct(method, net) => {
+                use fairsurf::harmonic::{self as h, ConstructOptions, Method as M};
+                let copts = ConstructOptions {
+                    least_squares: self.least_squares,
+                    analyse: opts.analyse,
+                };
+                Outcome::Constructed(match method {
+                    M::Harmonic => h::harmonic_with(net, &copts)?,
+                    M::Biharmonic => h::biharmonic_with(net, &copts)?,
+                    M::HarmonicMask => h::harmonic_mask(net)?,
+                    M::BiharmonicMask => h::biharmonic_mask(net)?,
+                })
+            }
+        };
+        let patch = outcome.patch();
         let normal_deviation = built
             .normal_field
             .as_ref()
-            .map(|f| normal_deviation(&solution.patch, f, built.deviation_grid));
-        let guide_distance = built
-            .guide
-            .as_ref()
-            .map(|s| max_distance(&solution.patch, s));
+            .map(|f| normal_deviation(patch, f, built.deviation_grid));
+        let guide_distance = built.guide.as_ref().map(|s| max_distance(patch, s));
         Ok(SolvedScene {
             scene: self.clone(),
             built,
-            solution,
+            outcome,
             normal_deviation,
             guide_distance,
         })
@@ -82,14 +146,14 @@ impl SolvedScene {
     /// listed, the guide written out, and the report attached.
     pub fn result_scene(&self) -> Scene {
         let mut out = self.scene.clone();
-        let patch = &self.solution.patch;
+        let patch = self.patch();
         let (n, m) = patch.degree();
         out.surface = SurfaceSpec {
             kind: SurfaceKind::Tensor,
             degree: [n, m],
             control_points: net_json(patch),
         };
-        if out.fixed_rings.is_none() {
+        if out.fixed_rings.is_none() && self.scene.method.is_minimize() {
             out.free_points = Some(
                 self.built
                     .free
@@ -116,7 +180,10 @@ impl SolvedScene {
 
     /// The `"report"` object.
     pub fn report_json(&self) -> Value {
-        let mut r = report_json(&self.solution.report);
+        let mut r = match &self.outcome {
+            Outcome::Minimized(s) => report_json(&s.report),
+            Outcome::Constructed(c) => construction_report_json(&c.report),
+        };
         let o = r.as_object_mut().expect("object");
         if let Some(d) = &self.normal_deviation {
             o.insert(
@@ -149,7 +216,6 @@ pub fn report_json(r: &SolveReport) -> Value {
         let prev = terms.get(&t.name).and_then(Value::as_f64).unwrap_or(0.0);
         terms.insert(t.name.clone(), json!(prev + t.value));
     }
-    let finite = |x: f64| if x.is_finite() { json!(x) } else { Value::Null };
     let mut o = json!({
         "energy": r.energy,
         "terms": terms,
@@ -167,12 +233,64 @@ pub fn report_json(r: &SolveReport) -> Value {
         },
         "fairsurf_version": env!("CARGO_PKG_VERSION"),
     });
-    if let Some(m) = &r.measures {
-        let obj = o.as_object_mut().expect("object");
-        obj.insert("area".into(), json!(m.area));
-        obj.insert("area_error".into(), json!(m.area_error));
-        obj.insert("dirichlet".into(), json!(m.dirichlet));
-        obj.insert("biharmonic".into(), json!(m.biharmonic));
-    }
+    insert_measures(&mut o, r.measures.as_ref());
     o
+}
+
+/// A [`ConstructionReport`] as JSON: how well the defining equations hold,
+/// overridden points, measures, timings.
+pub fn construction_report_json(r: &ConstructionReport) -> Value {
+    let overridden: Vec<Value> = r
+        .overridden
+        .iter()
+        .map(|o| json!({"index": [o.index.0, o.index.1], "given": o.given, "determined": o.determined}))
+        .collect();
+    let mut o = json!({
+        "method": r.method.name(),
+        "equations_kind": r.method.equations(),
+        "exact": r.exact,
+        "residual": r.residual,
+        "backward_error": r.backward_error,
+        "condition_estimate": finite(r.condition_estimate),
+        "refinement_steps": r.refinement_steps,
+        "equations": r.equations,
+        "free_points": r.unknowns,
+        "overridden": overridden,
+        "timings_s": {
+            "assemble": r.timings.assemble, "factor": r.timings.factor, "solve": r.timings.solve,
+            "analyse": r.timings.analyse, "total": r.timings.total,
+        },
+        "fairsurf_version": env!("CARGO_PKG_VERSION"),
+    });
+    insert_measures(&mut o, r.measures.as_ref());
+    o
+}
+
+fn finite(x: f64) -> Value {
+    if x.is_finite() {
+        json!(x)
+    } else {
+        Value::Null
+    }
+}
+
+/// |H| statistics as JSON.
+pub(crate) fn curvature_json(c: &AbsMeanCurvature) -> Value {
+    json!({
+        "min": finite(c.min), "max": finite(c.max), "mean": finite(c.mean),
+        "samples": c.samples, "singular": c.singular,
+    })
+}
+
+fn insert_measures(o: &mut Value, m: Option<&SurfaceMeasures>) {
+    let Some(m) = m else { return };
+    let obj = o.as_object_mut().expect("object");
+    obj.insert("area".into(), json!(m.area));
+    obj.insert("area_error".into(), json!(m.area_error));
+    obj.insert("dirichlet".into(), json!(m.dirichlet));
+    obj.insert("biharmonic".into(), json!(m.biharmonic));
+    obj.insert(
+        "abs_mean_curvature".into(),
+        curvature_json(&m.abs_mean_curvature),
+    );
 }

@@ -22,6 +22,19 @@ pub struct Scene {
     pub description: Option<String>,
     /// The surface and its control points.
     pub surface: SurfaceSpec,
+    /// How to fill the surface: `"minimize"` the energy (default), or build it
+    /// from its boundary (Monterde & Ugail 2004): `"harmonic"` (Δx ≡ 0 from the
+    /// first and last rows), `"biharmonic"` (Δ²x ≡ 0 from the boundary ring),
+    /// `"harmonic_mask"` (the discrete Coons mask, boundary ring) or
+    /// `"biharmonic_mask"` (the 13-point mask, two outer rings). The
+    /// constructions use only those points; the others may be null.
+    #[serde(default, skip_serializing_if = "Method::is_minimize")]
+    pub method: Method,
+    /// With a construction method: when no surface of that kind has the given
+    /// boundary (e.g. biharmonic at some n ≠ m), return the least-squares net
+    /// and its residual instead of an error (default false).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub least_squares: bool,
     /// If k ≥ 1: the outer k rings of control points are fixed and every other
     /// point is free, even when given (the given net is then the initial
     /// surface). k = 1 fixes the boundary curves; k = 2 also the
@@ -35,13 +48,49 @@ pub struct Scene {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub free_points: Option<Vec<[usize; 2]>>,
     /// The energy: a weighted sum of stretch, bend, normal-field and
-    /// guide-surface terms.
-    #[serde(default)]
+    /// guide-surface terms (only with method `"minimize"`).
+    #[serde(default, skip_serializing_if = "EnergySpec::is_empty")]
     pub energy: EnergySpec,
     /// Written by `fairsurf solve` into result files; ignored on input.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(skip)]
     pub report: Option<serde_json::Value>,
+}
+
+/// How the surface is made.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum Method {
+    /// Minimize the energy over the free control points.
+    #[default]
+    Minimize,
+    /// Harmonic Bézier surface (Theorem 1, Prop. 1).
+    Harmonic,
+    /// Biharmonic Bézier surface (Theorem 2, Prop. 2).
+    Biharmonic,
+    /// Harmonic mask (eq. 5–6).
+    HarmonicMask,
+    /// Biharmonic mask (eq. 7).
+    BiharmonicMask,
+}
+
+impl Method {
+    /// Whether this is the default, `"minimize"`.
+    pub fn is_minimize(&self) -> bool {
+        *self == Method::Minimize
+    }
+
+    /// The library's construction, `None` for `"minimize"`.
+    pub fn construction(self) -> Option<fairsurf::harmonic::Method> {
+        use fairsurf::harmonic::Method as M;
+        match self {
+            Method::Minimize => None,
+            Method::Harmonic => Some(M::Harmonic),
+            Method::Biharmonic => Some(M::Biharmonic),
+            Method::HarmonicMask => Some(M::HarmonicMask),
+            Method::BiharmonicMask => Some(M::BiharmonicMask),
+        }
+    }
 }
 
 /// The kind of surface.
@@ -95,6 +144,17 @@ pub struct EnergySpec {
     /// Measure every term on a sample grid instead (Wu & Yang eq. 5).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sampling: Option<SamplingSpec>,
+}
+
+impl EnergySpec {
+    /// No term given.
+    pub fn is_empty(&self) -> bool {
+        self.stretch.is_none()
+            && self.bend.is_none()
+            && self.normal_field.is_none()
+            && self.guide_surface.is_none()
+            && self.sampling.is_none()
+    }
 }
 
 /// A guiding normal field N.

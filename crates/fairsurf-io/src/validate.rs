@@ -13,11 +13,21 @@ pub const MAX_DEGREE: usize = 40;
 /// Largest accepted sample grid size per direction.
 pub const MAX_GRID: usize = 2000;
 
+/// What solving a scene means.
+#[derive(Debug)]
+pub enum Plan {
+    /// Minimize the energy of this problem.
+    Minimize(Problem),
+    /// Build the surface from the boundary of this net (points the
+    /// construction does not read are zero).
+    Construct(fairsurf::harmonic::Method, TensorPatch),
+}
+
 /// A validated scene, ready to solve.
 #[derive(Debug)]
 pub struct Built {
-    /// The problem.
-    pub problem: Problem,
+    /// The problem or the construction.
+    pub plan: Plan,
     /// The given net when it has no null: the initial surface.
     pub initial: Option<TensorPatch>,
     /// Whether each control point is free, row-major.
@@ -30,6 +40,28 @@ pub struct Built {
     pub guide: Option<TensorPatch>,
     /// What was assumed where the scene was silent.
     pub notes: Vec<String>,
+}
+
+impl Built {
+    fn new(plan: Plan, initial: Option<TensorPatch>, free: Vec<bool>) -> Self {
+        Built {
+            plan,
+            initial,
+            free,
+            normal_field: None,
+            deviation_grid: (32, 32),
+            guide: None,
+            notes: Vec::new(),
+        }
+    }
+}
+
+/// The given net as a patch when it has no null.
+fn initial_patch(given: &[Option<Vec3>], (n, m): (usize, usize)) -> Option<TensorPatch> {
+    given
+        .iter()
+        .all(Option::is_some)
+        .then(|| TensorPatch::new(n, m, given.iter().map(|p| p.expect("all given")).collect()))
 }
 
 impl Scene {
@@ -46,29 +78,104 @@ impl Scene {
             }
         }
         let given = parse_net(&t.control_points, "surface.control_points", (n, m), true)?;
+        if let Some(method) = self.method.construction() {
+            return self.build_construction(method, &given, (n, m));
+        }
+        if self.least_squares {
+            return Err(Error::scene(
+                "least_squares",
+                "only applies to method \"harmonic\" or \"biharmonic\"",
+            ));
+        }
         let free = self.free_mask(&given, (n, m))?;
-        let initial = given
-            .iter()
-            .all(Option::is_some)
-            .then(|| TensorPatch::new(n, m, given.iter().map(|p| p.expect("all given")).collect()));
+        let initial = initial_patch(&given, (n, m));
         let known: Vec<Option<Vec3>> = given
             .iter()
             .zip(&free)
             .map(|(p, &f)| if f { None } else { *p })
             .collect();
         let mut problem = Problem::new((n, m)).with_known(known)?;
-        let mut built = Built {
-            problem: Problem::new((n, m)),
-            initial,
-            free,
-            normal_field: None,
-            deviation_grid: (32, 32),
-            guide: None,
-            notes: Vec::new(),
-        };
+        // The plan is replaced by the finished problem below.
+        let mut built = Built::new(Plan::Minimize(Problem::new((n, m))), initial, free);
         self.add_terms(&mut problem, &mut built, &given)?;
-        built.problem = problem;
+        built.plan = Plan::Minimize(problem);
         Ok(built)
+    }
+
+    /// A construction from the boundary: checks that the scene says nothing
+    /// the construction would ignore and gives every point it reads.
+    fn build_construction(
+        &self,
+        method: fairsurf::harmonic::Method,
+        given: &[Option<Vec3>],
+        (n, m): (usize, usize),
+    ) -> Result<Built> {
+        use fairsurf::harmonic::Method as M;
+        let name = method.name();
+        let unused = |path: &str| {
+            Err(Error::scene(
+                path,
+                format!("is not used by method \"{name}\" (it fixes its own points and has no energy); remove it"),
+            ))
+        };
+        if self.fixed_rings.is_some() {
+            return unused("fixed_rings");
+        }
+        if self.free_points.is_some() {
+            return unused("free_points");
+        }
+        if !self.energy.is_empty() {
+            return unused("energy");
+        }
+        if self.least_squares && !matches!(method, M::Harmonic | M::Biharmonic) {
+            return Err(Error::scene(
+                "least_squares",
+                format!("only applies to method \"harmonic\" or \"biharmonic\" (a {name} always exists)"),
+            ));
+        }
+        let min = if method == M::BiharmonicMask { 4 } else { 2 };
+        for (k, d) in [n, m].into_iter().enumerate() {
+            if d < min {
+                return Err(Error::scene(
+                    format!("surface.degree[{k}]"),
+                    format!("method \"{name}\" needs degrees ≥ {min}, got {d}"),
+                ));
+            }
+        }
+        // Which points the construction reads, and which it determines.
+        let ring = |i: usize, j: usize| i.min(j).min(n - i).min(m - j);
+        let read = |i: usize, j: usize| match method {
+            M::Harmonic => i == 0 || i == n,
+            M::Biharmonic | M::HarmonicMask => ring(i, j) == 0,
+            M::BiharmonicMask => ring(i, j) <= 1,
+        };
+        let what = match method {
+            M::Harmonic => "the first and last rows",
+            M::Biharmonic | M::HarmonicMask => "the boundary ring",
+            M::BiharmonicMask => "the two outer rings",
+        };
+        let mut points = Vec::with_capacity(given.len());
+        let mut free = Vec::with_capacity(given.len());
+        for (k, p) in given.iter().enumerate() {
+            let (i, j) = (k / (m + 1), k % (m + 1));
+            if read(i, j) && p.is_none() {
+                return Err(Error::scene(
+                    format!("surface.control_points[{i}][{j}]"),
+                    format!("is null, but method \"{name}\" is built from {what}: give its value"),
+                ));
+            }
+            free.push(!read(i, j));
+            points.push(if read(i, j) {
+                p.expect("checked")
+            } else {
+                [0.0; 3]
+            });
+        }
+        Ok(Built::new(
+            Plan::Construct(method, TensorPatch::new(n, m, points)),
+            initial_patch(given, (n, m)),
+            free,
+        ))
     }
 
     /// The surface as a patch when every control point is given (a result
@@ -364,7 +471,7 @@ fn check_weight(path: &str, w: f64) -> Result<()> {
 }
 
 /// Rows × columns of points `[x, y, z]` (or null where allowed), row-major.
-fn parse_net(
+pub(crate) fn parse_net(
     net: &Net,
     path: &str,
     (n, m): (usize, usize),

@@ -90,6 +90,16 @@ pub enum Error {
         /// What usually causes it.
         hint: String,
     },
+    /// A construction's equations have no exact solution for the given data.
+    #[error("{what} (least-squares residual {residual:.3e} relative to the net): {hint}")]
+    Inconsistent {
+        /// What does not exist.
+        what: String,
+        /// max |equation| / max |P| of the least-squares net.
+        residual: f64,
+        /// What to do instead.
+        hint: String,
+    },
 }
 
 /// `Result` with fairsurf's [`Error`].

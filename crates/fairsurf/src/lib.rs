@@ -45,6 +45,7 @@ mod vec3;
 pub mod analysis;
 pub mod basis;
 pub mod energy;
+pub mod harmonic;
 
 pub use curve::BezierCurve;
 pub use energy::{

@@ -2,9 +2,14 @@
 //!
 //! `A = ∫∫ |R_u × R_v| du dv` has no closed form (a square root of a
 //! polynomial). The integrand is analytic on regular patches, so tensor Gauss
-//! rules on a k×k grid of panels converge fast; k doubles until two
-//! successive values agree to 1e-13 relative (or k reaches 64), and the
-//! difference is reported as the error estimate.
+//! rules converge fast there; where the patch is not regular (a collapsed
+//! corner, boundary curves meeting tangentially as in Monterde & Ugail's
+//! Fig. 7, or a fold where R_u × R_v changes sign) the integrand has a kink
+//! and Gauss rules converge slowly. So the domain is a quadtree of panels,
+//! each compared with the sum over its four children; the panel with the
+//! largest disagreement is split until the sum of disagreements (reported
+//! as the error estimate) is below 1e-13 relative, or the panel budget runs
+//! out.
 
 use crate::basis::GaussLegendre;
 use crate::vec3::{cross, norm};
@@ -15,9 +20,18 @@ use crate::TensorPatch;
 pub struct Area {
     /// The area.
     pub value: f64,
-    /// |A_k − A_{k/2}| for the last two panel counts: an upper estimate.
+    /// Sum over the quadtree leaves of |rule on the leaf − rule on its four
+    /// children| (the value uses the children): a conservative estimate of
+    /// the quadrature error.
     pub error: f64,
 }
+
+/// Relative tolerance of [`area`].
+pub const AREA_TOLERANCE: f64 = 1e-13;
+
+/// Most panels evaluated by [`area`] before it stops refining and reports
+/// the error it has reached.
+pub const AREA_MAX_PANELS: usize = 4_000;
 
 /// The area of a patch.
 ///
@@ -30,45 +44,94 @@ pub struct Area {
 pub fn area(patch: &TensorPatch) -> Area {
     let (n, m) = patch.degree();
     let gl = GaussLegendre::new(n.max(m) + 4);
-    let mut prev = area_on_grid(patch, &gl, 1);
-    let mut k = 2;
-    loop {
-        let cur = area_on_grid(patch, &gl, k);
-        let err = (cur - prev).abs();
-        if err <= 1e-13 * cur.abs() || k >= 64 {
-            return Area {
-                value: cur,
-                error: err,
-            };
+    let mut evaluations = 0;
+    // A leaf: the panel, its rule split in four, and |split − whole|.
+    let mut leaf = |q: (f64, f64, f64), whole: f64| -> Leaf {
+        let c = q.2 / 2.0;
+        let kids = [
+            (q.0, q.1, c),
+            (q.0 + c, q.1, c),
+            (q.0, q.1 + c, c),
+            (q.0 + c, q.1 + c, c),
+        ];
+        let vals = kids.map(|k| panel(patch, &gl, k));
+        evaluations += 4;
+        let sum: f64 = vals.iter().sum();
+        Leaf {
+            error: (sum - whole).abs(),
+            value: sum,
+            kids,
+            kid_values: vals,
         }
-        prev = cur;
-        k *= 2;
+    };
+    // Start from a uniform 4×4 grid of panels, then always split the leaf
+    // with the largest error (global adaptivity: cheap on kinks along curves
+    // as well as at points).
+    let k = 4;
+    let h = 1.0 / k as f64;
+    let mut heap = std::collections::BinaryHeap::new();
+    for p in 0..k * k {
+        let q = ((p / k) as f64 * h, (p % k) as f64 * h, h);
+        let whole = panel(patch, &gl, q);
+        heap.push(leaf(q, whole));
+    }
+    let total = |heap: &std::collections::BinaryHeap<Leaf>| -> (f64, f64) {
+        heap.iter()
+            .fold((0.0, 0.0), |(v, e), l| (v + l.value, e + l.error))
+    };
+    let (mut value, mut error) = total(&heap);
+    while error > AREA_TOLERANCE * value.abs() && heap.len() * 4 < AREA_MAX_PANELS {
+        let worst = heap.pop().expect("never empty");
+        for (q, v) in worst.kids.into_iter().zip(worst.kid_values) {
+            heap.push(leaf(q, v));
+        }
+        // Re-summing keeps the totals free of cancellation drift.
+        (value, error) = total(&heap);
+    }
+    Area { value, error }
+}
+
+struct Leaf {
+    error: f64,
+    value: f64,
+    kids: [(f64, f64, f64); 4],
+    kid_values: [f64; 4],
+}
+
+impl PartialEq for Leaf {
+    fn eq(&self, other: &Self) -> bool {
+        self.error == other.error
+    }
+}
+impl Eq for Leaf {}
+impl PartialOrd for Leaf {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Leaf {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.error.total_cmp(&other.error)
     }
 }
 
-fn area_on_grid(patch: &TensorPatch, gl: &GaussLegendre, k: usize) -> f64 {
-    let h = 1.0 / k as f64;
-    // The k×k panels' Gauss nodes form one tensor grid of (kq)² points.
-    let ts: Vec<f64> = (0..k)
-        .flat_map(|a| gl.nodes.iter().map(move |&s| (a as f64 + s) * h))
-        .collect();
-    let ws: Vec<f64> = (0..k)
-        .flat_map(|_| gl.weights.iter().map(|&w| w * h))
-        .collect();
-    let d = patch.grid_derivatives(&ts, &ts);
+/// The rule on the square panel (u0, v0, side h).
+fn panel(patch: &TensorPatch, gl: &GaussLegendre, (u0, v0, h): (f64, f64, f64)) -> f64 {
+    let us: Vec<f64> = gl.nodes.iter().map(|&s| u0 + s * h).collect();
+    let vs: Vec<f64> = gl.nodes.iter().map(|&s| v0 + s * h).collect();
+    let d = patch.grid_derivatives(&us, &vs);
+    let q = gl.nodes.len();
     let mut total = 0.0;
-    for (a, wa) in ws.iter().enumerate() {
-        let row: f64 = ws
-            .iter()
-            .enumerate()
-            .map(|(b, wb)| {
-                let x = &d[a * ts.len() + b];
-                wb * norm(cross(x.du, x.dv))
+    for a in 0..q {
+        let row: f64 = (0..q)
+            .map(|b| {
+                let x = &d[a * q + b];
+                gl.weights[b] * norm(cross(x.du, x.dv))
             })
             .sum();
-        total += wa * row;
+        total += gl.weights[a] * row;
     }
-    total
+    total * h * h
 }
 
 #[cfg(test)]

@@ -13,16 +13,13 @@ use crate::TensorPatch;
 /// ```
 pub fn dirichlet(patch: &TensorPatch) -> f64 {
     Stretch::new(1.0)
-        .form(patch.degree())
+        .value(patch)
         .expect("unit weight is valid")
-        .value(patch.points())
 }
 
 /// Biharmonic (thin-plate) functional
-/// `B = ½ ∫∫ |R_uu|² + 2|R_uv|² + |R_vv|² du dv`, exact.
+/// `B = ½ ∫∫ |R_uu|² + 2|R_uv|² + |R_vv|² du dv`, exact (evaluated from the
+/// derivative nets, accurate at high degree).
 pub fn biharmonic(patch: &TensorPatch) -> f64 {
-    Bend::new(1.0)
-        .form(patch.degree())
-        .expect("unit weight is valid")
-        .value(patch.points())
+    Bend::new(1.0).value(patch).expect("unit weight is valid")
 }

@@ -1,18 +1,24 @@
-//! Measures of a surface: area, the Dirichlet and biharmonic functionals, and
-//! how far its normals are from a guiding field.
+//! Measures of a surface: area, the Dirichlet and biharmonic functionals,
+//! curvature, and how far its normals are from a guiding field.
 
 mod area;
+mod curvature;
 mod functionals;
 mod normals;
 
-pub use area::{area, Area};
+pub use area::{area, Area, AREA_TOLERANCE};
+pub use curvature::{abs_mean_curvature, curvature, curvature_from, AbsMeanCurvature, Curvature};
 pub use functionals::{biharmonic, dirichlet};
 pub use normals::{normal_deviation, NormalDeviation};
 
 use crate::solve::SurfaceMeasures;
 use crate::TensorPatch;
 
-/// Area (with its error estimate) and both functionals of a patch.
+/// Grid size (k) of the absolute mean curvature statistics in reports.
+pub const CURVATURE_GRID: usize = 64;
+
+/// Area (with its error estimate), both functionals and |H| statistics of a
+/// patch.
 pub fn measures(patch: &TensorPatch) -> SurfaceMeasures {
     let a = area(patch);
     SurfaceMeasures {
@@ -20,5 +26,6 @@ pub fn measures(patch: &TensorPatch) -> SurfaceMeasures {
         area_error: a.error,
         dirichlet: dirichlet(patch),
         biharmonic: biharmonic(patch),
+        abs_mean_curvature: abs_mean_curvature(patch, CURVATURE_GRID),
     }
 }

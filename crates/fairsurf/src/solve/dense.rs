@@ -83,29 +83,12 @@ pub(crate) fn solve_spd(
         }
     };
 
-    let mut x = solve(b);
-    let mut r = residual(h, &x, b);
-    let mut best = norm_max(&r);
-    let mut steps = 0;
-    while steps < opts.max_refinement_steps && best > 0.0 {
-        let dx = solve(&r);
-        let x_new = &x + &dx;
-        let r_new = residual(h, &x_new, b);
-        let nr = norm_max(&r_new);
-        // NaN compares false too: stop on it.
-        if nr.is_nan() || nr >= best {
-            break;
-        }
-        steps += 1;
-        x = x_new;
-        r = r_new;
-        // Stop once the correction no longer changes x in working precision.
-        let small = norm_max(&dx) <= f64::EPSILON * norm_max(&x);
-        best = nr;
-        if small {
-            break;
-        }
-    }
+    let (x, r, steps) = refine(
+        solve(b),
+        |x| residual(h, x, b),
+        solve,
+        opts.max_refinement_steps,
+    );
 
     let condition = if opts.estimate_condition {
         condition_estimate(&a, &llt)
@@ -126,6 +109,55 @@ pub(crate) fn solve_spd(
         condition,
         factor_seconds,
     })
+}
+
+/// Iterative refinement from x: r = residual(x) (compensated), x += solve(r),
+/// while ‖r‖₂ does not grow (ties allowed: an inconsistent least-squares
+/// system keeps its residual) and the correction still changes x.
+/// Returns (x, its residual, steps taken).
+pub(crate) fn refine(
+    mut x: Mat<f64>,
+    residual: impl Fn(&Mat<f64>) -> Mat<f64>,
+    solve: impl Fn(&Mat<f64>) -> Mat<f64>,
+    max_steps: usize,
+) -> (Mat<f64>, Mat<f64>, usize) {
+    let mut r = residual(&x);
+    let mut best = r.norm_l2();
+    let mut steps = 0;
+    while steps < max_steps && best > 0.0 {
+        let dx = solve(&r);
+        let x_new = &x + &dx;
+        let r_new = residual(&x_new);
+        let nr = r_new.norm_l2();
+        if nr.is_nan() || nr > best * (1.0 + 1e-8) {
+            break;
+        }
+        steps += 1;
+        x = x_new;
+        r = r_new;
+        best = best.min(nr);
+        // Stop once the correction no longer changes x in working precision.
+        if norm_max(&dx) <= f64::EPSILON * norm_max(&x) {
+            break;
+        }
+    }
+    (x, r, steps)
+}
+
+/// The Rayleigh quotient after 30 steps of power iteration with `step`
+/// (x ↦ Ax for symmetric positive semidefinite A) from a fixed start, so the
+/// estimate is reproducible: λ_max(A), from below.
+pub(crate) fn power_iteration(n: usize, step: &dyn Fn(&Mat<f64>) -> Mat<f64>) -> f64 {
+    let mut v = Mat::from_fn(n, 1, |i, _| 1.0 + ((i * 7919) % 101) as f64 / 101.0);
+    let mut lambda = 0.0;
+    for _ in 0..30 {
+        let nv = v.norm_l2();
+        v *= faer::Scale(1.0 / nv);
+        let w = step(&v);
+        lambda = (v.transpose() * &w)[(0, 0)];
+        v = w;
+    }
+    lambda
 }
 
 /// B − H X with every entry computed by a compensated dot product (about
@@ -170,21 +202,8 @@ pub(crate) fn norm_max(m: &Mat<f64>) -> f64 {
 /// It is a lower bound that is usually within a small factor.
 fn condition_estimate(a: &Mat<f64>, llt: &Llt<f64>) -> f64 {
     let n = a.nrows();
-    let start = Mat::from_fn(n, 1, |i, _| 1.0 + ((i * 7919) % 101) as f64 / 101.0);
-    let rayleigh = |step: &dyn Fn(&Mat<f64>) -> Mat<f64>| -> f64 {
-        let mut v = start.clone();
-        let mut lambda = 0.0;
-        for _ in 0..30 {
-            let nv = v.norm_l2();
-            v *= faer::Scale(1.0 / nv);
-            let w = step(&v);
-            lambda = (v.transpose() * &w)[(0, 0)];
-            v = w;
-        }
-        lambda
-    };
-    let lmax = rayleigh(&|v| a * v);
-    let inv = rayleigh(&|v| {
+    let lmax = power_iteration(n, &|v| a * v);
+    let inv = power_iteration(n, &|v| {
         let mut w = v.clone();
         llt.solve_in_place(&mut w);
         w

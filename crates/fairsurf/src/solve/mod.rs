@@ -1,7 +1,8 @@
 //! Problems, the solve, and what a solve reports.
 
-mod dense;
+pub(crate) mod dense;
 mod jacobi;
+pub(crate) mod lstsq;
 mod problem;
 mod report;
 

@@ -35,6 +35,8 @@ pub struct SurfaceMeasures {
     pub dirichlet: f64,
     /// Biharmonic (thin-plate) functional B = ½ ∫∫ |R_uu|² + 2|R_uv|² + |R_vv|², exact.
     pub biharmonic: f64,
+    /// |H| on the 65×65 grid (Monterde & Ugail §4.4).
+    pub abs_mean_curvature: crate::analysis::AbsMeanCurvature,
 }
 
 /// Everything a solve knows about its answer.

@@ -1,0 +1,158 @@
+//! Curvature from exact derivatives: the fundamental forms of a patch, its
+//! Gaussian, mean and principal curvatures, and statistics of the absolute
+//! mean curvature (Monterde & Ugail 2004, §4.4, Fig. 8–9).
+//!
+//! With E = x_u·x_u, F = x_u·x_v, G = x_v·x_v and e = x_uu·n, f = x_uv·n,
+//! g = x_vv·n for the unit normal n = x_u×x_v/|x_u×x_v|:
+//!
+//! ```text
+//! K = (eg − f²) / (EG − F²)        H = (eG − 2fF + gE) / (2(EG − F²))
+//! κ₁,₂ = H ± √(H² − K)
+//! ```
+
+use crate::vec3::{cross, dot, norm};
+use crate::{SurfaceDerivatives, TensorPatch};
+
+/// Curvatures at one surface point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Curvature {
+    /// Gaussian curvature K.
+    pub gaussian: f64,
+    /// Mean curvature H (sign follows the normal x_u × x_v).
+    pub mean: f64,
+    /// Principal curvatures κ₁ ≥ κ₂.
+    pub principal: (f64, f64),
+}
+
+/// The curvatures from second-order derivatives, `None` where the surface is
+/// not regular (|x_u × x_v|² ≤ 1e-24 · (|x_u|² |x_v|²), e.g. at a collapsed corner).
+pub fn curvature_from(d: &SurfaceDerivatives) -> Option<Curvature> {
+    let nn = cross(d.du, d.dv);
+    let (e_, f_, g_) = (dot(d.du, d.du), dot(d.du, d.dv), dot(d.dv, d.dv));
+    let det = e_ * g_ - f_ * f_;
+    let l = norm(nn);
+    if det.is_nan() || det <= 1e-24 * e_ * g_ || l == 0.0 {
+        return None;
+    }
+    let n = [nn[0] / l, nn[1] / l, nn[2] / l];
+    let (e, f, g) = (dot(d.duu, n), dot(d.duv, n), dot(d.dvv, n));
+    let k = (e * g - f * f) / det;
+    let h = (e * g_ - 2.0 * f * f_ + g * e_) / (2.0 * det);
+    let s = (h * h - k).max(0.0).sqrt();
+    Some(Curvature {
+        gaussian: k,
+        mean: h,
+        principal: (h + s, h - s),
+    })
+}
+
+/// The curvatures of a patch at (u, v).
+///
+/// ```
+/// use fairsurf::{analysis::curvature, TensorPatch};
+/// // z = (x² + y²)/2 at the origin: K = 1, H = 1 (normal +z).
+/// let p = TensorPatch::from_fn(2, 2, |i, j| {
+///     let z = [0.0, 0.0, 0.5][i] + [0.0, 0.0, 0.5][j];
+///     [i as f64 / 2.0, j as f64 / 2.0, z]
+/// });
+/// let c = curvature(&p, 0.0, 0.0).unwrap();
+/// assert!((c.gaussian - 1.0).abs() < 1e-12 && (c.mean - 1.0).abs() < 1e-12);
+/// ```
+pub fn curvature(patch: &TensorPatch, u: f64, v: f64) -> Option<Curvature> {
+    curvature_from(&patch.derivatives(u, v))
+}
+
+/// Statistics of |H| over a uniform grid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AbsMeanCurvature {
+    /// Smallest |H| at a regular grid point.
+    pub min: f64,
+    /// Largest |H| at a regular grid point.
+    pub max: f64,
+    /// Area-weighted mean ∫|H| dA / ∫dA on the grid (trapezoid weights).
+    pub mean: f64,
+    /// Grid points used.
+    pub samples: usize,
+    /// Grid points skipped because the surface is not regular there (|H| is
+    /// unbounded near them, as at the collapsed corners of Fig. 9).
+    pub singular: usize,
+}
+
+/// |H| on the (k+1)×(k+1) grid u, v = 0, 1/k, …, 1.
+pub fn abs_mean_curvature(patch: &TensorPatch, k: usize) -> AbsMeanCurvature {
+    let k = k.max(1);
+    let ts: Vec<f64> = (0..=k).map(|i| i as f64 / k as f64).collect();
+    let w = |i: usize| if i == 0 || i == k { 0.5 } else { 1.0 };
+    let d = patch.grid_derivatives(&ts, &ts);
+    let (mut min, mut max, mut num, mut den) = (f64::INFINITY, 0.0f64, 0.0, 0.0);
+    let (mut samples, mut singular) = (0, 0);
+    for a in 0..=k {
+        for b in 0..=k {
+            let x = &d[a * (k + 1) + b];
+            match curvature_from(x) {
+                Some(c) => {
+                    let h = c.mean.abs();
+                    min = min.min(h);
+                    max = max.max(h);
+                    let da = w(a) * w(b) * norm(cross(x.du, x.dv));
+                    num += h * da;
+                    den += da;
+                    samples += 1;
+                }
+                None => singular += 1,
+            }
+        }
+    }
+    AbsMeanCurvature {
+        min: if samples > 0 { min } else { f64::NAN },
+        max: if samples > 0 { max } else { f64::NAN },
+        mean: if den > 0.0 { num / den } else { f64::NAN },
+        samples,
+        singular,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A cylinder of radius r approximated by a rational-free cubic arc:
+    /// |H| → 1/(2r) and K → 0 as the arc gets shorter.
+    #[test]
+    fn cylinder_has_half_inverse_radius_mean_curvature() {
+        let r = 2.0;
+        // Cubic Bézier arc of angle θ (the standard 4/3·tan(θ/4) handle).
+        let theta: f64 = 0.5;
+        let h = 4.0 / 3.0 * (theta / 4.0).tan();
+        let arc = [
+            [r, 0.0],
+            [r, r * h],
+            [
+                r * (theta.cos() + h * theta.sin()),
+                r * (theta.sin() - h * theta.cos()),
+            ],
+            [r * theta.cos(), r * theta.sin()],
+        ];
+        let p = TensorPatch::from_fn(3, 1, |i, j| [arc[i][0], arc[i][1], j as f64]);
+        for &(u, v) in &[(0.0, 0.0), (0.5, 0.5), (0.3, 1.0)] {
+            let c = curvature(&p, u, v).unwrap();
+            assert!(c.gaussian.abs() < 1e-12, "K {}", c.gaussian);
+            assert!((c.mean.abs() - 0.5 / r).abs() < 1e-4, "H {}", c.mean);
+            assert!((c.principal.0.abs().max(c.principal.1.abs()) - 1.0 / r).abs() < 2e-4);
+        }
+    }
+
+    #[test]
+    fn plane_has_zero_curvature_and_collapsed_corners_are_skipped() {
+        let p = TensorPatch::from_fn(2, 2, |i, j| [i as f64, j as f64, 0.0]);
+        let s = abs_mean_curvature(&p, 8);
+        assert_eq!((s.max, s.samples, s.singular), (0.0, 81, 0));
+        // Collapse the corner (0,0): P00 = P10 = P01 makes x_u = x_v = 0 there.
+        let mut q = TensorPatch::from_fn(2, 2, |i, j| [i as f64, j as f64, (i * j) as f64]);
+        q.set_point(1, 0, q.point(0, 0));
+        q.set_point(0, 1, q.point(0, 0));
+        let s = abs_mean_curvature(&q, 8);
+        assert_eq!(s.singular, 1);
+        assert_eq!(s.samples, 80);
+    }
+}
