@@ -97,8 +97,8 @@ impl Scene {
                 Outcome::Constructed(match method {
                     M::Harmonic => h::harmonic_with(net, &copts)?,
                     M::Biharmonic => h::biharmonic_with(net, &copts)?,
-                    M::HarmonicMask => h::harmonic_mask(net)?,
-                    M::BiharmonicMask => h::biharmonic_mask(net)?,
+                    M::HarmonicMask => h::harmonic_mask_with(net, &copts)?,
+                    M::BiharmonicMask => h::biharmonic_mask_with(net, &copts)?,
                 })
             }
         };

@@ -13,7 +13,7 @@
 //! faer's sparse Cholesky.
 
 use super::operator::check_degree;
-use super::{Construction, ConstructionReport, Method, EXACT_TOLERANCE};
+use super::{ConstructOptions, Construction, ConstructionReport, Method, EXACT_TOLERANCE};
 use crate::analysis::measures;
 use crate::solve::Timings;
 use crate::{Error, Result, TensorPatch};
@@ -32,6 +32,12 @@ use std::time::Instant;
 /// assert!((c.patch.point(2, 3)[2] - 6.0).abs() < 1e-12);
 /// ```
 pub fn harmonic_mask(net: &TensorPatch) -> Result<Construction> {
+    harmonic_mask_with(net, &ConstructOptions::default())
+}
+
+/// [`harmonic_mask`] with options (`least_squares` does not apply: the mask
+/// system is always solvable).
+pub fn harmonic_mask_with(net: &TensorPatch, opts: &ConstructOptions) -> Result<Construction> {
     check_degree("harmonic mask surface", net.degree(), 2)?;
     let stencil: &[((isize, isize), f64)] = &[
         ((0, 0), 4.0),
@@ -40,12 +46,17 @@ pub fn harmonic_mask(net: &TensorPatch) -> Result<Construction> {
         ((0, 1), -1.0),
         ((0, -1), -1.0),
     ];
-    mask_solve(net, 1, stencil, Method::HarmonicMask)
+    mask_solve(net, 1, stencil, Method::HarmonicMask, opts.analyse)
 }
 
 /// The biharmonic-mask surface with the two outer rings of `net`. Needs
 /// n, m ≥ 4 (so that some point lies in ring 2).
 pub fn biharmonic_mask(net: &TensorPatch) -> Result<Construction> {
+    biharmonic_mask_with(net, &ConstructOptions::default())
+}
+
+/// [`biharmonic_mask`] with options.
+pub fn biharmonic_mask_with(net: &TensorPatch, opts: &ConstructOptions) -> Result<Construction> {
     check_degree("biharmonic mask surface", net.degree(), 4)?;
     let mut stencil = vec![((0, 0), 20.0)];
     for (di, dj) in [(1, 0), (-1, 0), (0, 1), (0, -1)] {
@@ -55,7 +66,7 @@ pub fn biharmonic_mask(net: &TensorPatch) -> Result<Construction> {
     for (di, dj) in [(1, 1), (1, -1), (-1, 1), (-1, -1)] {
         stencil.push(((di, dj), 2.0));
     }
-    mask_solve(net, 2, &stencil, Method::BiharmonicMask)
+    mask_solve(net, 2, &stencil, Method::BiharmonicMask, opts.analyse)
 }
 
 fn mask_solve(
@@ -63,6 +74,7 @@ fn mask_solve(
     rings: usize,
     stencil: &[((isize, isize), f64)],
     method: Method,
+    analyse: bool,
 ) -> Result<Construction> {
     let t_total = Instant::now();
     let (n, m) = net.degree();
@@ -139,7 +151,7 @@ fn mask_solve(
     let backward_error = residual / w_sum;
     let solve = t.elapsed().as_secs_f64();
     let t = Instant::now();
-    let measures = Some(measures(&patch));
+    let measures = analyse.then(|| measures(&patch));
     let analyse = t.elapsed().as_secs_f64();
     Ok(Construction {
         patch,

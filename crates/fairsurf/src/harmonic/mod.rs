@@ -21,7 +21,7 @@ mod operator;
 mod surface;
 
 pub use compare::{compare, extremal, Column, Comparison, Functional};
-pub use mask::{biharmonic_mask, harmonic_mask};
+pub use mask::{biharmonic_mask, biharmonic_mask_with, harmonic_mask, harmonic_mask_with};
 pub use operator::{apply, derivative_elevated, operator_matrix, relative_residual, Operator};
 pub use surface::{biharmonic, biharmonic_with, harmonic, harmonic_with, ConstructOptions};
 
