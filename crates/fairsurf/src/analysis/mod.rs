@@ -2,11 +2,13 @@
 //! curvature, and how far its normals are from a guiding field.
 
 mod area;
+mod continuity;
 mod curvature;
 mod functionals;
 mod normals;
 
 pub use area::{area, Area, AREA_TOLERANCE};
+pub use continuity::{continuity, Continuity, Edge, Stat};
 pub use curvature::{abs_mean_curvature, curvature, curvature_from, AbsMeanCurvature, Curvature};
 pub use functionals::{biharmonic, dirichlet};
 pub use normals::{normal_deviation, NormalDeviation};
