@@ -89,17 +89,11 @@ impl Scene {
         let outcome = match &built.plan {
             Plan::Minimize(problem) => Outcome::Minimized(problem.solve_with(opts)?),
             Plan::Construct(method, net) => {
-                use fairsurf::harmonic::{self as h, ConstructOptions, Method as M};
-                let copts = ConstructOptions {
+                let copts = fairsurf::harmonic::ConstructOptions {
                     least_squares: self.least_squares,
                     analyse: opts.analyse,
                 };
-                Outcome::Constructed(match method {
-                    M::Harmonic => h::harmonic_with(net, &copts)?,
-                    M::Biharmonic => h::biharmonic_with(net, &copts)?,
-                    M::HarmonicMask => h::harmonic_mask_with(net, &copts)?,
-                    M::BiharmonicMask => h::biharmonic_mask_with(net, &copts)?,
-                })
+                Outcome::Constructed(method.construct(net, &copts)?)
             }
         };
         let patch = outcome.patch();

@@ -12,7 +12,7 @@
 //! the 13-point stencil is LᵀL restricted to the unknowns), factored by
 //! faer's sparse Cholesky.
 
-use super::operator::check_degree;
+use super::operator::{check_degree, max_abs};
 use super::{ConstructOptions, Construction, ConstructionReport, Method, EXACT_TOLERANCE};
 use crate::analysis::measures;
 use crate::solve::Timings;
@@ -128,13 +128,9 @@ fn mask_solve(
         what: format!("the {} surface", method.name()),
     })?;
     // Residual of the mask equations at the returned net.
-    let (mut res, mut size, mut w_sum) = (0.0f64, 0.0f64, 0.0f64);
-    for &(_, w) in stencil {
-        w_sum += w.abs();
-    }
-    for p in patch.points() {
-        size = size.max(p.iter().fold(0.0f64, |a, v| a.max(v.abs())));
-    }
+    let w_sum: f64 = stencil.iter().map(|(_, w)| w.abs()).sum();
+    let size = max_abs(&patch);
+    let mut res = 0.0f64;
     for i in rings..=n - rings {
         for j in rings..=m - rings {
             for c in 0..3 {

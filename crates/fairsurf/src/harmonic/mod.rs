@@ -52,6 +52,20 @@ impl Method {
         }
     }
 
+    /// Builds this surface from the boundary of `net`.
+    pub fn construct(
+        self,
+        net: &TensorPatch,
+        opts: &ConstructOptions,
+    ) -> crate::Result<Construction> {
+        match self {
+            Method::Harmonic => harmonic_with(net, opts),
+            Method::Biharmonic => biharmonic_with(net, opts),
+            Method::HarmonicMask => harmonic_mask_with(net, opts),
+            Method::BiharmonicMask => biharmonic_mask_with(net, opts),
+        }
+    }
+
     /// What the residual of this method measures.
     pub fn equations(self) -> &'static str {
         match self {

@@ -55,13 +55,14 @@ pub fn harmonic_with(net: &TensorPatch, opts: &ConstructOptions) -> Result<Const
     let (n, m) = net.degree();
     check_degree("harmonic surface", (n, m), 2)?;
     let inner = |i: usize, _j: usize| i > 0 && i < n;
-    let first = identity_solve(Operator::Laplacian, net, &inner, "harmonic surface")?;
+    let full = operator_matrix(Operator::Laplacian, (n, m));
+    let first = identity_solve(Operator::Laplacian, &full, net, &inner, "harmonic surface")?;
     if first.report.exact {
         return finish(first, opts);
     }
     // Prop. 1(2): the corner P_nm may be determined by the rest.
     let corner = |i: usize, j: usize| inner(i, j) || (i, j) == (n, m);
-    let second = identity_solve(Operator::Laplacian, net, &corner, "harmonic surface")?;
+    let second = identity_solve(Operator::Laplacian, &full, net, &corner, "harmonic surface")?;
     if second.report.exact {
         let mut c = second;
         let (given, determined) = (net.point(n, m), c.patch.point(n, m));
@@ -102,7 +103,14 @@ pub fn biharmonic_with(net: &TensorPatch, opts: &ConstructOptions) -> Result<Con
     let (n, m) = net.degree();
     check_degree("biharmonic surface", (n, m), 2)?;
     let inner = |i: usize, j: usize| i > 0 && i < n && j > 0 && j < m;
-    let c = identity_solve(Operator::Bilaplacian, net, &inner, "biharmonic surface")?;
+    let full = operator_matrix(Operator::Bilaplacian, (n, m));
+    let c = identity_solve(
+        Operator::Bilaplacian,
+        &full,
+        net,
+        &inner,
+        "biharmonic surface",
+    )?;
     if c.report.exact {
         return finish(c, opts);
     }
@@ -137,10 +145,12 @@ fn finish(mut c: Construction, opts: &ConstructOptions) -> Result<Construction> 
     Ok(c)
 }
 
-/// Solves op(x) ≡ 0 for the points where `free(i, j)` holds, the others
-/// taken from `net`, in the least-squares sense with refinement.
+/// Solves op(x) ≡ 0 (`full` = [`operator_matrix`] of op) for the points
+/// where `free(i, j)` holds, the others taken from `net`, in the
+/// least-squares sense with refinement.
 fn identity_solve(
     op: Operator,
+    full: &Mat<f64>,
     net: &TensorPatch,
     free: &dyn Fn(usize, usize) -> bool,
     what: &str,
@@ -152,11 +162,8 @@ fn identity_solve(
         Operator::Bilaplacian => Method::Biharmonic,
     };
     let t = Instant::now();
-    let full = operator_matrix(op, (n, m));
-    let cols: Vec<usize> = (0..net.len())
-        .filter(|&k| free(k / (m + 1), k % (m + 1)))
-        .collect();
-    let fixed: Vec<usize> = (0..net.len()).filter(|k| !cols.contains(k)).collect();
+    let (cols, fixed): (Vec<usize>, Vec<usize>) =
+        (0..net.len()).partition(|&k| free(k / (m + 1), k % (m + 1)));
     let rows = full.nrows();
     let a = Mat::from_fn(rows, cols.len(), |r, c| full[(r, cols[c])]);
     // b = −A_fixed P_fixed, each entry compensated.
@@ -174,7 +181,7 @@ fn identity_solve(
     let t = Instant::now();
     let hint = format!(
         "the {} do not determine the {} free control points of a degree ({n}, {m}) {what}",
-        op_equations(op),
+        method.equations(),
         cols.len()
     );
     let sol = solve_lstsq(&a, &b, 30, 1e15, &hint)?;
@@ -215,11 +222,4 @@ fn identity_solve(
             },
         },
     })
-}
-
-fn op_equations(op: Operator) -> &'static str {
-    match op {
-        Operator::Laplacian => Method::Harmonic.equations(),
-        Operator::Bilaplacian => Method::Biharmonic.equations(),
-    }
 }

@@ -77,7 +77,15 @@ pub(crate) fn solve_lstsq(
         Mat::from_fn(n, r.ncols(), |i, c| s[i] * y[(i, c)])
     };
 
-    let (x, _, steps) = refine(solve(b), |x| residual(a, x, b), solve, max_refinement_steps);
+    // Rows of A are strided in column-major storage: copy Aᵀ once for all
+    // the residuals of the refinement.
+    let at = a.transpose().to_owned();
+    let (x, _, steps) = refine(
+        solve(b),
+        |x| residual_t(&at, x, b),
+        solve,
+        max_refinement_steps,
+    );
     Ok(LstsqSolution {
         x,
         refinement_steps: steps,
@@ -87,10 +95,14 @@ pub(crate) fn solve_lstsq(
 }
 
 /// B − A X with every entry a compensated dot product.
-pub(crate) fn residual(a: &Mat<f64>, x: &Mat<f64>, b: &Mat<f64>) -> Mat<f64> {
-    // Rows of A are strided in column-major storage: copy Aᵀ once.
-    let at = a.transpose().to_owned();
-    Mat::from_fn(a.nrows(), x.ncols(), |i, c| {
+#[cfg(test)]
+fn residual(a: &Mat<f64>, x: &Mat<f64>, b: &Mat<f64>) -> Mat<f64> {
+    residual_t(&a.transpose().to_owned(), x, b)
+}
+
+/// B − A X from Aᵀ (whose columns are A's rows, contiguous).
+fn residual_t(at: &Mat<f64>, x: &Mat<f64>, b: &Mat<f64>) -> Mat<f64> {
+    Mat::from_fn(at.ncols(), x.ncols(), |i, c| {
         dot2_residual(b[(i, c)], at.col_as_slice(i), x.col_as_slice(c))
     })
 }
