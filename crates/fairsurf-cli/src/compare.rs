@@ -23,12 +23,12 @@ pub fn run(a: Args) -> Result<(), Failure> {
     let scene = Scene::read(&a.scene).map_err(with_file)?;
     let c = scene.compare().map_err(with_file)?;
     if a.json {
-        println!(
+        crate::say!(
             "{}",
             serde_json::to_string_pretty(&comparison_json(&c)).expect("json")
         );
     } else {
-        println!("{}", table(&a.scene.display().to_string(), &c));
+        crate::say!("{}", table(&a.scene.display().to_string(), &c));
     }
     Ok(())
 }

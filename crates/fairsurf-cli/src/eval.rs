@@ -54,6 +54,6 @@ pub fn run(a: Args) -> Result<(), Failure> {
         .iter()
         .map(|&(u, v)| json!({"u": u, "v": v, "point": patch.eval(u, v), "normal": patch.normal(u, v)}))
         .collect();
-    println!("{}", serde_json::to_string_pretty(&out).expect("json"));
+    crate::say!("{}", serde_json::to_string_pretty(&out).expect("json"));
     Ok(())
 }

@@ -2,8 +2,21 @@
 //! scene schema. Exit status: 0 success, 2 bad input (unreadable or invalid
 //! scene, a problem the solver refuses), 1 anything else (e.g. a failed write).
 
+/// Prints a line on standard output; a closed pipe (`fairsurf … | head`)
+/// is not an error worth a panic, so write failures are ignored.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout().lock(), $($arg)*);
+    }};
+}
+pub(crate) use say;
+
 mod compare;
 mod eval;
+mod export;
+mod input;
+mod render;
 mod solve;
 
 use clap::{Parser, Subcommand};
@@ -25,6 +38,12 @@ enum Command {
     /// Compare four surfaces with the scene's boundary: harmonic extremal,
     /// harmonic mask, biharmonic surface, biharmonic extremal (Monterde & Ugail §4).
     Compare(compare::Args),
+    /// Draw surfaces to a PNG: shaded, coloured by curvature, with control
+    /// net, boundary, normal field, zebra stripes; several side by side.
+    Render(render::Args),
+    /// Write a solved surface as a mesh (OBJ, PLY, STL, glTF) or as the exact
+    /// surface for CAD (STEP AP214, IGES).
+    Export(export::Args),
     /// Evaluate points and unit normals of a solved surface at given (u, v).
     Eval(eval::Args),
     /// Print the JSON Schema of scene files.
@@ -65,8 +84,10 @@ fn main() -> ExitCode {
         Command::Solve(a) => solve::run(a),
         Command::Compare(a) => compare::run(a),
         Command::Eval(a) => eval::run(a),
+        Command::Export(a) => export::run(a),
+        Command::Render(a) => render::run(a),
         Command::Schema => {
-            println!(
+            say!(
                 "{}",
                 serde_json::to_string_pretty(&fairsurf_io::Scene::json_schema()).expect("schema")
             );

@@ -1,8 +1,7 @@
 //! `fairsurf solve`.
 
 use crate::Failure;
-use fairsurf::TriMesh;
-use fairsurf_io::{write_mesh, MeshFormat, Outcome, Scene, SolvedScene};
+use fairsurf_io::{write_mesh, MeshFormat, Outcome, Scene, SolvedScene, SurfaceMesh};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -60,7 +59,7 @@ pub fn run(a: Args) -> Result<(), Failure> {
         match solve_one(path, out.as_deref(), &a) {
             Ok(lines) => {
                 if !a.quiet {
-                    bar.suspend(|| println!("{lines}"));
+                    bar.suspend(|| crate::say!("{lines}"));
                 }
             }
             Err(f) if many => {
@@ -121,7 +120,7 @@ fn solve_one(path: &Path, out: Option<&Path>, a: &Args) -> Result<String, Failur
     }
     if let Some(m) = &a.mesh {
         let r = a.resolution as usize;
-        write_mesh(m, &TriMesh::from_patch(solved.patch(), r, r))?;
+        write_mesh(m, &SurfaceMesh::from_patch(solved.patch(), r, r))?;
         written.push(m.display().to_string());
     }
     if a.json {
@@ -130,7 +129,7 @@ fn solve_one(path: &Path, out: Option<&Path>, a: &Args) -> Result<String, Failur
     Ok(summary(path, &solved, &written))
 }
 
-fn ensure_parent(file: &Path) -> Result<(), Failure> {
+pub(crate) fn ensure_parent(file: &Path) -> Result<(), Failure> {
     match file.parent() {
         Some(d) if !d.as_os_str().is_empty() => std::fs::create_dir_all(d).map_err(|e| Failure {
             code: 1,

@@ -67,8 +67,11 @@ fn solve_writes_result_and_meshes() {
                     .position(|w| w == b"end_header\n")
                     .unwrap()
                     + 11;
-                // 81 vertices × (3 doubles + 3 floats) + 128 faces × (1 + 3·4) bytes
-                assert_eq!(bytes.len() - header_end, 81 * 36 + 128 * 13);
+                // 81 vertices × (3 doubles + 3 floats + 4 doubles of curvature)
+                // + 128 faces × (1 + 3·4) bytes
+                assert_eq!(bytes.len() - header_end, 81 * (36 + 32) + 128 * 13);
+                let header = String::from_utf8_lossy(&bytes[..header_end]);
+                assert!(header.contains("property double mean_curvature"));
             }
             _ => assert_eq!(bytes.len(), 84 + 128 * 50, "binary STL size"),
         }
@@ -181,7 +184,7 @@ fn bad_mesh_extension_exits_2_before_solving() {
         "x.dxf",
     ]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains(".obj, .ply or .stl"));
+    assert!(stderr(&o).contains(".obj, .ply, .stl, .glb or .gltf"));
 }
 
 #[test]
@@ -368,4 +371,177 @@ fn solve_by_method_reports_the_construction() {
         stderr(&o)
     );
     assert!(!d.join("r.json").exists(), "no output on failure");
+}
+
+fn png_size(path: &Path) -> (u32, u32) {
+    let dec = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()))
+        .read_info()
+        .unwrap();
+    (dec.info().width, dec.info().height)
+}
+
+#[test]
+fn render_draws_scenes_results_and_comparisons() {
+    let d = tmpdir("render");
+    let scene = examples().join("wu_yang_fig4_l500.json");
+    let out = d.join("pics/a.png");
+    let o = fairsurf(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--size",
+        "320x240",
+        "--net",
+        "--normals",
+        "--zebra",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(png_size(&out), (320, 240));
+    assert!(stdout(&o).contains("covers"), "{}", stdout(&o));
+    // A result file is drawn as it is, beside its scene.
+    let result = d.join("r.json");
+    let s = fairsurf(&[
+        "solve",
+        scene.to_str().unwrap(),
+        "-o",
+        result.to_str().unwrap(),
+    ]);
+    assert!(s.status.success());
+    let two = d.join("two.png");
+    let o = fairsurf(&[
+        "render",
+        scene.to_str().unwrap(),
+        result.to_str().unwrap(),
+        "-o",
+        two.to_str().unwrap(),
+        "--size",
+        "400x200",
+        "--colour",
+        "mean",
+        "--view",
+        "-30,40",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let lines: Vec<String> = stdout(&o).lines().map(str::to_owned).collect();
+    assert_eq!(lines.len(), 3, "{lines:?}");
+    // The solved scene and its result file are the same surface: same range.
+    let range = |l: &str| l.split_once(" in ").unwrap().1.to_owned();
+    assert_eq!(range(&lines[1]), range(&lines[2]));
+    let cmp = d.join("cmp.png");
+    let model = examples().join("monterde_ugail_model.json");
+    let o = fairsurf(&[
+        "render",
+        "--compare",
+        model.to_str().unwrap(),
+        "-o",
+        cmp.to_str().unwrap(),
+        "--range",
+        "0,1",
+        "--size",
+        "640x200",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).contains("biharmonic extremal"));
+    assert_eq!(png_size(&cmp), (640, 200));
+}
+
+#[test]
+fn render_errors_exit_2_and_write_nothing() {
+    let d = tmpdir("render-bad");
+    let scene = examples().join("quickstart.json");
+    let out = d.join("x.png");
+    for (args, needle) in [
+        (vec!["--range", "1,0"], "range"),
+        (vec!["--view", "sideways"], "view"),
+        (vec!["--colour", "hue"], "colour"),
+        (vec!["--size", "10x10"], "width"),
+        (vec!["--size", "big"], "--size"),
+        (vec!["--zebra", "0"], "zebra"),
+    ] {
+        let mut all = vec![
+            "render",
+            scene.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        all.extend(args);
+        let o = fairsurf(&all);
+        assert_eq!(o.status.code(), Some(2), "{all:?}");
+        assert!(stderr(&o).contains(needle), "{all:?}: {}", stderr(&o));
+        assert!(!out.exists());
+    }
+    let o = fairsurf(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        d.join("x.jpg").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains(".png"));
+    let o = fairsurf(&[
+        "render",
+        "--compare",
+        scene.to_str().unwrap(),
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let bad = d.join("bad.json");
+    std::fs::write(&bad, r#"{"surface": {"degree": [2, 2]}}"#).unwrap();
+    let o = fairsurf(&["render", bad.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("bad.json"), "{}", stderr(&o));
+    assert!(!out.exists());
+}
+
+#[test]
+fn export_writes_cad_and_meshes_and_refuses_unknown_formats() {
+    let d = tmpdir("export");
+    let scene = examples().join("monterde_ugail_model.json");
+    let s = scene.to_str().unwrap();
+    let out = |name: &str| d.join(name).to_str().unwrap().to_owned();
+    let o = fairsurf(&["export", s, "-o", &out("m.step")]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let step = std::fs::read_to_string(d.join("m.step")).unwrap();
+    assert!(step.starts_with("ISO-10303-21;"));
+    assert_eq!(step.matches("B_SPLINE_SURFACE_WITH_KNOTS").count(), 1);
+    assert!(step.contains("B_SPLINE_SURFACE_WITH_KNOTS('',5,5,"));
+    let o = fairsurf(&["export", s, "-o", &out("m.iges")]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let iges = std::fs::read_to_string(d.join("m.iges")).unwrap();
+    assert!(iges.lines().all(|l| l.len() == 80));
+    assert!(iges.lines().any(|l| l.starts_with("     128")));
+    let o = fairsurf(&[
+        "export",
+        s,
+        "-o",
+        &out("m.glb"),
+        "--resolution",
+        "4",
+        "--colour-range",
+        "0,1",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stdout(&o).contains("25 vertices, 32 triangles"),
+        "{}",
+        stdout(&o)
+    );
+    assert_eq!(&std::fs::read(d.join("m.glb")).unwrap()[..4], b"glTF");
+    for (args, needle) in [
+        (vec!["-o", out("m.dwg").as_str()], "cannot tell the format"),
+        (
+            vec!["-o", out("m.glb").as_str(), "--colour-range", "1,0"],
+            "--colour-range",
+        ),
+    ] {
+        let mut all = vec!["export", s];
+        all.extend(args.iter().copied());
+        let o = fairsurf(&all);
+        assert_eq!(o.status.code(), Some(2), "{all:?}");
+        assert!(stderr(&o).contains(needle), "{}", stderr(&o));
+    }
+    assert!(!d.join("m.dwg").exists());
 }

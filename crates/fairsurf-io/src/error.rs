@@ -31,6 +31,16 @@ pub enum Error {
         /// Why.
         source: std::io::Error,
     },
+    /// A surface or mesh cannot be written in the asked format (nothing was
+    /// written): e.g. an empty patch list, a patch of degree 0, or an empty
+    /// colour range.
+    #[error("cannot export {}: {message}", path.display())]
+    Export {
+        /// The file that was to be written.
+        path: PathBuf,
+        /// What is wrong with the input.
+        message: String,
+    },
     /// The solve refused the problem.
     #[error("{0}")]
     Solve(#[from] fairsurf::Error),

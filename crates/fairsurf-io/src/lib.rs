@@ -3,8 +3,10 @@
 //! Files for fairsurf: the JSON scene format (with a JSON Schema generated
 //! from its types), validation of a scene into a [`fairsurf::Problem`] with
 //! errors that name the JSON path, result files that can be solved again,
-//! and mesh writers (OBJ, PLY, STL). Every file is written to a temporary
-//! name and renamed, so a failure never leaves a partial file.
+//! mesh writers (OBJ, PLY with per-vertex curvature, STL, glTF 2.0 with
+//! curvature colours) and the exact surfaces for CAD (STEP AP214, IGES 5.3).
+//! Every file is written to a temporary name and renamed, so a failure
+//! never leaves a partial file.
 //!
 //! ```
 //! let text = r#"{
@@ -20,20 +22,28 @@
 //! ```
 
 mod atomic;
+mod cad;
 mod compare;
 mod error;
+mod gltf;
+mod iges;
 mod mesh;
 mod result;
 mod scene;
+mod step;
+mod surface_mesh;
 mod validate;
 
 pub use atomic::write_atomic;
 pub use compare::comparison_json;
 pub use error::{Error, Result};
-pub use mesh::{write_mesh, MeshFormat};
+pub use iges::write_iges;
+pub use mesh::{write_mesh, write_mesh_with, MeshFormat, MeshOptions};
 pub use result::{construction_report_json, report_json, Outcome, SolvedScene};
 pub use scene::{
     EnergySpec, GuideSurfaceSpec, Method, Net, NormalFieldSpec, NumberOrGrid, SamplingSpec, Scene,
     SurfaceSpec, TensorSpec,
 };
+pub use step::write_step;
+pub use surface_mesh::SurfaceMesh;
 pub use validate::{Built, Plan};

@@ -122,7 +122,7 @@ pub struct SurfaceSpec {
 pub type TensorSpec = SurfaceSpec;
 
 /// The energy `E = w_s·stretch + w_b·bend + λ·normal_field + γ·guide_surface`.
-/// Without `sampling` every term is an exact integral over [0,1]²
+/// Without `sampling` every term is an exact integral over [0, 1]²
 /// (Wu & Yang eq. 1–2); with it every term is a sum over the sample grid
 /// (eq. 5). If neither `stretch` nor `bend` is given, `bend: 1` is used when
 /// `fixed_rings` ≥ 2 and `stretch: 1` otherwise.

@@ -44,6 +44,7 @@ mod vec3;
 
 pub mod analysis;
 pub mod basis;
+pub mod colour;
 pub mod energy;
 pub mod harmonic;
 

@@ -1,0 +1,109 @@
+//! `fairsurf export`: a solved surface as a mesh or as the exact surface for CAD.
+
+use crate::Failure;
+use fairsurf_io::{write_iges, write_mesh_with, write_step, MeshFormat, MeshOptions, SurfaceMesh};
+use std::path::PathBuf;
+
+/// Open CASCADE (and so FreeCAD, gmsh, CadQuery) reads B-splines up to this
+/// degree and silently drops higher ones (its `BSplCLib::MaxDegree`).
+const OCC_MAX_DEGREE: usize = 25;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// A scene (solved first) or a result file (exported as it is).
+    file: PathBuf,
+    /// The file to write; its extension names the format: .step/.stp (AP214
+    /// B-spline faces), .igs/.iges (entity 128), .obj, .ply (with curvature),
+    /// .stl, .glb/.gltf (with a |H| colour).
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Mesh resolution: quads per parameter direction (meshes only).
+    #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    resolution: u32,
+    /// glTF colour range of |H| as LO,HI (default: 0 to the largest |H|).
+    #[arg(long, allow_hyphen_values = true)]
+    colour_range: Option<String>,
+}
+
+enum Format {
+    Step,
+    Iges,
+    Mesh,
+}
+
+fn format(a: &Args) -> Result<Format, Failure> {
+    let ext = a
+        .output
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("step" | "stp") => Ok(Format::Step),
+        Some("igs" | "iges") => Ok(Format::Iges),
+        _ => match MeshFormat::from_path(&a.output) {
+            Ok(_) => Ok(Format::Mesh),
+            Err(_) => Err(Failure::input(format!(
+                "-o {}: cannot tell the format; use .step, .stp, .igs, .iges, .obj, .ply, .stl, .glb or .gltf",
+                a.output.display()
+            ))),
+        },
+    }
+}
+
+fn colour_range(s: &str) -> Result<[f64; 2], Failure> {
+    let bad = || {
+        Failure::input(format!(
+            "--colour-range: expected LO,HI with LO < HI, got {s:?}"
+        ))
+    };
+    let (lo, hi) = s.split_once(',').ok_or_else(bad)?;
+    let lo: f64 = lo.trim().parse().map_err(|_| bad())?;
+    let hi: f64 = hi.trim().parse().map_err(|_| bad())?;
+    if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+        return Err(bad());
+    }
+    Ok([lo, hi])
+}
+
+pub fn run(a: Args) -> Result<(), Failure> {
+    let format = format(&a)?;
+    let range = a.colour_range.as_deref().map(colour_range).transpose()?;
+    let (_, patch) = crate::input::surface(&a.file)?;
+    crate::solve::ensure_parent(&a.output)?;
+    let (n, m) = patch.degree();
+    match format {
+        Format::Step | Format::Iges => {
+            if n.max(m) > OCC_MAX_DEGREE {
+                eprintln!(
+                    "warning: degree {n}×{m} is above {OCC_MAX_DEGREE}, the highest B-spline degree \
+                     Open CASCADE-based readers (FreeCAD, gmsh, CadQuery) accept; they drop such surfaces"
+                );
+            }
+            let patches = [patch];
+            match format {
+                Format::Step => write_step(&a.output, &patches)?,
+                _ => write_iges(&a.output, &patches)?,
+            }
+            crate::say!(
+                "{}: degree {n}×{m} Bézier patch as one B-spline face",
+                a.output.display()
+            );
+        }
+        Format::Mesh => {
+            let r = a.resolution as usize;
+            let mesh = SurfaceMesh::from_patch(&patch, r, r);
+            let options = MeshOptions {
+                colour_range: range,
+            };
+            write_mesh_with(&a.output, &mesh, &options)?;
+            let t = mesh.mesh();
+            crate::say!(
+                "{}: {} vertices, {} triangles",
+                a.output.display(),
+                t.positions.len(),
+                t.triangles.len()
+            );
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,130 @@
+//! What the CAD writers (STEP, IGES) share: which patches they accept, how
+//! they write a real number, and the time stamp in their headers.
+
+use crate::{write_atomic, Error, Result};
+use fairsurf::TensorPatch;
+use std::path::Path;
+
+/// Checks the patches, builds the file's text from its name and the
+/// patches, and writes it atomically.
+pub(crate) fn write_cad_text(
+    path: &Path,
+    patches: &[TensorPatch],
+    text: fn(&str, &[TensorPatch]) -> String,
+) -> Result<()> {
+    check_patches(path, patches)?;
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let text = text(&name, patches);
+    write_atomic(path, |w| w.write_all(text.as_bytes()))
+}
+
+/// A B-spline needs degree ≥ 1 and a shell needs a face: refuses anything else.
+pub(crate) fn check_patches(path: &Path, patches: &[TensorPatch]) -> Result<()> {
+    let refuse = |message: String| {
+        Err(Error::Export {
+            path: path.to_path_buf(),
+            message,
+        })
+    };
+    if patches.is_empty() {
+        return refuse("no patches to write".into());
+    }
+    if let Some(k) = patches
+        .iter()
+        .position(|p| p.degree().0 == 0 || p.degree().1 == 0)
+    {
+        let (n, m) = patches[k].degree();
+        return refuse(format!(
+            "patch {k} has degree ({n}, {m}); a B-spline surface needs degree ≥ 1 in u and v"
+        ));
+    }
+    Ok(())
+}
+
+/// A finite real with every digit needed to read back the same `f64`
+/// (Rust's shortest round-trip form), always with a decimal point and an
+/// upper-case `E` exponent: `0.1`, `-3.0`, `1.0E-7`, `1.5E16`. Both
+/// ISO 10303-21 §6.3.3 and IGES 5.3 §2.2.2.3 accept this form.
+pub(crate) fn real(x: f64) -> String {
+    debug_assert!(x.is_finite(), "patch coordinates are finite");
+    let x = if x == 0.0 { 0.0 } else { x }; // no "-0.0"
+    let s = format!("{x:?}");
+    match s.split_once('e') {
+        Some((mantissa, exp)) if mantissa.contains('.') => format!("{mantissa}E{exp}"),
+        Some((mantissa, exp)) => format!("{mantissa}.0E{exp}"),
+        None => s,
+    }
+}
+
+/// The current UTC time as (year, month, day, hour, minute, second).
+pub(crate) fn utc_now() -> [u32; 6] {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    let (days, rem) = ((secs / 86_400) as i64, secs % 86_400);
+    let (y, mo, d) = civil_from_days(days);
+    [
+        y as u32,
+        mo,
+        d,
+        (rem / 3600) as u32,
+        (rem / 60 % 60) as u32,
+        (rem % 60) as u32,
+    ]
+}
+
+/// Proleptic Gregorian date of a day count since 1970-01-01 (Howard Hinnant,
+/// "chrono-compatible low-level date algorithms", `civil_from_days`).
+fn civil_from_days(z: i64) -> (i64, u32, u32) {
+    let z = z + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = (doy - (153 * mp + 2) / 5 + 1) as u32;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 } as u32;
+    (yoe + era * 400 + i64::from(m <= 2), m, d)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reals_round_trip_and_always_have_a_point() {
+        for x in [
+            0.0,
+            -0.0,
+            1.0,
+            -3.0,
+            0.1,
+            1.0 / 3.0,
+            1e-7,
+            -2.5e-300,
+            1.5e16,
+            1e17,
+            123456.789,
+            f64::MAX,
+            f64::MIN_POSITIVE,
+        ] {
+            let s = real(x);
+            assert!(s.contains('.'), "{s}");
+            assert!(!s.contains('e') && !s.starts_with("-0.0"), "{s}");
+            assert_eq!(s.parse::<f64>().unwrap(), x, "{s}");
+        }
+        assert_eq!(real(1e-7), "1.0E-7");
+        assert_eq!(real(0.25), "0.25");
+    }
+
+    #[test]
+    fn civil_dates_match_known_days() {
+        assert_eq!(civil_from_days(0), (1970, 1, 1));
+        assert_eq!(civil_from_days(11_016), (2000, 2, 29));
+        assert_eq!(civil_from_days(19_723), (2024, 1, 1));
+        assert_eq!(civil_from_days(-1), (1969, 12, 31));
+    }
+}

@@ -1,0 +1,328 @@
+//! STEP (ISO 10303-21 files, application protocol AP214 `automotive_design`):
+//! each patch an ADVANCED_FACE on a B_SPLINE_SURFACE_WITH_KNOTS, the faces
+//! an OPEN_SHELL of a SHELL_BASED_SURFACE_MODEL.
+
+use crate::cad::{real, utc_now, write_cad_text};
+use crate::Result;
+use fairsurf::{TensorPatch, Vec3};
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Writes tensor-product Bézier patches as a STEP AP214 file, atomically:
+/// the exact surfaces, for CAD.
+///
+/// A Bézier patch of degree (n, m) is the B-spline with clamped knots
+/// 0ⁿ⁺¹ 1ⁿ⁺¹ × 0ᵐ⁺¹ 1ᵐ⁺¹ and the same control points, so each patch becomes a
+/// `B_SPLINE_SURFACE_WITH_KNOTS` (u with the first index i of P_ij, as in
+/// [`TensorPatch`]; the file's parameter domain is [0, 1]², the patch's)
+/// bounded by its four boundary curves (`B_SPLINE_CURVE_WITH_KNOTS`, the
+/// boundary rows and columns of the net) in an `EDGE_LOOP` that runs
+/// counter-clockwise in (u, v), so the face normal is R_u × R_v. A boundary
+/// collapsed to a point (all its control points equal) has no edge: the
+/// loop goes through its vertex. Edges with identical control points (in
+/// either direction) and vertices at identical points are shared, so
+/// patches that meet along a common boundary form one connected shell.
+///
+/// The file holds the AP214 product structure (one `PRODUCT` "fairsurf")
+/// and a `MANIFOLD_SURFACE_SHAPE_REPRESENTATION` whose context has
+/// millimetres as the length unit and an uncertainty of 1e-7. Reals carry
+/// every digit of the `f64`s. Triangular patches (when they exist) are not
+/// written here: they go to meshes only.
+///
+/// Open CASCADE (and so FreeCAD, gmsh, …) reads B-splines of degree ≤ 25
+/// only and silently drops a higher one (measured with gmsh 4.15); this
+/// writer still writes any degree, the standard has no limit.
+///
+/// An empty list or a patch of degree 0 in u or v is an
+/// [`Error::Export`](crate::Error::Export); nothing is written then.
+///
+/// ```
+/// use fairsurf::TensorPatch;
+/// let p = TensorPatch::from_fn(3, 2, |i, j| [i as f64, j as f64, (i * j) as f64 / 6.0]);
+/// let dir = std::env::temp_dir().join(format!("fairsurf-doc-step-{}", std::process::id()));
+/// std::fs::create_dir_all(&dir).unwrap();
+/// let path = dir.join("patch.step");
+/// fairsurf_io::write_step(&path, &[p]).unwrap();
+/// let text = std::fs::read_to_string(&path).unwrap();
+/// assert!(text.contains("B_SPLINE_SURFACE_WITH_KNOTS('',3,2,"));
+/// # std::fs::remove_dir_all(&dir).unwrap();
+/// ```
+pub fn write_step(path: &Path, patches: &[TensorPatch]) -> Result<()> {
+    write_cad_text(path, patches, step_text)
+}
+
+/// The whole file.
+fn step_text(file_name: &str, patches: &[TensorPatch]) -> String {
+    let mut d = Data::default();
+    let context = d.header_entities();
+    let faces: Vec<usize> = patches.iter().map(|p| d.face(p)).collect();
+    let shell = d.add(format!("OPEN_SHELL('',({}))", refs(&faces)));
+    let model = d.add(format!("SHELL_BASED_SURFACE_MODEL('',(#{shell}))"));
+    let origin = d.add("CARTESIAN_POINT('',(0.,0.,0.))".into());
+    let z = d.add("DIRECTION('',(0.,0.,1.))".into());
+    let x = d.add("DIRECTION('',(1.,0.,0.))".into());
+    let axes = d.add(format!("AXIS2_PLACEMENT_3D('',#{origin},#{z},#{x})"));
+    let rep = d.add(format!(
+        "MANIFOLD_SURFACE_SHAPE_REPRESENTATION('fairsurf',(#{axes},#{model}),#{})",
+        context.representation
+    ));
+    d.add(format!(
+        "SHAPE_DEFINITION_REPRESENTATION(#{},#{rep})",
+        context.shape
+    ));
+    let [y, mo, day, h, mi, s] = utc_now();
+    let version = env!("CARGO_PKG_VERSION");
+    let mut out = String::new();
+    let _ = write!(
+        out,
+        "ISO-10303-21;\nHEADER;\n\
+         FILE_DESCRIPTION(('fairsurf: Bezier patches as B-spline surfaces'),'2;1');\n\
+         FILE_NAME('{}','{y:04}-{mo:02}-{day:02}T{h:02}:{mi:02}:{s:02}',(''),(''),\
+         'fairsurf {version}','fairsurf {version}','');\n\
+         FILE_SCHEMA(('AUTOMOTIVE_DESIGN {{ 1 0 10303 214 1 1 1 1 }}'));\nENDSEC;\nDATA;\n",
+        string(file_name)
+    );
+    out.push_str(&d.text);
+    out.push_str("ENDSEC;\nEND-ISO-10303-21;\n");
+    out
+}
+
+/// The entities of the DATA section, numbered from 1 in the order written.
+#[derive(Default)]
+struct Data {
+    text: String,
+    next: usize,
+    /// VERTEX_POINT of each distinct point (by its bits).
+    vertices: HashMap<[u64; 3], usize>,
+    /// EDGE_CURVE of each distinct control polygon (by its bits), which runs
+    /// from the polygon's first point to its last.
+    edges: HashMap<Vec<[u64; 3]>, usize>,
+}
+
+/// The entities the geometry refers to.
+struct Context {
+    /// The GEOMETRIC_REPRESENTATION_CONTEXT (with units and uncertainty).
+    representation: usize,
+    /// The PRODUCT_DEFINITION_SHAPE.
+    shape: usize,
+}
+
+fn bits(p: Vec3) -> [u64; 3] {
+    // +0.0 and −0.0 are the same point.
+    p.map(|c| (c + 0.0).to_bits())
+}
+
+fn refs(ids: &[usize]) -> String {
+    ids.iter()
+        .map(|k| format!("#{k}"))
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+/// A STEP string literal: `'` doubled, `\` doubled, anything outside
+/// printable ASCII replaced by `_` (no \X2\ encoding needed for a label).
+fn string(s: &str) -> String {
+    s.chars()
+        .map(|c| match c {
+            '\'' => "''".to_string(),
+            '\\' => "\\\\".to_string(),
+            ' '..='~' => c.to_string(),
+            _ => "_".to_string(),
+        })
+        .collect()
+}
+
+impl Data {
+    fn add(&mut self, entity: String) -> usize {
+        self.next += 1;
+        let _ = writeln!(self.text, "#{}={};", self.next, entity);
+        self.next
+    }
+
+    /// Application context, product, its definition and shape, units and
+    /// the representation context (the usual AP214 skeleton).
+    fn header_entities(&mut self) -> Context {
+        let app = self.add(
+            "APPLICATION_CONTEXT('core data for automotive mechanical design processes')".into(),
+        );
+        self.add(format!(
+            "APPLICATION_PROTOCOL_DEFINITION('international standard','automotive_design',2000,#{app})"
+        ));
+        let pc = self.add(format!("PRODUCT_CONTEXT('',#{app},'mechanical')"));
+        let product = self.add(format!("PRODUCT('fairsurf','fairsurf surface','',(#{pc}))"));
+        self.add(format!(
+            "PRODUCT_RELATED_PRODUCT_CATEGORY('part',$,(#{product}))"
+        ));
+        let pdf = self.add(format!("PRODUCT_DEFINITION_FORMATION('','',#{product})"));
+        let pdc = self.add(format!(
+            "PRODUCT_DEFINITION_CONTEXT('part definition',#{app},'design')"
+        ));
+        let pd = self.add(format!("PRODUCT_DEFINITION('design','',#{pdf},#{pdc})"));
+        let shape = self.add(format!("PRODUCT_DEFINITION_SHAPE('','',#{pd})"));
+        let mm = self.add("(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.MILLI.,.METRE.))".into());
+        let rad = self.add("(NAMED_UNIT(*)PLANE_ANGLE_UNIT()SI_UNIT($,.RADIAN.))".into());
+        let sr = self.add("(NAMED_UNIT(*)SI_UNIT($,.STERADIAN.)SOLID_ANGLE_UNIT())".into());
+        let unc = self.add(format!(
+            "UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.0E-7),#{mm},\
+             'distance_accuracy_value','confusion accuracy')"
+        ));
+        let representation = self.add(format!(
+            "(GEOMETRIC_REPRESENTATION_CONTEXT(3)\
+             GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT((#{unc}))\
+             GLOBAL_UNIT_ASSIGNED_CONTEXT((#{mm},#{rad},#{sr}))\
+             REPRESENTATION_CONTEXT('fairsurf','3D'))"
+        ));
+        Context {
+            representation,
+            shape,
+        }
+    }
+
+    /// The ADVANCED_FACE of one patch (with its surface, edges and vertices).
+    fn face(&mut self, patch: &TensorPatch) -> usize {
+        let (n, m) = patch.degree();
+        let points: Vec<usize> = patch
+            .points()
+            .iter()
+            .map(|&p| self.add(format!("CARTESIAN_POINT('',{})", coords(p))))
+            .collect();
+        let id = |i: usize, j: usize| points[patch.index(i, j)];
+        let rows: Vec<String> = (0..=n)
+            .map(|i| format!("({})", refs(&(0..=m).map(|j| id(i, j)).collect::<Vec<_>>())))
+            .collect();
+        let surface = self.add(format!(
+            "B_SPLINE_SURFACE_WITH_KNOTS('',{n},{m},({}),.UNSPECIFIED.,.F.,.F.,.F.,\
+             ({},{}),({},{}),(0.,1.),(0.,1.),.UNSPECIFIED.)",
+            rows.join(","),
+            n + 1,
+            n + 1,
+            m + 1,
+            m + 1
+        ));
+        // Counter-clockwise in (u, v): v = 0 and u = 1 along their parameter,
+        // v = 1 and u = 0 against it. Each side: (i, j) in parameter order.
+        let sides: [(Vec<(usize, usize)>, bool); 4] = [
+            ((0..=n).map(|i| (i, 0)).collect(), true),
+            ((0..=m).map(|j| (n, j)).collect(), true),
+            ((0..=n).map(|i| (i, m)).collect(), false),
+            ((0..=m).map(|j| (0, j)).collect(), false),
+        ];
+        let mut oriented = Vec::new();
+        for (side, forward) in &sides {
+            let pts: Vec<Vec3> = side.iter().map(|&(i, j)| patch.point(i, j)).collect();
+            let ids: Vec<usize> = side.iter().map(|&(i, j)| id(i, j)).collect();
+            if let Some((edge, same)) = self.edge(&pts, &ids) {
+                let sense = if same == *forward { ".T." } else { ".F." };
+                oriented.push(self.add(format!("ORIENTED_EDGE('',*,*,#{edge},{sense})")));
+            }
+        }
+        let bound = if oriented.is_empty() {
+            // Every side collapsed: the whole boundary is one point.
+            let v = self.vertex(patch.point(0, 0), id(0, 0));
+            self.add(format!("VERTEX_LOOP('',#{v})"))
+        } else {
+            self.add(format!("EDGE_LOOP('',({}))", refs(&oriented)))
+        };
+        let outer = self.add(format!("FACE_OUTER_BOUND('',#{bound},.T.)"));
+        self.add(format!("ADVANCED_FACE('',(#{outer}),#{surface},.T.)"))
+    }
+
+    /// The EDGE_CURVE along the control polygon `pts` (CARTESIAN_POINTs
+    /// `ids`) and whether it runs the same way, or `None` if the polygon is
+    /// a single point (a collapsed boundary).
+    fn edge(&mut self, pts: &[Vec3], ids: &[usize]) -> Option<(usize, bool)> {
+        if pts.iter().all(|&p| bits(p) == bits(pts[0])) {
+            return None;
+        }
+        let key: Vec<[u64; 3]> = pts.iter().map(|&p| bits(p)).collect();
+        if let Some(&e) = self.edges.get(&key) {
+            return Some((e, true));
+        }
+        let reversed: Vec<[u64; 3]> = key.iter().rev().copied().collect();
+        if let Some(&e) = self.edges.get(&reversed) {
+            return Some((e, false));
+        }
+        let d = pts.len() - 1;
+        let curve = self.add(format!(
+            "B_SPLINE_CURVE_WITH_KNOTS('',{d},({}),.UNSPECIFIED.,.F.,.F.,({},{}),(0.,1.),.UNSPECIFIED.)",
+            refs(ids),
+            d + 1,
+            d + 1
+        ));
+        let start = self.vertex(pts[0], ids[0]);
+        let end = self.vertex(pts[d], ids[d]);
+        let e = self.add(format!("EDGE_CURVE('',#{start},#{end},#{curve},.T.)"));
+        self.edges.insert(key, e);
+        Some((e, true))
+    }
+
+    /// The VERTEX_POINT at `p` (a CARTESIAN_POINT `point`), shared by all
+    /// corners at the same point.
+    fn vertex(&mut self, p: Vec3, point: usize) -> usize {
+        if let Some(&v) = self.vertices.get(&bits(p)) {
+            return v;
+        }
+        let v = self.add(format!("VERTEX_POINT('',#{point})"));
+        self.vertices.insert(bits(p), v);
+        v
+    }
+}
+
+fn coords(p: Vec3) -> String {
+    format!("({},{},{})", real(p[0]), real(p[1]), real(p[2]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn count(text: &str, entity: &str) -> usize {
+        text.matches(&format!("={entity}(")).count()
+    }
+
+    #[test]
+    fn a_patch_is_one_face_with_four_edges() {
+        let p = TensorPatch::from_fn(3, 4, |i, j| [i as f64, j as f64, 0.1 * (i * j) as f64]);
+        let t = step_text("x.step", &[p]);
+        assert_eq!(count(&t, "ADVANCED_FACE"), 1);
+        assert_eq!(count(&t, "EDGE_CURVE"), 4);
+        assert_eq!(count(&t, "VERTEX_POINT"), 4);
+        assert_eq!(count(&t, "ORIENTED_EDGE"), 4);
+        assert_eq!(count(&t, "CARTESIAN_POINT"), 20 + 1);
+        assert!(t.contains(",(4,4),(5,5),(0.,1.),(0.,1.),.UNSPECIFIED.)"));
+    }
+
+    #[test]
+    fn a_collapsed_side_has_no_edge_and_shared_sides_are_shared() {
+        // Side u = 0 (i = 0) collapsed to the origin.
+        let p = TensorPatch::from_fn(2, 2, |i, j| {
+            if i == 0 {
+                [0.0; 3]
+            } else {
+                [i as f64, j as f64 - 1.0, 0.0]
+            }
+        });
+        let t = step_text("x.step", &[p]);
+        assert_eq!(count(&t, "EDGE_CURVE"), 3);
+        assert_eq!(count(&t, "VERTEX_POINT"), 3);
+        // Two patches meeting along u = 1 of the first / u = 0 of the second.
+        let a = TensorPatch::from_fn(2, 2, |i, j| [i as f64, j as f64, (i * j) as f64]);
+        let b = TensorPatch::from_fn(2, 2, |i, j| [2.0 + i as f64, j as f64, (2 * j) as f64]);
+        let t = step_text("x.step", &[a, b]);
+        assert_eq!(count(&t, "ADVANCED_FACE"), 2);
+        assert_eq!(count(&t, "EDGE_CURVE"), 7);
+        assert_eq!(count(&t, "VERTEX_POINT"), 6);
+        let shared = t
+            .lines()
+            .filter(|l| l.contains(",.F.);") && l.contains("ORIENTED_EDGE"));
+        // Top and left of each run against their edges; the shared edge is
+        // used once each way (a by its right side, b by its left).
+        assert_eq!(shared.count(), 4);
+    }
+
+    #[test]
+    fn labels_are_escaped() {
+        assert_eq!(string("it's a\\b é"), "it''s a\\\\b _");
+    }
+}

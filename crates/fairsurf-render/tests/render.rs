@@ -1,0 +1,324 @@
+//! Facts about rendered pictures: size, coverage against the framing's
+//! geometry, shared scale, views, colour bar orientation, determinism, error
+//! paths, and golden images (tolerant comparison).
+//!
+//! Regenerate the golden images after an intended change with
+//! `FAIRSURF_BLESS=1 cargo test -p fairsurf-render --test render`, look at
+//! them, and commit them.
+
+use fairsurf::colour::ColourMap;
+use fairsurf::TensorPatch;
+use fairsurf_render::{render, Arrow, ColourBy, Error, Panel, Range, RenderOptions, View};
+use std::path::PathBuf;
+
+/// The flat square [0, s]² at z = 0, degree 2×2.
+fn square(s: f64) -> TensorPatch {
+    TensorPatch::from_fn(2, 2, |i, j| [s * i as f64 / 2.0, s * j as f64 / 2.0, 0.0])
+}
+
+/// A smooth bump over the unit square.
+fn bump() -> TensorPatch {
+    TensorPatch::from_fn(4, 4, |i, j| {
+        let z = if (1..=3).contains(&i) && (1..=3).contains(&j) {
+            0.5
+        } else {
+            0.0
+        };
+        [i as f64 / 4.0, j as f64 / 4.0, z]
+    })
+}
+
+fn plain(w: u32, h: u32) -> RenderOptions {
+    RenderOptions {
+        colour: ColourBy::None,
+        boundary: false,
+        colour_bar: false,
+        ..RenderOptions::default().with_size(w, h)
+    }
+}
+
+#[test]
+fn picture_has_the_asked_size_and_is_opaque() {
+    let pic = render(
+        &[Panel::new(bump())],
+        &RenderOptions::default().with_size(333, 201),
+    )
+    .unwrap();
+    assert_eq!((pic.width, pic.height), (333, 201));
+    assert_eq!(pic.rgba.len(), 333 * 201 * 4);
+    assert!(pic.rgba.chunks(4).all(|p| p[3] == 255));
+    let mut png = Vec::new();
+    pic.encode_png(&mut png).unwrap();
+    let dec = png::Decoder::new(std::io::Cursor::new(png))
+        .read_info()
+        .unwrap();
+    assert_eq!((dec.info().width, dec.info().height), (333, 201));
+}
+
+#[test]
+fn top_view_of_a_square_covers_the_framed_fraction() {
+    // The framing leaves 5% of the smaller side free on each side: a square
+    // seen from the top fills 90% × 90% of a square viewport.
+    let pic = render(
+        &[Panel::new(square(1.0))],
+        &plain(400, 400).with_view(View::TOP),
+    )
+    .unwrap();
+    let c = pic.panels[0].coverage;
+    assert!((c - 0.81).abs() < 0.006, "coverage {c}");
+    // In a 2:1 viewport the square is limited by the height: 0.9·h squared over w·h.
+    let pic = render(
+        &[Panel::new(square(1.0))],
+        &plain(800, 400).with_view(View::TOP),
+    )
+    .unwrap();
+    let c = pic.panels[0].coverage;
+    assert!((c - 0.405).abs() < 0.004, "coverage {c}");
+}
+
+#[test]
+fn edge_on_plane_covers_almost_nothing() {
+    for view in [View::FRONT, View::SIDE] {
+        let pic = render(&[Panel::new(square(1.0))], &plain(300, 300).with_view(view)).unwrap();
+        assert!(
+            pic.panels[0].coverage < 0.01,
+            "{view:?}: {}",
+            pic.panels[0].coverage
+        );
+    }
+}
+
+#[test]
+fn panels_share_one_scale() {
+    // A square of half the side next to a unit square covers a quarter of its area.
+    let panels = [Panel::new(square(1.0)), Panel::new(square(0.5))];
+    let pic = render(&panels, &plain(800, 400).with_view(View::TOP)).unwrap();
+    let (a, b) = (pic.panels[0].coverage, pic.panels[1].coverage);
+    assert!((b / a - 0.25).abs() < 0.01, "{a} {b}");
+}
+
+#[test]
+fn grid_layout_for_more_than_four_panels() {
+    let panels: Vec<Panel> = (0..5).map(|_| Panel::new(square(1.0))).collect();
+    let pic = render(&panels, &plain(600, 400).with_view(View::TOP)).unwrap();
+    // 3 columns × 2 rows of 200×200: each square covers 0.81 of its panel.
+    for s in &pic.panels {
+        assert!((s.coverage - 0.81).abs() < 0.01, "{}", s.coverage);
+    }
+}
+
+#[test]
+fn colour_bar_runs_from_the_range_top_to_bottom() {
+    let opts = RenderOptions::default()
+        .with_size(400, 300)
+        .with_range(Range::Fixed(0.0, 1.0));
+    let pic = render(&[Panel::new(bump())], &opts).unwrap();
+    assert_eq!(pic.range, Some((0.0, 1.0)));
+    // The bar is 18 px wide, 14 px from the start of the 120 px strip on the right.
+    let x = 400 - 120 + 14 + 9;
+    let px = |y: u32| {
+        let i = 4 * (y * 400 + x) as usize;
+        [pic.rgba[i], pic.rgba[i + 1], pic.rgba[i + 2]]
+    };
+    let top = 44.0f32.min(0.15 * 300.0) as u32;
+    let want = |t: f64| ColourMap::Viridis.at(t).map(|v| (v * 255.0).round() as u8);
+    let near = |a: [u8; 3], b: [u8; 3]| a.iter().zip(b).all(|(x, y)| x.abs_diff(y) <= 3);
+    // Row s of the bar shows t = 1 − (s + ½)/height: the top is the range's top.
+    let height = 300 - 2 * top;
+    let t = |s: u32| 1.0 - (s as f64 + 0.5) / height as f64;
+    assert!(near(px(top + 1), want(t(1))), "{:?}", px(top + 1));
+    assert!(near(px(top + height - 2), want(t(height - 2))));
+    assert!(t(1) > 0.99 && t(height - 2) < 0.01);
+}
+
+#[test]
+fn automatic_ranges_follow_the_quantity() {
+    let run = |c| {
+        render(
+            &[Panel::new(bump())],
+            &RenderOptions::default().with_size(200, 150).with_colour(c),
+        )
+        .unwrap()
+    };
+    let (lo, hi) = run(ColourBy::AbsMean).range.unwrap();
+    assert!(lo == 0.0 && hi > 0.0);
+    let (lo, hi) = run(ColourBy::Mean).range.unwrap();
+    assert!(lo == -hi && hi > 0.0);
+    let p = run(ColourBy::Gaussian);
+    let (lo, hi) = p.range.unwrap();
+    assert!(lo == -hi && hi > 0.0);
+    // The bump is elliptic on top and hyperbolic at its flanks.
+    assert!(p.panels[0].min < 0.0 && p.panels[0].max > 0.0);
+    assert_eq!(run(ColourBy::None).range, None);
+}
+
+#[test]
+fn rendering_is_deterministic() {
+    let opts = RenderOptions::default()
+        .with_size(240, 180)
+        .with_control_net(true);
+    let panel = Panel::new(bump()).with_title("bump");
+    let a = render(std::slice::from_ref(&panel), &opts).unwrap();
+    let b = render(&[panel], &opts).unwrap();
+    assert!(a.rgba == b.rgba);
+}
+
+#[test]
+fn zebra_stripes_split_a_curved_surface_into_dark_and_light() {
+    let opts = plain(300, 300).with_zebra(Some(12));
+    let pic = render(&[Panel::new(bump())], &opts).unwrap();
+    let lum: Vec<u32> = pic
+        .rgba
+        .chunks(4)
+        .map(|p| (p[0] as u32 + p[1] as u32 + p[2] as u32) / 3)
+        .collect();
+    let dark = lum.iter().filter(|&&l| l < 40).count() as f64;
+    let covered = pic.panels[0].coverage * (300 * 300) as f64;
+    let frac = dark / covered;
+    assert!((0.2..0.8).contains(&frac), "dark fraction {frac}");
+}
+
+#[test]
+fn bad_input_is_an_error_naming_what() {
+    let p = [Panel::new(bump())];
+    let name = |e: Error| match e {
+        Error::Option { name, .. } => name,
+        e => panic!("{e}"),
+    };
+    assert_eq!(name(render(&p, &plain(8, 100)).unwrap_err()), "width");
+    assert_eq!(name(render(&p, &plain(100, 9000)).unwrap_err()), "height");
+    assert_eq!(
+        name(render(&p, &plain(100, 100).with_resolution(1)).unwrap_err()),
+        "resolution"
+    );
+    assert_eq!(
+        name(render(&p, &plain(100, 100).with_zebra(Some(0))).unwrap_err()),
+        "zebra"
+    );
+    let bad_range = plain(100, 100).with_range(Range::Fixed(1.0, 1.0));
+    assert_eq!(name(render(&p, &bad_range).unwrap_err()), "range");
+    let bad_view = plain(100, 100).with_view(View {
+        azimuth: 0.0,
+        elevation: 91.0,
+    });
+    assert_eq!(name(render(&p, &bad_view).unwrap_err()), "view");
+    assert!(matches!(
+        render(&[], &plain(100, 100)),
+        Err(Error::NoPanels)
+    ));
+    let empty = Panel::default();
+    assert!(matches!(
+        render(&[Panel::new(bump()), empty], &plain(100, 100)),
+        Err(Error::EmptyPanel { panel: 1 })
+    ));
+}
+
+#[test]
+fn options_parse_and_name_their_errors() {
+    assert_eq!(ColourBy::parse("abs-mean").unwrap(), ColourBy::AbsMean);
+    assert_eq!(ColourBy::parse("Gaussian").unwrap(), ColourBy::Gaussian);
+    assert_eq!(Range::parse("0,1").unwrap(), Range::Fixed(0.0, 1.0));
+    assert_eq!(Range::parse("auto").unwrap(), Range::Auto);
+    assert_eq!(View::parse("top").unwrap(), View::TOP);
+    assert_eq!(
+        View::parse("30,-10").unwrap(),
+        View {
+            azimuth: 30.0,
+            elevation: -10.0
+        }
+    );
+    for (r, name) in [
+        (ColourBy::parse("hue").map(|_| ()), "colour"),
+        (Range::parse("1,0").map(|_| ()), "range"),
+        (Range::parse("0,nan").map(|_| ()), "range"),
+        (View::parse("up").map(|_| ()), "view"),
+        (View::parse("0,100").map(|_| ()), "view"),
+    ] {
+        assert!(matches!(r, Err(Error::Option { name: n, .. }) if n == name));
+    }
+}
+
+/// Golden images: small pictures compared with a tolerance (mean absolute
+/// channel difference ≤ 1.5 and at most 0.5% of pixels off by more than 48),
+/// so that harmless floating-point differences pass and a changed picture fails.
+fn golden(name: &str, panels: &[Panel], opts: &RenderOptions) {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/golden")
+        .join(format!("{name}.png"));
+    let pic = render(panels, opts).unwrap();
+    if std::env::var_os("FAIRSURF_BLESS").is_some() {
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        let mut f = std::fs::File::create(&path).unwrap();
+        pic.encode_png(&mut f).unwrap();
+        return;
+    }
+    let file = std::fs::File::open(&path)
+        .unwrap_or_else(|e| panic!("{}: {e} (bless with FAIRSURF_BLESS=1)", path.display()));
+    let mut dec = png::Decoder::new(std::io::BufReader::new(file))
+        .read_info()
+        .unwrap();
+    let mut buf = vec![0; dec.output_buffer_size().unwrap()];
+    let info = dec.next_frame(&mut buf).unwrap();
+    assert_eq!(
+        (info.width, info.height),
+        (pic.width, pic.height),
+        "{name}: size"
+    );
+    assert_eq!(info.color_type, png::ColorType::Rgba);
+    let diffs: Vec<u32> = buf
+        .chunks(4)
+        .zip(pic.rgba.chunks(4))
+        .map(|(a, b)| (0..3).map(|c| a[c].abs_diff(b[c]) as u32).max().unwrap())
+        .collect();
+    let mean = diffs.iter().sum::<u32>() as f64 / diffs.len() as f64;
+    let off = diffs.iter().filter(|&&d| d > 48).count() as f64 / diffs.len() as f64;
+    assert!(
+        mean <= 1.5 && off <= 0.005,
+        "{name}: mean difference {mean:.3}, {:.3}% of pixels off",
+        100.0 * off
+    );
+}
+
+#[test]
+fn golden_bump_with_net_arrows_and_abs_mean() {
+    let b = bump();
+    let arrows = [(0.5, 0.5), (0.25, 0.25), (0.75, 0.25)]
+        .iter()
+        .map(|&(u, v)| Arrow {
+            base: b.eval(u, v),
+            direction: b.normal(u, v).unwrap(),
+        })
+        .collect();
+    let panel = Panel {
+        patches: vec![b],
+        title: Some("bump".into()),
+        arrows,
+    };
+    let opts = RenderOptions::default()
+        .with_size(240, 180)
+        .with_control_net(true)
+        .with_range(Range::Fixed(0.0, 3.0));
+    golden("bump_abs_mean", &[panel], &opts);
+}
+
+#[test]
+fn golden_two_panels_zebra_and_gaussian() {
+    let saddle = TensorPatch::from_fn(3, 3, |i, j| {
+        let (u, v) = (i as f64 / 3.0 - 0.5, j as f64 / 3.0 - 0.5);
+        [u, v, 2.0 * u * v]
+    });
+    let zebra = RenderOptions::default()
+        .with_size(240, 120)
+        .with_colour(ColourBy::None)
+        .with_zebra(Some(10));
+    golden(
+        "zebra_pair",
+        &[Panel::new(bump()), Panel::new(saddle.clone())],
+        &zebra,
+    );
+    let gauss = RenderOptions::default()
+        .with_size(200, 150)
+        .with_colour(ColourBy::Gaussian)
+        .with_view(View::parse("20,50").unwrap());
+    golden("saddle_gaussian", &[Panel::new(saddle)], &gauss);
+}
