@@ -42,6 +42,9 @@ pub struct Args {
     /// Reflection-line (zebra) stripes; optionally how many (default 20).
     #[arg(long, num_args = 0..=1, default_missing_value = "20")]
     zebra: Option<u32>,
+    /// Isophotes (bands of constant n·L); optionally how many (default 16).
+    #[arg(long, num_args = 0..=1, default_missing_value = "16", conflicts_with = "zebra")]
+    isophotes: Option<u32>,
     /// Draw the four surfaces of `fairsurf compare` (one scene) side by side.
     #[arg(long)]
     compare: bool,
@@ -75,6 +78,7 @@ fn options(a: &Args) -> Result<RenderOptions, Failure> {
         boundary: !a.no_boundary,
         arrows: a.normals,
         zebra: a.zebra,
+        isophotes: a.isophotes,
         resolution: a.resolution,
         colour_bar: !a.no_colour_bar,
         ..RenderOptions::default()

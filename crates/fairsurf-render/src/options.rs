@@ -184,6 +184,11 @@ pub struct RenderOptions {
     /// reflected directions, or none. Reflection lines break at a G1 kink and
     /// bend at a G2 jump.
     pub zebra: Option<u32>,
+    /// Isophotes: this many bands of the angle between the normal and the
+    /// key light, over [0, π]; curves of constant n·L. Like reflection lines
+    /// they show G1 breaks as jumps and G2 breaks as kinks. Not together with
+    /// `zebra`.
+    pub isophotes: Option<u32>,
     /// Quads per patch parameter direction in the tessellation (2 … 1024).
     pub resolution: usize,
     /// Supersampling factor per axis for anti-aliasing (1 … 4).
@@ -204,6 +209,7 @@ impl Default for RenderOptions {
             boundary: true,
             arrows: true,
             zebra: None,
+            isophotes: None,
             resolution: 64,
             supersample: 2,
             colour_bar: true,
@@ -248,6 +254,11 @@ impl RenderOptions {
         self.zebra = stripes;
         self
     }
+    /// Sets isophote bands.
+    pub fn with_isophotes(mut self, bands: Option<u32>) -> Self {
+        self.isophotes = bands;
+        self
+    }
     /// Sets the tessellation resolution.
     pub fn with_resolution(mut self, resolution: usize) -> Self {
         self.resolution = resolution;
@@ -274,10 +285,18 @@ impl RenderOptions {
                 format!("must be 1 … 4, got {}", self.supersample),
             );
         }
-        if let Some(z) = self.zebra {
-            if !(1..=200).contains(&z) {
-                return bad("zebra", format!("must be 1 … 200 stripes, got {z}"));
+        for (name, stripes) in [("zebra", self.zebra), ("isophotes", self.isophotes)] {
+            if let Some(z) = stripes {
+                if !(1..=200).contains(&z) {
+                    return bad(name, format!("must be 1 … 200 stripes, got {z}"));
+                }
             }
+        }
+        if self.zebra.is_some() && self.isophotes.is_some() {
+            return bad(
+                "isophotes",
+                "draw either zebra stripes or isophotes, not both".into(),
+            );
         }
         if let Range::Fixed(lo, hi) = self.range {
             if !(lo.is_finite() && hi.is_finite() && lo < hi) {

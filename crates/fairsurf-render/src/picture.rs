@@ -2,7 +2,7 @@
 
 use crate::camera::Camera;
 use crate::overlay::{self, Size, ARROW, BOUNDARY, INK, NET};
-use crate::raster::{rasterize, Layer, Soup};
+use crate::raster::{rasterize, Layer, Soup, Stripes};
 use crate::{ColourBy, Error, Range, RenderOptions, Result};
 use fairsurf::analysis::curvature_from;
 use fairsurf::colour::ColourMap;
@@ -254,7 +254,12 @@ pub fn render(panels: &[Panel], opts: &RenderOptions) -> Result<Picture> {
         let (x0, y0) = ((k % cols) as f32 * pw, (k / cols) as f32 * ph);
         let cam = &cams[k];
         let soup = soup(prep, opts.colour, range);
-        let layer = rasterize(&soup, cam, opts.supersample as usize, opts.zebra);
+        let stripes = match (opts.zebra, opts.isophotes) {
+            (Some(k), _) => Some(Stripes::Reflection(k)),
+            (None, Some(k)) => Some(Stripes::Isophote(k)),
+            _ => None,
+        };
+        let layer = rasterize(&soup, cam, opts.supersample as usize, stripes);
         blit(&mut pm, &layer, x0 as usize, (y0 + title_h) as usize);
         draw_overlays(&mut pm, panel, prep, cam, &layer, opts, (x0, y0 + title_h));
         if let Some(t) = &panel.title {

@@ -60,14 +60,26 @@ struct Vertex {
     colour: (f32, f32, f32),
 }
 
+/// Stripes painted instead of the base colour.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Stripes {
+    /// Reflection lines (zebra): bands of the angle between the reflected
+    /// line of sight and a fixed axis.
+    Reflection(u32),
+    /// Isophotes: bands of the angle between the normal and the key light.
+    Isophote(u32),
+}
+
 /// Fragment shading: two-sided Lambert + Blinn–Phong under one key light,
-/// optionally reflection-line stripes.
+/// optionally stripes.
 struct Shader {
     eye: [f32; 3],
     light: [f32; 3],
     half: [f32; 3],
     view: [f32; 3],
-    zebra: Option<(f32, [f32; 3])>,
+    /// Stripe count, axis, and whether the reflected ray (zebra) or the
+    /// normal (isophotes) is measured against the axis.
+    stripes: Option<(f32, [f32; 3], bool)>,
 }
 
 fn dot3(a: [f32; 3], b: [f32; 3]) -> f32 {
@@ -90,16 +102,21 @@ impl Pipeline for Shader {
             n = [-n[0], -n[1], -n[2]];
         }
         let mut base = [r, g, b];
-        if let Some((stripes, axis)) = self.zebra {
-            // Reflect the line of sight about the normal; stripes are bands
-            // of the angle between the reflected ray and a fixed axis.
-            let vn = dot3(self.view, n);
-            let refl = [
-                self.view[0] - 2.0 * vn * n[0],
-                self.view[1] - 2.0 * vn * n[1],
-                self.view[2] - 2.0 * vn * n[2],
-            ];
-            let t = dot3(refl, axis).clamp(-1.0, 1.0).acos() / std::f32::consts::PI;
+        if let Some((stripes, axis, reflect)) = self.stripes {
+            // Zebra: reflect the line of sight about the normal and band the
+            // angle between the reflected ray and a fixed axis. Isophotes:
+            // band the angle between the normal itself and the light.
+            let ray = if reflect {
+                let vn = dot3(self.view, n);
+                [
+                    self.view[0] - 2.0 * vn * n[0],
+                    self.view[1] - 2.0 * vn * n[1],
+                    self.view[2] - 2.0 * vn * n[2],
+                ]
+            } else {
+                n
+            };
+            let t = dot3(ray, axis).clamp(-1.0, 1.0).acos() / std::f32::consts::PI;
             let band = (t * stripes).floor() as i64;
             let shade = if band % 2 == 0 { 0.08 } else { 0.95 };
             base = [shade; 3];
@@ -122,7 +139,7 @@ fn f32x3(v: Vec3) -> [f32; 3] {
 
 /// Rasterizes `soup` seen by `cam` into a layer of the camera's viewport
 /// size, supersampled `ss`×`ss` and box-filtered down.
-pub(crate) fn rasterize(soup: &Soup, cam: &Camera, ss: usize, zebra: Option<u32>) -> Layer {
+pub(crate) fn rasterize(soup: &Soup, cam: &Camera, ss: usize, stripes: Option<Stripes>) -> Layer {
     let (w, h) = (cam.size.0 as usize, cam.size.1 as usize);
     let (sw, sh) = (w * ss, h * ss);
     let eye = scale(cam.forward, -1.0);
@@ -138,9 +155,12 @@ pub(crate) fn rasterize(soup: &Soup, cam: &Camera, ss: usize, zebra: Option<u32>
         light: f32x3(light),
         half: f32x3(half),
         view: f32x3(cam.forward),
-        zebra: zebra.map(|s| {
-            let axis = normalize(add(cam.up, scale(cam.right, 0.35))).unwrap_or(cam.up);
-            (s as f32, f32x3(axis))
+        stripes: stripes.map(|s| match s {
+            Stripes::Reflection(k) => {
+                let axis = normalize(add(cam.up, scale(cam.right, 0.35))).unwrap_or(cam.up);
+                (k as f32, f32x3(axis), true)
+            }
+            Stripes::Isophote(k) => (k as f32, f32x3(light), false),
         }),
     };
     let ndc: Vec<[f32; 4]> = soup

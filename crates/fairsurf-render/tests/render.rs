@@ -179,6 +179,25 @@ fn zebra_stripes_split_a_curved_surface_into_dark_and_light() {
 }
 
 #[test]
+fn isophotes_band_a_curved_surface_and_leave_a_plane_one_colour() {
+    let opts = plain(300, 300).with_isophotes(Some(12));
+    let dark_fraction = |p: TensorPatch| {
+        let pic = render(&[Panel::new(p)], &opts).unwrap();
+        let dark = pic
+            .rgba
+            .chunks(4)
+            .filter(|p| (p[0] as u32 + p[1] as u32 + p[2] as u32) / 3 < 40)
+            .count() as f64;
+        dark / (pic.panels[0].coverage * (300 * 300) as f64)
+    };
+    let f = dark_fraction(bump());
+    assert!((0.2..0.8).contains(&f), "bump: dark fraction {f}");
+    // A plane has one normal: one band, all dark or all light.
+    let f = dark_fraction(square(1.0));
+    assert!(!(0.02..0.98).contains(&f), "plane: dark fraction {f}");
+}
+
+#[test]
 fn bad_input_is_an_error_naming_what() {
     let p = [Panel::new(bump())];
     let name = |e: Error| match e {
@@ -195,6 +214,8 @@ fn bad_input_is_an_error_naming_what() {
         name(render(&p, &plain(100, 100).with_zebra(Some(0))).unwrap_err()),
         "zebra"
     );
+    let both = plain(100, 100).with_zebra(Some(4)).with_isophotes(Some(4));
+    assert_eq!(name(render(&p, &both).unwrap_err()), "isophotes");
     let bad_range = plain(100, 100).with_range(Range::Fixed(1.0, 1.0));
     assert_eq!(name(render(&p, &bad_range).unwrap_err()), "range");
     let bad_view = plain(100, 100).with_view(View {

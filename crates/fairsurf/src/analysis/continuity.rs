@@ -66,7 +66,7 @@ pub struct Continuity {
 /// let p = TensorPatch::from_fn(3, 3, |i, j| [i as f64, j as f64, ((i * j) as f64).sin()]);
 /// let (left, right) = p.subdivide_u(0.4);
 /// let c = continuity(&left, Edge::U1, &right, Edge::U0, false, 64);
-/// assert!(c.gap.max < 1e-12 && c.normal_angle.max < 1e-10);
+/// assert!(c.gap.max < 1e-12 && c.normal_angle.max < 1e-12);
 /// ```
 pub fn continuity(
     a: &TensorPatch,
