@@ -47,6 +47,7 @@ pub mod basis;
 pub mod colour;
 pub mod energy;
 pub mod harmonic;
+pub mod triangle;
 
 pub use curve::BezierCurve;
 pub use energy::{
@@ -58,6 +59,7 @@ pub use solve::{
     Problem, Solution, SolveOptions, SolveReport, SurfaceMeasures, TermEnergy, Timings,
 };
 pub use tensor::{SurfaceDerivatives, TensorPatch};
+pub use triangle::TriPatch;
 pub use vec3::Vec3;
 
 /// Small vector helpers on [`Vec3`].
