@@ -59,7 +59,7 @@ pub use solve::{
     Problem, Solution, SolveOptions, SolveReport, SurfaceMeasures, TermEnergy, Timings,
 };
 pub use tensor::{SurfaceDerivatives, TensorPatch};
-pub use triangle::TriPatch;
+pub use triangle::{TriPatch, TriSurface};
 pub use vec3::Vec3;
 
 /// Small vector helpers on [`Vec3`].

@@ -23,6 +23,15 @@
 //! - **Degree elevation** ([`TriPatch::elevate`]) and **subdivision**
 //!   (Goldman 1983): into three at an interior point, into two at a point of
 //!   an edge, or onto any sub-triangle ([`TriPatch::restrict`]).
+//! - **Surfaces** ([`TriSurface`]): patches over a triangle mesh sharing
+//!   their vertex and edge control points (C0 by construction), any valence,
+//!   N-sided regions, boundary found; initial points are the degree-raised
+//!   flat triangles.
+//! - **Internal energy** ([`InternalEnergy`]): α·stretch + β·bend (eq. 6–7)
+//!   integrated exactly over the equilateral domain triangle of side 1
+//!   (eq. 25–27), so each patch's matrix is invariant under permuting its
+//!   corners; ½∫ as for the tensor terms; assembled over a surface as a
+//!   sparse matrix.
 //!
 //! Sources: R. C. Veltkamp, W. Wesselink, variational modeling of triangular
 //! Bézier surfaces, §2, eq. (2)–(3); G. Farin, "Triangular Bernstein–Bézier
@@ -56,13 +65,23 @@
 //! assert_eq!(t.edge(2).points()[0], t.corner(0));
 //! ```
 
+mod assemble;
 mod bernstein;
 mod derivatives;
 mod elevate;
+mod energy;
 mod index;
+mod integral;
 mod patch;
 mod subdivide;
+mod surface;
 
 pub use bernstein::{tri_bernstein, tri_bernstein_all, trinomial, Bary};
+pub use energy::{
+    bend_matrix, bend_value, stretch_matrix, stretch_value, InternalEnergy, EQUILATERAL,
+    EQUILATERAL_AREA,
+};
 pub use index::{linear_index, multi_index, multi_indices, point_count};
+pub use integral::{tri_gram_matrix, tri_product_integral};
 pub use patch::TriPatch;
+pub use surface::{MeshEdge, TriSurface};
