@@ -2,6 +2,7 @@
 
 use crate::Failure;
 use fairsurf_io::{write_iges, write_mesh_with, write_step, MeshFormat, MeshOptions, SurfaceMesh};
+use fairsurf_render::Range;
 use std::path::PathBuf;
 
 /// Open CASCADE (and so FreeCAD, gmsh, CadQuery) reads B-splines up to this
@@ -20,7 +21,7 @@ pub struct Args {
     /// Mesh resolution: quads per parameter direction (meshes only).
     #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=4096))]
     resolution: u32,
-    /// glTF colour range of |H| as LO,HI (default: 0 to the largest |H|).
+    /// glTF colour range of |H| as LO,HI, or auto (0 to the largest |H|).
     #[arg(long, allow_hyphen_values = true)]
     colour_range: Option<String>,
 }
@@ -50,25 +51,24 @@ fn format(a: &Args) -> Result<Format, Failure> {
     }
 }
 
-fn colour_range(s: &str) -> Result<[f64; 2], Failure> {
-    let bad = || {
-        Failure::input(format!(
-            "--colour-range: expected LO,HI with LO < HI, got {s:?}"
-        ))
-    };
-    let (lo, hi) = s.split_once(',').ok_or_else(bad)?;
-    let lo: f64 = lo.trim().parse().map_err(|_| bad())?;
-    let hi: f64 = hi.trim().parse().map_err(|_| bad())?;
-    if !(lo.is_finite() && hi.is_finite() && lo < hi) {
-        return Err(bad());
+/// `LO,HI` (or `auto`, the default) by the renderer's range syntax.
+fn colour_range(s: &str) -> Result<Option<[f64; 2]>, Failure> {
+    match Range::parse(s) {
+        Ok(Range::Fixed(lo, hi)) => Ok(Some([lo, hi])),
+        Ok(Range::Auto) => Ok(None),
+        Err(e) => Err(Failure::input(format!("--colour-{e}"))),
     }
-    Ok([lo, hi])
 }
 
 pub fn run(a: Args) -> Result<(), Failure> {
     let format = format(&a)?;
-    let range = a.colour_range.as_deref().map(colour_range).transpose()?;
-    let (_, patch) = crate::input::surface(&a.file)?;
+    let range = a
+        .colour_range
+        .as_deref()
+        .map(colour_range)
+        .transpose()?
+        .flatten();
+    let patch = crate::input::surface(&a.file)?.patch;
     crate::solve::ensure_parent(&a.output)?;
     let (n, m) = patch.degree();
     match format {

@@ -1,6 +1,6 @@
 //! `fairsurf render`: pictures of scenes and results.
 
-use crate::input::{surface, with_file};
+use crate::input::{surface, with_file, Loaded};
 use crate::Failure;
 use fairsurf::energy::NormalGuide;
 use fairsurf::TensorPatch;
@@ -144,9 +144,16 @@ fn title(path: &Path) -> String {
 /// The surface of a scene (solved) or result file (as it is), with the
 /// scene's guide normal field as arrows when asked.
 fn panel(path: &Path, normals: bool) -> Result<Panel, Failure> {
-    let (scene, patch) = surface(path)?;
+    let Loaded {
+        scene,
+        patch,
+        built,
+    } = surface(path)?;
     let arrows = if normals {
-        let built = scene.build().map_err(with_file(path))?;
+        let built = match built {
+            Some(b) => b,
+            None => scene.build().map_err(with_file(path))?,
+        };
         built
             .normal_field
             .map(|nf| field_arrows(&patch, &nf.guide))

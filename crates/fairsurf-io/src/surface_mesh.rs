@@ -33,7 +33,8 @@ impl SurfaceMesh {
     /// The patch tessellated on a (ru+1)×(rv+1) grid ([`TriMesh::from_patch`])
     /// with the curvature at every vertex.
     pub fn from_patch(patch: &TensorPatch, ru: usize, rv: usize) -> Self {
-        Self::on_patch(patch, TriMesh::from_patch(patch, ru, rv))
+        let (mesh, curvature) = TriMesh::with_curvature(patch, ru, rv);
+        Self { mesh, curvature }
     }
 
     /// Any mesh of `patch` (its `uvs` are parameters of `patch`), with the

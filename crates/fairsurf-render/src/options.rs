@@ -69,22 +69,28 @@ impl Range {
             name: "range",
             message: m,
         };
-        let (a, b) = s
-            .split_once(',')
-            .ok_or_else(|| bad(format!("expected auto or LO,HI, got {s:?}")))?;
-        let num = |x: &str| -> Result<f64> {
-            x.trim()
-                .parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .ok_or_else(|| bad(format!("expected a finite number, got {x:?}")))
-        };
-        let (lo, hi) = (num(a)?, num(b)?);
+        let (lo, hi) = pair(s, "range", "auto or LO,HI")?;
         if lo >= hi {
             return Err(bad(format!("expected LO < HI, got {lo},{hi}")));
         }
         Ok(Range::Fixed(lo, hi))
     }
+}
+
+/// Two finite numbers "A,B"; errors name the option and what it expects.
+fn pair(s: &str, name: &'static str, expected: &str) -> Result<(f64, f64)> {
+    let bad = |message: String| Error::Option { name, message };
+    let (a, b) = s
+        .split_once(',')
+        .ok_or_else(|| bad(format!("expected {expected}, got {s:?}")))?;
+    let num = |x: &str| {
+        x.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| bad(format!("expected a finite number, got {x:?}")))
+    };
+    Ok((num(a)?, num(b)?))
 }
 
 /// The direction the surface is seen from, as azimuth (degrees about +z,
@@ -139,19 +145,7 @@ impl View {
             name: "view",
             message: m,
         };
-        let (a, e) = s.split_once(',').ok_or_else(|| {
-            bad(format!(
-                "expected iso, top, front, side or AZ,EL in degrees, got {s:?}"
-            ))
-        })?;
-        let num = |x: &str| -> Result<f64> {
-            x.trim()
-                .parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .ok_or_else(|| bad(format!("expected a finite number of degrees, got {x:?}")))
-        };
-        let (azimuth, elevation) = (num(a)?, num(e)?);
+        let (azimuth, elevation) = pair(s, "view", "iso, top, front, side or AZ,EL in degrees")?;
         if !(-90.0..=90.0).contains(&elevation) {
             return Err(bad(format!(
                 "elevation must be in [-90, 90] degrees, got {elevation}"

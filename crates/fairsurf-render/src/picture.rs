@@ -4,7 +4,6 @@ use crate::camera::Camera;
 use crate::overlay::{self, Size, ARROW, BOUNDARY, INK, NET};
 use crate::raster::{rasterize, Layer, Soup, Stripes};
 use crate::{ColourBy, Error, Range, RenderOptions, Result};
-use fairsurf::analysis::curvature_from;
 use fairsurf::colour::ColourMap;
 use fairsurf::vector::{add, norm, normalize, scale, sub};
 use fairsurf::{TensorPatch, TriMesh, Vec3};
@@ -109,25 +108,18 @@ fn prepare(panel: &Panel, index: usize, opts: &RenderOptions) -> Result<Prepared
         return Err(Error::EmptyPanel { panel: index });
     }
     let r = opts.resolution;
-    let ts: Vec<f64> = (0..=r).map(|i| i as f64 / r as f64).collect();
     let (mut meshes, mut values, mut frame_points) = (vec![], vec![], vec![]);
     for patch in &panel.patches {
-        let mesh = TriMesh::from_patch(patch, r, r);
-        let vals = match opts.colour {
-            ColourBy::None => vec![f64::NAN; mesh.positions.len()],
-            c => patch
-                .grid_derivatives(&ts, &ts)
-                .iter()
-                .map(|d| match curvature_from(d) {
-                    None => f64::NAN,
-                    Some(k) => match c {
-                        ColourBy::Mean => k.mean,
-                        ColourBy::Gaussian => k.gaussian,
-                        _ => k.mean.abs(),
-                    },
-                })
-                .collect(),
-        };
+        let (mesh, curvature) = TriMesh::with_curvature(patch, r, r);
+        let vals = curvature
+            .iter()
+            .map(|k| match (opts.colour, k) {
+                (ColourBy::None, _) | (_, None) => f64::NAN,
+                (ColourBy::Mean, Some(k)) => k.mean,
+                (ColourBy::Gaussian, Some(k)) => k.gaussian,
+                (ColourBy::AbsMean, Some(k)) => k.mean.abs(),
+            })
+            .collect();
         frame_points.extend_from_slice(&mesh.positions);
         if opts.control_net {
             frame_points.extend_from_slice(patch.points());

@@ -73,7 +73,6 @@ pub(crate) enum Stripes {
 /// Fragment shading: two-sided Lambert + Blinn–Phong under one key light,
 /// optionally stripes.
 struct Shader {
-    eye: [f32; 3],
     light: [f32; 3],
     half: [f32; 3],
     view: [f32; 3],
@@ -98,7 +97,8 @@ impl Pipeline for Shader {
     fn frag(&self, &((nx, ny, nz), (r, g, b)): &Self::VsOut) -> [f32; 4] {
         let len = (nx * nx + ny * ny + nz * nz).sqrt().max(1e-20);
         let mut n = [nx / len, ny / len, nz / len];
-        if dot3(n, self.eye) < 0.0 {
+        // Two-sided: turn the normal towards the eye (against the view).
+        if dot3(n, self.view) > 0.0 {
             n = [-n[0], -n[1], -n[2]];
         }
         let mut base = [r, g, b];
@@ -151,7 +151,6 @@ pub(crate) fn rasterize(soup: &Soup, cam: &Camera, ss: usize, stripes: Option<St
     .unwrap_or(eye);
     let half = normalize(add(light, eye)).unwrap_or(eye);
     let shader = Shader {
-        eye: f32x3(eye),
         light: f32x3(light),
         half: f32x3(half),
         view: f32x3(cam.forward),

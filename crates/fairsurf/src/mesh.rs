@@ -1,7 +1,8 @@
 //! Tessellation of a patch into a triangle mesh with exact normals.
 
+use crate::analysis::{curvature_from, Curvature};
 use crate::vec3::{cross, normalize, sub, Vec3};
-use crate::TensorPatch;
+use crate::{SurfaceDerivatives, TensorPatch};
 
 /// A triangle mesh: positions, unit normals and (u, v) per vertex,
 /// counter-clockwise triangles (seen from the side the normals point to).
@@ -17,6 +18,15 @@ pub struct TriMesh {
     pub triangles: Vec<[u32; 3]>,
 }
 
+/// The uniform parameters i/r, i = 0…r, in each direction (r ≥ 1).
+fn uniform(ru: usize, rv: usize) -> (Vec<f64>, Vec<f64>) {
+    let t = |r: usize| {
+        let r = r.max(1);
+        (0..=r).map(|i| i as f64 / r as f64).collect()
+    };
+    (t(ru), t(rv))
+}
+
 impl TriMesh {
     /// Samples the patch on a (ru+1)×(rv+1) uniform parameter grid (ru, rv ≥ 1)
     /// and splits each cell into two triangles. Normals are the patch's exact
@@ -24,13 +34,29 @@ impl TriMesh {
     /// normal is taken a tiny step inside the domain, and failing that from
     /// the adjacent mesh faces.
     pub fn from_patch(patch: &TensorPatch, ru: usize, rv: usize) -> Self {
-        let (ru, rv) = (ru.max(1), rv.max(1));
-        let mut positions = Vec::with_capacity((ru + 1) * (rv + 1));
-        let mut normals = Vec::with_capacity(positions.capacity());
-        let mut uvs = Vec::with_capacity(positions.capacity());
-        let us: Vec<f64> = (0..=ru).map(|i| i as f64 / ru as f64).collect();
-        let vs: Vec<f64> = (0..=rv).map(|j| j as f64 / rv as f64).collect();
+        let (us, vs) = uniform(ru, rv);
+        Self::from_grid(patch, &us, &vs, &patch.grid_derivatives(&us, &vs))
+    }
+
+    /// [`TriMesh::from_patch`] together with the curvature at every vertex
+    /// (`None` where the patch is singular), from the same exact derivatives.
+    pub fn with_curvature(
+        patch: &TensorPatch,
+        ru: usize,
+        rv: usize,
+    ) -> (Self, Vec<Option<Curvature>>) {
+        let (us, vs) = uniform(ru, rv);
         let grid = patch.grid_derivatives(&us, &vs);
+        let curvature = grid.iter().map(curvature_from).collect();
+        (Self::from_grid(patch, &us, &vs, &grid), curvature)
+    }
+
+    /// The mesh of the derivative grid `grid` over `us` × `vs` (row-major).
+    fn from_grid(patch: &TensorPatch, us: &[f64], vs: &[f64], grid: &[SurfaceDerivatives]) -> Self {
+        let (ru, rv) = (us.len() - 1, vs.len() - 1);
+        let mut positions = Vec::with_capacity(grid.len());
+        let mut normals = Vec::with_capacity(grid.len());
+        let mut uvs = Vec::with_capacity(grid.len());
         for (i, &u) in us.iter().enumerate() {
             for (j, &v) in vs.iter().enumerate() {
                 let d = grid[i * (rv + 1) + j];
