@@ -67,21 +67,34 @@
 
 mod assemble;
 mod bernstein;
+mod constraint;
+mod continuity;
 mod derivatives;
 mod elevate;
 mod energy;
 mod index;
 mod integral;
+mod kkt;
 mod patch;
+mod reduce;
+mod refine;
+mod solve;
 mod subdivide;
 mod surface;
 
 pub use bernstein::{tri_bernstein, tri_bernstein_all, trinomial, Bary};
+pub use constraint::{Constraint, NamedConstraint, Row};
+pub use continuity::{max_edge_normal_angle, Continuity, EdgeContinuity};
 pub use energy::{
     bend_matrix, bend_value, stretch_matrix, stretch_value, InternalEnergy, EQUILATERAL,
     EQUILATERAL_AREA,
 };
 pub use index::{linear_index, multi_index, multi_indices, point_count};
 pub use integral::{tri_gram_matrix, tri_product_integral};
+pub use kkt::KktInfo;
 pub use patch::TriPatch;
+pub use refine::{embed_curve, CurvePath, DomainPoint, Refinement};
+pub use solve::{
+    ConstraintOutcome, CurveConstraint, DroppedRow, TriProblem, TriReport, TriSolution, TriTimings,
+};
 pub use surface::{MeshEdge, TriSurface};

@@ -1,0 +1,373 @@
+//! Tangent-plane (G1) continuity of a triangular surface as linear
+//! constraints (Veltkamp & Wesselink §4.3, eq. 9–12), and its measurement.
+//!
+//! Along an interior edge from vertex A = M₀ to B = M_n, with the edge's
+//! control points M_i, the next row of the left patch L_i and of the right
+//! patch R_i (i = 0 … n−1, L_i between M_i and M_{i+1}), the three
+//! derivatives of degree n − 1 along the edge are
+//!
+//! ```text
+//! E(t) = Σ (M_{i+1} − M_i) B_i(t),  L(t) = Σ (L_i − M_i) B_i(t),  R(t) = Σ (R_i − M_i) B_i(t)
+//! ```
+//!
+//! (along the edge, and across it towards the left and right third
+//! corners, each divided by n). The tangent planes agree along the edge
+//! when e(t)E + f(t)L + g(t)R = 0 with f, g > 0; with e, f, g linear in t
+//! this is linear in the control points, and its n + 1 Bernstein
+//! coefficients are
+//!
+//! ```text
+//! (n−m)(e₀E_m + f₀L_m + g₀R_m) + m(e₁E_{m−1} + f₁L_{m−1} + g₁R_{m−1}) = 0,   m = 0 … n.
+//! ```
+//!
+//! m = 0 and m = n are the vertex conditions (eq. 9, 10), the others the
+//! edge conditions (eq. 11, 12 for cubics, up to adding eq. 9 or 10). The
+//! coefficients come from the vertex rules of §4.3, written without
+//! division (the paper's e = 1, f = g = −1/(2cos θ) times −2cos θ, which
+//! also covers its valence-4 case e = 0, f = g = 1):
+//!
+//! ```text
+//! interior vertex of valence k:       d_{i−1} + d_{i+1} − 2cos(2π/k) d_i = 0
+//! boundary vertex, k patches, angle α: d_{i−1} + d_{i+1} − 2cos(α/k) d_i = 0   (interior edges i)
+//! ```
+//!
+//! for the tangents d_i = (first control point along edge i) − (vertex) in
+//! order around the vertex: at A, (e₀, f₀, g₀) = (−2cos θ_A, 1, 1). At B the
+//! paper sets "e₁, f₁, g₁ analogously", but L_{n−1} − M_{n−1} is not B's
+//! tangent: it is d_L − d_M with d_M = M_{n−1} − M_n, so matching B's rule
+//! needs (e₁, f₁, g₁) = (2cos θ_B − 2, 1, 1).
+//!
+//! The relaxed variant keeps only one condition per inner edge segment,
+//! e(t_r)(M_{r+1} − M_r) + f(t_r)(L_r − M_r) + g(t_r)(R_r − M_r) = 0 at
+//! t_r = r/(n−1), r = 1 … n−2 (the paper's e₂, f₂, g₂ for cubics): n − 2
+//! conditions instead of n − 1, approximate G1 only.
+
+use super::constraint::Row;
+use super::index::index_of;
+use super::surface::TriSurface;
+use crate::vec3::{cross, dot, norm, sub, Vec3};
+use crate::{Error, Result};
+use std::f64::consts::PI;
+
+/// Tangent-plane continuity across the interior edges (§4.3).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum EdgeContinuity {
+    /// Exact G1 along each interior edge (eq. 11–12 and their degree-n form).
+    #[default]
+    Exact,
+    /// The paper's less restrictive variant: approximate G1.
+    Relaxed,
+    /// Only what the vertex conditions give (G1 at the vertices).
+    Off,
+}
+
+/// Which default continuity constraints apply (§4.3). They yield to the
+/// user's interpolation constraints: a condition that contradicts them is
+/// dropped and reported.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Continuity {
+    /// G1 at the vertices (eq. 9–10). Default on.
+    pub vertices: bool,
+    /// G1 across the edges. Default [`EdgeContinuity::Exact`].
+    pub edges: EdgeContinuity,
+    /// The angle α (radians, in (0, 2π)) the surface makes at a boundary
+    /// vertex, by vertex. Where not given it is measured in the net being
+    /// solved (the angle between the two boundary edges' first tangents;
+    /// π for a straight boundary, the paper's default).
+    pub boundary_angles: Vec<(usize, f64)>,
+}
+
+impl Default for Continuity {
+    fn default() -> Self {
+        Self {
+            vertices: true,
+            edges: EdgeContinuity::Exact,
+            boundary_angles: Vec::new(),
+        }
+    }
+}
+
+impl Continuity {
+    /// No continuity constraints (C0 only).
+    pub fn none() -> Self {
+        Self {
+            vertices: false,
+            edges: EdgeContinuity::Off,
+            boundary_angles: Vec::new(),
+        }
+    }
+
+    /// The condition rows for `surface` (each three, one per coordinate,
+    /// with the same coefficients), vertex conditions first; or an error
+    /// naming a bad boundary angle.
+    pub fn rows(&self, surface: &TriSurface) -> Result<Vec<Row>> {
+        let n = surface.degree();
+        let vertex_theta = self.vertex_angles(surface)?;
+        let mut vertex_rows = Vec::new();
+        let mut edge_rows = Vec::new();
+        for (e, edge) in surface.edges().iter().enumerate() {
+            let Some(nb) = EdgeNeighbourhood::new(surface, e) else {
+                continue;
+            };
+            let [a, b] = edge.vertices;
+            let (ta, tb) = (vertex_theta[a], vertex_theta[b]);
+            let start = Coefficients::new(-2.0 * ta.cos(), 1.0, 1.0);
+            let end = Coefficients::new(2.0 * tb.cos() - 2.0, 1.0, 1.0);
+            let label = format!("edge {a}–{b}");
+            if self.vertices {
+                if ta.is_finite() {
+                    let terms = nb.condition(0, start, 0, n as f64);
+                    push_xyz(
+                        &mut vertex_rows,
+                        &terms,
+                        &format!("G1 at vertex {a} along {label}"),
+                    );
+                }
+                if tb.is_finite() {
+                    let terms = nb.condition(n - 1, end, n - 1, n as f64);
+                    push_xyz(
+                        &mut vertex_rows,
+                        &terms,
+                        &format!("G1 at vertex {b} along {label}"),
+                    );
+                }
+            }
+            if !(ta.is_finite() && tb.is_finite()) {
+                continue;
+            }
+            match self.edges {
+                EdgeContinuity::Exact => {
+                    for m in 1..n {
+                        let mut terms = nb.condition(m, start, m, (n - m) as f64);
+                        terms.extend(nb.condition(m - 1, end, m - 1, m as f64));
+                        let name = format!("G1 across {label} (condition {m} of {})", n - 1);
+                        push_xyz(&mut edge_rows, &merge(terms), &name);
+                    }
+                }
+                EdgeContinuity::Relaxed => {
+                    for r in 1..n.saturating_sub(1) {
+                        let t = r as f64 / (n - 1) as f64;
+                        let c = start.lerp(end, t);
+                        let name =
+                            format!("G1 (relaxed) across {label} (condition {r} of {})", n - 2);
+                        push_xyz(&mut edge_rows, &nb.condition(r, c, r, 1.0), &name);
+                    }
+                }
+                EdgeContinuity::Off => {}
+            }
+        }
+        vertex_rows.extend(edge_rows);
+        Ok(vertex_rows)
+    }
+
+    /// θ for each vertex's rule: 2π/k inside, α/k on the boundary (k
+    /// incident patches); NaN where no rule applies (a boundary vertex of
+    /// one patch, or one where the boundary is not a simple fan).
+    fn vertex_angles(&self, surface: &TriSurface) -> Result<Vec<f64>> {
+        let v = surface.vertex_count();
+        let mut valence = vec![0usize; v];
+        for t in surface.triangles() {
+            for &c in t {
+                valence[c] += 1;
+            }
+        }
+        let mut boundary: Vec<Vec<usize>> = vec![Vec::new(); v];
+        for e in surface.boundary_edges() {
+            for &x in &surface.edges()[e].vertices {
+                boundary[x].push(e);
+            }
+        }
+        let mut theta: Vec<f64> = (0..v)
+            .map(|x| match boundary[x].len() {
+                0 => 2.0 * PI / valence[x] as f64,
+                2 if valence[x] >= 2 => {
+                    measured_angle(surface, x, [boundary[x][0], boundary[x][1]]) / valence[x] as f64
+                }
+                _ => f64::NAN,
+            })
+            .collect();
+        for &(x, alpha) in &self.boundary_angles {
+            let what = format!("boundary angle at vertex {x}");
+            if x >= v || boundary[x].is_empty() {
+                return Err(Error::Mismatch {
+                    what,
+                    expected: "a boundary vertex".into(),
+                    got: if x >= v {
+                        format!("vertex {x} of {v}")
+                    } else {
+                        format!("interior vertex {x}")
+                    },
+                });
+            }
+            if !(alpha.is_finite() && alpha > 0.0 && alpha < 2.0 * PI) {
+                return Err(Error::Mismatch {
+                    what,
+                    expected: "an angle in (0, 2π) radians".into(),
+                    got: alpha.to_string(),
+                });
+            }
+            if valence[x] >= 2 && boundary[x].len() == 2 {
+                theta[x] = alpha / valence[x] as f64;
+            }
+        }
+        Ok(theta)
+    }
+}
+
+/// The angle at vertex x between its two boundary edges' first tangents.
+fn measured_angle(surface: &TriSurface, x: usize, edges: [usize; 2]) -> f64 {
+    let p = surface.points();
+    let d = edges.map(|e| {
+        let g = surface.edge_points(e);
+        let next = if g[0] == x { g[1] } else { g[g.len() - 2] };
+        sub(p[next], p[x])
+    });
+    let a = norm(cross(d[0], d[1])).atan2(dot(d[0], d[1]));
+    if a > 1e-9 {
+        a
+    } else {
+        PI
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Coefficients {
+    e: f64,
+    f: f64,
+    g: f64,
+}
+
+impl Coefficients {
+    fn new(e: f64, f: f64, g: f64) -> Self {
+        Self { e, f, g }
+    }
+
+    fn lerp(self, other: Self, t: f64) -> Self {
+        let l = |a: f64, b: f64| a + t * (b - a);
+        Self::new(l(self.e, other.e), l(self.f, other.f), l(self.g, other.g))
+    }
+}
+
+/// The control points around an interior edge: M_0 … M_n along it (from
+/// its smaller vertex), L_0 … L_{n−1} and R_0 … R_{n−1} in the next rows of
+/// the patch running it forwards and backwards.
+struct EdgeNeighbourhood {
+    m: Vec<usize>,
+    l: Vec<usize>,
+    r: Vec<usize>,
+}
+
+impl EdgeNeighbourhood {
+    fn new(surface: &TriSurface, e: usize) -> Option<Self> {
+        let edge = surface.edges()[e];
+        let (left, right) = (edge.triangles[0]?, edge.triangles[1]?);
+        let row = |t: usize| next_row(surface, t, edge.vertices);
+        Some(Self {
+            m: surface.edge_points(e),
+            l: row(left),
+            r: row(right),
+        })
+    }
+
+    /// Terms (point, coefficient) of s·(c.e(M_{i+1} − M_i) + c.f(L_j − M_j) + c.g(R_j − M_j)).
+    fn condition(&self, i: usize, c: Coefficients, j: usize, s: f64) -> Vec<(usize, f64)> {
+        merge(vec![
+            (self.m[i + 1], s * c.e),
+            (self.m[i], -s * c.e),
+            (self.l[j], s * c.f),
+            (self.m[j], -s * c.f),
+            (self.r[j], s * c.g),
+            (self.m[j], -s * c.g),
+        ])
+    }
+}
+
+/// The n points next to the edge (a, b) in triangle t, from a's end: the
+/// multi-index with n−1−i at a's corner, i at b's and 1 at the third.
+fn next_row(surface: &TriSurface, t: usize, [a, b]: [usize; 2]) -> Vec<usize> {
+    let n = surface.degree();
+    let tri = surface.triangles()[t];
+    let corner = |x: usize| (0..3).find(|&c| tri[c] == x).expect("edge of its triangle");
+    let (ca, cb) = (corner(a), corner(b));
+    let cc = 3 - ca - cb;
+    let g = surface.patch_indices(t);
+    (0..n)
+        .map(|i| {
+            let mut m = [0; 3];
+            m[ca] = n - 1 - i;
+            m[cb] = i;
+            m[cc] = 1;
+            g[index_of(n, m)]
+        })
+        .collect()
+}
+
+/// Sums coefficients of repeated points and drops zeros.
+fn merge(mut terms: Vec<(usize, f64)>) -> Vec<(usize, f64)> {
+    terms.sort_by_key(|&(g, _)| g);
+    let mut out: Vec<(usize, f64)> = Vec::with_capacity(terms.len());
+    for (g, a) in terms {
+        match out.last_mut() {
+            Some(last) if last.0 == g => last.1 += a,
+            _ => out.push((g, a)),
+        }
+    }
+    out.retain(|&(_, a)| a.abs() > 1e-15);
+    out
+}
+
+fn push_xyz(rows: &mut Vec<Row>, terms: &[(usize, f64)], name: &str) {
+    for (c, axis) in ["x", "y", "z"].iter().enumerate() {
+        rows.push(Row {
+            terms: terms.iter().map(|&(g, a)| (3 * g + c, a)).collect(),
+            rhs: 0.0,
+            name: format!("{name}, {axis}"),
+        });
+    }
+}
+
+/// The tangent-plane jump along the interior edges of a surface: the angle
+/// (radians) between the two patches' normals at `samples` evenly spaced
+/// points of each interior edge (both ends included), the largest over all
+/// edges with the edge's vertices, or None when there is no interior edge
+/// or no sample has both normals defined.
+pub fn max_edge_normal_angle(surface: &TriSurface, samples: usize) -> Option<(f64, [usize; 2])> {
+    let samples = samples.max(2);
+    let mut worst: Option<(f64, [usize; 2])> = None;
+    for edge in surface.edges() {
+        let (Some(l), Some(r)) = (edge.triangles[0], edge.triangles[1]) else {
+            continue;
+        };
+        let (pl, pr) = (surface.patch(l), surface.patch(r));
+        for s in 0..samples {
+            let t = s as f64 / (samples - 1) as f64;
+            let at = |tri: usize| bary_on_edge(surface, tri, edge.vertices, t);
+            let (Some(nl), Some(nr)) = (pl.normal(at(l)), pr.normal(at(r))) else {
+                continue;
+            };
+            let a = angle_between(nl, nr);
+            if worst.is_none_or(|(w, _)| a > w) {
+                worst = Some((a, edge.vertices));
+            }
+        }
+    }
+    worst
+}
+
+fn angle_between(a: Vec3, b: Vec3) -> f64 {
+    norm(cross(a, b)).atan2(dot(a, b))
+}
+
+/// Barycentrics in triangle t of the point at parameter t from a to b.
+fn bary_on_edge(surface: &TriSurface, t: usize, [a, b]: [usize; 2], s: f64) -> [f64; 3] {
+    let tri = surface.triangles()[t];
+    let mut out = [0.0; 3];
+    for c in 0..3 {
+        if tri[c] == a {
+            out[c] = 1.0 - s;
+        } else if tri[c] == b {
+            out[c] = s;
+        }
+    }
+    out
+}

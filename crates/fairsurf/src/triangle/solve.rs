@@ -1,0 +1,643 @@
+//! Constrained variational design of a triangular surface (Veltkamp &
+//! Wesselink §6, eq. 32–33):
+//!
+//! ```text
+//! minimize   E(P) = α·E_stretch + β·E_bend = ½ Σ_c P_cᵀ K P_c     (eq. 6–7, 25–27)
+//! subject to F P = G                                             (eq. 31)
+//! ```
+//!
+//! In order: curve constraints refine the mesh so that chains of patch
+//! edges interpolate the curves (§4.2) and fix those edges' control points;
+//! fixed control points (the user's and the curves') are eliminated; the
+//! remaining rows — the user's interpolation constraints first, then the
+//! default continuity conditions (§4.3) — are classified by sparse
+//! elimination, so dependent rows are reduced and a continuity condition
+//! that contradicts an interpolation constraint gives way (reported as
+//! dropped); the independent rows and the energy form a KKT system solved
+//! by regularized sparse LDLᵀ with iterative refinement.
+//!
+//! The report says how good the result is: energies, the stationarity
+//! residual (the gradient of the Lagrangian), every constraint's violation,
+//! what was reduced, dropped or found inconsistent, the largest normal
+//! angle across interior edges, and timings.
+
+use super::constraint::{Constraint, NamedConstraint, Row};
+use super::continuity::{max_edge_normal_angle, Continuity};
+use super::energy::InternalEnergy;
+use super::kkt::{solve_kkt, KktInfo};
+use super::reduce::{classify, SparseRow, Verdict};
+use super::refine::{check_point, embed_curve, DomainPoint, Refinement};
+use super::surface::TriSurface;
+use crate::vec3::{norm, sub, Vec3};
+use crate::{BezierCurve, Error, Result};
+use faer::sparse::{SparseColMat, Triplet};
+use std::time::Instant;
+
+/// A curve the surface must pass through (§4.2): patch edges are made to
+/// interpolate it ([`super::embed_curve`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CurveConstraint {
+    /// How reports call it.
+    pub name: String,
+    /// The curve, of degree at most the surface's.
+    pub curve: BezierCurve,
+    /// Where in the (original) domain it starts.
+    pub from: DomainPoint,
+    /// Where it ends.
+    pub to: DomainPoint,
+    /// The triangles it runs through, first to last (None: a shortest
+    /// path). Indices of the surface as refined by the curves before it; a
+    /// split triangle's index stays with its first child.
+    pub through: Option<Vec<usize>>,
+}
+
+/// A triangular surface, its energy weights and its constraints.
+#[derive(Clone, Debug)]
+pub struct TriProblem {
+    surface: TriSurface,
+    energy: InternalEnergy,
+    constraints: Vec<NamedConstraint>,
+    curves: Vec<CurveConstraint>,
+    continuity: Continuity,
+}
+
+/// A constraint row left out of the solve.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DroppedRow {
+    /// The row's name (constraint, equation, coordinate).
+    pub name: String,
+    /// How far the constraints kept force it off (its reduced right-hand
+    /// side over its largest coefficient).
+    pub residual: f64,
+}
+
+/// One user constraint's outcome.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConstraintOutcome {
+    /// Its name.
+    pub name: String,
+    /// Its kind (`point`, `normal`, …, `curve`).
+    pub kind: &'static str,
+    /// [`Constraint::violation`] on the result (for a curve: the largest
+    /// distance between the chain edges and the curve, sampled).
+    pub violation: f64,
+}
+
+/// How good a solve is.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TriReport {
+    /// α·E_stretch of the result (½∫ convention, equilateral domain of side 1).
+    pub stretch: f64,
+    /// β·E_bend of the result.
+    pub bend: f64,
+    /// stretch + bend.
+    pub total: f64,
+    /// Patches, mesh vertices and global control points of the result
+    /// (curves refine the mesh).
+    pub patches: usize,
+    /// Mesh vertices.
+    pub vertices: usize,
+    /// Global control points.
+    pub points: usize,
+    /// Free coordinates solved for.
+    pub unknowns: usize,
+    /// Coordinates fixed (user fixed points and curve edges).
+    pub fixed_coordinates: usize,
+    /// Constraint rows considered (user and continuity).
+    pub rows: usize,
+    /// Rows kept (independent).
+    pub independent_rows: usize,
+    /// Rows implied by earlier ones (reduced).
+    pub dependent_rows: usize,
+    /// Continuity rows that contradicted the interpolation constraints and
+    /// gave way.
+    pub dropped: Vec<DroppedRow>,
+    /// User rows that contradict earlier user constraints; the surface
+    /// cannot meet them (their violations say by how much).
+    pub inconsistent: Vec<DroppedRow>,
+    /// Each user constraint's violation on the result.
+    pub constraints: Vec<ConstraintOutcome>,
+    /// The largest violation among the user constraints (0 if none).
+    pub max_violation: f64,
+    /// The largest |row residual| of the kept continuity rows.
+    pub continuity_residual: f64,
+    /// The largest angle (radians) between the two patches' normals along
+    /// any interior edge (65 samples per edge), with the edge's vertices.
+    pub max_edge_normal_angle: Option<(f64, [usize; 2])>,
+    /// ‖H x + b + Fᵀλ‖∞ over the free coordinates: the gradient of the
+    /// Lagrangian at the solution.
+    pub gradient_norm: f64,
+    /// The same over ‖H‖∞‖x‖∞ + ‖b‖∞ (scale-free).
+    pub relative_gradient: f64,
+    /// The KKT solve.
+    pub kkt: Option<KktInfo>,
+    /// Seconds spent refining for curves, assembling, classifying rows,
+    /// solving the KKT system, and in total.
+    pub seconds: TriTimings,
+}
+
+/// Wall-clock seconds per phase.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TriTimings {
+    /// Mesh refinement for curve constraints.
+    pub refine: f64,
+    /// Energy matrix and constraint rows.
+    pub assemble: f64,
+    /// Row classification (dependent / inconsistent).
+    pub classify: f64,
+    /// KKT factorization and refinement.
+    pub solve: f64,
+    /// Everything, measurement included.
+    pub total: f64,
+}
+
+/// The solved surface and its report.
+#[derive(Clone, Debug)]
+pub struct TriSolution {
+    /// The result (refined by curve constraints, if any).
+    pub surface: TriSurface,
+    /// Where its triangles lie in the original domain.
+    pub origin: Vec<(usize, [[f64; 3]; 3])>,
+    /// How good it is.
+    pub report: TriReport,
+}
+
+impl TriProblem {
+    /// The surface (its points are the initial net), the energy weights, no
+    /// constraints and the default continuity ([`Continuity::default`]).
+    pub fn new(surface: TriSurface, energy: InternalEnergy) -> Self {
+        Self {
+            surface,
+            energy,
+            constraints: Vec::new(),
+            curves: Vec::new(),
+            continuity: Continuity::default(),
+        }
+    }
+
+    /// Adds a constraint.
+    pub fn with_constraint(mut self, name: impl Into<String>, constraint: Constraint) -> Self {
+        self.constraints.push(NamedConstraint {
+            name: name.into(),
+            constraint,
+        });
+        self
+    }
+
+    /// Fixes every boundary control point at its current value.
+    pub fn with_fixed_boundary(mut self) -> Self {
+        for g in self.surface.boundary_points() {
+            let value = self.surface.points()[g];
+            self.constraints.push(NamedConstraint {
+                name: format!("boundary point {g}"),
+                constraint: Constraint::Fixed { point: g, value },
+            });
+        }
+        self
+    }
+
+    /// Adds a curve constraint.
+    pub fn with_curve(mut self, curve: CurveConstraint) -> Self {
+        self.curves.push(curve);
+        self
+    }
+
+    /// Sets the continuity conditions.
+    pub fn with_continuity(mut self, continuity: Continuity) -> Self {
+        self.continuity = continuity;
+        self
+    }
+
+    /// The surface as given.
+    pub fn surface(&self) -> &TriSurface {
+        &self.surface
+    }
+
+    /// Solves; errors name the bad constraint or say why the system has no
+    /// unique solution.
+    pub fn solve(&self) -> Result<TriSolution> {
+        let start = Instant::now();
+        self.energy.validate()?;
+        for c in &self.constraints {
+            c.constraint.validate(&self.surface, &c.name)?;
+        }
+        let mut seconds = TriTimings::default();
+
+        // 1. Curves refine the mesh.
+        let (refinement, chains) = self.embed_curves()?;
+        let mut surface = refinement.surface.clone();
+        seconds.refine = start.elapsed().as_secs_f64();
+
+        // 2. Known coordinates: curve edges, then the user's fixed points.
+        let t = Instant::now();
+        let coords = 3 * surface.point_count();
+        let mut known: Vec<Option<f64>> = vec![None; coords];
+        let mut inconsistent = Vec::new();
+        for (name, chain) in &chains {
+            for (g, p) in chain_points(&surface, chain, name)? {
+                for c in 0..3 {
+                    known[3 * g + c] = Some(p[c]);
+                }
+            }
+        }
+        let mut located: Vec<(NamedConstraint, Constraint)> = Vec::new();
+        for nc in &self.constraints {
+            let c = match nc.constraint {
+                Constraint::Fixed { point, value } => {
+                    let g = map_global(&self.surface, &refinement, point).ok_or_else(|| {
+                        Error::Mismatch {
+                            what: format!("{}: control point {point}", nc.name),
+                            expected:
+                                "a control point that survives the curve constraints' refinement"
+                                    .into(),
+                            got: "a point of a patch split by a curve constraint".into(),
+                        }
+                    })?;
+                    for c in 0..3 {
+                        match known[3 * g + c] {
+                            Some(v) if (v - value[c]).abs() > 1e-12 * (1.0 + v.abs()) => {
+                                inconsistent.push(DroppedRow {
+                                    name: format!("{}, {}", nc.name, ["x", "y", "z"][c]),
+                                    residual: (v - value[c]).abs(),
+                                })
+                            }
+                            Some(_) => {}
+                            None => known[3 * g + c] = Some(value[c]),
+                        }
+                    }
+                    Constraint::Fixed { point: g, value }
+                }
+                ref other => {
+                    let at = other.at().expect("not fixed");
+                    let moved = refinement.locate(at).expect("validated domain point");
+                    other.moved_to(moved)
+                }
+            };
+            located.push((nc.clone(), c));
+        }
+        let mut points = surface.points().to_vec();
+        for (g, p) in points.iter_mut().enumerate() {
+            for c in 0..3 {
+                if let Some(v) = known[3 * g + c] {
+                    p[c] = v;
+                }
+            }
+        }
+        surface.set_points(points)?;
+
+        // 3. Rows: the user's, then continuity.
+        let mut rows: Vec<Row> = Vec::new();
+        for (nc, c) in &located {
+            rows.extend(c.rows(&surface, &nc.name));
+        }
+        let user_rows = rows.len();
+        rows.extend(self.continuity.rows(&surface)?);
+
+        // 4. Eliminate known coordinates.
+        let mut free_index = vec![usize::MAX; coords];
+        let mut free = Vec::new();
+        for (i, k) in known.iter().enumerate() {
+            if k.is_none() {
+                free_index[i] = free.len();
+                free.push(i);
+            }
+        }
+        let x0: Vec<f64> = surface.points().iter().flat_map(|p| *p).collect();
+        let reduced: Vec<(Vec<(usize, f64)>, f64)> = rows
+            .iter()
+            .map(|r| {
+                let mut rhs = r.rhs;
+                let mut terms = Vec::with_capacity(r.terms.len());
+                for &(i, a) in &r.terms {
+                    match known[i] {
+                        Some(v) => rhs -= a * v,
+                        None => terms.push((free_index[i], a)),
+                    }
+                }
+                (terms, rhs)
+            })
+            .collect();
+        let size = bounding_size(surface.points());
+        let (h, b) = self.hessian(&surface, &known, &free_index, free.len())?;
+        seconds.assemble = t.elapsed().as_secs_f64();
+
+        // 5. Classify rows.
+        let t = Instant::now();
+        let sparse: Vec<SparseRow<'_>> = reduced
+            .iter()
+            .map(|(terms, rhs)| SparseRow { terms, rhs: *rhs })
+            .collect();
+        let verdicts = classify(&sparse, free.len(), 1e-9, 1e-9 * size);
+        seconds.classify = t.elapsed().as_secs_f64();
+        let mut dropped = Vec::new();
+        let mut dependent = 0;
+        let mut kept: Vec<usize> = Vec::new();
+        for (r, v) in verdicts.iter().enumerate() {
+            match *v {
+                Verdict::Independent => kept.push(r),
+                Verdict::Dependent => dependent += 1,
+                Verdict::Inconsistent { residual } => {
+                    let d = DroppedRow {
+                        name: rows[r].name.clone(),
+                        residual,
+                    };
+                    if r < user_rows {
+                        inconsistent.push(d);
+                    } else {
+                        dropped.push(d);
+                    }
+                }
+            }
+        }
+
+        // 6. Solve.
+        let t = Instant::now();
+        let mut x = x0.clone();
+        let mut kkt = None;
+        let (mut gradient_norm, mut relative_gradient) = (0.0, 0.0);
+        if !free.is_empty() {
+            let f: Vec<&[(usize, f64)]> = kept.iter().map(|&r| reduced[r].0.as_slice()).collect();
+            let g: Vec<f64> = kept.iter().map(|&r| reduced[r].1).collect();
+            let sol = solve_kkt(&h, &f, &b, &g)?;
+            for (k, &i) in free.iter().enumerate() {
+                x[i] = sol.x[k];
+            }
+            let mut grad = b.clone();
+            for j in 0..free.len() {
+                for (i, v) in h.row_idx_of_col(j).zip(h.val_of_col(j)) {
+                    grad[i] += v * sol.x[j];
+                }
+            }
+            // Scale: ‖H‖∞‖x_f‖∞ + ‖b‖∞, the size of the terms that cancel.
+            let mut row_sums = vec![0.0f64; free.len()];
+            for j in 0..free.len() {
+                for (i, v) in h.row_idx_of_col(j).zip(h.val_of_col(j)) {
+                    row_sums[i] += v.abs();
+                }
+            }
+            let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let scale = inf(&row_sums) * inf(&sol.x) + inf(&b);
+            for (row, lam) in f.iter().zip(&sol.lambda) {
+                for &(i, a) in row.iter() {
+                    grad[i] += a * lam;
+                }
+            }
+            gradient_norm = grad.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            relative_gradient = if scale > 0.0 {
+                gradient_norm / scale
+            } else {
+                gradient_norm
+            };
+            kkt = Some(sol.info);
+        }
+        seconds.solve = t.elapsed().as_secs_f64();
+        let pts: Vec<Vec3> = x.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+        surface.set_points(pts)?;
+
+        // 7. Measure.
+        let continuity_residual = kept
+            .iter()
+            .filter(|&&r| r >= user_rows)
+            .map(|&r| rows[r].residual(&x).abs())
+            .fold(0.0f64, f64::max);
+        let mut outcomes: Vec<ConstraintOutcome> = located
+            .iter()
+            .map(|(nc, c)| ConstraintOutcome {
+                name: nc.name.clone(),
+                kind: c.kind(),
+                violation: c.violation(&surface),
+            })
+            .collect();
+        for (curve, (name, chain)) in self.curves.iter().zip(&chains) {
+            outcomes.push(ConstraintOutcome {
+                name: name.clone(),
+                kind: "curve",
+                violation: curve_distance(&surface, chain, &curve.curve),
+            });
+        }
+        let max_violation = outcomes
+            .iter()
+            .map(|o| {
+                if o.violation.is_nan() {
+                    f64::INFINITY
+                } else {
+                    o.violation
+                }
+            })
+            .fold(0.0f64, f64::max);
+        let stretch = InternalEnergy::new(self.energy.stretch, 0.0).surface_value(&surface)?;
+        let bend = InternalEnergy::new(0.0, self.energy.bend).surface_value(&surface)?;
+        let report = TriReport {
+            stretch,
+            bend,
+            total: stretch + bend,
+            patches: surface.patch_count(),
+            vertices: surface.vertex_count(),
+            points: surface.point_count(),
+            unknowns: free.len(),
+            fixed_coordinates: coords - free.len(),
+            rows: rows.len(),
+            independent_rows: kept.len(),
+            dependent_rows: dependent,
+            dropped,
+            inconsistent,
+            constraints: outcomes,
+            max_violation,
+            continuity_residual,
+            max_edge_normal_angle: max_edge_normal_angle(&surface, 65),
+            gradient_norm,
+            relative_gradient,
+            kkt,
+            seconds: TriTimings {
+                total: start.elapsed().as_secs_f64(),
+                ..seconds
+            },
+        };
+        Ok(TriSolution {
+            surface,
+            origin: refinement.origin,
+            report,
+        })
+    }
+
+    /// Embeds the curves one after another; returns the composed
+    /// refinement and each curve's chain of vertices.
+    fn embed_curves(&self) -> Result<(Refinement, Vec<Chain>)> {
+        let mut r = Refinement::identity(&self.surface);
+        let mut chains = Vec::new();
+        for c in &self.curves {
+            let locate = |p: DomainPoint, which: &str| {
+                check_point(&self.surface, p, &format!("{}: `{which}` point", c.name))?;
+                Ok::<_, Error>(r.locate(p).expect("checked"))
+            };
+            let (from, to) = (locate(c.from, "from")?, locate(c.to, "to")?);
+            let path = embed_curve(&r.surface, &c.curve, from, to, c.through.as_deref())
+                .map_err(|e| named(e, &c.name))?;
+            r = compose(&r, path.refinement);
+            chains.push((c.name.clone(), path.vertices));
+        }
+        Ok((r, chains))
+    }
+
+    /// H over the free coordinates (both triangles) and b = H_fk x_k.
+    fn hessian(
+        &self,
+        surface: &TriSurface,
+        known: &[Option<f64>],
+        free_index: &[usize],
+        free: usize,
+    ) -> Result<(SparseColMat<usize, f64>, Vec<f64>)> {
+        let k = self.energy.surface_matrix(surface)?;
+        let mut triplets = Vec::with_capacity(3 * k.compute_nnz());
+        let mut b = vec![0.0; free];
+        for j in 0..k.ncols() {
+            for (i, v) in k.row_idx_of_col(j).zip(k.val_of_col(j)) {
+                for c in 0..3 {
+                    let (ci, cj) = (3 * i + c, 3 * j + c);
+                    if known[ci].is_some() {
+                        continue;
+                    }
+                    match known[cj] {
+                        Some(xj) => b[free_index[ci]] += v * xj,
+                        None => triplets.push(Triplet::new(free_index[ci], free_index[cj], *v)),
+                    }
+                }
+            }
+        }
+        let h = SparseColMat::try_new_from_triplets(free, free, &triplets).map_err(|e| {
+            Error::Mismatch {
+                what: "energy matrix".into(),
+                expected: "a size that fits in memory".into(),
+                got: format!("{e:?}"),
+            }
+        })?;
+        Ok((h, b))
+    }
+}
+
+/// A curve's name and its chain of mesh vertices.
+type Chain = (String, Vec<usize>);
+
+/// Prefixes an error's description with the constraint's name.
+fn named(e: Error, name: &str) -> Error {
+    match e {
+        Error::Mismatch {
+            what,
+            expected,
+            got,
+        } if !what.starts_with(name) => Error::Mismatch {
+            what: format!("{name}: {what}"),
+            expected,
+            got,
+        },
+        other => other,
+    }
+}
+
+/// outer: original → A; inner: A → B; result: original → B.
+fn compose(outer: &Refinement, inner: Refinement) -> Refinement {
+    let origin = inner
+        .origin
+        .iter()
+        .map(|&(a, corners)| {
+            let (o, oc) = outer.origin[a];
+            let mapped = corners.map(|b| {
+                let mut p = [0.0; 3];
+                for m in 0..3 {
+                    for q in 0..3 {
+                        p[q] += b[m] * oc[m][q];
+                    }
+                }
+                p
+            });
+            (o, mapped)
+        })
+        .collect();
+    Refinement {
+        surface: inner.surface,
+        origin,
+    }
+}
+
+/// The global point of the refined surface that is original point g, if
+/// it survived: a vertex keeps its index, an edge point stays if its edge
+/// was not split, an interior point if its triangle was not split.
+fn map_global(original: &TriSurface, r: &Refinement, g: usize) -> Option<usize> {
+    if g < original.vertex_count() {
+        return Some(g);
+    }
+    let refined = &r.surface;
+    let n = original.degree();
+    let edge_points = original.edges().len() * (n - 1);
+    let local = g - original.vertex_count();
+    if local < edge_points {
+        let (e, pos) = (local / (n - 1), local % (n - 1) + 1);
+        let [a, b] = original.edges()[e].vertices;
+        let e2 = refined.edge_between(a, b)?;
+        return Some(refined.edge_points(e2)[pos]);
+    }
+    let per = (n - 1) * (n - 2) / 2;
+    let t = (local - edge_points) / per;
+    let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    let t2 = (0..refined.patch_count()).find(|&x| r.origin[x] == (t, identity))?;
+    let at = original.patch_indices(t).iter().position(|&x| x == g)?;
+    Some(refined.patch_indices(t2)[at])
+}
+
+/// The globals (with values) along a chain of vertices.
+fn chain_points(surface: &TriSurface, chain: &[usize], name: &str) -> Result<Vec<(usize, Vec3)>> {
+    let mut out = Vec::new();
+    for w in chain.windows(2) {
+        let e = surface
+            .edge_between(w[0], w[1])
+            .ok_or_else(|| Error::Mismatch {
+                what: format!("{name}: chain edge {}–{}", w[0], w[1]),
+                expected: "an edge of the refined mesh".into(),
+                got: "an edge split by a later curve (curves that cross are not supported)".into(),
+            })?;
+        for g in surface.edge_points(e) {
+            out.push((g, surface.points()[g]));
+        }
+    }
+    Ok(out)
+}
+
+/// The largest distance between the chain edges of the surface and the
+/// curve at matching parameters (the chain's edge i covers t ∈ [i/m, (i+1)/m]).
+fn curve_distance(surface: &TriSurface, chain: &[usize], curve: &BezierCurve) -> f64 {
+    let m = chain.len().saturating_sub(1).max(1);
+    let mut worst = 0.0f64;
+    for (i, w) in chain.windows(2).enumerate() {
+        let Some(e) = surface.edge_between(w[0], w[1]) else {
+            return f64::INFINITY;
+        };
+        let pts: Vec<Vec3> = surface
+            .edge_points(e)
+            .iter()
+            .map(|&g| surface.points()[g])
+            .collect();
+        let edge = BezierCurve::new(if surface.edges()[e].vertices[0] == w[0] {
+            pts
+        } else {
+            pts.into_iter().rev().collect()
+        });
+        for s in 0..=16 {
+            let u = s as f64 / 16.0;
+            let t = (i as f64 + u) / m as f64;
+            worst = worst.max(norm(sub(edge.eval(u), curve.eval(t))));
+        }
+    }
+    worst
+}
+
+fn bounding_size(points: &[Vec3]) -> f64 {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in points {
+        for c in 0..3 {
+            lo[c] = lo[c].min(p[c]);
+            hi[c] = hi[c].max(p[c]);
+        }
+    }
+    norm(sub(hi, lo)).max(1.0)
+}

@@ -1,0 +1,558 @@
+//! Constrained variational triangular surfaces (Veltkamp & Wesselink §4,
+//! §6): constraints hold after the solve, exact G1 gives tangent-plane
+//! continuity along every interior edge, planes stay planes, the result is
+//! the constrained minimum, dependent rows are reduced and contradictions
+//! reported, continuity gives way to interpolation, curves are interpolated.
+
+use fairsurf::triangle::{
+    Constraint, Continuity, CurveConstraint, DomainPoint, EdgeContinuity, InternalEnergy,
+    TriProblem, TriReport,
+};
+use fairsurf::vector::{norm, sub};
+use fairsurf::{BezierCurve, Error, TriSurface};
+use std::f64::consts::PI;
+
+/// A hexagon of six triangles around vertex 0, radius 1, every control
+/// point lifted onto z = f(x, y).
+fn hexagon(n: usize, f: impl Fn(f64, f64) -> f64) -> TriSurface {
+    let mut v = vec![[0.0, 0.0, 0.0]];
+    for i in 0..6 {
+        let a = i as f64 * PI / 3.0;
+        v.push([a.cos(), a.sin(), 0.0]);
+    }
+    let t: Vec<[usize; 3]> = (0..6).map(|i| [0, 1 + i, 1 + (i + 1) % 6]).collect();
+    lifted(TriSurface::new(&v, &t, n), f)
+}
+
+/// The unit square as an m × m grid of squares, each cut along its
+/// diagonal into two counter-clockwise triangles.
+fn grid(m: usize, n: usize) -> TriSurface {
+    let id = |i: usize, j: usize| j * (m + 1) + i;
+    let mut v = Vec::new();
+    for j in 0..=m {
+        for i in 0..=m {
+            v.push([i as f64 / m as f64, j as f64 / m as f64, 0.0]);
+        }
+    }
+    let mut t = Vec::new();
+    for j in 0..m {
+        for i in 0..m {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            t.push([a, b, c]);
+            t.push([a, c, d]);
+        }
+    }
+    TriSurface::new(&v, &t, n)
+}
+
+fn lifted(mut s: TriSurface, f: impl Fn(f64, f64) -> f64) -> TriSurface {
+    let pts: Vec<_> = s
+        .points()
+        .iter()
+        .map(|p| [p[0], p[1], f(p[0], p[1])])
+        .collect();
+    s.set_points(pts).unwrap();
+    s
+}
+
+fn saddle(x: f64, y: f64) -> f64 {
+    0.3 * (x * x - y * y) + 0.2 * x * x * y
+}
+
+fn continuity(edges: EdgeContinuity) -> Continuity {
+    Continuity {
+        edges,
+        ..Continuity::default()
+    }
+}
+
+fn bend() -> InternalEnergy {
+    InternalEnergy::new(0.0, 1.0)
+}
+
+/// Every solve must be a solution: refined to round-off, stationary.
+fn assert_sound(r: &TriReport) {
+    let kkt = r.kkt.expect("free points were solved for");
+    assert!(
+        kkt.relative_residual < 1e-12,
+        "KKT residual {:e}",
+        kkt.relative_residual
+    );
+    assert!(
+        r.relative_gradient < 1e-10,
+        "gradient {:e}",
+        r.relative_gradient
+    );
+    assert!(
+        r.continuity_residual < 1e-10,
+        "continuity rows off by {:e}",
+        r.continuity_residual
+    );
+    assert!((r.total - r.stretch - r.bend).abs() <= 1e-15 * r.total.abs().max(1.0));
+}
+
+#[test]
+fn exact_g1_holds_along_every_interior_edge_from_degree_four() {
+    for n in [4, 5, 6] {
+        let p = TriProblem::new(hexagon(n, saddle), bend()).with_fixed_boundary();
+        let s = p.solve().unwrap();
+        let r = &s.report;
+        assert_sound(r);
+        assert!(r.dropped.is_empty(), "n = {n}: {:?}", r.dropped);
+        assert_eq!(r.max_violation, 0.0, "fixed boundary points move");
+        let (angle, _) = r.max_edge_normal_angle.unwrap();
+        assert!(angle <= 1e-8, "n = {n}: normals differ by {angle:e} rad");
+        // Without the edge conditions the same boundary gives a visible crease.
+        let off = TriProblem::new(hexagon(n, saddle), bend())
+            .with_fixed_boundary()
+            .with_continuity(continuity(EdgeContinuity::Off))
+            .solve()
+            .unwrap();
+        assert!(off.report.max_edge_normal_angle.unwrap().0 > 1e-3);
+        // Relaxed lies in between and costs less energy than exact.
+        let relaxed = TriProblem::new(hexagon(n, saddle), bend())
+            .with_fixed_boundary()
+            .with_continuity(continuity(EdgeContinuity::Relaxed))
+            .solve()
+            .unwrap();
+        assert!(relaxed.report.total <= r.total + 1e-12);
+        assert!(off.report.total <= relaxed.report.total + 1e-12);
+    }
+}
+
+#[test]
+fn cubics_cannot_meet_exact_g1_here_and_the_dropped_conditions_are_named() {
+    // 19 free cubic points per coordinate against 22 independent conditions:
+    // the conditions that contradict the fixed boundary give way.
+    let r = TriProblem::new(hexagon(3, saddle), bend())
+        .with_fixed_boundary()
+        .solve()
+        .unwrap()
+        .report;
+    assert_sound(&r);
+    assert!(!r.dropped.is_empty());
+    assert!(r
+        .dropped
+        .iter()
+        .all(|d| d.name.starts_with("G1") && d.residual > 1e-9));
+    assert_eq!(r.max_violation, 0.0);
+    assert!(
+        r.dependent_rows > 0,
+        "the valence-6 vertex rules repeat themselves"
+    );
+}
+
+#[test]
+fn a_surface_whose_constraints_admit_a_plane_stays_planar() {
+    for n in [2, 3, 4, 5] {
+        for edges in [
+            EdgeContinuity::Exact,
+            EdgeContinuity::Relaxed,
+            EdgeContinuity::Off,
+        ] {
+            // A flat boundary, a wildly non-planar start inside.
+            let mut s = hexagon(n, |_, _| 0.0);
+            let boundary = s.boundary_points();
+            let pts: Vec<_> = s
+                .points()
+                .iter()
+                .enumerate()
+                .map(|(g, p)| {
+                    let z = if boundary.contains(&g) {
+                        0.0
+                    } else {
+                        (g as f64 * 1.7).sin()
+                    };
+                    [p[0], p[1], z]
+                })
+                .collect();
+            s.set_points(pts).unwrap();
+            let at = DomainPoint {
+                triangle: 2,
+                bary: [0.2, 0.3, 0.5],
+            };
+            let p = TriProblem::new(s, InternalEnergy::new(0.5, 1.0))
+                .with_fixed_boundary()
+                .with_constraint(
+                    "in plane",
+                    Constraint::InPlane {
+                        at,
+                        normal: [0.0, 0.0, 2.0],
+                        offset: 0.0,
+                    },
+                )
+                .with_constraint(
+                    "normal",
+                    Constraint::Normal {
+                        at,
+                        normal: [0.0, 0.0, 1.0],
+                    },
+                )
+                .with_continuity(continuity(edges));
+            let out = p.solve().unwrap();
+            eprintln!("{n} {edges:?} {:?}", out.report.kkt);
+            eprintln!(
+                "grad {:e} rel {:e} rows {} kept {} dep {} dropped {}",
+                out.report.gradient_norm,
+                out.report.relative_gradient,
+                out.report.rows,
+                out.report.independent_rows,
+                out.report.dependent_rows,
+                out.report.dropped.len()
+            );
+            assert_sound(&out.report);
+            let z = out
+                .surface
+                .points()
+                .iter()
+                .fold(0.0f64, |m, p| m.max(p[2].abs()));
+            assert!(z <= 1e-12, "n = {n}, {edges:?}: |z| up to {z:e}");
+        }
+    }
+}
+
+#[test]
+fn point_and_normal_constraints_hold_to_1e_10() {
+    // The paper's Fig. 1: a flat sheet with its boundary fixed, pulled up at
+    // one point and tilted there.
+    for n in [3, 4] {
+        let at = DomainPoint {
+            triangle: 9,
+            bary: [0.3, 0.3, 0.4],
+        };
+        let p = TriProblem::new(grid(3, n), InternalEnergy::new(0.1, 1.0))
+            .with_fixed_boundary()
+            .with_constraint(
+                "pull",
+                Constraint::Point {
+                    at,
+                    target: [0.55, 0.5, 0.4],
+                },
+            )
+            .with_constraint(
+                "tilt",
+                Constraint::Normal {
+                    at,
+                    normal: [0.3, 0.0, 1.0],
+                },
+            )
+            .with_constraint(
+                "on line",
+                Constraint::OnLine {
+                    at: DomainPoint {
+                        triangle: 4,
+                        bary: [1.0 / 3.0; 3],
+                    },
+                    point: [0.5, 0.2, 0.0],
+                    direction: [0.0, 0.0, 1.0],
+                },
+            );
+        let out = p.solve().unwrap();
+        let r = &out.report;
+        assert_sound(r);
+        assert!(r.inconsistent.is_empty(), "{:?}", r.inconsistent);
+        assert!(r.max_violation <= 1e-10, "n = {n}: {:?}", r.constraints);
+        let names: Vec<_> = r.constraints.iter().map(|c| c.name.as_str()).collect();
+        assert!(names.contains(&"pull") && names.contains(&"tilt"));
+        // The surface really went up there.
+        let top = out.surface.patch(9).eval([0.3, 0.3, 0.4]);
+        assert!((top[2] - 0.4).abs() < 1e-10);
+    }
+}
+
+#[test]
+fn the_solution_is_the_constrained_minimum() {
+    // Continuity off so that feasible perturbations are easy to name: any
+    // free point outside the constrained patch may move.
+    let at = DomainPoint {
+        triangle: 3,
+        bary: [0.2, 0.5, 0.3],
+    };
+    let energy = InternalEnergy::new(0.2, 1.0);
+    let out = TriProblem::new(grid(2, 3), energy)
+        .with_fixed_boundary()
+        .with_constraint(
+            "p",
+            Constraint::Point {
+                at,
+                target: [0.7, 0.3, 0.25],
+            },
+        )
+        .with_continuity(Continuity::none())
+        .solve()
+        .unwrap();
+    let s = out.surface;
+    let e0 = energy.surface_value(&s).unwrap();
+    assert!((e0 - out.report.total).abs() <= 1e-14 * e0);
+    let held: Vec<usize> = s.patch_indices(3).to_vec();
+    let boundary = s.boundary_points();
+    let movable: Vec<usize> = (0..s.point_count())
+        .filter(|g| !held.contains(g) && !boundary.contains(g))
+        .collect();
+    assert!(!movable.is_empty());
+    for (k, &g) in movable.iter().enumerate() {
+        let d = [(k as f64).sin(), (k as f64 * 0.7).cos(), 0.5];
+        let eps = 1e-4;
+        let at_eps = |e: f64| {
+            let mut t = s.clone();
+            let p = s.points()[g];
+            t.set_point(g, [p[0] + e * d[0], p[1] + e * d[1], p[2] + e * d[2]]);
+            energy.surface_value(&t).unwrap()
+        };
+        let (plus, minus) = (at_eps(eps), at_eps(-eps));
+        assert!(plus > e0 && minus > e0, "point {g}: {plus} {minus} vs {e0}");
+        // First order vanishes: the difference is round-off against ε².
+        assert!(
+            (plus - minus).abs() <= 1e-6 * (plus - e0) + 1e-14 * e0,
+            "point {g}: {plus} {minus} vs {e0}"
+        );
+    }
+    // Cross-check with a dense Cholesky solve of the same unconstrained
+    // problem (no point constraint): H_ff x_f = −H_fk x_k per coordinate.
+    let free_run = TriProblem::new(grid(2, 3), energy)
+        .with_fixed_boundary()
+        .with_continuity(Continuity::none())
+        .solve()
+        .unwrap();
+    let s0 = grid(2, 3);
+    let k = energy.surface_matrix_dense(&s0).unwrap();
+    let free: Vec<usize> = (0..s0.point_count())
+        .filter(|g| !boundary.contains(g))
+        .collect();
+    let h = faer::Mat::<f64>::from_fn(free.len(), free.len(), |i, j| k[(free[i], free[j])]);
+    let llt = h.llt(faer::Side::Lower).unwrap();
+    for c in 0..3 {
+        let rhs = faer::Mat::<f64>::from_fn(free.len(), 1, |i, _| {
+            -boundary
+                .iter()
+                .map(|&b| k[(free[i], b)] * s0.points()[b][c])
+                .sum::<f64>()
+        });
+        let x = faer::linalg::solvers::Solve::solve(&llt, &rhs);
+        for (i, &g) in free.iter().enumerate() {
+            let got = free_run.surface.points()[g][c];
+            assert!((got - x[(i, 0)]).abs() < 1e-12, "point {g}, coordinate {c}");
+        }
+    }
+}
+
+#[test]
+fn dependent_rows_are_reduced_and_contradictions_reported_by_name() {
+    let at = DomainPoint {
+        triangle: 1,
+        bary: [0.25, 0.25, 0.5],
+    };
+    let base = || {
+        TriProblem::new(grid(2, 3), bend())
+            .with_fixed_boundary()
+            .with_continuity(Continuity::none())
+            .with_constraint(
+                "first",
+                Constraint::Point {
+                    at,
+                    target: [0.4, 0.5, 0.2],
+                },
+            )
+    };
+    // The same constraint twice: three more dependent rows, nothing else.
+    let once = base().solve().unwrap().report;
+    let twice = base()
+        .with_constraint(
+            "again",
+            Constraint::Point {
+                at,
+                target: [0.4, 0.5, 0.2],
+            },
+        )
+        .solve()
+        .unwrap()
+        .report;
+    assert_eq!(twice.dependent_rows, once.dependent_rows + 3);
+    assert!(twice.inconsistent.is_empty());
+    assert!(twice.max_violation <= 1e-10);
+    // A different target at the same point: the later one is inconsistent,
+    // by name and residual; the first still holds.
+    let r = base()
+        .with_constraint(
+            "clash",
+            Constraint::Point {
+                at,
+                target: [0.4, 0.5, 0.5],
+            },
+        )
+        .solve()
+        .unwrap()
+        .report;
+    assert_eq!(r.inconsistent.len(), 1, "{:?}", r.inconsistent);
+    assert_eq!(r.inconsistent[0].name, "clash, z");
+    let first = r.constraints.iter().find(|c| c.name == "first").unwrap();
+    let clash = r.constraints.iter().find(|c| c.name == "clash").unwrap();
+    assert!(first.violation <= 1e-10);
+    assert!((clash.violation - 0.3).abs() <= 1e-10);
+    assert!((r.max_violation - 0.3).abs() <= 1e-10);
+}
+
+#[test]
+fn continuity_gives_way_to_interpolation_constraints() {
+    // A straight boundary side whose control points are spaced unevenly: the
+    // boundary vertex rule (angle π) asks for equal tangents and must yield
+    // to the fixed boundary.
+    let mut s = lifted(grid(2, 4), |x, y| 0.2 * x * y);
+    let side = s
+        .boundary_edges()
+        .into_iter()
+        .find(|&e| s.edges()[e].vertices == [0, 1])
+        .unwrap();
+    let g = s.edge_points(side)[3]; // next to vertex 1
+    let p = s.points()[g];
+    s.set_point(g, [0.5 - 0.25 * (0.5 - p[0]), p[1], p[2]]);
+    let r = TriProblem::new(s, bend())
+        .with_fixed_boundary()
+        .solve()
+        .unwrap()
+        .report;
+    assert_sound(&r);
+    assert!(
+        r.dropped.iter().any(|d| d.name.contains("vertex 1")),
+        "{:?}",
+        r.dropped
+    );
+    assert_eq!(r.max_violation, 0.0);
+}
+
+#[test]
+fn a_curve_across_patches_is_interpolated() {
+    // Fig. 2: the curve runs from one patch through others; the patches it
+    // crosses are split and their common edges take its control points.
+    let curve = BezierCurve::new(vec![
+        [0.15, 0.2, 0.0],
+        [0.4, 0.6, 0.5],
+        [0.7, 0.3, 0.4],
+        [0.85, 0.75, 0.0],
+    ]);
+    let s = grid(3, 3);
+    let (from, to) = (
+        DomainPoint {
+            triangle: 0,
+            bary: [0.5, 0.3, 0.2],
+        },
+        DomainPoint {
+            triangle: 17,
+            bary: [0.2, 0.3, 0.5],
+        },
+    );
+    let before = s.patch_count();
+    let out = TriProblem::new(s, InternalEnergy::new(0.1, 1.0))
+        .with_fixed_boundary()
+        .with_curve(CurveConstraint {
+            name: "ridge".into(),
+            curve: curve.clone(),
+            from,
+            to,
+            through: None,
+        })
+        .solve()
+        .unwrap();
+    let r = &out.report;
+    assert_sound(r);
+    assert!(r.patches > before);
+    let ridge = r.constraints.iter().find(|c| c.name == "ridge").unwrap();
+    assert_eq!(ridge.kind, "curve");
+    assert!(ridge.violation <= 1e-10, "{}", ridge.violation);
+    assert!(r.max_violation <= 1e-10);
+    // The curve's top is reached by the surface.
+    let top = curve.eval(0.5);
+    let close = out
+        .surface
+        .points()
+        .iter()
+        .any(|p| norm(sub(*p, top)) < 1e-12);
+    assert!(
+        close,
+        "the middle of the curve is a mesh vertex of the result"
+    );
+}
+
+#[test]
+fn bad_constraints_are_errors_naming_them() {
+    let s = grid(1, 3);
+    let solve = |c: Constraint| {
+        TriProblem::new(s.clone(), bend())
+            .with_fixed_boundary()
+            .with_constraint("constraints[0]", c)
+            .solve()
+            .err()
+            .unwrap_or_else(|| panic!("accepted"))
+    };
+    let inside = [1.0 / 3.0; 3];
+    let cases = [
+        Constraint::Point {
+            at: DomainPoint {
+                triangle: 9,
+                bary: inside,
+            },
+            target: [0.0; 3],
+        },
+        Constraint::Point {
+            at: DomainPoint {
+                triangle: 0,
+                bary: [0.5, 0.6, -0.1],
+            },
+            target: [0.0; 3],
+        },
+        Constraint::Point {
+            at: DomainPoint {
+                triangle: 0,
+                bary: inside,
+            },
+            target: [f64::NAN, 0.0, 0.0],
+        },
+        Constraint::Normal {
+            at: DomainPoint {
+                triangle: 0,
+                bary: inside,
+            },
+            normal: [0.0; 3],
+        },
+        Constraint::InPlane {
+            at: DomainPoint {
+                triangle: 0,
+                bary: inside,
+            },
+            normal: [0.0, 0.0, 1.0],
+            offset: f64::INFINITY,
+        },
+        Constraint::OnLine {
+            at: DomainPoint {
+                triangle: 0,
+                bary: inside,
+            },
+            point: [0.0; 3],
+            direction: [0.0; 3],
+        },
+        Constraint::Fixed {
+            point: 999,
+            value: [0.0; 3],
+        },
+    ];
+    for c in cases {
+        let e = solve(c.clone());
+        assert!(e.to_string().contains("constraints[0]"), "{c:?}: {e}");
+    }
+    let bad_angle = TriProblem::new(s.clone(), bend())
+        .with_fixed_boundary()
+        .with_continuity(Continuity {
+            boundary_angles: vec![(0, 7.0)],
+            ..Continuity::default()
+        })
+        .solve()
+        .unwrap_err();
+    assert!(bad_angle.to_string().contains("vertex 0"), "{bad_angle}");
+    let negative = TriProblem::new(s.clone(), InternalEnergy::new(-1.0, 1.0))
+        .solve()
+        .unwrap_err();
+    assert!(matches!(negative, Error::NegativeWeight { .. }));
+    // Nothing holds the surface: bend alone cannot fix an unconstrained net.
+    let loose = TriProblem::new(s, bend()).solve().unwrap_err();
+    assert!(matches!(loose, Error::Singular { .. }), "{loose}");
+}
