@@ -68,9 +68,10 @@ pub fn run(a: Args) -> Result<(), Failure> {
         .map(colour_range)
         .transpose()?
         .flatten();
-    let patch = crate::input::surface(&a.file)?.patch;
+    let loaded = crate::input::surface(&a.file)?;
     crate::solve::ensure_parent(&a.output)?;
-    let (n, m) = patch.degree();
+    let patches = loaded.patches;
+    let (n, m) = patches[0].degree();
     match format {
         Format::Step | Format::Iges => {
             if n.max(m) > OCC_MAX_DEGREE {
@@ -79,19 +80,29 @@ pub fn run(a: Args) -> Result<(), Failure> {
                      Open CASCADE-based readers (FreeCAD, gmsh, CadQuery) accept; they drop such surfaces"
                 );
             }
-            let patches = [patch];
             match format {
                 Format::Step => write_step(&a.output, &patches)?,
                 _ => write_iges(&a.output, &patches)?,
             }
-            crate::say!(
-                "{}: degree {n}×{m} Bézier patch as one B-spline face",
-                a.output.display()
-            );
+            if loaded.tri.is_some() {
+                crate::say!(
+                    "{}: {} triangular patches of degree {n} as B-spline faces of degree {n}×{m} (one side collapsed)",
+                    a.output.display(),
+                    patches.len()
+                );
+            } else {
+                crate::say!(
+                    "{}: degree {n}×{m} Bézier patch as one B-spline face",
+                    a.output.display()
+                );
+            }
         }
         Format::Mesh => {
             let r = a.resolution as usize;
-            let mesh = SurfaceMesh::from_patch(&patch, r, r);
+            let mesh = match &loaded.tri {
+                Some(t) => SurfaceMesh::from_tri_surface(t, r),
+                None => SurfaceMesh::from_patch(&patches[0], r, r),
+            };
             let options = MeshOptions {
                 colour_range: range,
             };

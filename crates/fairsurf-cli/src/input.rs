@@ -1,8 +1,8 @@
 //! Reading the surface a command works on.
 
 use crate::Failure;
-use fairsurf::TensorPatch;
-use fairsurf_io::{Built, Scene};
+use fairsurf::{TensorPatch, TriSurface};
+use fairsurf_io::{is_triangular, Built, Scene, TriScene};
 use std::path::Path;
 
 /// Prefixes an I/O-crate error with the file it is about.
@@ -14,32 +14,62 @@ pub(crate) fn with_file(path: &Path) -> impl Fn(fairsurf_io::Error) -> Failure +
     }
 }
 
+/// The text of a scene file.
+pub(crate) fn read(path: &Path) -> Result<String, Failure> {
+    std::fs::read_to_string(path).map_err(|source| {
+        with_file(path)(fairsurf_io::Error::Read {
+            path: path.to_path_buf(),
+            source,
+        })
+    })
+}
+
 /// A scene file and its surface.
 pub(crate) struct Loaded {
-    /// The scene as read.
-    pub scene: Scene,
-    /// Its surface.
-    pub patch: TensorPatch,
-    /// The validated scene, when it was solved here (a result file is not).
+    /// The tensor scene as read (None for a triangular scene).
+    pub scene: Option<Scene>,
+    /// The surface as tensor patches: the patch of a tensor scene, or every
+    /// triangular patch as an exact tensor patch with a collapsed side.
+    pub patches: Vec<TensorPatch>,
+    /// The triangular surface, for a triangular scene.
+    pub tri: Option<TriSurface>,
+    /// The validated tensor scene, when it was solved here (a result file is not).
     pub built: Option<Built>,
 }
 
 /// The scene in `path` and its surface: a result file (one with a
 /// `"report"`) as it is, any other scene solved.
 pub(crate) fn surface(path: &Path) -> Result<Loaded, Failure> {
-    let scene = Scene::read(path).map_err(with_file(path))?;
+    let text = read(path)?;
+    if is_triangular(&text) {
+        let scene = TriScene::from_json(&text).map_err(with_file(path))?;
+        let tri = if scene.report.is_some() {
+            scene.surface().map_err(with_file(path))?
+        } else {
+            scene.solve().map_err(with_file(path))?.solution.surface
+        };
+        return Ok(Loaded {
+            scene: None,
+            patches: tri.tensor_patches(),
+            tri: Some(tri),
+            built: None,
+        });
+    }
+    let scene = Scene::from_json(&text).map_err(with_file(path))?;
     if scene.report.is_some() {
         let patch = scene.surface_patch().map_err(with_file(path))?;
         return Ok(Loaded {
-            scene,
-            patch,
+            scene: Some(scene),
+            patches: vec![patch],
+            tri: None,
             built: None,
         });
     }
     let solved = scene.solve().map_err(with_file(path))?;
     Ok(Loaded {
-        patch: solved.patch().clone(),
+        patches: vec![solved.patch().clone()],
         built: Some(solved.built),
-        scene,
+        scene: Some(scene),
+        tri: None,
     })
 }

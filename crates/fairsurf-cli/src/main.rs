@@ -46,8 +46,13 @@ enum Command {
     Export(export::Args),
     /// Evaluate points and unit normals of a solved surface at given (u, v).
     Eval(eval::Args),
-    /// Print the JSON Schema of scene files.
-    Schema,
+    /// Print the JSON Schema of scene files (tensor, or with --triangular
+    /// the triangular-surface scenes).
+    Schema {
+        /// The schema of triangular-surface scenes.
+        #[arg(long)]
+        triangular: bool,
+    },
 }
 
 /// An error with the exit status it deserves.
@@ -86,11 +91,13 @@ fn main() -> ExitCode {
         Command::Eval(a) => eval::run(a),
         Command::Export(a) => export::run(a),
         Command::Render(a) => render::run(a),
-        Command::Schema => {
-            say!(
-                "{}",
-                serde_json::to_string_pretty(&fairsurf_io::Scene::json_schema()).expect("schema")
-            );
+        Command::Schema { triangular } => {
+            let schema = if triangular {
+                fairsurf_io::TriScene::json_schema()
+            } else {
+                fairsurf_io::Scene::json_schema()
+            };
+            say!("{}", serde_json::to_string_pretty(&schema).expect("schema"));
             Ok(())
         }
     };

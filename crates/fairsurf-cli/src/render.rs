@@ -146,23 +146,25 @@ fn title(path: &Path) -> String {
 fn panel(path: &Path, normals: bool) -> Result<Panel, Failure> {
     let Loaded {
         scene,
-        patch,
+        patches,
         built,
+        ..
     } = surface(path)?;
-    let arrows = if normals {
-        let built = match built {
-            Some(b) => b,
-            None => scene.build().map_err(with_file(path))?,
-        };
-        built
-            .normal_field
-            .map(|nf| field_arrows(&patch, &nf.guide))
-            .unwrap_or_default()
-    } else {
-        vec![]
+    let arrows = match (normals, scene) {
+        (true, Some(scene)) => {
+            let built = match built {
+                Some(b) => b,
+                None => scene.build().map_err(with_file(path))?,
+            };
+            built
+                .normal_field
+                .map(|nf| field_arrows(&patches[0], &nf.guide))
+                .unwrap_or_default()
+        }
+        _ => vec![],
     };
     Ok(Panel {
-        patches: vec![patch],
+        patches,
         title: Some(title(path)),
         arrows,
     })

@@ -1,7 +1,9 @@
 //! `fairsurf solve`.
 
 use crate::Failure;
-use fairsurf_io::{write_mesh, MeshFormat, Outcome, Scene, SolvedScene, SurfaceMesh};
+use fairsurf_io::{
+    write_mesh, MeshFormat, Outcome, Scene, SolvedScene, SolvedTriScene, SurfaceMesh, TriScene,
+};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -105,7 +107,11 @@ fn solve_one(path: &Path, out: Option<&Path>, a: &Args) -> Result<String, Failur
         f.message = format!("{}: {}", path.display(), f.message);
         f
     };
-    let scene = Scene::read(path).map_err(with_file)?;
+    let text = crate::input::read(path)?;
+    if fairsurf_io::is_triangular(&text) {
+        return solve_triangular(path, &text, out, a);
+    }
+    let scene = Scene::from_json(&text).map_err(with_file)?;
     let spinner = spinner_for(&scene);
     let solved = scene.solve().map_err(with_file);
     spinner.finish_and_clear();
@@ -127,6 +133,116 @@ fn solve_one(path: &Path, out: Option<&Path>, a: &Args) -> Result<String, Failur
         return Ok(serde_json::to_string_pretty(&solved.report_json()).expect("json"));
     }
     Ok(summary(path, &solved, &written))
+}
+
+/// A triangular scene (Veltkamp & Wesselink): solve, write, summarize.
+fn solve_triangular(
+    path: &Path,
+    text: &str,
+    out: Option<&Path>,
+    a: &Args,
+) -> Result<String, Failure> {
+    let with_file = crate::input::with_file(path);
+    let scene = TriScene::from_json(text).map_err(&with_file)?;
+    let solved = scene.solve().map_err(&with_file)?;
+    for file in out.iter().copied().chain(a.mesh.as_deref()) {
+        ensure_parent(file)?;
+    }
+    let mut written = Vec::new();
+    if let Some(o) = out {
+        solved.write(o)?;
+        written.push(o.display().to_string());
+    }
+    if let Some(m) = &a.mesh {
+        let r = (a.resolution as usize).div_ceil(4).max(1);
+        write_mesh(m, &SurfaceMesh::from_tri_surface(solved.surface(), r))?;
+        written.push(m.display().to_string());
+    }
+    if a.json {
+        return Ok(serde_json::to_string_pretty(&solved.report_json()).expect("json"));
+    }
+    Ok(tri_summary(path, &solved, &written))
+}
+
+fn tri_summary(path: &Path, s: &SolvedTriScene, written: &[String]) -> String {
+    let r = &s.solution.report;
+    let n = s.surface().degree();
+    let mut lines = vec![format!(
+        "{}: triangular, degree {n}, {} patches ({} vertices, {} control points), {} unknowns",
+        path.display(),
+        r.patches,
+        r.vertices,
+        r.points,
+        r.unknowns
+    )];
+    lines.push(format!(
+        "  energy {:.10e} = stretch {:.10e} + bend {:.10e}",
+        r.total, r.stretch, r.bend
+    ));
+    lines.push(format!(
+        "  constraint rows {}: {} independent, {} dependent (reduced), {} continuity dropped, {} inconsistent",
+        r.rows,
+        r.independent_rows,
+        r.dependent_rows,
+        r.dropped.len(),
+        r.inconsistent.len()
+    ));
+    let fixed: Vec<f64> = r
+        .constraints
+        .iter()
+        .filter(|c| c.kind == "fixed")
+        .map(|c| c.violation)
+        .collect();
+    if !fixed.is_empty() {
+        let worst = fixed.iter().fold(0.0f64, |m, v| m.max(*v));
+        lines.push(format!(
+            "  {} fixed control points: violation {worst:.2e}",
+            fixed.len()
+        ));
+    }
+    for c in r.constraints.iter().filter(|c| c.kind != "fixed") {
+        lines.push(format!(
+            "  {} ({}): violation {:.2e}",
+            c.name, c.kind, c.violation
+        ));
+    }
+    lines.push(format!(
+        "  max constraint violation {:.2e}; continuity rows off by {:.2e}",
+        r.max_violation, r.continuity_residual
+    ));
+    if let Some((angle, [a, b])) = r.max_edge_normal_angle {
+        lines.push(format!(
+            "  largest normal angle across interior edges {angle:.2e} rad (edge {a}–{b})"
+        ));
+    }
+    const LIST: usize = 5;
+    for (what, list) in [("dropped", &r.dropped), ("inconsistent", &r.inconsistent)] {
+        for d in list.iter().take(LIST) {
+            lines.push(format!(
+                "  {what}: {} (residual {:.2e})",
+                d.name, d.residual
+            ));
+        }
+        if list.len() > LIST {
+            lines.push(format!(
+                "  … and {} more {what} (see the report)",
+                list.len() - LIST
+            ));
+        }
+    }
+    if let Some(k) = &r.kkt {
+        lines.push(format!(
+            "  gradient {:.2e} (relative {:.2e})  KKT {}×{}: residual {:.2e}, condition ≈ {:.2e}, refinement steps {}",
+            r.gradient_norm, r.relative_gradient, k.size, k.size, k.relative_residual, k.condition, k.refinement_steps
+        ));
+    }
+    let wrote = if written.is_empty() {
+        String::new()
+    } else {
+        format!(" → wrote {}", written.join(", "))
+    };
+    lines.push(format!("  {:.3} s{wrote}", r.seconds.total));
+    lines.join("\n")
 }
 
 pub(crate) fn ensure_parent(file: &Path) -> Result<(), Failure> {

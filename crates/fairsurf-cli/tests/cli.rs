@@ -545,3 +545,164 @@ fn export_writes_cad_and_meshes_and_refuses_unknown_formats() {
     }
     assert!(!d.join("m.dwg").exists());
 }
+
+#[test]
+fn triangular_scenes_solve_write_results_that_solve_again_and_export() {
+    let d = tmpdir("triangular");
+    for name in ["vw_hexagon_hole", "vw_fig1_point_normal", "vw_fig2_curve"] {
+        let scene = examples().join(format!("{name}.json"));
+        let result = d.join(format!("{name}.result.json"));
+        let mesh = d.join(format!("{name}.ply"));
+        let o = fairsurf(&[
+            "solve",
+            scene.to_str().unwrap(),
+            "-o",
+            result.to_str().unwrap(),
+            "--mesh",
+            mesh.to_str().unwrap(),
+            "--json",
+        ]);
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        let report: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert!(
+            report["max_violation"].as_f64().unwrap() <= 1e-10,
+            "{name}: {report}"
+        );
+        assert!(report["kkt"]["relative_residual"].as_f64().unwrap() < 1e-12);
+        assert!(std::fs::metadata(&mesh).unwrap().len() > 1000);
+        // The result file solves to the same surface.
+        let first: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&result).unwrap()).unwrap();
+        let again = d.join(format!("{name}.again.json"));
+        let o = fairsurf(&[
+            "solve",
+            result.to_str().unwrap(),
+            "-o",
+            again.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        let second: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&again).unwrap()).unwrap();
+        let pts = |v: &serde_json::Value| -> Vec<f64> {
+            v["surface"]["control_points"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .flat_map(|p| p.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()))
+                .collect()
+        };
+        let (a, b) = (pts(&first), pts(&second));
+        assert_eq!(a.len(), b.len());
+        let worst = a
+            .iter()
+            .zip(&b)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+        assert!(
+            worst < 1e-12,
+            "{name}: re-solving moved a point by {worst:e}"
+        );
+    }
+    // The hexagon: exact G1 inside, reported.
+    let o = fairsurf(&[
+        "solve",
+        examples().join("vw_hexagon_hole.json").to_str().unwrap(),
+    ]);
+    let text = String::from_utf8_lossy(&o.stdout).into_owned();
+    let angle: f64 = text
+        .split("interior edges ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(angle <= 1e-8, "{text}");
+    // STEP of a triangular surface: one face per patch.
+    let step = d.join("hex.step");
+    let o = fairsurf(&[
+        "export",
+        d.join("vw_hexagon_hole.result.json").to_str().unwrap(),
+        "-o",
+        step.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&step).unwrap();
+    assert_eq!(text.matches("ADVANCED_FACE").count(), 6);
+}
+
+#[test]
+fn bad_triangular_scenes_exit_2_naming_the_field() {
+    let d = tmpdir("triangular-bad");
+    let base: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(examples().join("vw_fig1_point_normal.json")).unwrap(),
+    )
+    .unwrap();
+    type Edit = Box<dyn Fn(&mut serde_json::Value)>;
+    let cases: Vec<(&str, Edit, &str)> = vec![
+        (
+            "degree",
+            Box::new(|v| v["surface"]["degree"] = "x".into()),
+            "surface.degree",
+        ),
+        (
+            "zero degree",
+            Box::new(|v| v["surface"]["degree"] = 0.into()),
+            "surface.degree",
+        ),
+        (
+            "triangle",
+            Box::new(|v| v["surface"]["triangles"][3] = serde_json::json!([0, 0, 1])),
+            "surface",
+        ),
+        (
+            "target",
+            Box::new(|v| {
+                v["constraints"][0]
+                    .as_object_mut()
+                    .unwrap()
+                    .remove("target")
+                    .map(|_| ())
+                    .unwrap()
+            }),
+            "constraints[0].target",
+        ),
+        (
+            "kind",
+            Box::new(|v| v["constraints"][1]["type"] = "magnet".into()),
+            "constraints[1].type",
+        ),
+        (
+            "outside",
+            Box::new(|v| v["constraints"][0]["at"]["bary"] = serde_json::json!([0.9, 0.9, -0.8])),
+            "pull",
+        ),
+        (
+            "zero normal",
+            Box::new(|v| v["constraints"][1]["normal"] = serde_json::json!([0, 0, 0])),
+            "tilt",
+        ),
+        (
+            "weight",
+            Box::new(|v| v["energy"]["bend"] = serde_json::json!(-1.0)),
+            "energy.bend",
+        ),
+        (
+            "unknown",
+            Box::new(|v| v["continuity"]["edge"] = "exact".into()),
+            "continuity",
+        ),
+    ];
+    for (what, change, field) in cases {
+        let mut v = base.clone();
+        change(&mut v);
+        let path = d.join("bad.json");
+        std::fs::write(&path, serde_json::to_string(&v).unwrap()).unwrap();
+        let out = d.join("never.json");
+        let o = fairsurf(&["solve", path.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{what}: {}", stderr(&o));
+        assert!(stderr(&o).contains(field), "{what}: {}", stderr(&o));
+        assert!(!out.exists(), "{what}: wrote a result");
+    }
+    let o = fairsurf(&["schema", "--triangular"]);
+    let schema: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(schema.to_string().contains("triangular"));
+}

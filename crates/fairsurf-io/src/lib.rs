@@ -32,6 +32,7 @@ mod result;
 mod scene;
 mod step;
 mod surface_mesh;
+mod tri_scene;
 mod validate;
 
 pub use atomic::write_atomic;
@@ -41,9 +42,14 @@ pub use iges::write_iges;
 pub use mesh::{write_mesh, write_mesh_with, MeshFormat, MeshOptions};
 pub use result::{construction_report_json, report_json, Outcome, SolvedScene};
 pub use scene::{
-    EnergySpec, GuideSurfaceSpec, Method, Net, NormalFieldSpec, NumberOrGrid, SamplingSpec, Scene,
-    SurfaceSpec, TensorSpec,
+    is_triangular, EnergySpec, GuideSurfaceSpec, Method, Net, NormalFieldSpec, NumberOrGrid,
+    SamplingSpec, Scene, SurfaceSpec, TensorSpec,
 };
 pub use step::write_step;
 pub use surface_mesh::SurfaceMesh;
+pub use tri_scene::{
+    tri_report_json, BoundaryAngleSpec, ConstraintKind, ConstraintSpec, ContinuitySpec,
+    DomainPointSpec, EdgesSpec, SolvedTriScene, TriEnergySpec, TriScene, TriSurfaceSpec,
+    TriangularKind,
+};
 pub use validate::{Built, Plan};

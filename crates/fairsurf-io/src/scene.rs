@@ -226,15 +226,7 @@ impl Scene {
     /// Parses a scene; errors name the JSON path (`surface.degree[1]: invalid
     /// type: string "a", expected usize at line 3 column 20`).
     pub fn from_json(text: &str) -> crate::Result<Scene> {
-        let de = &mut serde_json::Deserializer::from_str(text);
-        let scene: Scene = serde_path_to_error::deserialize(de).map_err(|e| {
-            let path = e.path().to_string();
-            crate::Error::scene(
-                if path == "." { String::new() } else { path },
-                e.into_inner().to_string(),
-            )
-        })?;
-        Ok(scene)
+        parse_with_path(text)
     }
 
     /// Reads and parses a scene file.
@@ -255,4 +247,31 @@ impl Scene {
     pub fn tensor(&self) -> &TensorSpec {
         &self.surface
     }
+}
+
+/// Parses JSON into `T`; errors name the JSON path.
+pub(crate) fn parse_with_path<T: serde::de::DeserializeOwned>(text: &str) -> crate::Result<T> {
+    let de = &mut serde_json::Deserializer::from_str(text);
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let path = e.path().to_string();
+        crate::Error::scene(
+            if path == "." { String::new() } else { path },
+            e.into_inner().to_string(),
+        )
+    })
+}
+
+/// Which kind of scene a JSON text holds: `"triangular"` when its
+/// `surface.type` says so, tensor otherwise (including when it does not
+/// parse, so that the tensor parser reports the error with its path).
+pub fn is_triangular(text: &str) -> bool {
+    serde_json::from_str::<serde_json::Value>(text)
+        .ok()
+        .and_then(|v| {
+            v.get("surface")?
+                .get("type")?
+                .as_str()
+                .map(|t| t == "triangular")
+        })
+        .unwrap_or(false)
 }

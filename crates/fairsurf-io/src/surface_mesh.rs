@@ -2,7 +2,7 @@
 //! every vertex, for the mesh writers (PLY properties, glTF colours).
 
 use fairsurf::analysis::{curvature, Curvature};
-use fairsurf::{TensorPatch, TriMesh};
+use fairsurf::{TensorPatch, TriMesh, TriSurface};
 
 /// A [`TriMesh`] sampled from a patch together with the exact curvature of
 /// the patch at each vertex's (u, v): `curvature()[k]` belongs to
@@ -34,6 +34,14 @@ impl SurfaceMesh {
     /// with the curvature at every vertex.
     pub fn from_patch(patch: &TensorPatch, ru: usize, rv: usize) -> Self {
         let (mesh, curvature) = TriMesh::with_curvature(patch, ru, rv);
+        Self { mesh, curvature }
+    }
+
+    /// A triangular surface, each patch sampled at (i, j, r−i−j)/r
+    /// ([`TriSurface::mesh_with_curvature`]), with the curvature at every
+    /// vertex.
+    pub fn from_tri_surface(surface: &TriSurface, r: usize) -> Self {
+        let (mesh, curvature) = surface.mesh_with_curvature(r);
         Self { mesh, curvature }
     }
 

@@ -141,9 +141,11 @@ pub(crate) fn solve_kkt(
             unknowns: n,
             condition,
             hint: format!(
-                "the energy and the {m} independent constraint equations do not determine \
-                 the {n} free coordinates (a direction costs nothing): fix more of the \
-                 boundary, add constraints, or add stretch"
+                "with the {m} independent constraint equations the KKT system is singular \
+                 to working precision: either a direction of the {n} free coordinates costs \
+                 nothing (fix more of the boundary, add constraints or stretch) or the \
+                 continuity conditions are too many for the mesh (try relaxed or vertex-only \
+                 continuity, or a higher degree)"
             ),
         });
     }

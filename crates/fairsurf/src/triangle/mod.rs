@@ -69,6 +69,7 @@ mod assemble;
 mod bernstein;
 mod constraint;
 mod continuity;
+mod convert;
 mod derivatives;
 mod elevate;
 mod energy;

@@ -158,6 +158,9 @@ pub struct TriSolution {
     pub surface: TriSurface,
     /// Where its triangles lie in the original domain.
     pub origin: Vec<(usize, [[f64; 3]; 3])>,
+    /// The global control points of the result that were held fixed
+    /// (fixed constraints, the boundary if fixed, the curves' chain edges).
+    pub fixed: Vec<usize>,
     /// How good it is.
     pub report: TriReport,
 }
@@ -453,9 +456,13 @@ impl TriProblem {
                 ..seconds
             },
         };
+        let fixed = (0..surface.point_count())
+            .filter(|g| (0..3).all(|c| known[3 * g + c].is_some()))
+            .collect();
         Ok(TriSolution {
             surface,
             origin: refinement.origin,
+            fixed,
             report,
         })
     }

@@ -1,0 +1,575 @@
+//! Scene files of triangular surfaces (`"surface": {"type": "triangular"}`;
+//! Veltkamp & Wesselink): a triangle mesh, the degree of its Bézier
+//! patches, energy weights, default continuity and a list of constraints.
+//!
+//! Field docs here become the descriptions in `fairsurf schema --triangular`.
+
+use crate::{write_atomic, Error, Result};
+use fairsurf::triangle::{
+    Constraint, Continuity, CurveConstraint, DomainPoint, EdgeContinuity, InternalEnergy,
+    Refinement, TriProblem, TriReport, TriSolution,
+};
+use fairsurf::{BezierCurve, TriSurface};
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+use serde_json::{json, Value};
+use std::path::Path;
+
+/// A scene of a triangular Bézier surface: minimize α·stretch + β·bend
+/// (eq. 6–7, exact over the equilateral domain triangle of side 1, eq.
+/// 25–27) subject to the constraints (eq. 31–33).
+#[derive(Clone, Debug, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct TriScene {
+    /// Free text: a title.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// Free text: what the scene shows.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub description: Option<String>,
+    /// The mesh and its patches.
+    pub surface: TriSurfaceSpec,
+    /// Fix every boundary control point at its value (default true; the
+    /// paper: "at least a number of boundary points should be interpolated").
+    #[serde(default = "yes")]
+    pub fix_boundary: bool,
+    /// The energy weights.
+    #[serde(default)]
+    pub energy: TriEnergySpec,
+    /// The default continuity conditions (§4.3); they give way to the
+    /// constraints where they conflict.
+    #[serde(default)]
+    pub continuity: ContinuitySpec,
+    /// Interpolation constraints, in priority order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub constraints: Vec<ConstraintSpec>,
+    /// Written by `fairsurf solve` into result files; ignored on input.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(skip)]
+    pub report: Option<Value>,
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// Only `"triangular"` here (tensor scenes have their own format).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum TriangularKind {
+    /// Triangular Bézier patches over a triangle mesh.
+    #[default]
+    Triangular,
+}
+
+/// The surface: one degree-n triangular Bézier patch per mesh triangle,
+/// sharing control points along common edges (C0).
+#[derive(Clone, Debug, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct TriSurfaceSpec {
+    /// `"triangular"`.
+    #[serde(rename = "type")]
+    pub kind: TriangularKind,
+    /// Degree n of every patch, 1 to 20 (the paper uses 3; exact G1 across
+    /// edges needs n ≥ 4 on most meshes).
+    pub degree: usize,
+    /// Mesh vertices `[x, y, z]`.
+    pub vertices: Vec<[f64; 3]>,
+    /// Triangles as vertex indices, counter-clockwise about the normal.
+    pub triangles: Vec<[usize; 3]>,
+    /// Every global control point (vertices, then n−1 per edge in sorted
+    /// vertex-pair order from the smaller vertex, then the triangles'
+    /// interiors). Without it: the flat triangles raised to degree n.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub control_points: Option<Vec<[f64; 3]>>,
+}
+
+/// α·stretch + β·bend; without either, bend 1.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct TriEnergySpec {
+    /// α, weight of ½∫∫|T_x|²+|T_y|², ≥ 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stretch: Option<f64>,
+    /// β, weight of ½∫∫|T_xx|²+2|T_xy|²+|T_yy|², ≥ 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bend: Option<f64>,
+}
+
+/// Continuity conditions (§4.3).
+#[derive(Clone, Debug, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ContinuitySpec {
+    /// G1 at the vertices (eq. 9–10), default true.
+    #[serde(default = "yes")]
+    pub vertices: bool,
+    /// Across edges: `"exact"` (eq. 11–12, default), `"relaxed"` or `"off"`.
+    #[serde(default)]
+    pub edges: EdgesSpec,
+    /// Angles at boundary vertices; elsewhere measured in the net.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub boundary_angles: Vec<BoundaryAngleSpec>,
+}
+
+impl Default for ContinuitySpec {
+    fn default() -> Self {
+        Self {
+            vertices: true,
+            edges: EdgesSpec::Exact,
+            boundary_angles: Vec::new(),
+        }
+    }
+}
+
+/// G1 across edges.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum EdgesSpec {
+    /// Exact tangent-plane continuity along every interior edge.
+    #[default]
+    Exact,
+    /// The paper's relaxed variant (approximate).
+    Relaxed,
+    /// None beyond the vertices.
+    Off,
+}
+
+/// The angle α the surface makes at a boundary vertex.
+#[derive(Clone, Debug, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BoundaryAngleSpec {
+    /// The boundary vertex.
+    pub vertex: usize,
+    /// α in degrees, in (0, 360).
+    pub degrees: f64,
+}
+
+/// What a constraint is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum ConstraintKind {
+    /// T(at) = target.
+    Point,
+    /// The normal at `at` is `normal` (eq. 8).
+    Normal,
+    /// normal·T(at) = offset.
+    InPlane,
+    /// T(at) on the line through `point` along `direction`.
+    OnLine,
+    /// Control point `index` keeps `value` (default: its value in the net).
+    Fixed,
+    /// Patch edges interpolate the Bézier curve `control_points` from
+    /// `from` to `to` (§4.2): the mesh is refined along it.
+    Curve,
+}
+
+/// A point of the domain: a triangle and barycentrics in it.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct DomainPointSpec {
+    /// Triangle index.
+    pub triangle: usize,
+    /// Barycentrics (u, v, w) ≥ 0 summing to 1, w.r.t. the triangle's
+    /// corners in the order given in `triangles`.
+    pub bary: [f64; 3],
+}
+
+/// One constraint. (A plain struct with a `type` field, so errors keep
+/// their JSON path; the fields a kind needs are checked when solving.)
+#[derive(Clone, Debug, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ConstraintSpec {
+    /// The kind.
+    #[serde(rename = "type")]
+    pub kind: ConstraintKind,
+    /// A name for reports (default `constraints[i] (kind)`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// Where (point, normal, in_plane, on_line).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub at: Option<DomainPointSpec>,
+    /// The point to pass through (point).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub target: Option<[f64; 3]>,
+    /// The normal (normal, in_plane).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub normal: Option<[f64; 3]>,
+    /// The plane's offset a in normal·x = a (in_plane).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub offset: Option<f64>,
+    /// A point of the line (on_line).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub point: Option<[f64; 3]>,
+    /// The line's direction (on_line).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub direction: Option<[f64; 3]>,
+    /// Global control point index (fixed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub index: Option<usize>,
+    /// Its value (fixed; default its value in the net).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub value: Option<[f64; 3]>,
+    /// The curve's Bézier control points (curve), degree ≤ the surface's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub control_points: Option<Vec<[f64; 3]>>,
+    /// Where the curve starts (curve).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub from: Option<DomainPointSpec>,
+    /// Where it ends (curve).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub to: Option<DomainPointSpec>,
+    /// The triangles it runs through (curve; default a shortest path).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub through: Option<Vec<usize>>,
+}
+
+/// A solved triangular scene.
+#[derive(Clone, Debug)]
+pub struct SolvedTriScene {
+    /// The scene as read.
+    pub scene: TriScene,
+    /// The solution.
+    pub solution: TriSolution,
+}
+
+const MAX_DEGREE: usize = 20;
+
+impl TriScene {
+    /// Parses a scene; errors name the JSON path.
+    pub fn from_json(text: &str) -> Result<TriScene> {
+        crate::scene::parse_with_path(text)
+    }
+
+    /// The problem the scene describes; errors name the field.
+    pub fn problem(&self) -> Result<TriProblem> {
+        let s = &self.surface;
+        if s.degree == 0 || s.degree > MAX_DEGREE {
+            return Err(Error::scene(
+                "surface.degree",
+                format!("must be 1 to {MAX_DEGREE}, got {}", s.degree),
+            ));
+        }
+        let vertices: Vec<[f64; 3]> = s.vertices.clone();
+        let mut surface = TriSurface::try_new(&vertices, &s.triangles, s.degree)
+            .map_err(|e| Error::scene("surface", e.to_string()))?;
+        if let Some(points) = &s.control_points {
+            surface
+                .set_points(points.clone())
+                .map_err(|e| Error::scene("surface.control_points", e.to_string()))?;
+        }
+        let (stretch, bend) = match (self.energy.stretch, self.energy.bend) {
+            (None, None) => (0.0, 1.0),
+            (a, b) => (a.unwrap_or(0.0), b.unwrap_or(0.0)),
+        };
+        for (w, field) in [(stretch, "energy.stretch"), (bend, "energy.bend")] {
+            if !(w.is_finite() && w >= 0.0) {
+                return Err(Error::scene(
+                    field,
+                    format!("must be a number ≥ 0, got {w}"),
+                ));
+            }
+        }
+        let mut continuity = Continuity {
+            vertices: self.continuity.vertices,
+            edges: match self.continuity.edges {
+                EdgesSpec::Exact => EdgeContinuity::Exact,
+                EdgesSpec::Relaxed => EdgeContinuity::Relaxed,
+                EdgesSpec::Off => EdgeContinuity::Off,
+            },
+            boundary_angles: Vec::new(),
+        };
+        for a in &self.continuity.boundary_angles {
+            continuity
+                .boundary_angles
+                .push((a.vertex, a.degrees.to_radians()));
+        }
+        let mut problem = TriProblem::new(surface.clone(), InternalEnergy::new(stretch, bend))
+            .with_continuity(continuity);
+        if self.fix_boundary {
+            problem = problem.with_fixed_boundary();
+        }
+        for (i, c) in self.constraints.iter().enumerate() {
+            let path = format!("constraints[{i}]");
+            let name = c
+                .name
+                .clone()
+                .unwrap_or_else(|| format!("{path} ({})", kind_name(c.kind)));
+            let need = |field: &str| {
+                Error::scene(
+                    format!("{path}.{field}"),
+                    format!("required for a {} constraint", kind_name(c.kind)),
+                )
+            };
+            let at = || c.at.map(domain_point).ok_or_else(|| need("at"));
+            let constraint = match c.kind {
+                ConstraintKind::Point => Constraint::Point {
+                    at: at()?,
+                    target: c.target.ok_or_else(|| need("target"))?,
+                },
+                ConstraintKind::Normal => Constraint::Normal {
+                    at: at()?,
+                    normal: c.normal.ok_or_else(|| need("normal"))?,
+                },
+                ConstraintKind::InPlane => Constraint::InPlane {
+                    at: at()?,
+                    normal: c.normal.ok_or_else(|| need("normal"))?,
+                    offset: c.offset.ok_or_else(|| need("offset"))?,
+                },
+                ConstraintKind::OnLine => Constraint::OnLine {
+                    at: at()?,
+                    point: c.point.ok_or_else(|| need("point"))?,
+                    direction: c.direction.ok_or_else(|| need("direction"))?,
+                },
+                ConstraintKind::Fixed => {
+                    let index = c.index.ok_or_else(|| need("index"))?;
+                    let value = match c.value {
+                        Some(v) => v,
+                        None => *surface.points().get(index).ok_or_else(|| {
+                            Error::scene(
+                                format!("{path}.index"),
+                                format!(
+                                    "must be below {} (the control point count)",
+                                    surface.point_count()
+                                ),
+                            )
+                        })?,
+                    };
+                    Constraint::Fixed {
+                        point: index,
+                        value,
+                    }
+                }
+                ConstraintKind::Curve => {
+                    let points = c
+                        .control_points
+                        .clone()
+                        .ok_or_else(|| need("control_points"))?;
+                    let curve = BezierCurve::try_new(points).map_err(|e| {
+                        Error::scene(format!("{path}.control_points"), e.to_string())
+                    })?;
+                    problem = problem.with_curve(CurveConstraint {
+                        name,
+                        curve,
+                        from: c.from.map(domain_point).ok_or_else(|| need("from"))?,
+                        to: c.to.map(domain_point).ok_or_else(|| need("to"))?,
+                        through: c.through.clone(),
+                    });
+                    continue;
+                }
+            };
+            problem = problem.with_constraint(name, constraint);
+        }
+        Ok(problem)
+    }
+
+    /// Reads and parses a scene file.
+    pub fn read(path: &Path) -> Result<TriScene> {
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Self::from_json(&text)
+    }
+
+    /// The JSON Schema of triangular scene files.
+    pub fn json_schema() -> Value {
+        serde_json::to_value(schemars::schema_for!(TriScene)).expect("a schema serializes")
+    }
+
+    /// Solves the scene.
+    pub fn solve(&self) -> Result<SolvedTriScene> {
+        let solution = self.problem()?.solve()?;
+        Ok(SolvedTriScene {
+            scene: self.clone(),
+            solution,
+        })
+    }
+
+    /// The surface as written in the file (a result file's solved points).
+    pub fn surface(&self) -> Result<TriSurface> {
+        Ok(self.problem()?.surface().clone())
+    }
+}
+
+fn domain_point(p: DomainPointSpec) -> DomainPoint {
+    DomainPoint {
+        triangle: p.triangle,
+        bary: p.bary,
+    }
+}
+
+fn kind_name(k: ConstraintKind) -> &'static str {
+    match k {
+        ConstraintKind::Point => "point",
+        ConstraintKind::Normal => "normal",
+        ConstraintKind::InPlane => "in_plane",
+        ConstraintKind::OnLine => "on_line",
+        ConstraintKind::Fixed => "fixed",
+        ConstraintKind::Curve => "curve",
+    }
+}
+
+impl SolvedTriScene {
+    /// The solved surface.
+    pub fn surface(&self) -> &TriSurface {
+        &self.solution.surface
+    }
+
+    /// The result as a scene: the (refined) mesh with every control point,
+    /// the constraints moved onto the refined mesh (a curve becomes the
+    /// fixed control points of its chain edges, which is what it
+    /// amounts to), and the report. Solving it again gives the same surface.
+    pub fn result_scene(&self) -> TriScene {
+        let s = self.surface();
+        let mut out = self.scene.clone();
+        let vertices: Vec<[f64; 3]> = s.points()[..s.vertex_count()].to_vec();
+        out.surface = TriSurfaceSpec {
+            kind: TriangularKind::Triangular,
+            degree: s.degree(),
+            vertices,
+            triangles: s.triangles().to_vec(),
+            control_points: Some(s.points().to_vec()),
+        };
+        let refined = self
+            .scene
+            .constraints
+            .iter()
+            .any(|c| c.kind == ConstraintKind::Curve);
+        if refined {
+            let r = Refinement {
+                surface: s.clone(),
+                origin: self.solution.origin.clone(),
+            };
+            let mut constraints = Vec::new();
+            for c in &self.scene.constraints {
+                let mut c = c.clone();
+                match c.kind {
+                    ConstraintKind::Curve => continue,
+                    ConstraintKind::Fixed => {
+                        // Fixed points are stated by value: after refinement
+                        // their indices change; the boundary fix and the
+                        // curves' chains below keep the values.
+                        continue;
+                    }
+                    _ => {
+                        if let Some(at) = c.at {
+                            c.at = r.locate(domain_point(at)).map(|p| DomainPointSpec {
+                                triangle: p.triangle,
+                                bary: p.bary,
+                            });
+                        }
+                    }
+                }
+                constraints.push(c);
+            }
+            // Every point the solve held fixed keeps its value (the
+            // boundary is fixed again by `fix_boundary`).
+            let boundary = if self.scene.fix_boundary {
+                s.boundary_points()
+            } else {
+                Vec::new()
+            };
+            for (g, p) in fixed_points(&self.solution) {
+                if boundary.binary_search(&g).is_ok() {
+                    continue;
+                }
+                constraints.push(ConstraintSpec {
+                    kind: ConstraintKind::Fixed,
+                    name: Some(format!("fixed point {g}")),
+                    index: Some(g),
+                    value: Some(p),
+                    ..blank(ConstraintKind::Fixed)
+                });
+            }
+            out.constraints = constraints;
+        }
+        out.report = Some(self.report_json());
+        out
+    }
+
+    /// The `"report"` object.
+    pub fn report_json(&self) -> Value {
+        tri_report_json(&self.solution.report)
+    }
+
+    /// Writes the result file (atomically).
+    pub fn write(&self, path: &Path) -> Result<()> {
+        let v = serde_json::to_vec_pretty(&self.result_scene()).expect("a scene serializes");
+        write_atomic(path, |w| {
+            w.write_all(&v)?;
+            w.write_all(b"\n")
+        })
+    }
+}
+
+/// The points the solve held fixed, with their values.
+fn fixed_points(solution: &TriSolution) -> Vec<(usize, [f64; 3])> {
+    solution
+        .fixed
+        .iter()
+        .map(|&g| (g, solution.surface.points()[g]))
+        .collect()
+}
+
+fn blank(kind: ConstraintKind) -> ConstraintSpec {
+    ConstraintSpec {
+        kind,
+        name: None,
+        at: None,
+        target: None,
+        normal: None,
+        offset: None,
+        point: None,
+        direction: None,
+        index: None,
+        value: None,
+        control_points: None,
+        from: None,
+        to: None,
+        through: None,
+    }
+}
+
+/// A [`TriReport`] as JSON.
+pub fn tri_report_json(r: &TriReport) -> Value {
+    let rows = |d: &[fairsurf::triangle::DroppedRow]| -> Vec<Value> {
+        d.iter()
+            .map(|x| json!({"name": x.name, "residual": x.residual}))
+            .collect()
+    };
+    json!({
+        "energy": {"stretch": r.stretch, "bend": r.bend, "total": r.total},
+        "mesh": {"patches": r.patches, "vertices": r.vertices, "control_points": r.points},
+        "unknowns": r.unknowns,
+        "fixed_coordinates": r.fixed_coordinates,
+        "constraint_rows": {
+            "total": r.rows,
+            "independent": r.independent_rows,
+            "dependent": r.dependent_rows,
+        },
+        "dropped_continuity": rows(&r.dropped),
+        "inconsistent": rows(&r.inconsistent),
+        "constraints": r.constraints.iter().map(|c| json!({"name": c.name, "kind": c.kind, "violation": c.violation})).collect::<Vec<_>>(),
+        "max_violation": r.max_violation,
+        "continuity_residual": r.continuity_residual,
+        "max_edge_normal_angle_rad": r.max_edge_normal_angle.map(|(a, _)| a),
+        "max_edge_normal_angle_at": r.max_edge_normal_angle.map(|(_, e)| e),
+        "gradient_norm": r.gradient_norm,
+        "relative_gradient": r.relative_gradient,
+        "kkt": r.kkt.map(|k| json!({
+            "size": k.size,
+            "factor_nonzeros": k.factor_nonzeros,
+            "delta": k.delta,
+            "refinement_steps": k.refinement_steps,
+            "relative_residual": k.relative_residual,
+            "condition_estimate": k.condition,
+        })),
+        "seconds": {
+            "refine": r.seconds.refine,
+            "assemble": r.seconds.assemble,
+            "classify": r.seconds.classify,
+            "solve": r.seconds.solve,
+            "total": r.seconds.total,
+        },
+    })
+}

@@ -1,0 +1,82 @@
+//! Constrained solves of cubic triangular surfaces of about 1,000 and
+//! 10,000 patches (Veltkamp & Wesselink §6): a rectangular grid of
+//! triangles, boundary fixed on a smooth non-planar frame, stretch + bend,
+//! without continuity conditions (C0; the KKT system is then the energy's
+//! own), and with G1 at the vertices at 1,000 patches. Exact and relaxed
+//! edge conditions make these systems numerically singular at this size
+//! (measured condition > 1e12; the solve refuses them), so they are not
+//! benchmarked. Peak heap is reported by divan's allocation profiler
+//! ("max alloc"). Run: `cargo bench -p fairsurf --bench triangle`.
+#![allow(missing_docs)]
+
+use fairsurf::triangle::{Continuity, EdgeContinuity, InternalEnergy, TriProblem};
+use fairsurf::TriSurface;
+
+#[global_allocator]
+static ALLOC: divan::AllocProfiler = divan::AllocProfiler::system();
+
+fn main() {
+    divan::main();
+}
+
+/// An a × b grid of unit squares, each cut into two triangles: 2ab cubic
+/// patches, control points lifted onto a smooth bump.
+fn sheet(a: usize, b: usize) -> TriSurface {
+    let id = |i: usize, j: usize| j * (a + 1) + i;
+    let mut v = Vec::new();
+    for j in 0..=b {
+        for i in 0..=a {
+            v.push([i as f64, j as f64, 0.0]);
+        }
+    }
+    let mut t = Vec::new();
+    for j in 0..b {
+        for i in 0..a {
+            t.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            t.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    let mut s = TriSurface::new(&v, &t, 3);
+    let (sa, sb) = (a as f64, b as f64);
+    let pts = s
+        .points()
+        .iter()
+        .map(|p| {
+            let (x, y) = (p[0] / sa, p[1] / sb);
+            [
+                p[0],
+                p[1],
+                0.2 * sa * (3.0 * x).sin() * (2.0 * y + 0.5).cos(),
+            ]
+        })
+        .collect();
+    s.set_points(pts).unwrap();
+    s
+}
+
+fn solve(bencher: divan::Bencher, (a, b): (usize, usize), continuity: Continuity) {
+    let problem = TriProblem::new(sheet(a, b), InternalEnergy::new(0.1, 1.0))
+        .with_fixed_boundary()
+        .with_continuity(continuity);
+    bencher.bench(|| {
+        let s = problem.solve().unwrap();
+        assert!(s.report.kkt.unwrap().relative_residual < 1e-12);
+        s
+    });
+}
+
+/// 1,000 and 10,000 patches.
+#[divan::bench(args = [(25, 20), (100, 50)], sample_count = 3, sample_size = 1)]
+fn c0(bencher: divan::Bencher, size: (usize, usize)) {
+    solve(bencher, size, Continuity::none());
+}
+
+/// 1,000 patches, G1 at the vertices (eq. 9–10), no edge conditions.
+#[divan::bench(args = [(25, 20)], sample_count = 3, sample_size = 1)]
+fn g1_at_vertices(bencher: divan::Bencher, size: (usize, usize)) {
+    let c = Continuity {
+        edges: EdgeContinuity::Off,
+        ..Continuity::default()
+    };
+    solve(bencher, size, c);
+}
