@@ -249,8 +249,7 @@ impl TriScene {
                 format!("must be 1 to {MAX_DEGREE}, got {}", s.degree),
             ));
         }
-        let vertices: Vec<[f64; 3]> = s.vertices.clone();
-        let mut surface = TriSurface::try_new(&vertices, &s.triangles, s.degree)
+        let mut surface = TriSurface::try_new(&s.vertices, &s.triangles, s.degree)
             .map_err(|e| Error::scene("surface", e.to_string()))?;
         if let Some(points) = &s.control_points {
             surface

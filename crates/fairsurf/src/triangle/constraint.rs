@@ -20,7 +20,7 @@ use super::bernstein::{tri_bernstein_all, Bary};
 use super::index::multi_indices;
 use super::refine::{check_point, DomainPoint};
 use super::surface::TriSurface;
-use crate::vec3::{cross, dot, is_finite, norm, normalize, scale, sub, Vec3};
+use crate::vec3::{angle, cross, dot, is_finite, norm, normalize, scale, sub, Vec3};
 use crate::{Error, Result};
 
 /// One linear constraint of a triangular surface (eq. 31).
@@ -247,18 +247,14 @@ impl Constraint {
         let value = |at: DomainPoint| surface.patch(at.triangle).eval(at.bary);
         match *self {
             Constraint::Point { at, target } => norm(sub(value(at), target)),
-            Constraint::Normal { at, normal } => {
-                match surface.patch(at.triangle).normal(at.bary) {
-                    Some(n) => {
-                        let c = dot(n, normal).abs() / norm(normal);
-                        // The angle from the cross product is accurate near 0.
-                        norm(cross(n, normal))
-                            .atan2(c * norm(normal))
-                            .min(std::f64::consts::FRAC_PI_2)
-                    }
-                    None => f64::NAN,
+            Constraint::Normal { at, normal } => match surface.patch(at.triangle).normal(at.bary) {
+                // Up to sign: the equations cannot tell N from −N.
+                Some(n) => {
+                    let a = angle(n, normal);
+                    a.min(std::f64::consts::PI - a)
                 }
-            }
+                None => f64::NAN,
+            },
             Constraint::InPlane { at, normal, offset } => {
                 (dot(normal, value(at)) - offset).abs() / norm(normal)
             }

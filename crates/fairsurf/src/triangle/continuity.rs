@@ -45,7 +45,7 @@
 use super::constraint::Row;
 use super::index::index_of;
 use super::surface::TriSurface;
-use crate::vec3::{cross, dot, norm, sub, Vec3};
+use crate::vec3::{angle, sub};
 use crate::{Error, Result};
 use std::f64::consts::PI;
 
@@ -222,7 +222,7 @@ fn measured_angle(surface: &TriSurface, x: usize, edges: [usize; 2]) -> f64 {
         let next = if g[0] == x { g[1] } else { g[g.len() - 2] };
         sub(p[next], p[x])
     });
-    let a = norm(cross(d[0], d[1])).atan2(dot(d[0], d[1]));
+    let a = angle(d[0], d[1]);
     if a > 1e-9 {
         a
     } else {
@@ -345,17 +345,13 @@ pub fn max_edge_normal_angle(surface: &TriSurface, samples: usize) -> Option<(f6
             let (Some(nl), Some(nr)) = (pl.normal(at(l)), pr.normal(at(r))) else {
                 continue;
             };
-            let a = angle_between(nl, nr);
+            let a = angle(nl, nr);
             if worst.is_none_or(|(w, _)| a > w) {
                 worst = Some((a, edge.vertices));
             }
         }
     }
     worst
-}
-
-fn angle_between(a: Vec3, b: Vec3) -> f64 {
-    norm(cross(a, b)).atan2(dot(a, b))
 }
 
 /// Barycentrics in triangle t of the point at parameter t from a to b.

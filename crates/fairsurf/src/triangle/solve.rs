@@ -365,19 +365,16 @@ impl TriProblem {
             for (k, &i) in free.iter().enumerate() {
                 x[i] = sol.x[k];
             }
+            // One pass over H: Hx + b and the row sums of |H|.
             let mut grad = b.clone();
-            for j in 0..free.len() {
-                for (i, v) in h.row_idx_of_col(j).zip(h.val_of_col(j)) {
-                    grad[i] += v * sol.x[j];
-                }
-            }
-            // Scale: ‖H‖∞‖x_f‖∞ + ‖b‖∞, the size of the terms that cancel.
             let mut row_sums = vec![0.0f64; free.len()];
             for j in 0..free.len() {
                 for (i, v) in h.row_idx_of_col(j).zip(h.val_of_col(j)) {
+                    grad[i] += v * sol.x[j];
                     row_sums[i] += v.abs();
                 }
             }
+            // Scale: ‖H‖∞‖x_f‖∞ + ‖b‖∞, the size of the terms that cancel.
             let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
             let scale = inf(&row_sums) * inf(&sol.x) + inf(&b);
             for (row, lam) in f.iter().zip(&sol.lambda) {
