@@ -207,9 +207,15 @@ fn tri_summary(path: &Path, s: &SolvedTriScene, written: &[String]) -> String {
         ));
     }
     lines.push(format!(
-        "  max constraint violation {:.2e}; continuity rows off by {:.2e}",
-        r.max_violation, r.continuity_residual
+        "  max constraint violation {:.2e}; continuity rows off by {:.2e} (kept), {:.2e} (left out)",
+        r.max_violation, r.continuity_residual, r.unenforced_residual
     ));
+    if r.row_tolerance > 1e-9 {
+        lines.push(format!(
+            "  note: the continuity conditions are nearly dependent; they were reduced with pivot tolerance {:.0e}",
+            r.row_tolerance
+        ));
+    }
     if let Some((angle, [a, b])) = r.max_edge_normal_angle {
         lines.push(format!(
             "  largest normal angle across interior edges {angle:.2e} rad (edge {a}–{b})"
@@ -232,8 +238,8 @@ fn tri_summary(path: &Path, s: &SolvedTriScene, written: &[String]) -> String {
     }
     if let Some(k) = &r.kkt {
         lines.push(format!(
-            "  gradient {:.2e} (relative {:.2e})  KKT {}×{}: residual {:.2e}, condition ≈ {:.2e}, refinement steps {}",
-            r.gradient_norm, r.relative_gradient, k.size, k.size, k.relative_residual, k.condition, k.refinement_steps
+            "  gradient {:.2e} (relative {:.2e})  KKT {}×{} by {}: residual {:.2e}, condition ≈ {:.2e}, refinement steps {}",
+            r.gradient_norm, r.relative_gradient, k.size, k.size, k.factorization.name(), k.relative_residual, k.condition, k.refinement_steps
         ));
     }
     let wrote = if written.is_empty() {

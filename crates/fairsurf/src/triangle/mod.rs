@@ -92,7 +92,7 @@ pub use energy::{
 };
 pub use index::{linear_index, multi_index, multi_indices, point_count};
 pub use integral::{tri_gram_matrix, tri_product_integral};
-pub use kkt::KktInfo;
+pub use kkt::{Factorization, KktInfo};
 pub use patch::TriPatch;
 pub use refine::{embed_curve, CurvePath, DomainPoint, Refinement};
 pub use solve::{

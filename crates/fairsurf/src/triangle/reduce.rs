@@ -8,6 +8,7 @@
 //!
 //! ```text
 //! max |reduced coefficient| > tol·max |coefficient|   independent: accepted, pivot = its largest entry
+//!                                                     (tol is the row's own)
 //! otherwise, |reduced rhs| ≤ tol_rhs                  dependent: implied by earlier rows, dropped silently
 //! otherwise                                           inconsistent with earlier rows: dropped, with the residual
 //! ```
@@ -39,6 +40,9 @@ pub(crate) enum Verdict {
 pub(crate) struct SparseRow<'a> {
     pub terms: &'a [(usize, f64)],
     pub rhs: f64,
+    /// Reduced coefficients at most this fraction of the row's largest
+    /// make the row (numerically) a combination of the earlier ones.
+    pub tol: f64,
 }
 
 struct Accepted {
@@ -48,15 +52,10 @@ struct Accepted {
     pivot_value: f64,
 }
 
-/// Classifies rows in order. `tol` is relative to each row's largest
+/// Classifies rows in order. Each row's `tol` is relative to its largest
 /// coefficient; `rhs_tol` is the absolute right-hand-side tolerance after
 /// that scaling (a length: the problem's size times a small factor).
-pub(crate) fn classify(
-    rows: &[SparseRow<'_>],
-    unknowns: usize,
-    tol: f64,
-    rhs_tol: f64,
-) -> Vec<Verdict> {
+pub(crate) fn classify(rows: &[SparseRow<'_>], unknowns: usize, rhs_tol: f64) -> Vec<Verdict> {
     let mut count = vec![0u32; unknowns];
     for r in rows {
         for &(i, _) in r.terms {
@@ -121,7 +120,7 @@ pub(crate) fn classify(
         // Pick the pivot: the largest entry, preferring rarely used columns
         // among those within a factor 10 of it (less fill).
         let largest = touched.iter().fold(0.0f64, |m, &i| m.max(work[i].abs()));
-        let verdict = if largest > tol {
+        let verdict = if largest > row.tol {
             let pivot = touched
                 .iter()
                 .copied()
@@ -172,7 +171,11 @@ mod tests {
 
     fn rows(data: &[(Vec<(usize, f64)>, f64)]) -> Vec<SparseRow<'_>> {
         data.iter()
-            .map(|(t, r)| SparseRow { terms: t, rhs: *r })
+            .map(|(t, r)| SparseRow {
+                terms: t,
+                rhs: *r,
+                tol: 1e-10,
+            })
             .collect()
     }
 
@@ -187,7 +190,7 @@ mod tests {
             (vec![], 0.0),                             // empty and satisfied
             (vec![], 1e-3),                            // empty and not
         ];
-        let v = classify(&rows(&data), 3, 1e-10, 1e-12);
+        let v = classify(&rows(&data), 3, 1e-12);
         assert_eq!(v[0], Verdict::Independent);
         assert_eq!(v[1], Verdict::Independent);
         assert_eq!(v[2], Verdict::Dependent);
@@ -201,6 +204,33 @@ mod tests {
     }
 
     #[test]
+    fn a_nearly_dependent_row_is_independent_only_under_a_strict_tolerance() {
+        // x0 + x1 = 0, then x0 + (1 + 1e-6)·x1 = 1e-7: reduced to 1e-6·x1 = 1e-7.
+        let data = [
+            (vec![(0, 1.0), (1, 1.0)], 0.0),
+            (vec![(0, 1.0), (1, 1.0 + 1e-6)], 1e-7),
+        ];
+        let with = |tol: f64| {
+            let rows: Vec<SparseRow<'_>> = data
+                .iter()
+                .map(|(t, r)| SparseRow {
+                    terms: t,
+                    rhs: *r,
+                    tol,
+                })
+                .collect();
+            classify(&rows, 2, 1e-12)
+        };
+        assert_eq!(with(1e-9)[1], Verdict::Independent);
+        match with(1e-3)[1] {
+            Verdict::Inconsistent { residual } => {
+                assert!((residual - 1e-7 / (1.0 + 1e-6)).abs() < 1e-15)
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
     fn a_long_chain_of_fill_is_resolved() {
         // x_i − x_{i+1} = 0 for i < 50, then x_0 − x_50 = 0 (dependent) and
         // x_0 − x_50 = 1 (inconsistent by 1).
@@ -209,7 +239,7 @@ mod tests {
             .collect();
         data.push((vec![(0, 1.0), (50, -1.0)], 0.0));
         data.push((vec![(0, 1.0), (50, -1.0)], 1.0));
-        let v = classify(&rows(&data), 51, 1e-10, 1e-12);
+        let v = classify(&rows(&data), 51, 1e-12);
         assert!(v[..50].iter().all(|x| *x == Verdict::Independent));
         assert_eq!(v[50], Verdict::Dependent);
         assert!(
