@@ -31,3 +31,9 @@ r examples/monterde_ugail_fig7.json examples/monterde_ugail_fig7_harmonic_mask.j
 r examples/biharmonic_mask_bump.json -o "$out/biharmonic_mask_bump.png" \
   --size 900x620 --colour mean --net
 r examples/quickstart.json -o "$out/quickstart.png" --size 900x620 --net
+
+# Veltkamp & Wesselink: triangular surfaces, drawn over their own triangles.
+r examples/vw_fig1_point_normal.json examples/vw_fig2_curve.json \
+  -o "$out/vw_fig1_fig2.png" --size 1200x520 --net --resolution 24 --range 0,15
+r examples/vw_hexagon_hole.json examples/vw_pentagon_hole.json \
+  -o "$out/vw_holes_zebra.png" --size 1200x520 --colour none --zebra 24 --resolution 32

@@ -148,7 +148,7 @@ fn panel(path: &Path, normals: bool) -> Result<Panel, Failure> {
         scene,
         patches,
         built,
-        ..
+        tri,
     } = surface(path)?;
     let arrows = match (normals, scene) {
         (true, Some(scene)) => {
@@ -163,8 +163,15 @@ fn panel(path: &Path, normals: bool) -> Result<Panel, Failure> {
         }
         _ => vec![],
     };
+    // Triangular surfaces are drawn over their own triangles (their tensor
+    // form's collapsed sides would spoil the curvature colours).
+    let (patches, triangles) = match tri {
+        Some(t) => (vec![], t.patches().collect()),
+        None => (patches, vec![]),
+    };
     Ok(Panel {
         patches,
+        triangles,
         title: Some(title(path)),
         arrows,
     })

@@ -4,9 +4,10 @@ use crate::camera::Camera;
 use crate::overlay::{self, Size, ARROW, BOUNDARY, INK, NET};
 use crate::raster::{rasterize, Layer, Soup, Stripes};
 use crate::{ColourBy, Error, Range, RenderOptions, Result};
+use fairsurf::analysis::Curvature;
 use fairsurf::colour::ColourMap;
 use fairsurf::vector::{add, norm, normalize, scale, sub};
-use fairsurf::{TensorPatch, TriMesh, Vec3};
+use fairsurf::{TensorPatch, TriMesh, TriPatch, Vec3};
 use tiny_skia::Pixmap;
 
 /// An arrow attached to the surface, e.g. one sample of a guide normal field
@@ -19,11 +20,16 @@ pub struct Arrow {
     pub direction: Vec3,
 }
 
-/// One surface to draw: its patches, an optional title, arrows.
+/// One surface to draw: its patches (tensor-product, triangular or both),
+/// an optional title, arrows.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Panel {
-    /// The patches (one for a single tensor-product surface).
+    /// The tensor-product patches (one for a single surface).
     pub patches: Vec<TensorPatch>,
+    /// Triangular patches (Veltkamp & Wesselink), tessellated natively over
+    /// their triangle, so their curvature colours stay right at the corners
+    /// (their tensor form collapses a side, where curvature blows up).
+    pub triangles: Vec<TriPatch>,
     /// A caption drawn above the panel.
     pub title: Option<String>,
     /// Arrows drawn when [`RenderOptions::arrows`] is on.
@@ -35,6 +41,13 @@ impl Panel {
     pub fn new(patch: TensorPatch) -> Self {
         Panel {
             patches: vec![patch],
+            ..Panel::default()
+        }
+    }
+    /// A panel of triangular patches, e.g. `surface.patches().collect()`.
+    pub fn triangular(patches: Vec<TriPatch>) -> Self {
+        Panel {
+            triangles: patches,
             ..Panel::default()
         }
     }
@@ -104,28 +117,26 @@ struct Prepared {
 }
 
 fn prepare(panel: &Panel, index: usize, opts: &RenderOptions) -> Result<Prepared> {
-    if panel.patches.is_empty() {
+    if panel.patches.is_empty() && panel.triangles.is_empty() {
         return Err(Error::EmptyPanel { panel: index });
     }
     let r = opts.resolution;
     let (mut meshes, mut values, mut frame_points) = (vec![], vec![], vec![]);
-    for patch in &panel.patches {
-        let (mesh, curvature) = TriMesh::with_curvature(patch, r, r);
-        let vals = curvature
-            .iter()
-            .map(|k| match (opts.colour, k) {
-                (ColourBy::None, _) | (_, None) => f64::NAN,
-                (ColourBy::Mean, Some(k)) => k.mean,
-                (ColourBy::Gaussian, Some(k)) => k.gaussian,
-                (ColourBy::AbsMean, Some(k)) => k.mean.abs(),
-            })
-            .collect();
+    let tensor = panel.patches.iter().map(|p| {
+        let (mesh, k) = TriMesh::with_curvature(p, r, r);
+        (mesh, k, p.points())
+    });
+    let triangular = panel.triangles.iter().map(|p| {
+        let (mesh, k) = p.mesh_with_curvature(r);
+        (mesh, k, p.points())
+    });
+    for (mesh, curvature, net) in tensor.chain(triangular) {
+        values.push(colour_values(opts.colour, &curvature));
         frame_points.extend_from_slice(&mesh.positions);
         if opts.control_net {
-            frame_points.extend_from_slice(patch.points());
+            frame_points.extend_from_slice(net);
         }
         meshes.push(mesh);
-        values.push(vals);
     }
     let (lo, hi) = bounds(&frame_points);
     let size = norm(sub(hi, lo)).max(1e-12);
@@ -142,6 +153,19 @@ fn prepare(panel: &Panel, index: usize, opts: &RenderOptions) -> Result<Prepared
         frame_points,
         size,
     })
+}
+
+/// The colouring quantity at each vertex (NaN: none, or singular there).
+fn colour_values(colour: ColourBy, curvature: &[Option<Curvature>]) -> Vec<f64> {
+    curvature
+        .iter()
+        .map(|k| match (colour, k) {
+            (ColourBy::None, _) | (_, None) => f64::NAN,
+            (ColourBy::Mean, Some(k)) => k.mean,
+            (ColourBy::Gaussian, Some(k)) => k.gaussian,
+            (ColourBy::AbsMean, Some(k)) => k.mean.abs(),
+        })
+        .collect()
 }
 
 fn bounds(points: &[Vec3]) -> (Vec3, Vec3) {
@@ -417,6 +441,30 @@ fn draw_overlays(
                 overlay::dot(pm, px(*p), 2.6, NET);
             }
         }
+        for patch in &panel.triangles {
+            let n = patch.degree();
+            let mut line = |a: Vec3, b: Vec3| {
+                let pts: Vec<Vec3> = segment(a, b, 16).collect();
+                depth_polyline(pm, &pts, cam, layer, origin, NET, 1.2);
+            };
+            // Each upward sub-triangle P_{i+1,j,k}, P_{i,j+1,k}, P_{i,j,k+1}.
+            for i in 0..n {
+                for j in 0..n - i {
+                    let k = n - 1 - i - j;
+                    let (a, b, c) = (
+                        patch.point(i + 1, j, k),
+                        patch.point(i, j + 1, k),
+                        patch.point(i, j, k + 1),
+                    );
+                    line(a, b);
+                    line(b, c);
+                    line(c, a);
+                }
+            }
+            for p in patch.points() {
+                overlay::dot(pm, px(*p), 2.6, NET);
+            }
+        }
     }
     if opts.boundary {
         let k = 4 * opts.resolution;
@@ -434,6 +482,13 @@ fn draw_overlays(
                         patch.eval(u, v)
                     })
                     .collect();
+                depth_polyline(pm, &pts, cam, layer, origin, BOUNDARY, 2.0);
+            }
+        }
+        for patch in &panel.triangles {
+            for e in 0..3 {
+                let curve = patch.edge(e);
+                let pts: Vec<Vec3> = (0..=k).map(|s| curve.eval(s as f64 / k as f64)).collect();
                 depth_polyline(pm, &pts, cam, layer, origin, BOUNDARY, 2.0);
             }
         }

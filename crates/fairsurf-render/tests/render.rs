@@ -7,7 +7,7 @@
 //! them, and commit them.
 
 use fairsurf::colour::ColourMap;
-use fairsurf::TensorPatch;
+use fairsurf::{TensorPatch, TriPatch};
 use fairsurf_render::{render, Arrow, ColourBy, Error, Panel, Range, RenderOptions, View};
 use std::path::PathBuf;
 
@@ -150,6 +150,47 @@ fn automatic_ranges_follow_the_quantity() {
     // The bump is elliptic on top and hyperbolic at its flanks.
     assert!(p.panels[0].min < 0.0 && p.panels[0].max > 0.0);
     assert_eq!(run(ColourBy::None).range, None);
+}
+
+/// The paraboloid z = (x² + y²)/2 over the triangle (0,0), (0.6,0), (0,0.6),
+/// exactly: a quadratic triangular patch whose control points are the
+/// blossom, P_ijk = f[A^i B^j C^k].
+fn paraboloid_triangle() -> TriPatch {
+    let corners = [[0.0, 0.0], [0.6, 0.0], [0.0, 0.6]];
+    TriPatch::from_fn(2, |i, j, k| {
+        let mut args = vec![];
+        for (c, m) in [i, j, k].into_iter().enumerate() {
+            args.extend(std::iter::repeat_n(corners[c], m));
+        }
+        let (a, b): ([f64; 2], [f64; 2]) = (args[0], args[1]);
+        [
+            0.5 * (a[0] + b[0]),
+            0.5 * (a[1] + b[1]),
+            0.5 * (a[0] * b[0] + a[1] * b[1]),
+        ]
+    })
+}
+
+#[test]
+fn triangular_patches_are_coloured_by_their_true_curvature() {
+    // H = (2 + r²) / (2 (1 + r²)^{3/2}) on the paraboloid: 1 at the
+    // origin, falling with r; over this triangle r ≤ 0.6.
+    let h = |r: f64| (2.0 + r * r) / (2.0 * (1.0 + r * r).powf(1.5));
+    let t = paraboloid_triangle();
+    let opts = RenderOptions::default()
+        .with_size(200, 150)
+        .with_colour(ColourBy::AbsMean);
+    let p = render(&[Panel::triangular(vec![t.clone()])], &opts).unwrap();
+    let s = &p.panels[0];
+    assert_eq!(s.singular, 0);
+    assert!((s.max - 1.0).abs() < 1e-12, "{}", s.max);
+    assert!((s.min - h(0.6)).abs() < 1e-12, "{} vs {}", s.min, h(0.6));
+    assert!(s.coverage > 0.1);
+    // Its tensor form collapses a side onto a corner, where the sampled
+    // curvature is not the surface's: the reason for native tessellation.
+    let q = render(&[Panel::new(t.to_tensor())], &opts).unwrap();
+    let s = &q.panels[0];
+    assert!(s.singular > 0 || s.max > 1.0 + 1e-6 || s.min < h(0.6) - 1e-6);
 }
 
 #[test]
@@ -314,6 +355,7 @@ fn golden_bump_with_net_arrows_and_abs_mean() {
         patches: vec![b],
         title: Some("bump".into()),
         arrows,
+        ..Panel::default()
     };
     let opts = RenderOptions::default()
         .with_size(240, 180)

@@ -47,6 +47,54 @@ impl TriPatch {
             })
         })
     }
+
+    /// A triangle mesh of the patch: sampled at the barycentric points
+    /// (i, j, r−i−j)/r (r ≥ 1) and cut into r² triangles counter-clockwise
+    /// in (u, v), with the exact unit normals and the curvature at every
+    /// vertex (`None` where the patch is singular: there the normal is
+    /// taken a little inside). `uvs` holds each vertex's (u, v).
+    pub fn mesh_with_curvature(&self, r: usize) -> (TriMesh, Vec<Option<Curvature>>) {
+        let r = r.max(1);
+        let per = (r + 1) * (r + 2) / 2;
+        let mut mesh = TriMesh {
+            positions: Vec::with_capacity(per),
+            normals: Vec::with_capacity(per),
+            uvs: Vec::with_capacity(per),
+            triangles: Vec::with_capacity(r * r),
+        };
+        let mut curvature = Vec::with_capacity(per);
+        // Local index of (i, j): rows of constant j.
+        let local = |i: usize, j: usize| (j * (2 * r + 3 - j) / 2 + i) as u32;
+        let centre = self.eval([1.0 / 3.0; 3]);
+        for j in 0..=r {
+            for i in 0..=r - j {
+                let (u, v) = (i as f64 / r as f64, j as f64 / r as f64);
+                let b = [u, v, (1.0 - u - v).max(0.0)];
+                let d = self.derivatives(b);
+                let normal = self.normal(b).or_else(|| {
+                    let inner = [0.999 * b[0] + 0.001 / 3.0, 0.999 * b[1] + 0.001 / 3.0, 0.0];
+                    self.normal([inner[0], inner[1], 1.0 - inner[0] - inner[1]])
+                });
+                mesh.positions.push(d.point);
+                mesh.normals.push(normal.unwrap_or_else(|| {
+                    crate::vec3::normalize(crate::vec3::sub(d.point, centre))
+                        .unwrap_or([0.0, 0.0, 1.0])
+                }));
+                mesh.uvs.push([u, v]);
+                curvature.push(curvature_from(&d));
+            }
+        }
+        for j in 0..r {
+            for i in 0..r - j {
+                let (a, b, c) = (local(i, j), local(i + 1, j), local(i, j + 1));
+                mesh.triangles.push([a, b, c]);
+                if i + j + 1 < r {
+                    mesh.triangles.push([b, local(i + 1, j + 1), c]);
+                }
+            }
+        }
+        (mesh, curvature)
+    }
 }
 
 impl TriSurface {
@@ -55,58 +103,27 @@ impl TriSurface {
         self.patches().map(|p| p.to_tensor()).collect()
     }
 
-    /// A triangle mesh of the surface: each patch sampled at the barycentric
-    /// points (i, j, r−i−j)/r (r ≥ 1) and cut into r² triangles
-    /// counter-clockwise in (u, v), with the exact unit normals and the
-    /// curvature at every vertex (`None` where the patch is singular). The
-    /// patches' vertices are not merged; `uvs` holds each vertex's (u, v)
-    /// in its patch.
+    /// A triangle mesh of the surface: every patch's
+    /// [`TriPatch::mesh_with_curvature`], concatenated. The patches'
+    /// vertices are not merged; `uvs` holds each vertex's (u, v) in its
+    /// patch.
     pub fn mesh_with_curvature(&self, r: usize) -> (TriMesh, Vec<Option<Curvature>>) {
-        let r = r.max(1);
-        let per = (r + 1) * (r + 2) / 2;
         let mut mesh = TriMesh {
-            positions: Vec::with_capacity(per * self.patch_count()),
-            normals: Vec::with_capacity(per * self.patch_count()),
-            uvs: Vec::with_capacity(per * self.patch_count()),
-            triangles: Vec::with_capacity(r * r * self.patch_count()),
+            positions: vec![],
+            normals: vec![],
+            uvs: vec![],
+            triangles: vec![],
         };
-        let mut curvature = Vec::with_capacity(per * self.patch_count());
-        // Local index of (i, j): rows of constant j.
-        let local = |i: usize, j: usize| j * (2 * r + 3 - j) / 2 + i;
+        let mut curvature = vec![];
         for patch in self.patches() {
+            let (m, k) = patch.mesh_with_curvature(r);
             let base = mesh.positions.len() as u32;
-            let centre = patch.eval([1.0 / 3.0; 3]);
-            for j in 0..=r {
-                for i in 0..=r - j {
-                    let (u, v) = (i as f64 / r as f64, j as f64 / r as f64);
-                    let b = [u, v, (1.0 - u - v).max(0.0)];
-                    let d = patch.derivatives(b);
-                    let normal = patch.normal(b).or_else(|| {
-                        // A singular point: the normal a little inside.
-                        let inner = [0.999 * b[0] + 0.001 / 3.0, 0.999 * b[1] + 0.001 / 3.0, 0.0];
-                        patch.normal([inner[0], inner[1], 1.0 - inner[0] - inner[1]])
-                    });
-                    mesh.positions.push(d.point);
-                    mesh.normals.push(normal.unwrap_or_else(|| {
-                        crate::vec3::normalize(crate::vec3::sub(d.point, centre))
-                            .unwrap_or([0.0, 0.0, 1.0])
-                    }));
-                    mesh.uvs.push([u, v]);
-                    curvature.push(curvature_from(&d));
-                }
-            }
-            for j in 0..r {
-                for i in 0..r - j {
-                    let a = base + local(i, j) as u32;
-                    let b = base + local(i + 1, j) as u32;
-                    let c = base + local(i, j + 1) as u32;
-                    mesh.triangles.push([a, b, c]);
-                    if i + j + 1 < r {
-                        let d = base + local(i + 1, j + 1) as u32;
-                        mesh.triangles.push([b, d, c]);
-                    }
-                }
-            }
+            mesh.positions.extend(m.positions);
+            mesh.normals.extend(m.normals);
+            mesh.uvs.extend(m.uvs);
+            mesh.triangles
+                .extend(m.triangles.iter().map(|t| t.map(|i| i + base)));
+            curvature.extend(k);
         }
         (mesh, curvature)
     }
