@@ -37,3 +37,6 @@ r examples/vw_fig1_point_normal.json examples/vw_fig2_curve.json \
   -o "$out/vw_fig1_fig2.png" --size 1200x520 --net --resolution 24 --range 0,15
 r examples/vw_hexagon_hole.json examples/vw_pentagon_hole.json \
   -o "$out/vw_holes_zebra.png" --size 1200x520 --colour none --zebra 24 --resolution 32
+r examples/vw_fig5_directors.json examples/vw_fig6_attractors.json \
+  examples/vw_fig7_surface_attractor.json examples/vw_fig8_operators.json examples/vw_repellor.json \
+  -o "$out/vw_operators.png" --size 1600x420 --resolution 24 --colour none --zebra 20

@@ -8,6 +8,10 @@ python3 examples/triangular.py. Plain standard library; deterministic.
   it crosses are split so that patch edges interpolate it (Fig. 2, Fig. 3).
 - vw_hexagon_hole.json / vw_pentagon_hole.json: an N-sided hole in a sphere filled by
   a fan of quartic patches with exact G1 inside (section 4.3).
+- vw_fig5_directors.json, vw_fig6_attractors.json, vw_fig7_surface_attractor.json,
+  vw_fig8_operators.json, vw_repellor.json: the flat sheet shaped by external energy
+  operators (section 5): two directors, two point attractors, a surface attractor, a
+  mix (director, plane, line and edge-to-curve attractors), and a point repellor.
 """
 import json
 import math
@@ -108,7 +112,63 @@ def hole(sides, name):
     })
 
 
+def sheet(name, title, description, operators, edges="exact"):
+    v, t = grid(4)
+    write(name, {
+        "name": title,
+        "description": description,
+        "surface": {"type": "triangular", "degree": 4, "vertices": v, "triangles": t},
+        "energy": {"stretch": 0.1, "bend": 1.0},
+        "continuity": {"edges": edges},
+        "operators": operators,
+    })
+
+
+def operators():
+    sheet("vw_fig5_directors.json", "Veltkamp & Wesselink Fig. 5: two directors",
+          "The flat sheet (32 quartic patches, boundary fixed, exact G1) with two director "
+          "operators over triangular regions of the domain, turning the normals there towards "
+          "their directions.",
+          [{"type": "director", "name": "left", "strength": 20.0, "direction": [0.8, 0.0, 1.0],
+            "domain_region": [[0.2, 0.2], [0.45, 0.25], [0.3, 0.5]]},
+           {"type": "director", "name": "right", "strength": 20.0, "direction": [-0.6, -0.6, 1.0],
+            "domain_region": [[0.55, 0.55], [0.85, 0.6], [0.65, 0.85]]}])
+    sheet("vw_fig6_attractors.json", "Veltkamp & Wesselink Fig. 6: two point attractors",
+          "The flat sheet pulled up at one surface point and down over a region by two point "
+          "attractors; the bend energy keeps both from reaching their points.",
+          [{"type": "point_attractor", "name": "up", "strength": 200.0, "point": [0.3, 0.3, 0.5],
+            "at": {"triangle": 10, "bary": [1 / 3, 1 / 3, 1 / 3]}},
+           {"type": "point_attractor", "name": "down", "strength": 50.0, "point": [0.7, 0.7, -0.4],
+            "domain_region": [[0.6, 0.6], [0.8, 0.6], [0.8, 0.8], [0.6, 0.8]]}])
+    # Triangle 18: the lower half of square (1, 2): corners (0.25,0.5), (0.5,0.5), (0.5,0.75).
+    sheet("vw_fig7_surface_attractor.json", "Veltkamp & Wesselink Fig. 7: a surface attractor",
+          "A triangular region of one patch pulled towards a tilted flat triangle above it, "
+          "corner to corner.",
+          [{"type": "surface_attractor", "name": "lift", "strength": 500.0,
+            "region": [{"triangle": 18, "polygon": [[0.9, 0.05], [0.05, 0.9], [0.05, 0.05]]}],
+            "surface": {"degree": 1, "control_points": [[0.27, 0.51, 0.15], [0.49, 0.51, 0.25],
+                                                        [0.49, 0.73, 0.4]]}}])
+    sheet("vw_fig8_operators.json", "Veltkamp & Wesselink Fig. 8: a surface shaped by operators",
+          "A director, a plane attractor, a line attractor and an interior mesh edge pulled "
+          "towards a curve, together on the flat sheet (relaxed G1).",
+          [{"type": "director", "name": "tilt", "strength": 10.0, "direction": [0.0, 0.7, 1.0],
+            "domain_region": [[0.15, 0.6], [0.4, 0.6], [0.4, 0.85], [0.15, 0.85]]},
+           {"type": "plane_attractor", "name": "shelf", "strength": 100.0, "normal": [0.0, 0.0, 1.0],
+            "offset": 0.25, "domain_region": [[0.55, 0.15], [0.85, 0.15], [0.85, 0.4], [0.55, 0.4]]},
+           {"type": "line_attractor", "name": "rail", "strength": 100.0, "point": [0.0, 0.5, 0.3],
+            "direction": [1.0, 0.0, 0.0], "at": {"triangle": 20, "bary": [1 / 3, 1 / 3, 1 / 3]}},
+           {"type": "curve_attractor", "name": "crease", "strength": 100.0, "edge": [6, 12],
+            "control_points": [[0.25, 0.25, 0.0], [0.375, 0.375, -0.3], [0.5, 0.5, 0.0]]}],
+          edges="relaxed")
+    sheet("vw_repellor.json", "A point repellor",
+          "The flat sheet pushed away from a point just above its centre by a repellor "
+          "1/|S - P|^2 (eq. 23): solved by Newton's method from the quadratic solution.",
+          [{"type": "repellor", "name": "away", "strength": 0.05, "point": [0.5, 0.5, 0.05],
+            "at": {"triangle": 20, "bary": [0.2, 0.4, 0.4]}}])
+
+
 fig1()
 fig2()
+operators()
 hole(6, "vw_hexagon_hole.json")
 hole(5, "vw_pentagon_hole.json")

@@ -175,10 +175,34 @@ fn tri_summary(path: &Path, s: &SolvedTriScene, written: &[String]) -> String {
         r.points,
         r.unknowns
     )];
-    lines.push(format!(
-        "  energy {:.10e} = stretch {:.10e} + bend {:.10e}",
-        r.total, r.stretch, r.bend
-    ));
+    if r.operators.is_empty() {
+        lines.push(format!(
+            "  energy {:.10e} = stretch {:.10e} + bend {:.10e}",
+            r.total, r.stretch, r.bend
+        ));
+    } else {
+        lines.push(format!(
+            "  energy {:.10e} = stretch {:.10e} + bend {:.10e} + operators {:.10e}",
+            r.total, r.stretch, r.bend, r.external
+        ));
+    }
+    for o in &r.operators {
+        let (what, unit) = if o.kind == "director" {
+            ("mean angle to its direction", " rad")
+        } else {
+            ("rms distance to its target", "")
+        };
+        lines.push(format!(
+            "  {} ({}, strength {}): energy {:.6e}, {what} {:.4e}{unit} (max {:.4e}{unit})",
+            o.name, o.kind, o.strength, o.energy, o.measure, o.max
+        ));
+    }
+    if let Some(n) = &r.newton {
+        lines.push(format!(
+            "  Newton (repellors): {} iterations ({} convex), objective {:.10e} → {:.10e}, relative gradient {:.2e}",
+            n.iterations, n.convex_steps, n.start_energy, n.energy, n.relative_gradient
+        ));
+    }
     lines.push(format!(
         "  constraint rows {}: {} independent, {} dependent (reduced), {} continuity dropped, {} inconsistent",
         r.rows,

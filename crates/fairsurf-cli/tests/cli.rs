@@ -671,6 +671,34 @@ fn bad_triangular_scenes_exit_2_naming_the_field() {
             "constraints[1].type",
         ),
         (
+            "operator field",
+            Box::new(
+                |v| v["operators"] = serde_json::json!([{"type": "director", "at": {"triangle": 0, "bary": [0.2, 0.3, 0.5]}}]),
+            ),
+            "operators[0].direction",
+        ),
+        (
+            "operator place",
+            Box::new(|v| {
+                v["operators"] =
+                    serde_json::json!([{"type": "point_attractor", "point": [0, 0, 1]}])
+            }),
+            "operators[0]",
+        ),
+        (
+            "operator kind",
+            Box::new(|v| v["operators"] = serde_json::json!([{"type": "magnet"}])),
+            "operators[0].type",
+        ),
+        (
+            "operator region",
+            Box::new(|v| {
+                v["operators"] = serde_json::json!([{"type": "point_attractor", "point": [0, 0, 1],
+                    "region": [{"triangle": 0, "polygon": [[0.1, 0.1], [0.2, 0.2]]}]}])
+            }),
+            "operators[0] (point_attractor): region[0]",
+        ),
+        (
             "outside",
             Box::new(|v| v["constraints"][0]["at"]["bary"] = serde_json::json!([0.9, 0.9, -0.8])),
             "pull",

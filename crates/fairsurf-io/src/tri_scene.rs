@@ -6,10 +6,10 @@
 
 use crate::{write_atomic, Error, Result};
 use fairsurf::triangle::{
-    Constraint, Continuity, CurveConstraint, DomainPoint, EdgeContinuity, InternalEnergy,
-    Refinement, TriProblem, TriReport, TriSolution,
+    Constraint, Continuity, CurveConstraint, DomainPoint, EdgeContinuity, InternalEnergy, Operator,
+    Place, Refinement, RegionPiece, Target, TriProblem, TriReport, TriSolution,
 };
-use fairsurf::{BezierCurve, TriSurface};
+use fairsurf::{BezierCurve, TriPatch, TriSurface};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
@@ -43,6 +43,9 @@ pub struct TriScene {
     /// Interpolation constraints, in priority order.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub constraints: Vec<ConstraintSpec>,
+    /// External energy operators (§5): directors, attractors, repellors.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub operators: Vec<OperatorSpec>,
     /// Written by `fairsurf solve` into result files; ignored on input.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(skip)]
@@ -223,6 +226,102 @@ pub struct ConstraintSpec {
     pub through: Option<Vec<usize>>,
 }
 
+/// What an operator pulls toward.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum OperatorKind {
+    /// The normal toward `direction` (eq. 13–14).
+    Director,
+    /// Toward `point` (eq. 15–16).
+    PointAttractor,
+    /// Toward the plane `normal`·x = `offset` (eq. 17–18).
+    PlaneAttractor,
+    /// Toward the line through `point` along `direction` (eq. 20–21).
+    LineAttractor,
+    /// A triangular `region` toward the triangular patch `surface`
+    /// (eq. 19), corner to corner.
+    SurfaceAttractor,
+    /// The mesh `edge` toward the Bézier curve `control_points` (eq. 22).
+    CurveAttractor,
+    /// Away from `point`: 1/‖S − P‖² (eq. 23); any attractor can also be
+    /// made a repellor with `"repel": true`.
+    Repellor,
+}
+
+/// A triangular patch as an attractor surface.
+#[derive(Clone, Debug, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PatchSpec {
+    /// Its degree n.
+    pub degree: usize,
+    /// Its (n+1)(n+2)/2 control points P_ijk, i descending, then j.
+    pub control_points: Vec<[f64; 3]>,
+}
+
+/// A convex polygon in one patch's (u, v) plane (w = 1 − u − v).
+#[derive(Clone, Debug, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct RegionPieceSpec {
+    /// The patch (triangle) index.
+    pub triangle: usize,
+    /// The polygon's vertices (u, v).
+    pub polygon: Vec<[f64; 2]>,
+}
+
+/// One external energy operator. Give exactly one of `at`, `region`,
+/// `domain_region` or `edge`.
+#[derive(Clone, Debug, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct OperatorSpec {
+    /// The kind.
+    #[serde(rename = "type")]
+    pub kind: OperatorKind,
+    /// A name for reports (default `operators[i] (kind)`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// Its strength s ≥ 0 (default 1).
+    #[serde(default = "one")]
+    pub strength: f64,
+    /// Make an attractor a repellor: s / E instead of s·E.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub repel: bool,
+    /// Acts at one surface point.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub at: Option<DomainPointSpec>,
+    /// Acts over convex polygons of single patches.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub region: Option<Vec<RegionPieceSpec>>,
+    /// Acts over a convex polygon in the (x, y) plane of the mesh as given,
+    /// split across patches.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub domain_region: Option<Vec<[f64; 2]>>,
+    /// The mesh edge [a, b] (curve_attractor).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub edge: Option<[usize; 2]>,
+    /// Director or line direction.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub direction: Option<[f64; 3]>,
+    /// Attracting or repelling point, or a point of the line.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub point: Option<[f64; 3]>,
+    /// The plane's normal.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub normal: Option<[f64; 3]>,
+    /// The plane's offset a in normal·x = a.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub offset: Option<f64>,
+    /// The attractor surface (surface_attractor).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub surface: Option<PatchSpec>,
+    /// The attractor curve's Bézier control points (curve_attractor).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub control_points: Option<Vec<[f64; 3]>>,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
 /// A solved triangular scene.
 #[derive(Clone, Debug)]
 pub struct SolvedTriScene {
@@ -358,6 +457,9 @@ impl TriScene {
             };
             problem = problem.with_constraint(name, constraint);
         }
+        for (i, o) in self.operators.iter().enumerate() {
+            problem = problem.with_operator(operator(o, i)?);
+        }
         Ok(problem)
     }
 
@@ -397,6 +499,92 @@ fn domain_point(p: DomainPointSpec) -> DomainPoint {
     }
 }
 
+fn operator_name(k: OperatorKind) -> &'static str {
+    match k {
+        OperatorKind::Director => "director",
+        OperatorKind::PointAttractor => "point_attractor",
+        OperatorKind::PlaneAttractor => "plane_attractor",
+        OperatorKind::LineAttractor => "line_attractor",
+        OperatorKind::SurfaceAttractor => "surface_attractor",
+        OperatorKind::CurveAttractor => "curve_attractor",
+        OperatorKind::Repellor => "repellor",
+    }
+}
+
+/// The library operator of `operators[i]`; errors name the JSON path.
+fn operator(o: &OperatorSpec, i: usize) -> Result<Operator> {
+    let path = format!("operators[{i}]");
+    let kind = operator_name(o.kind);
+    let need =
+        |field: &str| Error::scene(format!("{path}.{field}"), format!("required for a {kind}"));
+    let target = match o.kind {
+        OperatorKind::Director => Target::Direction(o.direction.ok_or_else(|| need("direction"))?),
+        OperatorKind::PointAttractor | OperatorKind::Repellor => {
+            Target::Point(o.point.ok_or_else(|| need("point"))?)
+        }
+        OperatorKind::PlaneAttractor => Target::Plane {
+            normal: o.normal.ok_or_else(|| need("normal"))?,
+            offset: o.offset.ok_or_else(|| need("offset"))?,
+        },
+        OperatorKind::LineAttractor => Target::Line {
+            point: o.point.ok_or_else(|| need("point"))?,
+            direction: o.direction.ok_or_else(|| need("direction"))?,
+        },
+        OperatorKind::SurfaceAttractor => {
+            let p = o.surface.as_ref().ok_or_else(|| need("surface"))?;
+            let patch = TriPatch::try_new(p.degree, p.control_points.clone()).map_err(|e| {
+                Error::scene(format!("{path}.surface.control_points"), e.to_string())
+            })?;
+            Target::Surface(patch)
+        }
+        OperatorKind::CurveAttractor => {
+            let points = o
+                .control_points
+                .clone()
+                .ok_or_else(|| need("control_points"))?;
+            Target::Curve(
+                BezierCurve::try_new(points)
+                    .map_err(|e| Error::scene(format!("{path}.control_points"), e.to_string()))?,
+            )
+        }
+    };
+    let places = [
+        o.at.is_some(),
+        o.region.is_some(),
+        o.domain_region.is_some(),
+        o.edge.is_some(),
+    ];
+    if places.iter().filter(|&&p| p).count() != 1 {
+        return Err(Error::scene(
+            path,
+            "give exactly one of `at`, `region`, `domain_region` and `edge`".to_string(),
+        ));
+    }
+    let place = if let Some(at) = o.at {
+        Place::Point(domain_point(at))
+    } else if let Some(r) = &o.region {
+        Place::Patches(
+            r.iter()
+                .map(|p| RegionPiece {
+                    triangle: p.triangle,
+                    polygon: p.polygon.clone(),
+                })
+                .collect(),
+        )
+    } else if let Some(d) = &o.domain_region {
+        Place::Domain(d.clone())
+    } else {
+        Place::Edge(o.edge.expect("one place"))
+    };
+    Ok(Operator {
+        name: o.name.clone().unwrap_or_else(|| format!("{path} ({kind})")),
+        target,
+        place,
+        strength: o.strength,
+        repel: o.repel || o.kind == OperatorKind::Repellor,
+    })
+}
+
 fn kind_name(k: ConstraintKind) -> &'static str {
     match k {
         ConstraintKind::Point => "point",
@@ -434,11 +622,43 @@ impl SolvedTriScene {
             .constraints
             .iter()
             .any(|c| c.kind == ConstraintKind::Curve);
+        // Regions in the mesh's (x, y) become the per-patch pieces they were
+        // split into (the solved vertices have other (x, y)).
+        if let Ok(original) = self.scene.surface() {
+            for (i, o) in out.operators.iter_mut().enumerate() {
+                if let Ok(Some(pieces)) = operator(o, i).and_then(|op| {
+                    op.domain_pieces(&original)
+                        .map_err(|e| Error::scene(format!("operators[{i}]"), e.to_string()))
+                }) {
+                    o.domain_region = None;
+                    o.region = Some(
+                        pieces
+                            .into_iter()
+                            .map(|p| RegionPieceSpec {
+                                triangle: p.triangle,
+                                polygon: p.polygon,
+                            })
+                            .collect(),
+                    );
+                }
+            }
+        }
         if refined {
+            // Operators over regions or edges of split patches are not
+            // carried over (see the issue notes); points move with the mesh.
+            out.operators.retain(|o| o.at.is_some());
             let r = Refinement {
                 surface: s.clone(),
                 origin: self.solution.origin.clone(),
             };
+            for o in &mut out.operators {
+                if let Some(at) = o.at {
+                    o.at = r.locate(domain_point(at)).map(|p| DomainPointSpec {
+                        triangle: p.triangle,
+                        bary: p.bary,
+                    });
+                }
+            }
             let mut constraints = Vec::new();
             for c in &self.scene.constraints {
                 let mut c = c.clone();
@@ -550,6 +770,24 @@ pub fn tri_report_json(r: &TriReport) -> Value {
         "inconsistent": rows(&r.inconsistent),
         "constraints": r.constraints.iter().map(|c| json!({"name": c.name, "kind": c.kind, "violation": c.violation})).collect::<Vec<_>>(),
         "max_violation": r.max_violation,
+        "external": r.external,
+        "operators": r.operators.iter().map(|o| json!({
+            "name": o.name,
+            "kind": o.kind,
+            "strength": o.strength,
+            "energy": o.energy,
+            "measure": o.measure,
+            "max": o.max,
+            "measure_is": if o.kind == "director" { "mean angle to the direction (rad)" } else { "root-mean-square distance to the target" },
+        })).collect::<Vec<_>>(),
+        "newton": r.newton.map(|n| json!({
+            "iterations": n.iterations,
+            "convex_steps": n.convex_steps,
+            "start_objective": n.start_energy,
+            "objective": n.energy,
+            "gradient_norm": n.gradient_norm,
+            "relative_gradient": n.relative_gradient,
+        })),
         "continuity_residual": r.continuity_residual,
         "unenforced_continuity_residual": r.unenforced_residual,
         "row_tolerance": r.row_tolerance,

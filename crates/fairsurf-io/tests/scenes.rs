@@ -293,8 +293,39 @@ fn every_example_solves_to_a_true_minimizer_or_exact_construction() {
                     .unwrap_or_else(|e| panic!("{}: {e}", p.display()));
                 let r = &s.solution.report;
                 assert!(r.max_violation <= 1e-10, "{}", p.display());
-                assert!(r.relative_gradient < 1e-12, "{}", p.display());
+                match r.newton {
+                    // Repellors: Newton's method to its tolerance, downhill.
+                    Some(nr) => assert!(
+                        r.relative_gradient <= 1e-10 && nr.energy <= nr.start_energy,
+                        "{}: {nr:?}",
+                        p.display()
+                    ),
+                    None => assert!(r.relative_gradient < 1e-12, "{}", p.display()),
+                }
                 assert!(r.kkt.unwrap().relative_residual < 1e-12, "{}", p.display());
+                if !s.scene.operators.is_empty() {
+                    // The result file solves again to the same surface, its
+                    // operators' regions now given per patch.
+                    let again = fairsurf_io::TriScene::from_json(
+                        &serde_json::to_string(&s.result_scene()).unwrap(),
+                    )
+                    .unwrap()
+                    .solve()
+                    .unwrap();
+                    let (a, b) = (s.surface().points(), again.surface().points());
+                    let d = a
+                        .iter()
+                        .zip(b)
+                        .map(|(p, q)| (0..3).map(|c| (p[c] - q[c]).abs()).fold(0.0, f64::max))
+                        .fold(0.0, f64::max);
+                    assert!(d < 1e-9, "{}: result re-solves {d:e} away", p.display());
+                    let (ea, eb) = (r.external, again.solution.report.external);
+                    assert!(
+                        (ea - eb).abs() <= 1e-9 * ea.abs(),
+                        "{}: {ea} vs {eb}",
+                        p.display()
+                    );
+                }
                 n += 1;
                 continue;
             }

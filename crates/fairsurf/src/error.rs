@@ -100,6 +100,23 @@ pub enum Error {
         /// What to do instead.
         hint: String,
     },
+    /// An iterative solve stopped before its tolerance.
+    #[error(
+        "{what} did not converge: relative gradient {relative_gradient:.2e} after \
+         {iterations} iterations (tolerance {tolerance:.0e}); {hint}"
+    )]
+    NotConverged {
+        /// Which solve.
+        what: String,
+        /// Iterations taken.
+        iterations: usize,
+        /// The scale-free stationarity residual reached.
+        relative_gradient: f64,
+        /// The tolerance asked for.
+        tolerance: f64,
+        /// What usually helps.
+        hint: String,
+    },
 }
 
 /// `Result` with fairsurf's [`Error`].

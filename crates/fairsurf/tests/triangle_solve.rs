@@ -4,6 +4,8 @@
 //! the constrained minimum, dependent rows are reduced and contradictions
 //! reported, continuity gives way to interpolation, curves are interpolated.
 
+mod common;
+
 use fairsurf::triangle::{
     Constraint, Continuity, CurveConstraint, DomainPoint, EdgeContinuity, InternalEnergy,
     TriProblem, TriReport,
@@ -24,25 +26,8 @@ fn hexagon(n: usize, f: impl Fn(f64, f64) -> f64) -> TriSurface {
     lifted(TriSurface::new(&v, &t, n), f)
 }
 
-/// The unit square as an m × m grid of squares, each cut along its
-/// diagonal into two counter-clockwise triangles.
 fn grid(m: usize, n: usize) -> TriSurface {
-    let id = |i: usize, j: usize| j * (m + 1) + i;
-    let mut v = Vec::new();
-    for j in 0..=m {
-        for i in 0..=m {
-            v.push([i as f64 / m as f64, j as f64 / m as f64, 0.0]);
-        }
-    }
-    let mut t = Vec::new();
-    for j in 0..m {
-        for i in 0..m {
-            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-            t.push([a, b, c]);
-            t.push([a, c, d]);
-        }
-    }
-    TriSurface::new(&v, &t, n)
+    common::tri_grid(m, n)
 }
 
 fn lifted(mut s: TriSurface, f: impl Fn(f64, f64) -> f64) -> TriSurface {

@@ -76,9 +76,11 @@ mod energy;
 mod index;
 mod integral;
 mod kkt;
+mod operator;
 mod patch;
 mod reduce;
 mod refine;
+pub mod region;
 mod solve;
 mod subdivide;
 mod surface;
@@ -93,9 +95,11 @@ pub use energy::{
 pub use index::{linear_index, multi_index, multi_indices, point_count};
 pub use integral::{tri_gram_matrix, tri_product_integral};
 pub use kkt::{Factorization, KktInfo};
+pub use operator::{Operator, OperatorOutcome, Place, RegionPiece, Target};
 pub use patch::TriPatch;
 pub use refine::{embed_curve, CurvePath, DomainPoint, Refinement};
 pub use solve::{
-    ConstraintOutcome, CurveConstraint, DroppedRow, TriProblem, TriReport, TriSolution, TriTimings,
+    ConstraintOutcome, CurveConstraint, DroppedRow, NewtonReport, TriProblem, TriReport,
+    TriSolution, TriTimings,
 };
 pub use surface::{MeshEdge, TriSurface};

@@ -50,3 +50,25 @@ pub fn max_dist(a: &TensorPatch, b: &TensorPatch) -> f64 {
         .map(|(p, q)| fairsurf::vector::norm(fairsurf::vector::sub(*p, *q)))
         .fold(0.0, f64::max)
 }
+
+/// The unit square as an m × m grid of squares, each cut along its
+/// diagonal into two counter-clockwise triangles: triangle 2(j·m + i) is
+/// (i, j), (i+1, j), (i+1, j+1), the next one (i, j), (i+1, j+1), (i, j+1).
+pub fn tri_grid(m: usize, n: usize) -> fairsurf::TriSurface {
+    let id = |i: usize, j: usize| j * (m + 1) + i;
+    let mut v = Vec::new();
+    for j in 0..=m {
+        for i in 0..=m {
+            v.push([i as f64 / m as f64, j as f64 / m as f64, 0.0]);
+        }
+    }
+    let mut t = Vec::new();
+    for j in 0..m {
+        for i in 0..m {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            t.push([a, b, c]);
+            t.push([a, c, d]);
+        }
+    }
+    fairsurf::TriSurface::new(&v, &t, n)
+}
