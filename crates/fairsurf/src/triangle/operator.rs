@@ -346,6 +346,9 @@ impl Operator {
                     let Some(part) = clip_to_triangle(&poly, uv) else {
                         continue;
                     };
+                    // The child's own parameters: its (u, v) triangle has
+                    // area ½, so the piece's measure scales by ½/area.
+                    let scale = AREA_FACTOR / (2.0 * signed_area(&uv).abs());
                     for (p, w) in trapezoid_rule(&part, degree) {
                         let original_bary = [p[0], p[1], 1.0 - p[0] - p[1]];
                         // Barycentrics in the child (corners in `order`).
@@ -354,7 +357,6 @@ impl Operator {
                         for k in 0..3 {
                             bary[order[k]] = s[k];
                         }
-                        let child_area = signed_area(&uv).abs() * 2.0;
                         let target_bary = match corners {
                             Some(c) => bary_in(c, p),
                             None => original_bary,
@@ -362,9 +364,7 @@ impl Operator {
                         nodes.push(Node {
                             triangle: child,
                             bary,
-                            // The child's own parameters: its (u, v) triangle
-                            // has area ½, the piece's measure scales by 1/child_area.
-                            weight: w / child_area * AREA_FACTOR,
+                            weight: w * scale,
                             target_bary,
                         });
                     }
@@ -464,7 +464,13 @@ impl Operator {
                         push(linear(&|k| nn[k], &basis), 0.0);
                     }
                 }
-                Target::Point(p) => {
+                Target::Point(_) | Target::Surface(_) => {
+                    // S − P, or S − T at the matching point of T.
+                    let p = match &self.target {
+                        Target::Surface(t) => t.eval(node.target_bary),
+                        Target::Point(p) => *p,
+                        _ => unreachable!(),
+                    };
                     for k in 0..3 {
                         push(linear(&|c| if c == k { 1.0 } else { 0.0 }, &values), p[k]);
                     }
@@ -482,12 +488,6 @@ impl Operator {
                         };
                         let b = pq * direction[r] / qq - point[r];
                         push(linear(&a, &values), -b);
-                    }
-                }
-                Target::Surface(t) => {
-                    let tp = t.eval(node.target_bary);
-                    for k in 0..3 {
-                        push(linear(&|c| if c == k { 1.0 } else { 0.0 }, &values), tp[k]);
                     }
                 }
                 Target::Curve(_) => unreachable!("an edge place"),
@@ -517,10 +517,16 @@ impl Operator {
         }
     }
 
-    /// Its outcome on the solved surface.
-    pub(crate) fn outcome(&self, at: &Located, surface: &TriSurface, x: &[f64]) -> OperatorOutcome {
-        let residuals = self.residuals(at, surface);
-        let energy = self.energy(&residuals, x);
+    /// Its outcome on the solved surface, given its [`Self::residuals`]
+    /// (they depend on the mesh only).
+    pub(crate) fn outcome(
+        &self,
+        at: &Located,
+        residuals: &[Residual],
+        surface: &TriSurface,
+        x: &[f64],
+    ) -> OperatorOutcome {
+        let energy = self.energy(residuals, x);
         let (mut sum, mut total, mut max) = (0.0, 0.0, 0.0f64);
         let mut add = |value: f64, weight: f64, squared: bool| {
             sum += weight * if squared { value * value } else { value };

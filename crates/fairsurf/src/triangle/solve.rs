@@ -554,8 +554,8 @@ impl TriProblem {
         let operators: Vec<OperatorOutcome> = self
             .operators
             .iter()
-            .zip(&placed)
-            .map(|(op, at)| op.outcome(at, &surface, &x))
+            .zip(placed.iter().zip(&residuals))
+            .map(|(op, (at, res))| op.outcome(at, res, &surface, &x))
             .collect();
         let external = operators.iter().map(|o| o.energy).sum::<f64>();
         let stretch = InternalEnergy::new(self.energy.stretch, 0.0).surface_value(&surface)?;
@@ -951,15 +951,16 @@ fn newton(
                         .into(),
                 });
             }
-            let mut merged = vec![0.0; 0];
-            let mut index = Vec::new();
-            for &(i, g) in &dq {
-                match index.iter().position(|&k| k == i) {
-                    Some(p) => merged[p] += g,
-                    None => {
-                        index.push(i);
-                        merged.push(g);
-                    }
+            // ∇q with its repeated coordinates summed.
+            let mut dq = dq;
+            dq.sort_unstable_by_key(|&(i, _)| i);
+            let (mut index, mut merged): (Vec<usize>, Vec<f64>) = (Vec::new(), Vec::new());
+            for (i, g) in dq {
+                if index.last() == Some(&i) {
+                    *merged.last_mut().expect("same length") += g;
+                } else {
+                    index.push(i);
+                    merged.push(g);
                 }
             }
             for (&i, &g) in index.iter().zip(&merged) {
