@@ -330,7 +330,40 @@ def monterde_ugail():
     })
 
 
+def tensor_operators():
+    """Veltkamp & Wesselink's operators (section 5) on a tensor-product patch."""
+    n = 6
+    # A flat unit square as the boundary ring; the interior is shaped by operators.
+    frame = [[[r(i / n), r(j / n), 0.0] for j in range(n + 1)] for i in range(n + 1)]
+    cite = "Veltkamp & Wesselink section 5 on a tensor patch"
+    write("tensor_operators.json", {
+        "name": f"{cite}: two point attractors, a director over a region and a plane attractor",
+        "description": "Degree 6x6, boundary fixed on the unit square, thin plate with a little membrane.",
+        "surface": {"type": "tensor", "degree": [n, n], "control_points": frame},
+        "fixed_rings": 1,
+        "energy": {"stretch": 0.1, "bend": 1},
+        "operators": [
+            {"type": "point_attractor", "name": "peak", "strength": 500, "at": [0.3, 0.3], "point": [0.3, 0.3, 0.35]},
+            {"type": "point_attractor", "name": "dip", "strength": 500, "at": [0.7, 0.35], "point": [0.7, 0.35, -0.2]},
+            {"type": "director", "name": "tilt", "strength": 20,
+             "region": [[0.45, 0.6], [0.85, 0.6], [0.85, 0.9], [0.45, 0.9]], "direction": [0.4, 0.0, 1.0]},
+            {"type": "plane_attractor", "name": "shelf", "strength": 100,
+             "region": [[0.1, 0.6], [0.35, 0.6], [0.35, 0.9], [0.1, 0.9]], "normal": [0, 0, 1], "offset": 0.15},
+        ],
+    })
+    write("tensor_repellor.json", {
+        "name": f"{cite}: a repellor pushes the surface away from a point under it (eq. 23, Newton's method)",
+        "surface": {"type": "tensor", "degree": [n, n], "control_points": frame},
+        "fixed_rings": 1,
+        "energy": {"bend": 1},
+        "operators": [
+            {"type": "repellor", "name": "push", "strength": 0.05, "at": [0.5, 0.5], "point": [0.5, 0.5, -0.1]},
+        ],
+    })
+
+
 if __name__ == "__main__":
+    tensor_operators()
     monterde_ugail()
     quickstart()
     fig1()

@@ -186,23 +186,7 @@ fn tri_summary(path: &Path, s: &SolvedTriScene, written: &[String]) -> String {
             r.total, r.stretch, r.bend, r.external
         ));
     }
-    for o in &r.operators {
-        let (what, unit) = if o.kind == "director" {
-            ("mean angle to its direction", " rad")
-        } else {
-            ("rms distance to its target", "")
-        };
-        lines.push(format!(
-            "  {} ({}, strength {}): energy {:.6e}, {what} {:.4e}{unit} (max {:.4e}{unit})",
-            o.name, o.kind, o.strength, o.energy, o.measure, o.max
-        ));
-    }
-    if let Some(n) = &r.newton {
-        lines.push(format!(
-            "  Newton (repellors): {} iterations ({} convex), objective {:.10e} → {:.10e}, relative gradient {:.2e}",
-            n.iterations, n.convex_steps, n.start_energy, n.energy, n.relative_gradient
-        ));
-    }
+    operator_lines(&mut lines, &r.operators, r.newton.as_ref());
     lines.push(format!(
         "  constraint rows {}: {} independent, {} dependent (reduced), {} continuity dropped, {} inconsistent",
         r.rows,
@@ -297,6 +281,32 @@ fn spinner_for(scene: &Scene) -> ProgressBar {
     s
 }
 
+/// One line per operator (energy, how far its target is met) and one for
+/// Newton's method when there were repellors.
+fn operator_lines(
+    lines: &mut Vec<String>,
+    operators: &[fairsurf::operator::OperatorOutcome],
+    newton: Option<&fairsurf::operator::NewtonReport>,
+) {
+    for o in operators {
+        let (what, unit) = if o.kind == "director" {
+            ("mean angle to its direction", " rad")
+        } else {
+            ("rms distance to its target", "")
+        };
+        lines.push(format!(
+            "  {} ({}, strength {}): energy {:.6e}, {what} {:.4e}{unit} (max {:.4e}{unit})",
+            o.name, o.kind, o.strength, o.energy, o.measure, o.max
+        ));
+    }
+    if let Some(n) = newton {
+        lines.push(format!(
+            "  Newton (repellors): {} iterations ({} convex), objective {:.10e} → {:.10e}, relative gradient {:.2e}",
+            n.iterations, n.convex_steps, n.start_energy, n.energy, n.relative_gradient
+        ));
+    }
+}
+
 fn summary(path: &Path, s: &SolvedScene, written: &[String]) -> String {
     let (n, m) = s.patch().degree();
     let mut lines = Vec::new();
@@ -314,16 +324,20 @@ fn summary(path: &Path, s: &SolvedScene, written: &[String]) -> String {
                     ""
                 }
             ));
-            let terms: Vec<String> = r
+            let mut terms: Vec<String> = r
                 .terms
                 .iter()
                 .map(|t| format!("{} {:.10e}", t.name, t.value))
                 .collect();
+            if !r.operators.is_empty() {
+                terms.push(format!("operators {:.10e}", r.external));
+            }
             lines.push(format!(
                 "  energy {:.10e} = {}",
                 r.energy,
                 terms.join(" + ")
             ));
+            operator_lines(&mut lines, &r.operators, r.newton.as_ref());
             measures_lines(&mut lines, r.measures.as_ref());
             lines.push(format!(
                 "  gradient {:.2e} (relative {:.2e})  residual {:.2e}  condition ≈ {:.2e}  refinement steps {}",

@@ -28,6 +28,7 @@ mod error;
 mod gltf;
 mod iges;
 mod mesh;
+mod operators;
 mod result;
 mod scene;
 mod step;
@@ -40,6 +41,7 @@ pub use compare::comparison_json;
 pub use error::{Error, Result};
 pub use iges::write_iges;
 pub use mesh::{write_mesh, write_mesh_with, MeshFormat, MeshOptions};
+pub use operators::{EdgeSpec, OperatorKind, TensorOperatorSpec, TensorPatchSpec};
 pub use result::{construction_report_json, report_json, Outcome, SolvedScene};
 pub use scene::{
     is_triangular, EnergySpec, GuideSurfaceSpec, Method, Net, NormalFieldSpec, NumberOrGrid,

@@ -227,6 +227,11 @@ pub fn report_json(r: &SolveReport) -> Value {
         },
         "fairsurf_version": env!("CARGO_PKG_VERSION"),
     });
+    if !r.operators.is_empty() {
+        o["external"] = json!(r.external);
+        o["operators"] = crate::operators::outcomes_json(&r.operators);
+        o["newton"] = crate::operators::newton_json(r.newton.as_ref());
+    }
     insert_measures(&mut o, r.measures.as_ref());
     o
 }

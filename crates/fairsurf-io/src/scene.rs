@@ -51,6 +51,11 @@ pub struct Scene {
     /// guide-surface terms (only with method `"minimize"`).
     #[serde(default, skip_serializing_if = "EnergySpec::is_empty")]
     pub energy: EnergySpec,
+    /// External energy operators (Veltkamp & Wesselink §5 on the tensor
+    /// patch): directors, attractors, repellors (only with method
+    /// `"minimize"`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub operators: Vec<crate::TensorOperatorSpec>,
     /// Written by `fairsurf solve` into result files; ignored on input.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(skip)]

@@ -4,6 +4,7 @@
 //!
 //! Field docs here become the descriptions in `fairsurf schema --triangular`.
 
+use crate::operators::OperatorKind;
 use crate::{write_atomic, Error, Result};
 use fairsurf::triangle::{
     Constraint, Continuity, CurveConstraint, DomainPoint, EdgeContinuity, InternalEnergy, Operator,
@@ -224,28 +225,6 @@ pub struct ConstraintSpec {
     /// The triangles it runs through (curve; default a shortest path).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub through: Option<Vec<usize>>,
-}
-
-/// What an operator pulls toward.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
-#[serde(rename_all = "snake_case")]
-pub enum OperatorKind {
-    /// The normal toward `direction` (eq. 13–14).
-    Director,
-    /// Toward `point` (eq. 15–16).
-    PointAttractor,
-    /// Toward the plane `normal`·x = `offset` (eq. 17–18).
-    PlaneAttractor,
-    /// Toward the line through `point` along `direction` (eq. 20–21).
-    LineAttractor,
-    /// A triangular `region` toward the triangular patch `surface`
-    /// (eq. 19), corner to corner.
-    SurfaceAttractor,
-    /// The mesh `edge` toward the Bézier curve `control_points` (eq. 22).
-    CurveAttractor,
-    /// Away from `point`: 1/‖S − P‖² (eq. 23); any attractor can also be
-    /// made a repellor with `"repel": true`.
-    Repellor,
 }
 
 /// A triangular patch as an attractor surface.
@@ -499,55 +478,32 @@ fn domain_point(p: DomainPointSpec) -> DomainPoint {
     }
 }
 
-fn operator_name(k: OperatorKind) -> &'static str {
-    match k {
-        OperatorKind::Director => "director",
-        OperatorKind::PointAttractor => "point_attractor",
-        OperatorKind::PlaneAttractor => "plane_attractor",
-        OperatorKind::LineAttractor => "line_attractor",
-        OperatorKind::SurfaceAttractor => "surface_attractor",
-        OperatorKind::CurveAttractor => "curve_attractor",
-        OperatorKind::Repellor => "repellor",
-    }
-}
-
 /// The library operator of `operators[i]`; errors name the JSON path.
 fn operator(o: &OperatorSpec, i: usize) -> Result<Operator> {
     let path = format!("operators[{i}]");
-    let kind = operator_name(o.kind);
-    let need =
-        |field: &str| Error::scene(format!("{path}.{field}"), format!("required for a {kind}"));
-    let target = match o.kind {
-        OperatorKind::Director => Target::Direction(o.direction.ok_or_else(|| need("direction"))?),
-        OperatorKind::PointAttractor | OperatorKind::Repellor => {
-            Target::Point(o.point.ok_or_else(|| need("point"))?)
-        }
-        OperatorKind::PlaneAttractor => Target::Plane {
-            normal: o.normal.ok_or_else(|| need("normal"))?,
-            offset: o.offset.ok_or_else(|| need("offset"))?,
+    let target = crate::operators::target(
+        o.kind,
+        &path,
+        crate::operators::TargetFields {
+            direction: o.direction,
+            point: o.point,
+            normal: o.normal,
+            offset: o.offset,
+            control_points: o.control_points.as_deref(),
         },
-        OperatorKind::LineAttractor => Target::Line {
-            point: o.point.ok_or_else(|| need("point"))?,
-            direction: o.direction.ok_or_else(|| need("direction"))?,
-        },
-        OperatorKind::SurfaceAttractor => {
-            let p = o.surface.as_ref().ok_or_else(|| need("surface"))?;
+        || {
+            let p = o.surface.as_ref().ok_or_else(|| {
+                Error::scene(
+                    format!("{path}.surface"),
+                    "required for a surface_attractor",
+                )
+            })?;
             let patch = TriPatch::try_new(p.degree, p.control_points.clone()).map_err(|e| {
                 Error::scene(format!("{path}.surface.control_points"), e.to_string())
             })?;
-            Target::Surface(patch)
-        }
-        OperatorKind::CurveAttractor => {
-            let points = o
-                .control_points
-                .clone()
-                .ok_or_else(|| need("control_points"))?;
-            Target::Curve(
-                BezierCurve::try_new(points)
-                    .map_err(|e| Error::scene(format!("{path}.control_points"), e.to_string()))?,
-            )
-        }
-    };
+            Ok(Target::Surface(patch))
+        },
+    )?;
     let places = [
         o.at.is_some(),
         o.region.is_some(),
@@ -577,12 +533,26 @@ fn operator(o: &OperatorSpec, i: usize) -> Result<Operator> {
         Place::Edge(o.edge.expect("one place"))
     };
     Ok(Operator {
-        name: o.name.clone().unwrap_or_else(|| format!("{path} ({kind})")),
+        name: crate::operators::name(o.name.as_deref(), &path, o.kind),
         target,
         place,
         strength: o.strength,
         repel: o.repel || o.kind == OperatorKind::Repellor,
     })
+}
+
+/// Gives an operator entry its region as per-patch pieces.
+fn set_region(o: &mut OperatorSpec, pieces: Vec<RegionPiece>) {
+    o.domain_region = None;
+    o.region = Some(
+        pieces
+            .into_iter()
+            .map(|p| RegionPieceSpec {
+                triangle: p.triangle,
+                polygon: p.polygon,
+            })
+            .collect(),
+    );
 }
 
 fn kind_name(k: ConstraintKind) -> &'static str {
@@ -630,27 +600,36 @@ impl SolvedTriScene {
                     op.domain_pieces(&original)
                         .map_err(|e| Error::scene(format!("operators[{i}]"), e.to_string()))
                 }) {
-                    o.domain_region = None;
-                    o.region = Some(
-                        pieces
-                            .into_iter()
-                            .map(|p| RegionPieceSpec {
-                                triangle: p.triangle,
-                                polygon: p.polygon,
-                            })
-                            .collect(),
-                    );
+                    set_region(o, pieces);
                 }
             }
         }
         if refined {
-            // Operators over regions or edges of split patches are not
-            // carried over (see the issue notes); points move with the mesh.
-            out.operators.retain(|o| o.at.is_some());
             let r = Refinement {
                 surface: s.clone(),
                 origin: self.solution.origin.clone(),
             };
+            // Regions are clipped to the split patches; points move with
+            // the mesh. Edge and surface attractors are not carried over: a
+            // split edge is no longer one edge, and a split region no longer
+            // one triangle matching the attractor surface's corners.
+            let original = self.scene.surface().ok();
+            let mut kept = Vec::new();
+            for (i, mut o) in self.scene.operators.iter().cloned().enumerate() {
+                if o.edge.is_some() || o.kind == OperatorKind::SurfaceAttractor {
+                    continue;
+                }
+                if o.region.is_some() || o.domain_region.is_some() {
+                    let pieces = match (&original, operator(&o, i)) {
+                        (Some(orig), Ok(op)) => op.refined_region(orig, &r).ok().flatten(),
+                        _ => None,
+                    };
+                    let Some(pieces) = pieces else { continue };
+                    set_region(&mut o, pieces);
+                }
+                kept.push(o);
+            }
+            out.operators = kept;
             for o in &mut out.operators {
                 if let Some(at) = o.at {
                     o.at = r.locate(domain_point(at)).map(|p| DomainPointSpec {
@@ -771,23 +750,8 @@ pub fn tri_report_json(r: &TriReport) -> Value {
         "constraints": r.constraints.iter().map(|c| json!({"name": c.name, "kind": c.kind, "violation": c.violation})).collect::<Vec<_>>(),
         "max_violation": r.max_violation,
         "external": r.external,
-        "operators": r.operators.iter().map(|o| json!({
-            "name": o.name,
-            "kind": o.kind,
-            "strength": o.strength,
-            "energy": o.energy,
-            "measure": o.measure,
-            "max": o.max,
-            "measure_is": if o.kind == "director" { "mean angle to the direction (rad)" } else { "root-mean-square distance to the target" },
-        })).collect::<Vec<_>>(),
-        "newton": r.newton.map(|n| json!({
-            "iterations": n.iterations,
-            "convex_steps": n.convex_steps,
-            "start_objective": n.start_energy,
-            "objective": n.energy,
-            "gradient_norm": n.gradient_norm,
-            "relative_gradient": n.relative_gradient,
-        })),
+        "operators": crate::operators::outcomes_json(&r.operators),
+        "newton": crate::operators::newton_json(r.newton.as_ref()),
         "continuity_residual": r.continuity_residual,
         "unenforced_continuity_residual": r.unenforced_residual,
         "row_tolerance": r.row_tolerance,

@@ -98,6 +98,9 @@ impl Scene {
         // The plan is replaced by the finished problem below.
         let mut built = Built::new(Plan::Minimize(Problem::new((n, m))), initial, free);
         self.add_terms(&mut problem, &mut built, &given)?;
+        for (i, o) in self.operators.iter().enumerate() {
+            problem = problem.with_operator(crate::operators::tensor_operator(o, i)?);
+        }
         built.plan = Plan::Minimize(problem);
         Ok(built)
     }
@@ -126,6 +129,9 @@ impl Scene {
         }
         if !self.energy.is_empty() {
             return unused("energy");
+        }
+        if !self.operators.is_empty() {
+            return unused("operators");
         }
         if self.least_squares && !matches!(method, M::Harmonic | M::Biharmonic) {
             return Err(Error::scene(

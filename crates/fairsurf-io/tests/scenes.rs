@@ -44,6 +44,88 @@ fn the_base_scene_solves() {
     assert!(sol.report.relative_gradient < 1e-14);
 }
 
+/// Operators on the tensor patch: each bad field is named by its path.
+#[test]
+fn tensor_operator_errors_name_the_path() {
+    let op = |o: Value| {
+        with(base(), "/energy", json!({"stretch": 1}))
+            .as_object()
+            .cloned()
+            .map(|mut m| {
+                m.insert("operators".into(), json!([o]));
+                Value::Object(m)
+            })
+            .unwrap()
+    };
+    let cases = [
+        (
+            json!({"type": "director", "at": [0.5, 0.5]}),
+            "operators[0].direction",
+            "required for a director",
+        ),
+        (
+            json!({"type": "point_attractor", "point": [0, 0, 1]}),
+            "operators[0]",
+            "exactly one of",
+        ),
+        (
+            json!({"type": "point_attractor", "point": [0, 0, 1], "at": [0.5, 0.5], "edge": "u0"}),
+            "operators[0]",
+            "exactly one of",
+        ),
+        (
+            json!({"type": "point_attractor", "point": [0, 0, 1], "at": [1.5, 0.5]}),
+            "operators[0]",
+            "[0, 1]²",
+        ),
+        (
+            json!({"type": "plane_attractor", "normal": [0, 0, 1], "region": [[0.1, 0.1], [0.2, 0.2]]}),
+            "operators[0].offset",
+            "required",
+        ),
+        (
+            json!({"type": "point_attractor", "point": [0, 0, 1], "region": [[0.1, 0.1], [0.2, 0.2], [0.3, 0.3]]}),
+            "operators[0]",
+            "region",
+        ),
+        (
+            json!({"type": "curve_attractor", "control_points": [[0, 0, 0], [0, 3, 0]], "at": [0.5, 0.5]}),
+            "operators[0]",
+            "an edge",
+        ),
+        (
+            json!({"type": "curve_attractor", "edge": "u2", "control_points": [[0, 0, 0]]}),
+            "operators[0].edge",
+            "unknown variant",
+        ),
+        (
+            json!({"type": "surface_attractor", "at": [0.5, 0.5], "surface": {"degree": [1, 1], "control_points": [[[0, 0, 0], [0, 1, 0]]]}}),
+            "operators[0].surface.control_points",
+            "2 rows of 2",
+        ),
+        (
+            json!({"type": "director", "direction": [0, 0, 1], "at": [0.5, 0.5], "repel": true}),
+            "operators[0]",
+            "repel",
+        ),
+        (
+            json!({"type": "repellor", "point": [0, 0, 1], "at": [0.5, 0.5], "strength": -1}),
+            "operators[0]",
+            "strength",
+        ),
+    ];
+    for (o, path, msg) in cases {
+        let (p, m) = err(&op(o.clone()));
+        assert_eq!(p, path, "{o}: {m}");
+        assert!(m.contains(msg), "{o}: {m}");
+    }
+    // Constructions have no energy to add operators to.
+    let mut v = op(json!({"type": "point_attractor", "point": [1, 1, 1], "at": [0.5, 0.5]}));
+    v["method"] = json!("harmonic_mask");
+    v.as_object_mut().unwrap().remove("energy");
+    assert_eq!(err(&v).0, "operators");
+}
+
 #[test]
 fn wrong_point_size_names_the_point() {
     let v = with(base(), "/surface/control_points/3/2", json!([3, 2]));
@@ -247,6 +329,8 @@ fn results_round_trip() {
         "monterde_ugail_model_harmonic.json",
         "monterde_ugail_fig7_harmonic_mask.json",
         "biharmonic_mask_bump.json",
+        "tensor_operators.json",
+        "tensor_repellor.json",
     ] {
         let scene = Scene::read(&examples().join(name)).unwrap();
         let first = scene.solve().unwrap();
@@ -334,9 +418,15 @@ fn every_example_solves_to_a_true_minimizer_or_exact_construction() {
                 .solve()
                 .unwrap_or_else(|e| panic!("{}: {e}", p.display()));
             match &s.outcome {
-                Outcome::Minimized(sol) => {
-                    assert!(sol.report.relative_gradient < 1e-12, "{}", p.display())
-                }
+                Outcome::Minimized(sol) => match sol.report.newton {
+                    // Repellors: Newton's method to its tolerance, downhill.
+                    Some(nr) => assert!(
+                        sol.report.relative_gradient <= 1e-10 && nr.energy <= nr.start_energy,
+                        "{}: {nr:?}",
+                        p.display()
+                    ),
+                    None => assert!(sol.report.relative_gradient < 1e-12, "{}", p.display()),
+                },
                 Outcome::Constructed(c) => {
                     assert!(
                         c.report.exact && c.report.residual < 1e-11,
@@ -400,5 +490,62 @@ fn schema_describes_the_format() {
         "guide_weights",
     ] {
         assert!(text.contains(key), "schema lacks {key}");
+    }
+}
+
+/// A scene refined by a curve constraint keeps its region operators in the
+/// result file, clipped to the split patches: the result solves again to
+/// the same surface and the same operator energies.
+#[test]
+fn refined_result_keeps_region_operators() {
+    let mut v: Value = serde_json::from_str(
+        &std::fs::read_to_string(examples().join("vw_fig2_curve.json")).unwrap(),
+    )
+    .unwrap();
+    v["operators"] = json!([
+        {"type": "point_attractor", "name": "xy", "strength": 3, "point": [0.5, 0.5, 0.3],
+         "domain_region": [[0.3, 0.3], [0.7, 0.3], [0.7, 0.7], [0.3, 0.7]]},
+        {"type": "director", "name": "piece", "strength": 2, "direction": [0.2, 0, 1],
+         "region": [{"triangle": 8, "polygon": [[0.1, 0.1], [0.8, 0.1], [0.1, 0.8]]}]},
+        {"type": "plane_attractor", "name": "at", "strength": 2, "normal": [0, 0, 1], "offset": 0.1,
+         "at": {"triangle": 20, "bary": [0.3, 0.3, 0.4]}}
+    ]);
+    let first = fairsurf_io::TriScene::from_json(&v.to_string())
+        .unwrap()
+        .solve()
+        .unwrap();
+    let r1 = &first.solution.report;
+    assert!(r1.patches > 32, "the curve splits patches");
+    let result = first.result_scene();
+    assert_eq!(result.operators.len(), 3);
+    let pieces: Vec<usize> = result.operators[..2]
+        .iter()
+        .map(|o| o.region.as_ref().unwrap().len())
+        .collect();
+    assert!(
+        pieces[1] > 1,
+        "triangle 8 is split by the curve: {pieces:?}"
+    );
+    let again = fairsurf_io::TriScene::from_json(&serde_json::to_string(&result).unwrap())
+        .unwrap()
+        .solve()
+        .unwrap();
+    let r2 = &again.solution.report;
+    let d = first
+        .surface()
+        .points()
+        .iter()
+        .zip(again.surface().points())
+        .map(|(p, q)| fairsurf::vector::norm(fairsurf::vector::sub(*p, *q)))
+        .fold(0.0, f64::max);
+    assert!(d < 1e-9, "moved by {d}");
+    for (a, b) in r1.operators.iter().zip(&r2.operators) {
+        assert!(
+            (a.energy - b.energy).abs() <= 1e-9 * a.energy,
+            "{}: {} vs {}",
+            a.name,
+            a.energy,
+            b.energy
+        );
     }
 }

@@ -47,6 +47,7 @@ pub mod basis;
 pub mod colour;
 pub mod energy;
 pub mod harmonic;
+pub mod operator;
 pub mod triangle;
 
 pub use curve::BezierCurve;

@@ -13,8 +13,11 @@ use super::report::{SolveReport, TermEnergy, Timings};
 use crate::analysis::measures;
 use crate::energy::Space;
 use crate::energy::{EnergyTerm, Hessian, TermForm};
+use crate::operator::newton::{newton, sparse, FreeResiduals};
+use crate::operator::{OperatorOutcome, TensorOperator};
 use crate::vec3::{is_finite, Vec3};
 use crate::{Error, Result, TensorPatch};
+use faer::sparse::Triplet;
 use faer::Mat;
 use std::time::Instant;
 
@@ -34,6 +37,7 @@ pub struct Problem {
     degree: (usize, usize),
     known: Vec<Option<Vec3>>,
     terms: Vec<Box<dyn EnergyTerm>>,
+    operators: Vec<TensorOperator>,
 }
 
 /// Options for [`Problem::solve_with`].
@@ -96,6 +100,7 @@ impl Problem {
             degree,
             known: vec![None; n],
             terms: Vec::new(),
+            operators: Vec::new(),
         }
     }
 
@@ -171,6 +176,19 @@ impl Problem {
         self.terms.push(term);
     }
 
+    /// Adds an external energy operator (Veltkamp & Wesselink §5):
+    /// attractors and directors join the quadratic energy; repellors make
+    /// the solve nonlinear (Newton's method from the quadratic solution).
+    pub fn with_operator(mut self, operator: TensorOperator) -> Self {
+        self.operators.push(operator);
+        self
+    }
+
+    /// The external energy operators.
+    pub fn operators(&self) -> &[TensorOperator] {
+        &self.operators
+    }
+
     /// Solves with default options.
     pub fn solve(&self) -> Result<Solution> {
         self.solve_with(&SolveOptions::default())
@@ -198,13 +216,36 @@ impl Problem {
         if self.terms.is_empty() {
             return Err(Error::NoEnergy);
         }
+        for op in &self.operators {
+            op.validate()?;
+        }
         let t = Instant::now();
         let forms = self
             .terms
             .iter()
             .map(|t| t.form(self.degree))
             .collect::<Result<Vec<_>>>()?;
-        let sys = System::assemble(&forms, &self.known);
+        let mut sys = System::assemble(&forms, &self.known, !self.operators.is_empty());
+        // Operators: attractors and directors join the quadratic energy
+        // (s Σ w (a·x − t)² adds 2s w aaᵀ to H and 2s w t a to b), repellors
+        // wait for Newton's method.
+        let mut placed = Vec::with_capacity(self.operators.len());
+        for op in &self.operators {
+            let at = op.locate(self.degree)?;
+            let res = op.residuals(&at, self.degree);
+            if !op.repel {
+                for r in &res {
+                    let c = 2.0 * op.strength * r.weight;
+                    for &(i, a) in &r.terms {
+                        sys.b[(i, 0)] += c * r.target * a;
+                        for &(j, b) in &r.terms {
+                            sys.h[(i, j)] += c * a * b;
+                        }
+                    }
+                }
+            }
+            placed.push((at, res));
+        }
         let (h_ff, rhs) = sys.reduce(&free);
         let assemble = t.elapsed().as_secs_f64();
 
@@ -214,7 +255,8 @@ impl Problem {
             estimate_condition: opts.estimate_condition,
             singular_condition: opts.singular_condition,
         };
-        let block = if opts.tensor_basis {
+        // The Jacobi basis carries the internal energies only.
+        let block = if opts.tensor_basis && self.operators.is_empty() {
             self.free_block(&free)
         } else {
             None
@@ -239,21 +281,91 @@ impl Problem {
             &self.hint(),
             pre.as_ref().map(|(h, q)| (h, q)),
         )?;
+        // Repellors: Newton's method on the total energy from the
+        // quadratic solution (no constraints but the known points).
+        let repellors: Vec<FreeResiduals> = self
+            .operators
+            .iter()
+            .zip(&placed)
+            .filter(|(op, _)| op.repel)
+            .map(|(op, (_, res))| {
+                let known: Vec<Option<f64>> = (0..3 * self.known.len())
+                    .map(|i| self.known[i / 3].map(|p| p[i % 3]))
+                    .collect();
+                let mut free_index = vec![usize::MAX; known.len()];
+                for (k, &p) in free.iter().enumerate() {
+                    for c in 0..3 {
+                        free_index[3 * p + c] = 3 * k + c;
+                    }
+                }
+                FreeResiduals::new(op.strength, res, &known, &free_index)
+            })
+            .collect();
+        let mut xf = sol.x.clone();
+        let mut newton_report = None;
+        let mut total_gradient = None;
+        if !repellors.is_empty() {
+            let nf = h_ff.nrows();
+            let mut triplets = Vec::new();
+            for j in 0..nf {
+                for i in 0..nf {
+                    if h_ff[(i, j)] != 0.0 {
+                        triplets.push(Triplet::new(i, j, h_ff[(i, j)]));
+                    }
+                }
+            }
+            let h = sparse(nf, &triplets)?;
+            let b: Vec<f64> = (0..nf).map(|i| -rhs[(i, 0)]).collect();
+            let x0: Vec<f64> = (0..nf).map(|i| sol.x[(i, 0)]).collect();
+            let (x, report) = newton(&h, &b, &[], &repellors, x0)?;
+            // ∇E = H x + b − Σ s ∇q / q², for the report.
+            let mut g = b.clone();
+            for j in 0..nf {
+                for i in 0..nf {
+                    g[i] += h_ff[(i, j)] * x[j];
+                }
+            }
+            for r in &repellors {
+                let (q, dq) = r.value_and_gradient(&x);
+                for (i, d) in dq {
+                    g[i] -= r.strength * d / (q * q);
+                }
+            }
+            total_gradient = Some((
+                g.iter().map(|v| v * v).sum::<f64>().sqrt(),
+                report.relative_gradient,
+            ));
+            xf = Mat::from_fn(nf, 1, |i, _| x[i]);
+            newton_report = Some(report);
+        }
         let solve = t.elapsed().as_secs_f64() - sol.factor_seconds;
 
-        let points = sys.fill(&free, &sol.x);
+        let points = sys.fill(&free, &xf);
         let patch = TensorPatch::try_new(self.degree.0, self.degree.1, points).map_err(|_| {
             Error::NotFinite {
                 what: "the solution (the system overflowed)".into(),
             }
         })?;
-        let (gradient_norm, relative_gradient) = sys.gradient(&free, &patch);
+        let (gradient_norm, relative_gradient) =
+            total_gradient.unwrap_or_else(|| sys.gradient(&free, &patch));
         let rhs_norm = rhs.norm_l2();
-        let residual = if rhs_norm > 0.0 {
-            sol.residual.norm_l2() / rhs_norm
-        } else {
-            sol.residual.norm_l2()
+        let residual_norm = match total_gradient {
+            Some((g, _)) => g,
+            None => sol.residual.norm_l2(),
         };
+        let residual = if rhs_norm > 0.0 {
+            residual_norm / rhs_norm
+        } else {
+            residual_norm
+        };
+        let x: Vec<f64> = patch.points().iter().flatten().copied().collect();
+        let operators: Vec<OperatorOutcome> = self
+            .operators
+            .iter()
+            .zip(&placed)
+            .map(|(op, (at, res))| op.outcome(at, res, &patch, &x))
+            .collect();
+        let external: f64 = operators.iter().map(|o| o.energy).sum();
 
         let terms = self
             .terms
@@ -269,8 +381,11 @@ impl Problem {
         let measures = opts.analyse.then(|| measures(&patch));
         let analyse = t.elapsed().as_secs_f64();
         let report = SolveReport {
-            energy: terms.iter().map(|t| t.value).sum(),
+            energy: terms.iter().map(|t| t.value).sum::<f64>() + external,
             terms,
+            external,
+            operators,
+            newton: newton_report,
             gradient_norm,
             relative_gradient,
             residual,
@@ -374,11 +489,14 @@ struct System {
 }
 
 impl System {
-    fn assemble(forms: &[TermForm], known: &[Option<Vec3>]) -> Self {
+    /// The system of the terms' forms; `coupled` forces the coupled layout
+    /// (operators couple the coordinates).
+    fn assemble(forms: &[TermForm], known: &[Option<Vec3>], coupled: bool) -> Self {
         let np = known.len();
-        let coupled = forms
-            .iter()
-            .any(|f| matches!(f.hessian, Hessian::Coupled(_)));
+        let coupled = coupled
+            || forms
+                .iter()
+                .any(|f| matches!(f.hessian, Hessian::Coupled(_)));
         let (dim, cols) = if coupled { (3 * np, 1) } else { (np, 3) };
         // (row, col) of coordinate c of point p in the layout.
         let at = |p: usize, c: usize| if coupled { (3 * p + c, 0) } else { (p, c) };

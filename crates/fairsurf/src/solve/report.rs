@@ -44,8 +44,15 @@ pub struct SurfaceMeasures {
 pub struct SolveReport {
     /// Each term's energy at the solution.
     pub terms: Vec<TermEnergy>,
-    /// Their sum: the minimized energy.
+    /// Their sum and the operators': the minimized energy.
     pub energy: f64,
+    /// The external operators' energy (Veltkamp & Wesselink §5), in `energy`.
+    pub external: f64,
+    /// Each operator's energy and how far its target is met.
+    pub operators: Vec<crate::operator::OperatorOutcome>,
+    /// With repellors: how Newton's method went (then `gradient_norm` and
+    /// `relative_gradient` are those of the total, nonlinear energy).
+    pub newton: Option<crate::operator::NewtonReport>,
     /// ‖∂E/∂x‖₂ over the free coordinates, computed from the assembled
     /// energy in twice-working precision.
     pub gradient_norm: f64,

@@ -75,7 +75,7 @@ mod elevate;
 mod energy;
 mod index;
 mod integral;
-mod kkt;
+pub(crate) mod kkt;
 mod operator;
 mod patch;
 mod reduce;
@@ -85,6 +85,7 @@ mod solve;
 mod subdivide;
 mod surface;
 
+pub use crate::operator::{NewtonReport, Operator, OperatorOutcome, Target};
 pub use bernstein::{tri_bernstein, tri_bernstein_all, trinomial, Bary};
 pub use constraint::{Constraint, NamedConstraint, Row};
 pub use continuity::{max_edge_normal_angle, Continuity, EdgeContinuity};
@@ -95,11 +96,10 @@ pub use energy::{
 pub use index::{linear_index, multi_index, multi_indices, point_count};
 pub use integral::{tri_gram_matrix, tri_product_integral};
 pub use kkt::{Factorization, KktInfo};
-pub use operator::{Operator, OperatorOutcome, Place, RegionPiece, Target};
+pub use operator::{Place, RegionPiece};
 pub use patch::TriPatch;
 pub use refine::{embed_curve, CurvePath, DomainPoint, Refinement};
 pub use solve::{
-    ConstraintOutcome, CurveConstraint, DroppedRow, NewtonReport, TriProblem, TriReport,
-    TriSolution, TriTimings,
+    ConstraintOutcome, CurveConstraint, DroppedRow, TriProblem, TriReport, TriSolution, TriTimings,
 };
 pub use surface::{MeshEdge, TriSurface};
