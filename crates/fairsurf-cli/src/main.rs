@@ -17,6 +17,7 @@ mod eval;
 mod export;
 mod input;
 mod render;
+mod serve;
 mod solve;
 
 use clap::{Parser, Subcommand};
@@ -46,6 +47,9 @@ enum Command {
     Export(export::Args),
     /// Evaluate points and unit normals of a solved surface at given (u, v).
     Eval(eval::Args),
+    /// Open the editor in the browser: a local server for the page and its
+    /// JSON API (solve, compare, export, examples).
+    Serve(serve::Args),
     /// Print the JSON Schema of scene files (tensor, or with --triangular
     /// the triangular-surface scenes).
     Schema {
@@ -90,6 +94,7 @@ fn main() -> ExitCode {
         Command::Compare(a) => compare::run(a),
         Command::Eval(a) => eval::run(a),
         Command::Export(a) => export::run(a),
+        Command::Serve(a) => serve::run(a),
         Command::Render(a) => render::run(a),
         Command::Schema { triangular } => {
             let schema = if triangular {

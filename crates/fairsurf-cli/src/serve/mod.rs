@@ -1,0 +1,343 @@
+//! `fairsurf serve`: the browser editor. A local HTTP server (axum on
+//! tokio) serving the page (`editor/dist`, embedded at build time) and a
+//! JSON API: solve, compare, export, and the bundled examples. The contract
+//! is `editor/API.md`; the server keeps no state between requests.
+//!
+//! Limits, each a clear JSON error: the request body (`--max-body-mb`,
+//! 413), the problem's size (`--max-unknowns`, 413), the solve time
+//! (`--timeout`, 503), and at most as many solves at once as there are
+//! cores (the others wait their turn).
+
+mod view;
+
+use crate::Failure;
+use axum::body::{to_bytes, Body, Bytes};
+use axum::extract::{Path as UrlPath, Query, State};
+use axum::http::{header, HeaderValue, StatusCode};
+use axum::response::{IntoResponse, Response};
+use axum::routing::{get, post};
+use axum::{Json, Router};
+use include_dir::{include_dir, Dir};
+use serde_json::{json, Value};
+use std::collections::HashMap;
+use std::net::{IpAddr, SocketAddr};
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Duration;
+use tokio::sync::Semaphore;
+
+/// The editor page and its assets (built by `editor/build.sh`).
+static DIST: Dir<'_> = include_dir!("$CARGO_MANIFEST_DIR/../../editor/dist");
+/// The bundled example scenes.
+static EXAMPLES: Dir<'_> = include_dir!("$CARGO_MANIFEST_DIR/../../examples");
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// A scene to open first (listed before the bundled examples).
+    scene: Option<PathBuf>,
+    /// The port (0: any free port; the address is printed).
+    #[arg(long, default_value_t = 8765)]
+    port: u16,
+    /// The address to listen on: 127.0.0.1 (this machine only) unless told.
+    #[arg(long, default_value = "127.0.0.1")]
+    host: IpAddr,
+    /// Longest solve, in seconds, before the request fails with 503.
+    #[arg(long, default_value_t = 30.0)]
+    timeout: f64,
+    /// Largest request body, in MB.
+    #[arg(long, default_value_t = 16)]
+    max_body_mb: usize,
+    /// Largest problem: scalar unknowns (3 per control point).
+    #[arg(long, default_value_t = 300_000)]
+    max_unknowns: usize,
+}
+
+/// What the handlers share.
+pub(crate) struct Server {
+    /// (file name, scene text) of the examples, the opened scene first.
+    examples: Vec<(String, String)>,
+    limits: Limits,
+    solves: Semaphore,
+}
+
+/// The request limits.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Limits {
+    pub timeout: Duration,
+    pub max_body: usize,
+    pub max_unknowns: usize,
+}
+
+/// An API error: a 4xx status and `{"error", "path"}`.
+#[derive(Debug)]
+pub(crate) struct ApiError {
+    pub status: StatusCode,
+    pub message: String,
+    pub path: Option<String>,
+}
+
+impl ApiError {
+    pub fn new(status: StatusCode, message: impl Into<String>) -> Self {
+        ApiError {
+            status,
+            message: message.into(),
+            path: None,
+        }
+    }
+}
+
+impl From<fairsurf_io::Error> for ApiError {
+    fn from(e: fairsurf_io::Error) -> Self {
+        let message = e.to_string();
+        match e {
+            fairsurf_io::Error::Scene { path, .. } => ApiError {
+                status: StatusCode::BAD_REQUEST,
+                message,
+                path: (!path.is_empty()).then_some(path),
+            },
+            _ => ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, message),
+        }
+    }
+}
+
+impl IntoResponse for ApiError {
+    fn into_response(self) -> Response {
+        (
+            self.status,
+            Json(json!({"error": self.message, "path": self.path})),
+        )
+            .into_response()
+    }
+}
+
+type ApiResult<T> = Result<T, ApiError>;
+
+pub fn run(a: Args) -> Result<(), Failure> {
+    if !(a.timeout > 0.0 && a.timeout.is_finite()) {
+        return Err(Failure::input(format!(
+            "--timeout {}: expected a positive number of seconds",
+            a.timeout
+        )));
+    }
+    let mut examples = Vec::new();
+    if let Some(p) = &a.scene {
+        let text = crate::input::read(p)?;
+        serde_json::from_str::<Value>(&text)
+            .map_err(|e| Failure::input(format!("{}: {e}", p.display())))?;
+        let name = p
+            .file_name()
+            .map_or("scene.json".into(), |n| n.to_string_lossy().into_owned());
+        examples.push((name, text));
+    }
+    examples.extend(bundled_examples());
+    let server = Arc::new(Server {
+        examples,
+        limits: Limits {
+            timeout: Duration::from_secs_f64(a.timeout),
+            max_body: a.max_body_mb.saturating_mul(1 << 20),
+            max_unknowns: a.max_unknowns,
+        },
+        solves: Semaphore::new(std::thread::available_parallelism().map_or(2, |n| n.get())),
+    });
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .map_err(|e| Failure::input(format!("cannot start the server: {e}")))?;
+    runtime.block_on(async move {
+        let addr = SocketAddr::new(a.host, a.port);
+        let listener = tokio::net::TcpListener::bind(addr)
+            .await
+            .map_err(|e| Failure::input(format!("cannot listen on {addr}: {e}")))?;
+        let local = listener
+            .local_addr()
+            .map_err(|e| Failure::input(format!("{e}")))?;
+        println!("fairsurf editor: http://{local}/");
+        use std::io::Write;
+        let _ = std::io::stdout().flush();
+        axum::serve(listener, router(server))
+            .await
+            .map_err(|e| Failure::input(format!("server stopped: {e}")))
+    })
+}
+
+/// The bundled examples, sorted by file name.
+fn bundled_examples() -> Vec<(String, String)> {
+    let mut out: Vec<(String, String)> = EXAMPLES
+        .files()
+        .filter(|f| f.path().extension().is_some_and(|e| e == "json"))
+        .filter_map(|f| {
+            Some((
+                f.path().file_name()?.to_string_lossy().into_owned(),
+                f.contents_utf8()?.to_string(),
+            ))
+        })
+        .collect();
+    out.sort();
+    out
+}
+
+pub(crate) fn router(server: Arc<Server>) -> Router {
+    Router::new()
+        .route("/api/examples", get(list_examples))
+        .route("/api/examples/{file}", get(get_example))
+        .route("/api/solve", post(solve))
+        .route("/api/compare", post(compare))
+        .route("/api/export", post(export))
+        .route("/api/{*rest}", get(api_not_found).post(api_not_found))
+        .fallback(get(asset))
+        .with_state(server)
+}
+
+async fn api_not_found() -> ApiError {
+    ApiError::new(StatusCode::NOT_FOUND, "no such API endpoint")
+}
+
+/// A file of the page.
+async fn asset(uri: axum::http::Uri) -> Response {
+    let path = uri.path().trim_start_matches('/');
+    let path = if path.is_empty() { "index.html" } else { path };
+    let Some(file) = DIST.get_file(path) else {
+        return (StatusCode::NOT_FOUND, "not found").into_response();
+    };
+    let kind = match path.rsplit('.').next() {
+        Some("html") => "text/html; charset=utf-8",
+        Some("js" | "mjs") => "text/javascript; charset=utf-8",
+        Some("css") => "text/css; charset=utf-8",
+        Some("json") => "application/json",
+        Some("png") => "image/png",
+        Some("svg") => "image/svg+xml",
+        _ => "application/octet-stream",
+    };
+    (
+        [(header::CONTENT_TYPE, HeaderValue::from_static(kind))],
+        file.contents(),
+    )
+        .into_response()
+}
+
+async fn list_examples(State(s): State<Arc<Server>>) -> Json<Value> {
+    let list: Vec<Value> = s
+        .examples
+        .iter()
+        .map(|(file, text)| {
+            let v: Value = serde_json::from_str(text).unwrap_or(Value::Null);
+            let name = v["name"].as_str().unwrap_or(file);
+            let kind = if fairsurf_io::is_triangular(text) {
+                "triangular"
+            } else {
+                "tensor"
+            };
+            json!({"file": file, "name": name, "kind": kind})
+        })
+        .collect();
+    Json(json!({ "examples": list }))
+}
+
+async fn get_example(
+    State(s): State<Arc<Server>>,
+    UrlPath(file): UrlPath<String>,
+) -> ApiResult<Response> {
+    let (_, text) = s
+        .examples
+        .iter()
+        .find(|(f, _)| *f == file)
+        .ok_or_else(|| ApiError::new(StatusCode::NOT_FOUND, format!("no example {file:?}")))?;
+    Ok((
+        [(
+            header::CONTENT_TYPE,
+            HeaderValue::from_static("application/json"),
+        )],
+        text.clone(),
+    )
+        .into_response())
+}
+
+/// The request body's `scene`, as text for the scene parsers (which name
+/// the JSON path of every error).
+async fn scene_text(s: &Server, body: Body) -> ApiResult<String> {
+    let bytes: Bytes = to_bytes(body, s.limits.max_body).await.map_err(|_| {
+        ApiError::new(
+            StatusCode::PAYLOAD_TOO_LARGE,
+            format!(
+                "the request is larger than {} MB (--max-body-mb)",
+                s.limits.max_body >> 20
+            ),
+        )
+    })?;
+    let mut v: Value = serde_json::from_slice(&bytes).map_err(|e| ApiError {
+        status: StatusCode::BAD_REQUEST,
+        message: format!("the request is not JSON: {e}"),
+        path: None,
+    })?;
+    let scene = v
+        .get_mut("scene")
+        .map(Value::take)
+        .filter(Value::is_object)
+        .ok_or_else(|| ApiError {
+            status: StatusCode::BAD_REQUEST,
+            message: "scene: expected the request {\"scene\": {…}}".into(),
+            path: Some("scene".into()),
+        })?;
+    Ok(scene.to_string())
+}
+
+/// Runs `f` on the blocking pool, one per core at a time, within the time
+/// limit.
+async fn limited<T: Send + 'static>(
+    s: &Server,
+    f: impl FnOnce() -> ApiResult<T> + Send + 'static,
+) -> ApiResult<T> {
+    let _permit =
+        s.solves.acquire().await.map_err(|_| {
+            ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the server is stopping")
+        })?;
+    match tokio::time::timeout(s.limits.timeout, tokio::task::spawn_blocking(f)).await {
+        Ok(Ok(r)) => r,
+        Ok(Err(e)) => Err(ApiError::new(
+            StatusCode::INTERNAL_SERVER_ERROR,
+            format!("the solve failed: {e}"),
+        )),
+        Err(_) => Err(ApiError::new(
+            StatusCode::SERVICE_UNAVAILABLE,
+            format!(
+                "the solve took longer than {} s (--timeout); lower the degree or the sampling",
+                s.limits.timeout.as_secs_f64()
+            ),
+        )),
+    }
+}
+
+async fn solve(State(s): State<Arc<Server>>, body: Body) -> ApiResult<Json<Value>> {
+    let text = scene_text(&s, body).await?;
+    let limits = s.limits;
+    let v = limited(&s, move || view::solve(&text, &limits)).await?;
+    Ok(Json(v))
+}
+
+async fn compare(State(s): State<Arc<Server>>, body: Body) -> ApiResult<Json<Value>> {
+    let text = scene_text(&s, body).await?;
+    let limits = s.limits;
+    let v = limited(&s, move || view::compare(&text, &limits)).await?;
+    Ok(Json(v))
+}
+
+async fn export(
+    State(s): State<Arc<Server>>,
+    Query(q): Query<HashMap<String, String>>,
+    body: Body,
+) -> ApiResult<Response> {
+    let format = q.get("format").cloned().unwrap_or_default();
+    let text = scene_text(&s, body).await?;
+    let limits = s.limits;
+    let (name, kind, bytes) = limited(&s, move || view::export(&text, &format, &limits)).await?;
+    let disposition = HeaderValue::from_str(&format!("attachment; filename=\"{name}\""))
+        .unwrap_or_else(|_| HeaderValue::from_static("attachment"));
+    Ok((
+        [
+            (header::CONTENT_TYPE, HeaderValue::from_static(kind)),
+            (header::CONTENT_DISPOSITION, disposition),
+        ],
+        bytes,
+    )
+        .into_response())
+}

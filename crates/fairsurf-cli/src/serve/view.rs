@@ -1,0 +1,692 @@
+//! What the editor draws and edits, from a solved scene: the mesh coloured
+//! by mean curvature, the control net, boundary, normals, operators, the
+//! draggable handles and sliders (as JSON pointers into the scene), and the
+//! energy/area table (see `editor/API.md`).
+
+use super::{ApiError, ApiResult, Limits};
+use axum::http::StatusCode;
+use fairsurf::colour::ColourMap;
+use fairsurf::triangle::{linear_index, multi_indices};
+use fairsurf::vector::{add, dot, norm, normalize, scale, sub};
+use fairsurf::{BezierCurve, TriSurface, Vec3};
+use fairsurf_io::{
+    is_triangular, write_iges, write_mesh, write_step, Outcome, Scene, SolvedScene, SolvedTriScene,
+    SurfaceMesh, TriScene,
+};
+use serde_json::{json, Value};
+use std::collections::BTreeSet;
+use std::time::Instant;
+
+/// Solves the scene and describes the result for the page.
+pub(crate) fn solve(text: &str, limits: &Limits) -> ApiResult<Value> {
+    let start = Instant::now();
+    let mut v = if is_triangular(text) {
+        let scene = TriScene::from_json(text)?;
+        check_size(&scene, limits)?;
+        let solved = scene.solve()?;
+        tri_view(&solved)
+    } else {
+        let scene = Scene::from_json(text)?;
+        let solved = scene.solve()?;
+        tensor_view(&solved)
+    };
+    v["seconds"] = json!(start.elapsed().as_secs_f64());
+    Ok(v)
+}
+
+/// The four surfaces of Monterde & Ugail §4 with the scene's boundary.
+pub(crate) fn compare(text: &str, _limits: &Limits) -> ApiResult<Value> {
+    if is_triangular(text) {
+        return Err(ApiError::new(
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "compare is for tensor-product scenes (Monterde & Ugail's four surfaces)",
+        ));
+    }
+    let c = Scene::from_json(text)?.compare()?;
+    let rows: Vec<Value> = c
+        .columns()
+        .into_iter()
+        .map(|(name, col)| {
+            let m = &col.measures;
+            json!([
+                name.replace('_', " "),
+                m.area,
+                m.dirichlet,
+                m.biharmonic,
+                m.abs_mean_curvature.mean,
+                if col.exact { "yes" } else { "least squares" },
+            ])
+        })
+        .collect();
+    Ok(json!({
+        "columns": ["surface", "area", "Dirichlet", "biharmonic", "mean |H|", "exact"],
+        "rows": rows,
+    }))
+}
+
+/// The solved surface as a file: (file name, content type, bytes).
+pub(crate) fn export(
+    text: &str,
+    format: &str,
+    limits: &Limits,
+) -> ApiResult<(String, &'static str, Vec<u8>)> {
+    let (ext, kind) = match format {
+        "obj" => ("obj", "text/plain; charset=utf-8"),
+        "stl" => ("stl", "model/stl"),
+        "ply" => ("ply", "application/octet-stream"),
+        "gltf" => ("glb", "model/gltf-binary"),
+        "step" => ("step", "model/step"),
+        "iges" => ("igs", "model/iges"),
+        "json" => ("result.json", "application/json"),
+        other => {
+            return Err(ApiError {
+                status: StatusCode::BAD_REQUEST,
+                message: format!(
+                    "format: expected obj, stl, ply, gltf, step, iges or json, got {other:?}"
+                ),
+                path: Some("format".into()),
+            })
+        }
+    };
+    // The surface: a result file as it is, any other scene solved.
+    let (name, patches, tri, result) = if is_triangular(text) {
+        let scene = TriScene::from_json(text)?;
+        check_size(&scene, limits)?;
+        let solved = scene.solve()?;
+        let result = serde_json::to_string_pretty(&solved.result_scene()).expect("json");
+        let s = solved.solution.surface;
+        (scene.name.clone(), s.tensor_patches(), Some(s), result)
+    } else {
+        let scene = Scene::from_json(text)?;
+        let solved = scene.solve()?;
+        let result = serde_json::to_string_pretty(&solved.result_scene()).expect("json");
+        (
+            scene.name.clone(),
+            vec![solved.patch().clone()],
+            None,
+            result,
+        )
+    };
+    let stem = file_stem(name.as_deref());
+    let file = format!("{stem}.{ext}");
+    if format == "json" {
+        return Ok((file, kind, result.into_bytes()));
+    }
+    let dir = std::env::temp_dir().join(format!(
+        "fairsurf-serve-{}-{}",
+        std::process::id(),
+        COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+    ));
+    std::fs::create_dir_all(&dir).map_err(|e| {
+        ApiError::new(
+            StatusCode::INTERNAL_SERVER_ERROR,
+            format!("temporary file: {e}"),
+        )
+    })?;
+    let path = dir.join(format!("surface.{ext}"));
+    let written = match format {
+        "step" => write_step(&path, &patches),
+        "iges" => write_iges(&path, &patches),
+        _ => {
+            let mesh = match &tri {
+                Some(t) => SurfaceMesh::from_tri_surface(t, 8),
+                None => SurfaceMesh::from_patch(&patches[0], 64, 64),
+            };
+            write_mesh(&path, &mesh)
+        }
+    };
+    let bytes = written.map_err(ApiError::from).and_then(|()| {
+        std::fs::read(&path).map_err(|e| {
+            ApiError::new(
+                StatusCode::INTERNAL_SERVER_ERROR,
+                format!("temporary file: {e}"),
+            )
+        })
+    });
+    let _ = std::fs::remove_dir_all(&dir);
+    Ok((file, kind, bytes?))
+}
+
+static COUNTER: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+/// A file name from the scene's name: letters, digits, `-` and `_`.
+fn file_stem(name: Option<&str>) -> String {
+    let s: String = name
+        .unwrap_or("fairsurf")
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    let s = s.trim_matches('_');
+    let s: String = s.chars().take(48).collect();
+    if s.is_empty() {
+        "fairsurf".into()
+    } else {
+        s
+    }
+}
+
+/// Refuses a triangular scene with more unknowns than the limit.
+fn check_size(scene: &TriScene, limits: &Limits) -> ApiResult<()> {
+    let s = scene.surface()?;
+    let unknowns = 3 * s.point_count();
+    if unknowns > limits.max_unknowns {
+        return Err(ApiError {
+            status: StatusCode::PAYLOAD_TOO_LARGE,
+            message: format!(
+                "surface: {unknowns} unknowns ({} patches of degree {}), more than the server's \
+                 limit of {} (--max-unknowns)",
+                s.patch_count(),
+                s.degree(),
+                limits.max_unknowns
+            ),
+            path: Some("surface".into()),
+        });
+    }
+    Ok(())
+}
+
+fn row(label: impl Into<String>, value: impl Into<Value>) -> Value {
+    json!({"label": label.into(), "value": value.into()})
+}
+
+fn slider(pointer: String, label: String, value: f64, min: f64, max: f64) -> Value {
+    json!({"pointer": pointer, "label": label, "value": value, "min": min, "max": max, "scale": "log"})
+}
+
+/// The diagonal of the points' bounding box (1 if degenerate).
+fn size_of(points: &[Vec3]) -> f64 {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in points {
+        for c in 0..3 {
+            lo[c] = lo[c].min(p[c]);
+            hi[c] = hi[c].max(p[c]);
+        }
+    }
+    let d = norm(sub(hi, lo));
+    if d.is_finite() && d > 0.0 {
+        d
+    } else {
+        1.0
+    }
+}
+
+/// The mesh with per-vertex colours by signed mean curvature (cool–warm,
+/// symmetric about 0 up to the 98th percentile of |H|) and its legend.
+fn mesh_json(m: &SurfaceMesh) -> Value {
+    let mesh = m.mesh();
+    let mut abs: Vec<f64> = m
+        .curvature()
+        .iter()
+        .flatten()
+        .map(|c| c.mean.abs())
+        .collect();
+    abs.retain(|h| h.is_finite());
+    abs.sort_by(f64::total_cmp);
+    let a = abs
+        .get((abs.len() as f64 * 0.98) as usize)
+        .or(abs.last())
+        .copied()
+        .unwrap_or(1.0)
+        .max(1e-12);
+    let map = ColourMap::CoolWarm;
+    let colors: Vec<f32> = m
+        .curvature()
+        .iter()
+        .flat_map(|c| match c {
+            Some(c) => map.at(0.5 + 0.5 * c.mean / a),
+            None => ColourMap::NAN,
+        })
+        .collect();
+    let stops: Vec<Value> = (0..=4)
+        .map(|k| {
+            let t = k as f64 / 4.0;
+            let [r, g, b] = map.at(t);
+            let hex = |x: f32| (x.clamp(0.0, 1.0) * 255.0).round() as u8;
+            json!([t, format!("#{:02x}{:02x}{:02x}", hex(r), hex(g), hex(b))])
+        })
+        .collect();
+    json!({
+        "positions": mesh.positions.iter().flatten().collect::<Vec<_>>(),
+        "indices": mesh.triangles.iter().flatten().collect::<Vec<_>>(),
+        "colors": colors,
+        "legend": {"name": "mean curvature H", "min": -a, "max": a, "stops": stops},
+    })
+}
+
+/// Samples of a Bézier curve through `points`, as a polyline.
+fn polyline(points: Vec<Vec3>, samples: usize) -> Vec<Vec3> {
+    let c = BezierCurve::new(points);
+    (0..=samples)
+        .map(|k| c.eval(k as f64 / samples as f64))
+        .collect()
+}
+
+/// Where an operator's marker goes and what it points at, from its scene
+/// entry (`at`, `region` or `edge`, and the target's fields).
+fn operator_json(o: &Value, at: Option<Vec3>, size: f64) -> Value {
+    let vec3 = |v: &Value| -> Option<Vec3> {
+        let a = v.as_array()?;
+        if a.len() != 3 {
+            return None;
+        }
+        Some([a[0].as_f64()?, a[1].as_f64()?, a[2].as_f64()?])
+    };
+    let kind = o["type"].as_str().unwrap_or("operator");
+    let target = at.and_then(|s| match kind {
+        "point_attractor" | "repellor" => vec3(&o["point"]),
+        "plane_attractor" => {
+            let n = vec3(&o["normal"])?;
+            let d = (dot(n, s) - o["offset"].as_f64()?) / dot(n, n);
+            Some(sub(s, scale(n, d)))
+        }
+        "line_attractor" => {
+            let (p, q) = (vec3(&o["point"])?, vec3(&o["direction"])?);
+            Some(add(p, scale(q, dot(sub(s, p), q) / dot(q, q))))
+        }
+        "director" => Some(add(
+            s,
+            scale(normalize(vec3(&o["direction"])?)?, 0.15 * size),
+        )),
+        "curve_attractor" => {
+            let pts: Option<Vec<Vec3>> = o["control_points"].as_array()?.iter().map(vec3).collect();
+            Some(BezierCurve::try_new(pts?).ok()?.eval(0.5))
+        }
+        _ => None,
+    });
+    json!({
+        "name": o["name"].as_str().unwrap_or(kind),
+        "kind": if o["repel"].as_bool() == Some(true) { "repellor" } else { kind },
+        "at": at,
+        "target": target,
+    })
+}
+
+/// Each operator's energy and how far its target is met.
+fn operator_rows(table: &mut Vec<Value>, operators: &[fairsurf::operator::OperatorOutcome]) {
+    for o in operators {
+        let what = if o.kind == "director" {
+            "angle (rad)"
+        } else {
+            "distance"
+        };
+        table.push(row(format!("{}: energy", o.name), o.energy));
+        table.push(row(format!("{}: {what}", o.name), o.measure));
+    }
+}
+
+/// Area, functionals and |H| of a tensor patch.
+fn measure_rows(table: &mut Vec<Value>, m: Option<&fairsurf::SurfaceMeasures>) {
+    if let Some(m) = m {
+        table.push(row("area", m.area));
+        table.push(row("Dirichlet", m.dirichlet));
+        table.push(row("biharmonic", m.biharmonic));
+        table.push(row("mean |H|", m.abs_mean_curvature.mean));
+        table.push(row("max |H|", m.abs_mean_curvature.max));
+    }
+}
+
+/// Handles and sliders of the scene's operators.
+fn operator_controls(operators: &Value, handles: &mut Vec<Value>, sliders: &mut Vec<Value>) {
+    for (k, o) in operators.as_array().into_iter().flatten().enumerate() {
+        let name = o["name"]
+            .as_str()
+            .map_or(format!("operator {k}"), str::to_string);
+        if let Some(p) = o.get("point").filter(|p| p.is_array()) {
+            handles.push(json!({
+                "pointer": format!("/operators/{k}/point"),
+                "position": p,
+                "label": format!("{name}: point"),
+                "kind": "operator",
+            }));
+        }
+        let s = o["strength"].as_f64().unwrap_or(1.0);
+        sliders.push(slider(
+            format!("/operators/{k}/strength"),
+            format!("{name} strength"),
+            s,
+            (s / 1000.0).clamp(1e-9, 1e-3),
+            (s * 1000.0).max(1e3),
+        ));
+    }
+}
+
+fn tensor_view(solved: &SolvedScene) -> Value {
+    let scene = &solved.scene;
+    let patch = solved.patch();
+    let (n, m) = patch.degree();
+    let size = size_of(patch.points());
+    let scene_json = serde_json::to_value(scene).expect("json");
+
+    let mut edges = Vec::new();
+    for i in 0..=n {
+        for j in 0..=m {
+            let k = i * (m + 1) + j;
+            if j < m {
+                edges.push([k, k + 1]);
+            }
+            if i < n {
+                edges.push([k, k + m + 1]);
+            }
+        }
+    }
+    let boundary: Vec<Vec<Vec3>> = [
+        (0..=m).map(|j| patch.point(0, j)).collect::<Vec<_>>(),
+        (0..=n).map(|i| patch.point(i, m)).collect(),
+        (0..=m).rev().map(|j| patch.point(n, j)).collect(),
+        (0..=n).rev().map(|i| patch.point(i, 0)).collect(),
+    ]
+    .into_iter()
+    .map(|pts| polyline(pts, 48))
+    .collect();
+
+    let mut normals = Vec::new();
+    if let Some(f) = &solved.built.normal_field {
+        for a in 0..=8 {
+            for b in 0..=8 {
+                let (u, v) = (a as f64 / 8.0, b as f64 / 8.0);
+                if let Some(d) = f.direction(u, v) {
+                    normals.push(json!({"at": patch.eval(u, v), "dir": scale(d, 0.08 * size)}));
+                }
+            }
+        }
+    }
+
+    // Operators: the marker at the surface point they act on.
+    let operators: Vec<Value> = scene_json["operators"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .map(|o| {
+            let uv = o["at"]
+                .as_array()
+                .and_then(|a| Some([a.first()?.as_f64()?, a.get(1)?.as_f64()?]))
+                .or_else(|| {
+                    let r = o["region"].as_array()?;
+                    let pts: Option<Vec<[f64; 2]>> = r
+                        .iter()
+                        .map(|p| Some([p.get(0)?.as_f64()?, p.get(1)?.as_f64()?]))
+                        .collect();
+                    let pts = pts?;
+                    let k = pts.len().max(1) as f64;
+                    Some([
+                        pts.iter().map(|p| p[0]).sum::<f64>() / k,
+                        pts.iter().map(|p| p[1]).sum::<f64>() / k,
+                    ])
+                })
+                .or_else(|| match o["edge"].as_str()? {
+                    "u0" => Some([0.0, 0.5]),
+                    "u1" => Some([1.0, 0.5]),
+                    "v0" => Some([0.5, 0.0]),
+                    _ => Some([0.5, 1.0]),
+                });
+            operator_json(o, uv.map(|[u, v]| patch.eval(u, v)), size)
+        })
+        .collect();
+
+    // Handles: the given control points that are held (not free).
+    let mut handles = Vec::new();
+    for (i, row) in scene.surface.control_points.iter().enumerate() {
+        for (j, p) in row.iter().enumerate() {
+            let k = i * (m + 1) + j;
+            if let Some(p) = p {
+                if !solved.built.free.get(k).copied().unwrap_or(true) {
+                    handles.push(json!({
+                        "pointer": format!("/surface/control_points/{i}/{j}"),
+                        "position": p,
+                        "label": format!("P({i},{j})"),
+                        "kind": "control_point",
+                    }));
+                }
+            }
+        }
+    }
+
+    let mut sliders = Vec::new();
+    let mut table = Vec::new();
+    match &solved.outcome {
+        Outcome::Minimized(sol) => {
+            let e = &scene.energy;
+            let default_bend =
+                e.stretch.is_none() && e.bend.is_none() && scene.fixed_rings >= Some(2);
+            let default_stretch = e.stretch.is_none() && e.bend.is_none() && !default_bend;
+            let w = |given: Option<f64>, default: bool| {
+                given.unwrap_or(if default { 1.0 } else { 0.0 })
+            };
+            sliders.push(slider(
+                "/energy/stretch".into(),
+                "stretch (membrane)".into(),
+                w(e.stretch, default_stretch),
+                1e-4,
+                1e3,
+            ));
+            sliders.push(slider(
+                "/energy/bend".into(),
+                "bend (thin plate)".into(),
+                w(e.bend, default_bend),
+                1e-4,
+                1e3,
+            ));
+            if let Some(nf) = &e.normal_field {
+                sliders.push(slider(
+                    "/energy/normal_field/weight".into(),
+                    "λ normal field".into(),
+                    nf.weight,
+                    1e-3,
+                    1e4,
+                ));
+            }
+            if let Some(g) = &e.guide_surface {
+                sliders.push(slider(
+                    "/energy/guide_surface/weight".into(),
+                    "γ guide surface".into(),
+                    g.weight,
+                    1e-3,
+                    1e4,
+                ));
+            }
+            let r = &sol.report;
+            table.push(row("energy", r.energy));
+            for t in &r.terms {
+                table.push(row(t.name.replace('_', " "), t.value));
+            }
+            operator_rows(&mut table, &r.operators);
+            measure_rows(&mut table, r.measures.as_ref());
+            if let Some(d) = &solved.normal_deviation {
+                table.push(row("normal deviation, mean (rad)", d.mean));
+            }
+            if let Some(g) = solved.guide_distance {
+                table.push(row("distance to guide", g));
+            }
+            table.push(row("gradient (relative)", r.relative_gradient));
+            table.push(row("residual", r.residual));
+            table.push(row("condition estimate", r.condition_estimate));
+            table.push(row("unknowns", r.unknowns as f64));
+            if let Some(nr) = &r.newton {
+                table.push(row("Newton iterations", nr.iterations as f64));
+            }
+            operator_controls(&scene_json["operators"], &mut handles, &mut sliders);
+        }
+        Outcome::Constructed(c) => {
+            let r = &c.report;
+            table.push(row("method", r.method.name()));
+            table.push(row(
+                "exact",
+                if r.exact { "yes" } else { "no (least squares)" },
+            ));
+            table.push(row(
+                format!("residual of {}", r.method.equations()),
+                r.residual,
+            ));
+            table.push(row("backward error", r.backward_error));
+            measure_rows(&mut table, r.measures.as_ref());
+        }
+    }
+    json!({
+        "kind": "tensor",
+        "table": table,
+        "result": solved.result_scene(),
+        "mesh": mesh_json(&SurfaceMesh::from_patch(patch, 48, 48)),
+        "net": {"points": patch.points(), "edges": edges},
+        "boundary": boundary,
+        "normals": normals,
+        "operators": operators,
+        "handles": handles,
+        "sliders": sliders,
+        "methods": {
+            "pointer": "/method",
+            "value": scene_json.get("method").and_then(Value::as_str).unwrap_or("minimize"),
+            "options": ["minimize", "harmonic", "biharmonic", "harmonic_mask", "biharmonic_mask"],
+        },
+    })
+}
+
+/// The control net of a triangular surface as line segments.
+fn tri_net_edges(s: &TriSurface) -> Vec<[usize; 2]> {
+    let n = s.degree();
+    let mut edges = BTreeSet::new();
+    for t in 0..s.patch_count() {
+        let idx = s.patch_indices(t);
+        for [i, j, k] in multi_indices(n) {
+            let at = |i: usize, j: usize, k: usize| idx[linear_index(n, i, j, k)];
+            let a = at(i, j, k);
+            let mut add = |b: usize| {
+                edges.insert([a.min(b), a.max(b)]);
+            };
+            if i > 0 {
+                add(at(i - 1, j + 1, k));
+                add(at(i - 1, j, k + 1));
+            }
+            if j > 0 {
+                add(at(i, j - 1, k + 1));
+            }
+        }
+    }
+    edges.into_iter().collect()
+}
+
+fn tri_view(solved: &SolvedTriScene) -> Value {
+    let scene = &solved.scene;
+    let s = solved.surface();
+    let r = &solved.solution.report;
+    let size = size_of(s.points());
+    let scene_json = serde_json::to_value(scene).expect("json");
+    let resolution = match s.patch_count() {
+        0..=200 => 8,
+        201..=2000 => 4,
+        _ => 2,
+    };
+    let boundary: Vec<Vec<Vec3>> = s
+        .boundary_edges()
+        .into_iter()
+        .map(|e| polyline(s.edge_points(e).iter().map(|&g| s.points()[g]).collect(), 8))
+        .collect();
+
+    let mut handles = Vec::new();
+    if scene.fix_boundary {
+        let boundary_vertices: BTreeSet<usize> = s.boundary_vertices().into_iter().collect();
+        for (k, p) in scene.surface.vertices.iter().enumerate() {
+            if boundary_vertices.contains(&k) {
+                handles.push(json!({
+                    "pointer": format!("/surface/vertices/{k}"),
+                    "position": p,
+                    "label": format!("vertex {k}"),
+                    "kind": "control_point",
+                }));
+            }
+        }
+    }
+    for (k, c) in scene_json["constraints"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .enumerate()
+    {
+        if c["type"] == "point" && c["target"].is_array() {
+            handles.push(json!({
+                "pointer": format!("/constraints/{k}/target"),
+                "position": c["target"],
+                "label": c["name"].as_str().map_or(format!("constraint {k}"), str::to_string),
+                "kind": "control_point",
+            }));
+        }
+    }
+    let operators: Vec<Value> = scene_json["operators"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .zip(&r.operators)
+        .map(|(o, _)| {
+            let at = o["at"]["triangle"].as_u64().and_then(|t| {
+                let b = o["at"]["bary"].as_array()?;
+                let bary = [
+                    b.first()?.as_f64()?,
+                    b.get(1)?.as_f64()?,
+                    b.get(2)?.as_f64()?,
+                ];
+                let t = t as usize;
+                (t < scene.surface.triangles.len()).then(|| {
+                    // The original vertices' plane: the point on the solved
+                    // mesh is approximate once curves split patches.
+                    let tri = scene.surface.triangles[t];
+                    let v = &scene.surface.vertices;
+                    (0..3).fold([0.0; 3], |acc, k| add(acc, scale(v[tri[k]], bary[k])))
+                })
+            });
+            operator_json(o, at, size)
+        })
+        .collect();
+    let mut sliders = vec![
+        slider(
+            "/energy/stretch".into(),
+            "α stretch".into(),
+            scene.energy.stretch.unwrap_or(0.0),
+            1e-4,
+            1e3,
+        ),
+        slider(
+            "/energy/bend".into(),
+            "β bend".into(),
+            scene.energy.bend.unwrap_or(1.0),
+            1e-4,
+            1e3,
+        ),
+    ];
+    operator_controls(&scene_json["operators"], &mut handles, &mut sliders);
+    let mut table = vec![
+        row("energy", r.total),
+        row("stretch", r.stretch),
+        row("bend", r.bend),
+    ];
+    operator_rows(&mut table, &r.operators);
+    table.extend([
+        row("max constraint violation", r.max_violation),
+        row("gradient (relative)", r.relative_gradient),
+        row(
+            "max normal angle across edges (rad)",
+            r.max_edge_normal_angle.map(|(a, _)| a),
+        ),
+        row("patches", r.patches as f64),
+        row("unknowns", r.unknowns as f64),
+        row("continuity rows dropped", r.dropped.len() as f64),
+    ]);
+    json!({
+        "kind": "triangular",
+        "table": table,
+        "result": solved.result_scene(),
+        "mesh": mesh_json(&SurfaceMesh::from_tri_surface(s, resolution)),
+        "net": {"points": s.points(), "edges": tri_net_edges(s)},
+        "boundary": boundary,
+        "normals": [],
+        "operators": operators,
+        "handles": handles,
+        "sliders": sliders,
+        "methods": null,
+    })
+}

@@ -1,0 +1,240 @@
+//! `fairsurf serve`: the JSON API over real HTTP (the binary on a free
+//! port): examples, solve, errors with their paths and statuses, limits,
+//! exports, the page's assets. The browser test (`editor/tests`) drives the
+//! page itself.
+
+use serde_json::{json, Value};
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::TcpStream;
+use std::process::{Child, Command, Stdio};
+
+struct Server {
+    child: Child,
+    addr: String,
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn start(extra: &[&str]) -> Server {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_fairsurf"))
+        .args(["serve", "--port", "0"])
+        .args(extra)
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    let addr = line
+        .trim()
+        .strip_prefix("fairsurf editor: http://")
+        .unwrap_or_else(|| panic!("{line}"))
+        .trim_end_matches('/')
+        .to_string();
+    Server { child, addr }
+}
+
+/// (status, headers, body) of one request.
+fn request(s: &Server, method: &str, path: &str, body: &[u8]) -> (u16, String, Vec<u8>) {
+    let mut c = TcpStream::connect(&s.addr).unwrap();
+    write!(
+        c,
+        "{method} {path} HTTP/1.1\r\nHost: {}\r\nContent-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n",
+        s.addr,
+        body.len()
+    )
+    .unwrap();
+    c.write_all(body).unwrap();
+    let mut out = Vec::new();
+    c.read_to_end(&mut out).unwrap();
+    let split = out.windows(4).position(|w| w == b"\r\n\r\n").unwrap();
+    let head = String::from_utf8_lossy(&out[..split]).to_string();
+    let status = head[9..12].parse().unwrap();
+    let mut body = out[split + 4..].to_vec();
+    if head
+        .to_ascii_lowercase()
+        .contains("transfer-encoding: chunked")
+    {
+        body = dechunk(&body);
+    }
+    (status, head, body)
+}
+
+fn dechunk(mut b: &[u8]) -> Vec<u8> {
+    let mut out = Vec::new();
+    loop {
+        let eol = b.windows(2).position(|w| w == b"\r\n").unwrap();
+        let n = usize::from_str_radix(std::str::from_utf8(&b[..eol]).unwrap().trim(), 16).unwrap();
+        if n == 0 {
+            return out;
+        }
+        out.extend_from_slice(&b[eol + 2..eol + 2 + n]);
+        b = &b[eol + 4 + n..];
+    }
+}
+
+fn post(s: &Server, path: &str, v: &Value) -> (u16, Value) {
+    let (status, _, body) = request(s, "POST", path, v.to_string().as_bytes());
+    (status, serde_json::from_slice(&body).unwrap_or(Value::Null))
+}
+
+fn example(name: &str) -> Value {
+    let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(name);
+    serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
+}
+
+#[test]
+fn the_api_solves_and_describes() {
+    let s = start(&[]);
+    let (status, _, body) = request(&s, "GET", "/api/examples", b"");
+    assert_eq!(status, 200);
+    let list: Value = serde_json::from_slice(&body).unwrap();
+    let files: Vec<&str> = list["examples"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["file"].as_str().unwrap())
+        .collect();
+    assert!(files.contains(&"quickstart.json") && files.contains(&"vw_fig5_directors.json"));
+
+    // A tensor scene: the energy equals the command line's, the handles
+    // point at the scene's fixed points, the mesh is consistent.
+    let scene = example("wu_yang_fig1_l10_g0.json");
+    let (status, v) = post(&s, "/api/solve", &json!({ "scene": scene }));
+    assert_eq!(status, 200, "{v}");
+    assert_eq!(v["kind"], "tensor");
+    let direct = fairsurf_io::Scene::from_json(&scene.to_string())
+        .unwrap()
+        .solve()
+        .unwrap();
+    let energy = direct.outcome.solution().unwrap().report.energy;
+    assert_eq!(v["table"][0]["label"], "energy");
+    assert!((v["table"][0]["value"].as_f64().unwrap() - energy).abs() <= 1e-12 * energy);
+    let n = v["mesh"]["positions"].as_array().unwrap().len();
+    assert_eq!(v["mesh"]["colors"].as_array().unwrap().len(), n);
+    assert!(v["mesh"]["indices"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|i| (i.as_u64().unwrap() as usize) < n / 3));
+    for h in v["handles"].as_array().unwrap() {
+        assert_eq!(
+            scene.pointer(h["pointer"].as_str().unwrap()),
+            Some(&h["position"])
+        );
+    }
+    assert!(
+        !v["normals"].as_array().unwrap().is_empty(),
+        "λ > 0 shows its field"
+    );
+    assert!(v["sliders"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|x| x["pointer"] == "/energy/normal_field/weight"));
+
+    // A triangular scene with operators.
+    let (status, v) = post(
+        &s,
+        "/api/solve",
+        &json!({ "scene": example("vw_fig6_attractors.json") }),
+    );
+    assert_eq!(status, 200, "{v}");
+    assert_eq!(v["kind"], "triangular");
+    assert_eq!(v["operators"].as_array().unwrap().len(), 2);
+
+    // Compare and export.
+    let (status, v) = post(
+        &s,
+        "/api/compare",
+        &json!({ "scene": example("monterde_ugail_model.json") }),
+    );
+    assert_eq!(status, 200, "{v}");
+    assert_eq!(v["rows"].as_array().unwrap().len(), 4);
+    let (status, head, body) = request(
+        &s,
+        "POST",
+        "/api/export?format=step",
+        json!({ "scene": example("quickstart.json") })
+            .to_string()
+            .as_bytes(),
+    );
+    assert_eq!(status, 200);
+    assert!(head.contains(".step\""), "{head}");
+    assert!(body.starts_with(b"ISO-10303-21;"));
+
+    // The page and its modules, with the types browsers require.
+    let (status, head, _) = request(&s, "GET", "/", b"");
+    assert_eq!(status, 200);
+    assert!(head.contains("text/html"));
+    let (status, head, _) = request(&s, "GET", "/vendor/three.module.js", b"");
+    assert_eq!(status, 200);
+    assert!(head.contains("text/javascript"));
+}
+
+#[test]
+fn errors_are_json_with_paths_and_statuses() {
+    let s = start(&["--max-body-mb", "1", "--max-unknowns", "500"]);
+    let mut bad = example("quickstart.json");
+    bad["surface"]["control_points"][0][1] = json!([0, 1]);
+    let cases: Vec<(Vec<u8>, &str, u16, Option<&str>)> = vec![
+        (b"{not json".to_vec(), "/api/solve", 400, None),
+        (json!({"nope": 1}).to_string().into_bytes(), "/api/solve", 400, Some("scene")),
+        (json!({"scene": bad}).to_string().into_bytes(), "/api/solve", 400, Some("surface.control_points[0][1]")),
+        (json!({"scene": {"surface": {"type": "tensor", "degree": [3, 3], "control_points": [[null]]}}}).to_string().into_bytes(), "/api/solve", 400, Some("surface.control_points")),
+        (vec![b' '; 2 << 20], "/api/solve", 413, None),
+        (json!({"scene": example("vw_fig2_curve.json")}).to_string().into_bytes(), "/api/solve", 413, Some("surface")),
+        (json!({"scene": example("vw_fig5_directors.json")}).to_string().into_bytes(), "/api/compare", 422, None),
+        (json!({"scene": example("quickstart.json")}).to_string().into_bytes(), "/api/export?format=dxf", 400, Some("format")),
+        (b"{}".to_vec(), "/api/nothing", 404, None),
+    ];
+    for (body, path, status, at) in cases {
+        let (got, _, out) = request(&s, "POST", path, &body);
+        let v: Value = serde_json::from_slice(&out)
+            .unwrap_or_else(|_| panic!("{path}: {}", String::from_utf8_lossy(&out)));
+        let short: String = v.to_string().chars().take(300).collect();
+        assert_eq!(got, status, "{path}: {short}");
+        assert!(v["error"].as_str().is_some_and(|e| !e.is_empty()), "{v}");
+        match at {
+            Some(p) => {
+                assert_eq!(v["path"], p, "{v}");
+                assert!(v["error"].as_str().unwrap().contains(p), "{v}");
+            }
+            None => assert!(v["path"].is_null() || status == 413, "{v}"),
+        }
+    }
+    let (status, _, out) = request(&s, "GET", "/api/examples/none.json", b"");
+    assert_eq!(status, 404);
+    assert!(serde_json::from_slice::<Value>(&out).unwrap()["error"].is_string());
+    // Many clients at once: each gets its own correct answer.
+    let scene = example("quickstart.json");
+    let answers: Vec<f64> = std::thread::scope(|t| {
+        let handles: Vec<_> = (0..8)
+            .map(|k| {
+                let mut sc = scene.clone();
+                sc["energy"]["stretch"] = json!(1.0 + k as f64);
+                let s = &s;
+                t.spawn(move || {
+                    post(s, "/api/solve", &json!({ "scene": sc })).1["table"][1]["value"]
+                        .as_f64()
+                        .unwrap()
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    for (k, e) in answers.iter().enumerate() {
+        assert!(
+            (e / answers[0] - (1.0 + k as f64)).abs() < 1e-9,
+            "{answers:?}"
+        );
+    }
+}
