@@ -65,5 +65,7 @@ pub use vec3::Vec3;
 
 /// Small vector helpers on [`Vec3`].
 pub mod vector {
-    pub use crate::vec3::{add, angle, cross, dot, is_finite, norm, normalize, scale, sub};
+    pub use crate::vec3::{
+        add, angle, bounding_diagonal, cross, dot, is_finite, norm, normalize, scale, sub,
+    };
 }

@@ -65,3 +65,17 @@ pub fn angle(a: Vec3, b: Vec3) -> f64 {
 pub fn is_finite(a: Vec3) -> bool {
     a.iter().all(|c| c.is_finite())
 }
+
+/// The diagonal of the points' axis-aligned bounding box (not finite for
+/// no points; callers choose their fallback).
+pub fn bounding_diagonal(points: &[Vec3]) -> f64 {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in points {
+        for c in 0..3 {
+            lo[c] = lo[c].min(p[c]);
+            hi[c] = hi[c].max(p[c]);
+        }
+    }
+    norm(sub(hi, lo))
+}

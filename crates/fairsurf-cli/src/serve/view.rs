@@ -7,7 +7,7 @@ use super::{ApiError, ApiResult, Limits};
 use axum::http::StatusCode;
 use fairsurf::colour::ColourMap;
 use fairsurf::triangle::{linear_index, multi_indices};
-use fairsurf::vector::{add, dot, norm, normalize, scale, sub};
+use fairsurf::vector::{add, dot, normalize, scale, sub};
 use fairsurf::{BezierCurve, TriSurface, Vec3};
 use fairsurf_io::{
     is_triangular, write_iges, write_mesh, write_step, Outcome, Scene, SolvedScene, SolvedTriScene,
@@ -201,15 +201,7 @@ fn slider(pointer: String, label: String, value: f64, min: f64, max: f64) -> Val
 
 /// The diagonal of the points' bounding box (1 if degenerate).
 fn size_of(points: &[Vec3]) -> f64 {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for p in points {
-        for c in 0..3 {
-            lo[c] = lo[c].min(p[c]);
-            hi[c] = hi[c].max(p[c]);
-        }
-    }
-    let d = norm(sub(hi, lo));
+    let d = fairsurf::vector::bounding_diagonal(points);
     if d.is_finite() && d > 0.0 {
         d
     } else {

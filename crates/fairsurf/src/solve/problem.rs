@@ -283,23 +283,22 @@ impl Problem {
         )?;
         // Repellors: Newton's method on the total energy from the
         // quadratic solution (no constraints but the known points).
+        // Per coordinate 3p + c: its known value, or its row among the unknowns.
+        let known: Vec<Option<f64>> = (0..3 * self.known.len())
+            .map(|i| self.known[i / 3].map(|p| p[i % 3]))
+            .collect();
+        let mut free_index = vec![usize::MAX; known.len()];
+        for (k, &p) in free.iter().enumerate() {
+            for c in 0..3 {
+                free_index[3 * p + c] = 3 * k + c;
+            }
+        }
         let repellors: Vec<FreeResiduals> = self
             .operators
             .iter()
             .zip(&placed)
             .filter(|(op, _)| op.repel)
-            .map(|(op, (_, res))| {
-                let known: Vec<Option<f64>> = (0..3 * self.known.len())
-                    .map(|i| self.known[i / 3].map(|p| p[i % 3]))
-                    .collect();
-                let mut free_index = vec![usize::MAX; known.len()];
-                for (k, &p) in free.iter().enumerate() {
-                    for c in 0..3 {
-                        free_index[3 * p + c] = 3 * k + c;
-                    }
-                }
-                FreeResiduals::new(op.strength, res, &known, &free_index)
-            })
+            .map(|(op, (_, res))| FreeResiduals::new(op.strength, res, &known, &free_index))
             .collect();
         let mut xf = sol.x.clone();
         let mut newton_report = None;

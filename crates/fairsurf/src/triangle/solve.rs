@@ -754,13 +754,5 @@ fn curve_distance(surface: &TriSurface, chain: &[usize], curve: &BezierCurve) ->
 }
 
 fn bounding_size(points: &[Vec3]) -> f64 {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for p in points {
-        for c in 0..3 {
-            lo[c] = lo[c].min(p[c]);
-            hi[c] = hi[c].max(p[c]);
-        }
-    }
-    norm(sub(hi, lo)).max(1.0)
+    crate::vec3::bounding_diagonal(points).max(1.0)
 }
