@@ -1,6 +1,7 @@
 //! Assembly and solve of Wu & Yang's E1 (membrane) and E2 (thin plate) with a
 //! normal field (λ = 10, a degree-3×3 Bézier field) and a guide surface
-//! (γ = 1), at degrees 5, 10, 20, 30. Run: `cargo bench -p fairsurf`.
+//! (γ = 1), at degrees 5, 10, 20, 30; and the re-solve with the
+//! factorization kept. Run: `cargo bench -p fairsurf`.
 #![allow(missing_docs)]
 
 use fairsurf::{
@@ -24,7 +25,20 @@ fn field() -> TensorPatch {
     })
 }
 
+/// The net with its boundary lifted: a dragged boundary.
+fn moved(n: usize) -> TensorPatch {
+    let net = net(n);
+    TensorPatch::from_fn(n, n, |i, j| {
+        let p = net.point(i, j);
+        [p[0], p[1], p[2] + 0.1 * (i as f64 / n as f64)]
+    })
+}
+
 fn terms(n: usize, thin_plate: bool) -> Vec<Box<dyn EnergyTerm>> {
+    terms_on(&net(n), thin_plate)
+}
+
+fn terms_on(net: &TensorPatch, thin_plate: bool) -> Vec<Box<dyn EnergyTerm>> {
     let fair: Box<dyn EnergyTerm> = if thin_plate {
         Box::new(Bend::new(1.0))
     } else {
@@ -33,13 +47,17 @@ fn terms(n: usize, thin_plate: bool) -> Vec<Box<dyn EnergyTerm>> {
     vec![
         fair,
         Box::new(NormalField::new(10.0, field())),
-        Box::new(GuideSurface::new(1.0, net(n))),
+        Box::new(GuideSurface::new(1.0, net.clone())),
     ]
 }
 
 fn problem(n: usize, thin_plate: bool) -> Problem {
-    let mut p = Problem::new((n, n)).with_fixed_rings(&net(n), if thin_plate { 2 } else { 1 });
-    for t in terms(n, thin_plate) {
+    problem_on(&net(n), thin_plate)
+}
+
+fn problem_on(net: &TensorPatch, thin_plate: bool) -> Problem {
+    let mut p = Problem::new(net.degree()).with_fixed_rings(net, if thin_plate { 2 } else { 1 });
+    for t in terms_on(net, thin_plate) {
         p.push_term(t);
     }
     p
@@ -76,6 +94,27 @@ fn solve_thin_plate(bencher: divan::Bencher, n: usize) {
     let p = problem(n, true);
     let opts = SolveOptions::default().with_analyse(false);
     bencher.bench(|| p.solve_with(&opts).unwrap());
+}
+
+/// Re-solve with the factorization kept: `Problem::factor` once, then
+/// `Factored::solve` of the problem with the boundary and guide moved (a
+/// drag in the editor): right-hand side, triangular solves, refinement,
+/// report energies (no area).
+#[divan::bench(args = DEGREES, sample_count = 20)]
+fn resolve_membrane(bencher: divan::Bencher, n: usize) {
+    resolve(bencher, n, false);
+}
+
+#[divan::bench(args = DEGREES, sample_count = 20)]
+fn resolve_thin_plate(bencher: divan::Bencher, n: usize) {
+    resolve(bencher, n, true);
+}
+
+fn resolve(bencher: divan::Bencher, n: usize, thin_plate: bool) {
+    let opts = SolveOptions::default().with_analyse(false);
+    let f = problem(n, thin_plate).factor(&opts).unwrap();
+    let p = problem_on(&moved(n), thin_plate);
+    bencher.bench(|| f.solve(&p, &opts).unwrap());
 }
 
 /// Area to 1e-13 relative by adaptive Gauss–Legendre.

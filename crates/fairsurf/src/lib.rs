@@ -57,7 +57,8 @@ pub use energy::{
 pub use error::{Error, Result};
 pub use mesh::TriMesh;
 pub use solve::{
-    Problem, Solution, SolveOptions, SolveReport, SurfaceMeasures, TermEnergy, Timings,
+    FactorCache, Factored, Problem, Solution, SolveOptions, SolveReport, SurfaceMeasures,
+    TermEnergy, Timings,
 };
 pub use tensor::{SurfaceDerivatives, TensorPatch};
 pub use triangle::{TriPatch, TriSurface};

@@ -46,6 +46,10 @@ impl EnergyTerm for Bend {
         "bend"
     }
 
+    fn hessian_key(&self) -> Option<String> {
+        Some(format!("bend {:?} {:?}", self.weight, self.measure))
+    }
+
     fn value(&self, patch: &crate::TensorPatch) -> Result<f64> {
         check_weight("bend weight", self.weight)?;
         Ok(fairness_value(

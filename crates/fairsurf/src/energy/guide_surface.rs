@@ -58,6 +58,18 @@ impl EnergyTerm for GuideSurface {
         "guide_surface"
     }
 
+    /// γ, the measure and the sample weights: S enters only the centre.
+    fn hessian_key(&self) -> Option<String> {
+        Some(format!(
+            "guide_surface {:?} {:?} {:?}",
+            self.weight, self.measure, self.sample_weights
+        ))
+    }
+
+    fn center(&self, degree: (usize, usize)) -> Result<Option<Vec<crate::Vec3>>> {
+        Ok(Some(self.surface_at(degree)?.points().to_vec()))
+    }
+
     fn value(&self, patch: &TensorPatch) -> Result<f64> {
         check_weight("guide_surface weight", self.weight)?;
         let degree = patch.degree();

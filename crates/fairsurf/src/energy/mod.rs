@@ -31,7 +31,7 @@ pub use stretch::Stretch;
 
 pub(crate) use space::Basis1d;
 
-pub(crate) use kron::{derivative_net, form, pattern_value, Axis};
+pub(crate) use kron::{derivative_net, form, pattern_value, Axis, PatternForm};
 
 use crate::vec3::Vec3;
 use crate::{Error, Result};
@@ -59,6 +59,21 @@ pub trait EnergyTerm: Debug + Send + Sync {
     /// stays accurate to ~1e-15 relative at high degree.
     fn value(&self, patch: &crate::TensorPatch) -> Result<f64> {
         Ok(self.form(patch.degree())?.value(patch.points()))
+    }
+
+    /// A key that is equal for two terms only when their Hessians are equal
+    /// at every degree (whatever their centres), or `None` when the term
+    /// cannot tell (the default). A [`crate::Factored`] system is reused for
+    /// a problem only when all its terms' keys match.
+    fn hessian_key(&self) -> Option<String> {
+        None
+    }
+
+    /// The centre s at the given degree (`None` for the origin). The
+    /// default assembles the whole form; terms with a centre override it
+    /// when the centre is cheaper alone.
+    fn center(&self, degree: (usize, usize)) -> Result<Option<Vec<Vec3>>> {
+        Ok(self.form(degree)?.center)
     }
 }
 

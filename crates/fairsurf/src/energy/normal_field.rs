@@ -6,7 +6,7 @@
 //! planes orthogonal to N, and couples x, y and z.
 
 use super::{
-    check_weight, check_weights, derivative_net, form, pattern_value, Axis, EnergyTerm, Hessian,
+    check_weight, check_weights, derivative_net, form, Axis, EnergyTerm, Hessian, PatternForm,
     SampleGrid, Space, TermForm,
 };
 use crate::basis::binomial;
@@ -197,6 +197,10 @@ impl EnergyTerm for NormalField {
         "normal_field"
     }
 
+    fn hessian_key(&self) -> Option<String> {
+        Some(format!("normal_field {self:?}"))
+    }
+
     fn value(&self, patch: &TensorPatch) -> Result<f64> {
         check_weight("normal_field weight", self.weight)?;
         let ((au, av), tables) = self.weight_tables()?;
@@ -206,9 +210,10 @@ impl EnergyTerm for NormalField {
             let nets: Vec<Mat<f64>> = (0..3)
                 .map(|c| derivative_net(patch.points(), degree, pattern, c))
                 .collect();
+            let pf = PatternForm::new(degree, pattern, (&au, &av));
             for ((a, b), w) in pairs().zip(&tables) {
                 let twice = if a == b { 1.0 } else { 2.0 };
-                total += twice * pattern_value(degree, pattern, (&au, &av), w, &nets[a], &nets[b]);
+                total += twice * pf.value(w, &nets[a], &nets[b]);
             }
         }
         Ok(0.5 * total)

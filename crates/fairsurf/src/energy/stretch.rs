@@ -45,6 +45,10 @@ impl EnergyTerm for Stretch {
         "stretch"
     }
 
+    fn hessian_key(&self) -> Option<String> {
+        Some(format!("stretch {:?} {:?}", self.weight, self.measure))
+    }
+
     fn value(&self, patch: &crate::TensorPatch) -> Result<f64> {
         check_weight("stretch weight", self.weight)?;
         Ok(fairness_value(

@@ -29,7 +29,7 @@
 //! (eq. 30) by Newton's method with a line search ([`NewtonReport`]).
 
 pub(crate) mod newton;
-mod tensor;
+pub(crate) mod tensor;
 
 pub use newton::NewtonReport;
 pub use tensor::{PatchEdge, TensorOperator, TensorPlace};

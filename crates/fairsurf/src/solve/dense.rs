@@ -17,10 +17,9 @@ use crate::{Error, Result};
 use faer::linalg::solvers::{Llt, Solve};
 use faer::{Mat, Side};
 
-/// Options for [`solve_spd`].
+/// Options for [`SpdFactor::new`].
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct SpdOptions {
-    pub max_refinement_steps: usize,
     pub estimate_condition: bool,
     pub singular_condition: f64,
 }
@@ -33,82 +32,104 @@ pub(crate) struct SpdSolution {
     pub residual: Mat<f64>,
     /// Refinement steps taken.
     pub refinement_steps: usize,
+}
+
+/// The Cholesky factor of an equilibrated SPD matrix (in the better basis,
+/// with a preconditioner), ready for any number of right-hand sides.
+#[derive(Debug)]
+pub(crate) struct SpdFactor {
+    /// The equilibration S = diag(1/√H_ii).
+    s: Vec<f64>,
+    llt: Llt<f64>,
+    basis: Option<TensorBasis>,
     /// Estimated condition number of the equilibrated matrix (NaN if not estimated).
     pub condition: f64,
     /// Seconds spent factoring.
     pub factor_seconds: f64,
 }
 
-/// Solves H X = B for symmetric positive definite H.
-///
-/// With `precond = (Ĥ, Q)`, Ĥ ≈ Qᵀ H Q assembled in a better-conditioned
-/// basis is factored instead and serves as the preconditioner of iterative
-/// refinement on H itself.
-pub(crate) fn solve_spd(
-    h: &Mat<f64>,
-    b: &Mat<f64>,
-    opts: SpdOptions,
-    hint: &str,
-    precond: Option<(&Mat<f64>, &TensorBasis)>,
-) -> Result<SpdSolution> {
-    let n = h.nrows();
-    let not_pd = |pivot| Error::NotPositiveDefinite {
-        unknowns: n,
-        pivot,
-        hint: hint.to_string(),
-    };
-    // With a preconditioner, factor H in the basis Q (assembled there
-    // directly); refinement below still measures H itself.
-    let basis = precond.map(|p| p.1);
-    let m = precond.map_or(h, |p| p.0);
-    if let Some(i) = (0..n).find(|&i| !(m[(i, i)] > 0.0 && m[(i, i)].is_finite())) {
-        return Err(not_pd(i));
+impl SpdFactor {
+    /// Factors symmetric positive definite H (only H's diagonal and the
+    /// factor are read here; H itself is passed again to [`SpdFactor::solve`]).
+    ///
+    /// With `precond = (Ĥ, Q)`, Ĥ ≈ Qᵀ H Q assembled in a better-conditioned
+    /// basis is factored instead and serves as the preconditioner of iterative
+    /// refinement on H itself.
+    pub(crate) fn new(
+        h: &Mat<f64>,
+        opts: SpdOptions,
+        hint: &str,
+        precond: Option<(&Mat<f64>, &TensorBasis)>,
+    ) -> Result<Self> {
+        let n = h.nrows();
+        let not_pd = |pivot| Error::NotPositiveDefinite {
+            unknowns: n,
+            pivot,
+            hint: hint.to_string(),
+        };
+        let m = precond.map_or(h, |p| p.0);
+        if let Some(i) = (0..n).find(|&i| !(m[(i, i)] > 0.0 && m[(i, i)].is_finite())) {
+            return Err(not_pd(i));
+        }
+        let s: Vec<f64> = (0..n).map(|i| 1.0 / m[(i, i)].sqrt()).collect();
+        let a = Mat::from_fn(n, n, |i, j| s[i] * m[(i, j)] * s[j]);
+        let t0 = std::time::Instant::now();
+        let llt = a.llt(Side::Lower).map_err(|e| match e {
+            faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } => {
+                not_pd(index)
+            }
+        })?;
+        let factor_seconds = t0.elapsed().as_secs_f64();
+        let condition = if opts.estimate_condition {
+            condition_estimate(&a, &llt)
+        } else {
+            f64::NAN
+        };
+        if condition > opts.singular_condition {
+            return Err(Error::Singular {
+                unknowns: n,
+                condition,
+                hint: hint.to_string(),
+            });
+        }
+        Ok(Self {
+            s,
+            llt,
+            basis: precond.map(|p| p.1.clone()),
+            condition,
+            factor_seconds,
+        })
     }
-    let s: Vec<f64> = (0..n).map(|i| 1.0 / m[(i, i)].sqrt()).collect();
-    let a = Mat::from_fn(n, n, |i, j| s[i] * m[(i, j)] * s[j]);
-    let t0 = std::time::Instant::now();
-    let llt = a.llt(Side::Lower).map_err(|e| match e {
-        faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } => not_pd(index),
-    })?;
-    let factor_seconds = t0.elapsed().as_secs_f64();
-    let solve = |r: &Mat<f64>| -> Mat<f64> {
-        let rq = basis.map(|q| q.apply(r, true));
+
+    /// x ≈ H⁻¹ r with the factor (no refinement).
+    fn apply(&self, r: &Mat<f64>) -> Mat<f64> {
+        let (n, s) = (self.s.len(), &self.s);
+        let rq = self.basis.as_ref().map(|q| q.apply(r, true));
         let r = rq.as_ref().unwrap_or(r);
         let mut y = Mat::from_fn(n, r.ncols(), |i, c| s[i] * r[(i, c)]);
-        llt.solve_in_place(&mut y);
+        self.llt.solve_in_place(&mut y);
         let y = Mat::from_fn(n, r.ncols(), |i, c| s[i] * y[(i, c)]);
-        match basis {
+        match &self.basis {
             Some(q) => q.apply(&y, false),
             None => y,
         }
-    };
-
-    let (x, r, steps) = refine(
-        solve(b),
-        |x| residual(h, x, b),
-        solve,
-        opts.max_refinement_steps,
-    );
-
-    let condition = if opts.estimate_condition {
-        condition_estimate(&a, &llt)
-    } else {
-        f64::NAN
-    };
-    if condition > opts.singular_condition {
-        return Err(Error::Singular {
-            unknowns: n,
-            condition,
-            hint: hint.to_string(),
-        });
     }
-    Ok(SpdSolution {
-        x,
-        residual: r,
-        refinement_steps: steps,
-        condition,
-        factor_seconds,
-    })
+
+    /// Solves H X = B for the factored H, refined iteratively against H
+    /// itself with compensated residuals.
+    pub(crate) fn solve(&self, h: &Mat<f64>, b: &Mat<f64>, max_steps: usize) -> SpdSolution {
+        let (x, residual, refinement_steps) = refine(
+            self.apply(b),
+            |x| residual(h, x, b),
+            |r| self.apply(r),
+            max_steps,
+        );
+        SpdSolution {
+            x,
+            residual,
+            refinement_steps,
+        }
+    }
 }
 
 /// Iterative refinement from x: r = residual(x) (compensated), x += solve(r),
@@ -171,19 +192,76 @@ pub(crate) fn residual(h: &Mat<f64>, x: &Mat<f64>, b: &Mat<f64>) -> Mat<f64> {
 }
 
 /// b − Σ a_j x_j by Ogita, Rump & Oishi's Dot2 (2005): error-free products
-/// (fused multiply-add) and sums (Knuth's TwoSum), errors accumulated apart.
+/// (Dekker's TwoProduct) and sums (Knuth's TwoSum), errors accumulated apart.
+///
+/// Four independent Dot2 accumulators over interleaved terms, joined by
+/// error-free sums at the end: one chain of TwoSums is bound by its latency,
+/// four run side by side (the error bound is Dot2's with n/4 + 4 terms).
+/// Dekker's splitting rather than a fused multiply-add: without the `fma`
+/// target feature (the portable x86-64 build) `mul_add` is a library call.
+/// Together 3× faster than one chain with `mul_add` (measured on the
+/// degree-10 re-solve). Exact products while |a_j|, |x_j| < 2^995 or so (the
+/// split by 2^27 + 1 must not overflow).
 pub(crate) fn dot2_residual(b: f64, a: &[f64], x: &[f64]) -> f64 {
-    let (mut s, mut c) = (b, 0.0);
-    for (&aj, &xj) in a.iter().zip(x) {
-        let p = -aj * xj;
-        let ep = (-aj).mul_add(xj, -p);
-        let t = s + p;
-        let z = t - s;
-        let es = (s - (t - z)) + (p - z);
-        s = t;
-        c += ep + es;
+    const LANES: usize = 4;
+    let mut s = [0.0; LANES];
+    let mut c = [0.0; LANES];
+    s[0] = b;
+    let n = a.len().min(x.len());
+    let body = n - n % LANES;
+    for (ac, xc) in a[..body]
+        .chunks_exact(LANES)
+        .zip(x[..body].chunks_exact(LANES))
+    {
+        for k in 0..LANES {
+            let p = -ac[k] * xc[k];
+            let ep = two_product_error(-ac[k], xc[k], p);
+            let (t, es) = two_sum(s[k], p);
+            s[k] = t;
+            c[k] += ep + es;
+        }
     }
-    s + c
+    for j in body..n {
+        let p = -a[j] * x[j];
+        let ep = two_product_error(-a[j], x[j], p);
+        let (t, es) = two_sum(s[0], p);
+        s[0] = t;
+        c[0] += ep + es;
+    }
+    let mut total = s[0];
+    let mut err = c.iter().sum::<f64>();
+    for &sk in &s[1..] {
+        let (t, e) = two_sum(total, sk);
+        total = t;
+        err += e;
+    }
+    total + err
+}
+
+/// (fl(a + b), a + b − fl(a + b)), exactly (Knuth's TwoSum).
+#[inline(always)]
+fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let t = a + b;
+    let z = t - a;
+    (t, (a - (t - z)) + (b - z))
+}
+
+/// The rounding error a·b − p of p = fl(a·b), exactly (Dekker 1971):
+/// a and b split into 26-bit halves whose products are exact.
+#[inline(always)]
+fn two_product_error(a: f64, b: f64, p: f64) -> f64 {
+    let (ah, al) = split(a);
+    let (bh, bl) = split(b);
+    ((ah * bh - p) + ah * bl + al * bh) + al * bl
+}
+
+/// Veltkamp's split a = hi + lo, each with at most 26 significant bits.
+#[inline(always)]
+fn split(a: f64) -> (f64, f64) {
+    const FACTOR: f64 = 134_217_729.0; // 2^27 + 1
+    let c = FACTOR * a;
+    let hi = c - (c - a);
+    (hi, a - hi)
 }
 
 /// max |entry|.
@@ -217,7 +295,6 @@ mod tests {
 
     fn opts() -> SpdOptions {
         SpdOptions {
-            max_refinement_steps: 10,
             estimate_condition: true,
             singular_condition: 1e15,
         }
@@ -232,33 +309,68 @@ mod tests {
         let h = Mat::from_fn(n, n, |i, j| 1.0 / (i + j + 1) as f64);
         let x_true = Mat::from_fn(n, 1, |i, _| (i + 1) as f64);
         let b = &h * &x_true;
-        let sol = solve_spd(&h, &b, opts(), "test", None).unwrap();
+        let f = SpdFactor::new(&h, opts(), "test", None).unwrap();
+        let sol = f.solve(&h, &b, 10);
         let r = norm_max(&residual(&h, &sol.x, &b));
         assert!(r <= 1e-15 * norm_max(&b), "residual {r}");
         // cond₂ of the 8×8 Hilbert matrix is 1.5258e10; equilibration lowers it a little.
-        assert!(
-            sol.condition > 1e8 && sol.condition < 2e10,
-            "{}",
-            sol.condition
-        );
+        assert!(f.condition > 1e8 && f.condition < 2e10, "{}", f.condition);
     }
 
     #[test]
     fn indefinite_and_singular_systems_are_errors() {
         let mut h = Mat::<f64>::identity(3, 3);
         h[(2, 2)] = -1.0;
-        let b = Mat::<f64>::zeros(3, 1);
         assert!(matches!(
-            solve_spd(&h, &b, opts(), "x", None),
+            SpdFactor::new(&h, opts(), "x", None),
             Err(Error::NotPositiveDefinite { pivot: 2, .. })
         ));
         // Rank one: [[1,1],[1,1]] passes the diagonal test, fails as singular.
         let h = Mat::from_fn(2, 2, |_, _| 1.0);
-        let b = Mat::<f64>::zeros(2, 1);
         assert!(matches!(
-            solve_spd(&h, &b, opts(), "x", None),
+            SpdFactor::new(&h, opts(), "x", None),
             Err(Error::NotPositiveDefinite { .. } | Error::Singular { .. })
         ));
+    }
+
+    /// Dekker's product error equals the fused multiply-add's (exact) on
+    /// awkward operands.
+    #[test]
+    fn two_product_error_is_exact() {
+        let mut r = 0x2545_f491_4f6c_dd1d_u64;
+        for _ in 0..10_000 {
+            r ^= r << 13;
+            r ^= r >> 7;
+            r ^= r << 17;
+            let a = f64::from_bits((r & 0x000f_ffff_ffff_ffff) | 0x3ff0_0000_0000_0000)
+                * 2f64.powi((r >> 52) as i32 % 200 - 100);
+            let b = f64::from_bits(((r >> 7) & 0x000f_ffff_ffff_ffff) | 0x3ff0_0000_0000_0000)
+                * if r & 1 == 0 { -1.0 } else { 1.0 };
+            let p = a * b;
+            assert_eq!(two_product_error(a, b, p), a.mul_add(b, -p), "{a} {b}");
+        }
+    }
+
+    /// Long sums that cancel to a small integer, across lanes and the
+    /// remainder: Dot2 gets them exactly where plain summation loses them.
+    #[test]
+    fn dot2_is_exact_on_cancelling_sums() {
+        for n in [1, 2, 5, 13, 81] {
+            let (mut a, mut exact) = (Vec::new(), 0.0);
+            for k in 0..n {
+                // A 2^53-scale term, a small odd integer, the big term back.
+                let big = (1u64 << 53) as f64 * (1 + k % 7) as f64;
+                let small = (2 * (k % 5) + 1) as f64;
+                a.extend([big, small, -big]);
+                exact += small;
+            }
+            let x = vec![1.0; a.len()];
+            assert_eq!(-dot2_residual(0.0, &a, &x), exact, "n = {n}");
+            if n == 1 || n == 81 {
+                let plain: f64 = a.iter().sum();
+                assert_ne!(plain, exact, "the plain sum loses the odd parts, n = {n}");
+            }
+        }
     }
 
     #[test]

@@ -7,14 +7,15 @@
 //! for E1 and eq. (4) for E2, here assembled from the exact forms rather than
 //! written out coefficient by coefficient.
 
-use super::dense::{norm_max, solve_spd, SpdOptions};
+use super::dense::{norm_max, SpdFactor, SpdOptions};
 use super::jacobi::TensorBasis;
 use super::report::{SolveReport, TermEnergy, Timings};
 use crate::analysis::measures;
 use crate::energy::Space;
 use crate::energy::{EnergyTerm, Hessian, TermForm};
 use crate::operator::newton::{newton, sparse, FreeResiduals};
-use crate::operator::{OperatorOutcome, TensorOperator};
+use crate::operator::tensor::TensorLocated;
+use crate::operator::{OperatorOutcome, Residual, TensorOperator};
 use crate::vec3::{is_finite, Vec3};
 use crate::{Error, Result, TensorPatch};
 use faer::sparse::Triplet;
@@ -196,7 +197,35 @@ impl Problem {
 
     /// Minimizes the energy over the free control points.
     pub fn solve_with(&self, opts: &SolveOptions) -> Result<Solution> {
+        Ok(self.factor_and_solve(opts)?.1)
+    }
+
+    /// [`Problem::solve_with`] that keeps the factorization for later
+    /// [`Factored::solve`]s.
+    pub fn factor_and_solve(&self, opts: &SolveOptions) -> Result<(Factored, Solution)> {
         let t_total = Instant::now();
+        let free = self.check()?;
+        let placed = self.place_operators()?;
+        let factored = self.factor_placed(opts, free, &placed)?;
+        let centers = factored.centers.clone();
+        let solution = factored.finish(self, &placed, centers, opts, t_total, false)?;
+        Ok((factored, solution))
+    }
+
+    /// Assembles and factors the system without solving it: the expensive
+    /// half of a solve. [`Factored::solve`] then solves this problem, and any
+    /// problem that differs from it only where the matrix does not depend,
+    /// in a fraction of the time.
+    pub fn factor(&self, opts: &SolveOptions) -> Result<Factored> {
+        let free = self.check()?;
+        let placed = self.place_operators()?;
+        self.factor_placed(opts, free, &placed)
+    }
+
+    /// The free control points, after checking that the problem can be
+    /// solved at all: some point free, known points finite, an energy,
+    /// valid operators.
+    fn check(&self) -> Result<Vec<usize>> {
         let free: Vec<usize> = (0..self.known.len())
             .filter(|&k| self.known[k].is_none())
             .collect();
@@ -219,39 +248,49 @@ impl Problem {
         for op in &self.operators {
             op.validate()?;
         }
+        Ok(free)
+    }
+
+    /// Each operator's place on the patch and its residuals.
+    fn place_operators(&self) -> Result<Vec<Placed>> {
+        self.operators
+            .iter()
+            .map(|op| {
+                let at = op.locate(self.degree)?;
+                let res = op.residuals(&at, self.degree);
+                Ok((at, res))
+            })
+            .collect()
+    }
+
+    fn factor_placed(
+        &self,
+        opts: &SolveOptions,
+        free: Vec<usize>,
+        placed: &[Placed],
+    ) -> Result<Factored> {
         let t = Instant::now();
         let forms = self
             .terms
             .iter()
             .map(|t| t.form(self.degree))
             .collect::<Result<Vec<_>>>()?;
-        let mut sys = System::assemble(&forms, &self.known, !self.operators.is_empty());
-        // Operators: attractors and directors join the quadratic energy
-        // (s Σ w (a·x − t)² adds 2s w aaᵀ to H and 2s w t a to b), repellors
-        // wait for Newton's method.
-        let mut placed = Vec::with_capacity(self.operators.len());
-        for op in &self.operators {
-            let at = op.locate(self.degree)?;
-            let res = op.residuals(&at, self.degree);
-            if !op.repel {
-                for r in &res {
-                    let c = 2.0 * op.strength * r.weight;
-                    for &(i, a) in &r.terms {
-                        sys.b[(i, 0)] += c * r.target * a;
-                        for &(j, b) in &r.terms {
-                            sys.h[(i, j)] += c * a * b;
-                        }
-                    }
+        // Operators couple the coordinates.
+        let coupled = !self.operators.is_empty()
+            || forms
+                .iter()
+                .any(|f| matches!(f.hessian, Hessian::Coupled(_)));
+        let mut h = hessian_sum(&forms, self.known.len(), coupled);
+        for (c, r) in quadratic_residuals(&self.operators, placed) {
+            for &(i, a) in &r.terms {
+                for &(j, b) in &r.terms {
+                    h[(i, j)] += c * a * b;
                 }
             }
-            placed.push((at, res));
         }
-        let (h_ff, rhs) = sys.reduce(&free);
-        let assemble = t.elapsed().as_secs_f64();
-
-        let t = Instant::now();
+        let rows = free_rows(&free, coupled);
+        let h_ff = Mat::from_fn(rows.len(), rows.len(), |i, j| h[(rows[i], rows[j])]);
         let spd = SpdOptions {
-            max_refinement_steps: opts.max_refinement_steps,
             estimate_condition: opts.estimate_condition,
             singular_condition: opts.singular_condition,
         };
@@ -269,141 +308,45 @@ impl Problem {
                     .iter()
                     .map(|t| t.form_in(&space))
                     .collect::<Result<Vec<_>>>()?;
-                let h = hessian_sum(&forms, space.len(), sys.coupled);
-                TensorBasis::from_space(&space, if sys.coupled { 3 } else { 1 }).map(|q| (h, q))
+                let h = hessian_sum(&forms, space.len(), coupled);
+                TensorBasis::from_space(&space, if coupled { 3 } else { 1 }).map(|q| (h, q))
             }
             None => None,
         };
-        let sol = solve_spd(
-            &h_ff,
-            &rhs,
-            spd,
-            &self.hint(),
-            pre.as_ref().map(|(h, q)| (h, q)),
-        )?;
-        // Repellors: Newton's method on the total energy from the
-        // quadratic solution (no constraints but the known points).
-        // Per coordinate 3p + c: its known value, or its row among the unknowns.
-        let known: Vec<Option<f64>> = (0..3 * self.known.len())
-            .map(|i| self.known[i / 3].map(|p| p[i % 3]))
-            .collect();
-        let mut free_index = vec![usize::MAX; known.len()];
-        for (k, &p) in free.iter().enumerate() {
-            for c in 0..3 {
-                free_index[3 * p + c] = 3 * k + c;
-            }
-        }
-        let repellors: Vec<FreeResiduals> = self
+        let assemble_seconds = t.elapsed().as_secs_f64();
+        let factor = SpdFactor::new(&h_ff, spd, &self.hint(), pre.as_ref().map(|(h, q)| (h, q)))?;
+        let attractors = self
             .operators
             .iter()
-            .zip(&placed)
-            .filter(|(op, _)| op.repel)
-            .map(|(op, (_, res))| FreeResiduals::new(op.strength, res, &known, &free_index))
-            .collect();
-        let mut xf = sol.x.clone();
-        let mut newton_report = None;
-        let mut total_gradient = None;
-        if !repellors.is_empty() {
-            let nf = h_ff.nrows();
-            let mut triplets = Vec::new();
-            for j in 0..nf {
-                for i in 0..nf {
-                    if h_ff[(i, j)] != 0.0 {
-                        triplets.push(Triplet::new(i, j, h_ff[(i, j)]));
-                    }
-                }
-            }
-            let h = sparse(nf, &triplets)?;
-            let b: Vec<f64> = (0..nf).map(|i| -rhs[(i, 0)]).collect();
-            let x0: Vec<f64> = (0..nf).map(|i| sol.x[(i, 0)]).collect();
-            let (x, report) = newton(&h, &b, &[], &repellors, x0)?;
-            // ∇E = H x + b − Σ s ∇q / q², for the report.
-            let mut g = b.clone();
-            for j in 0..nf {
-                for i in 0..nf {
-                    g[i] += h_ff[(i, j)] * x[j];
-                }
-            }
-            for r in &repellors {
-                let (q, dq) = r.value_and_gradient(&x);
-                for (i, d) in dq {
-                    g[i] -= r.strength * d / (q * q);
-                }
-            }
-            total_gradient = Some((
-                g.iter().map(|v| v * v).sum::<f64>().sqrt(),
-                report.relative_gradient,
-            ));
-            xf = Mat::from_fn(nf, 1, |i, _| x[i]);
-            newton_report = Some(report);
-        }
-        let solve = t.elapsed().as_secs_f64() - sol.factor_seconds;
-
-        let points = sys.fill(&free, &xf);
-        let patch = TensorPatch::try_new(self.degree.0, self.degree.1, points).map_err(|_| {
-            Error::NotFinite {
-                what: "the solution (the system overflowed)".into(),
-            }
-        })?;
-        let (gradient_norm, relative_gradient) =
-            total_gradient.unwrap_or_else(|| sys.gradient(&free, &patch));
-        let rhs_norm = rhs.norm_l2();
-        let residual_norm = match total_gradient {
-            Some((g, _)) => g,
-            None => sol.residual.norm_l2(),
-        };
-        let residual = if rhs_norm > 0.0 {
-            residual_norm / rhs_norm
-        } else {
-            residual_norm
-        };
-        let x: Vec<f64> = patch.points().iter().flatten().copied().collect();
-        let operators: Vec<OperatorOutcome> = self
-            .operators
-            .iter()
-            .zip(&placed)
-            .map(|(op, (at, res))| op.outcome(at, res, &patch, &x))
-            .collect();
-        let external: f64 = operators.iter().map(|o| o.energy).sum();
-
-        let terms = self
-            .terms
-            .iter()
-            .map(|t| {
-                Ok(TermEnergy {
-                    name: t.name().to_string(),
-                    value: t.value(&patch)?,
-                })
+            .zip(placed)
+            .filter(|(op, _)| !op.repel)
+            .map(|(op, (_, res))| {
+                let shape = res.iter().map(|r| (r.weight, r.terms.clone())).collect();
+                (op.strength, shape)
             })
-            .collect::<Result<Vec<_>>>()?;
-        let t = Instant::now();
-        let measures = opts.analyse.then(|| measures(&patch));
-        let analyse = t.elapsed().as_secs_f64();
-        let report = SolveReport {
-            energy: terms.iter().map(|t| t.value).sum::<f64>() + external,
-            terms,
-            external,
-            operators,
-            newton: newton_report,
-            gradient_norm,
-            relative_gradient,
-            residual,
-            condition_estimate: sol.condition,
-            basis: if pre.is_some() { "jacobi" } else { "bernstein" }.to_string(),
-            refinement_steps: sol.refinement_steps,
-            unknowns: h_ff.nrows(),
-            free_points: free.len(),
-            coupled: sys.coupled,
-            measures,
-            timings: Timings {
-                assemble,
-                factor: sol.factor_seconds,
-                solve,
-                analyse,
-                total: t_total.elapsed().as_secs_f64(),
-            },
-        };
-        Ok(Solution { patch, report })
+            .collect();
+        let mut centers = Vec::with_capacity(forms.len());
+        let mut centred = Vec::with_capacity(forms.len());
+        for f in forms {
+            centred.push(f.center.is_some().then_some(f.hessian));
+            centers.push(f.center);
+        }
+        Ok(Factored {
+            degree: self.degree,
+            free,
+            known: self.known.iter().map(Option::is_some).collect(),
+            coupled,
+            keys: self.terms.iter().map(|t| t.hessian_key()).collect(),
+            names: self.terms.iter().map(|t| t.name()).collect(),
+            centred,
+            centers,
+            attractors,
+            h,
+            h_ff,
+            basis: if pre.is_some() { "jacobi" } else { "bernstein" },
+            factor,
+            assemble_seconds,
+        })
     }
 
     /// When the free points are exactly a block of contiguous rows ×
@@ -476,90 +419,428 @@ fn hessian_sum(forms: &[TermForm], np: usize, coupled: bool) -> Mat<f64> {
     h
 }
 
-/// The assembled system over all control points: E = ½ XᵀHX − BᵀX + c with
-/// X of one column per coordinate (per-coordinate) or one column of all
-/// coordinates point-major (coupled).
-struct System {
+/// An operator's place on the patch and its residuals.
+type Placed = (TensorLocated, Vec<Residual>);
+
+/// (2 s w, r) for each residual r of the attractors and directors: their
+/// quadratic energy s Σ w (a·x − t)² adds 2 s w a aᵀ to H and 2 s w t a to
+/// b. Repellors wait for Newton's method.
+fn quadratic_residuals<'a>(
+    operators: &'a [TensorOperator],
+    placed: &'a [Placed],
+) -> impl Iterator<Item = (f64, &'a Residual)> + 'a {
+    operators
+        .iter()
+        .zip(placed)
+        .filter(|(op, _)| !op.repel)
+        .flat_map(|(op, (_, res))| res.iter().map(move |r| (2.0 * op.strength * r.weight, r)))
+}
+
+/// What of a residual enters H: its weight and coefficients.
+type ResidualShape = (f64, Vec<(usize, f64)>);
+
+/// Row indices of the free unknowns in the system's layout.
+fn free_rows(free: &[usize], coupled: bool) -> Vec<usize> {
+    if coupled {
+        free.iter()
+            .flat_map(|&p| (0..3).map(move |c| 3 * p + c))
+            .collect()
+    } else {
+        free.to_vec()
+    }
+}
+
+/// A problem's system, assembled and factored ([`Problem::factor`]): solve
+/// it again after moving known control points, the guide surface or
+/// attractor targets, without assembling or factoring anything.
+///
+/// The reduced matrix H_FF of Wu & Yang's eq. (3)–(4) depends on the
+/// degree, which points are free, the terms' Hessians (weights, measures,
+/// the normal field N — not the guide surface S, which only enters b) and
+/// the attractors' and directors' places, strengths and directions. It does
+/// not depend on the known points' values, on S, on the attractors' target
+/// points or planes' offsets, or on repellors (Newton's method starts from
+/// the quadratic solution). When only those move, only the right-hand side
+/// b_F − H_FK x_K changes; [`Factored::solve`] rebuilds that, then does the
+/// triangular solves and the compensated iterative refinement of a full
+/// solve, and reports the same measures of accuracy.
+///
+/// ```
+/// use fairsurf::{Problem, SolveOptions, Stretch, TensorPatch};
+/// let net = |h: f64| TensorPatch::from_fn(3, 3, |i, j| [i as f64, j as f64, h * (i * j) as f64]);
+/// let opts = SolveOptions::default();
+/// let problem = |h| Problem::new((3, 3)).with_fixed_rings(&net(h), 1).with_term(Stretch::new(1.0));
+/// let factored = problem(0.1).factor(&opts).unwrap();
+/// // Move the boundary: the same factorization solves the new problem.
+/// let moved = factored.solve(&problem(0.5), &opts).unwrap();
+/// assert!(moved.report.reused);
+/// let fresh = problem(0.5).solve_with(&opts).unwrap();
+/// assert!((moved.patch.point(1, 1)[2] - fresh.patch.point(1, 1)[2]).abs() < 1e-14);
+/// ```
+#[derive(Debug)]
+pub struct Factored {
+    degree: (usize, usize),
+    free: Vec<usize>,
+    /// Whether each control point is known.
+    known: Vec<bool>,
     coupled: bool,
+    /// The terms' [`EnergyTerm::hessian_key`]s and names.
+    keys: Vec<Option<String>>,
+    names: Vec<&'static str>,
+    /// The Hessians of the terms with a centre (they make b = Σ H_t s_t).
+    centred: Vec<Option<Hessian>>,
+    /// The centres of the problem factored.
+    centers: Vec<Option<Vec<Vec3>>>,
+    /// Per attractor or director: strength and (weight, coefficients) of
+    /// each residual: what of it enters H.
+    attractors: Vec<(f64, Vec<ResidualShape>)>,
+    /// H over all control points, operators included, and H_FF.
     h: Mat<f64>,
+    h_ff: Mat<f64>,
+    basis: &'static str,
+    factor: SpdFactor,
+    assemble_seconds: f64,
+}
+
+impl Factored {
+    /// Scalar unknowns (the order of H_FF).
+    pub fn unknowns(&self) -> usize {
+        self.h_ff.nrows()
+    }
+
+    /// About how many bytes it holds (H, H_FF and the factor).
+    pub fn bytes(&self) -> usize {
+        let (d, f) = (self.h.nrows(), self.h_ff.nrows());
+        8 * (d * d + 2 * f * f)
+    }
+
+    /// Whether `problem` has this system's matrix, so that
+    /// [`Factored::solve`] accepts it.
+    pub fn fits(&self, problem: &Problem) -> bool {
+        problem
+            .place_operators()
+            .is_ok_and(|placed| self.mismatch(problem, &placed).is_none())
+    }
+
+    /// Solves `problem` with this factorization. An error when the problem
+    /// is not solvable (as [`Problem::solve_with`]) or its matrix is not this
+    /// one ([`Error::Mismatch`] saying what differs: degree, free points,
+    /// a term's Hessian, an attractor's place or strength). `opts` sets the
+    /// refinement steps and the analysis; the factorization's options were
+    /// fixed by [`Problem::factor`].
+    pub fn solve(&self, problem: &Problem, opts: &SolveOptions) -> Result<Solution> {
+        let t_total = Instant::now();
+        problem.check()?;
+        let placed = problem.place_operators()?;
+        if let Some(why) = self.mismatch(problem, &placed) {
+            return Err(Error::Mismatch {
+                what: "the problem's system matrix".into(),
+                expected: "the factored one (same degree, free points, term weights and \
+                           measures, normal field, attractor places and strengths)"
+                    .into(),
+                got: why,
+            });
+        }
+        let centers = problem
+            .terms
+            .iter()
+            .zip(&self.centred)
+            .map(|(t, h)| match h {
+                Some(_) => t.center(self.degree),
+                None => Ok(None),
+            })
+            .collect::<Result<Vec<_>>>()?;
+        self.finish(problem, &placed, centers, opts, t_total, true)
+    }
+
+    /// What makes `problem`'s matrix differ from this one, if anything.
+    fn mismatch(&self, problem: &Problem, placed: &[Placed]) -> Option<String> {
+        if problem.degree != self.degree {
+            return Some(format!(
+                "degree {:?} instead of {:?}",
+                problem.degree, self.degree
+            ));
+        }
+        let m = self.degree.1;
+        if let Some(k) =
+            (0..self.known.len()).find(|&k| problem.known[k].is_some() != self.known[k])
+        {
+            return Some(format!(
+                "control point ({}, {}) is {} here",
+                k / (m + 1),
+                k % (m + 1),
+                if self.known[k] { "free" } else { "known" }
+            ));
+        }
+        if problem.terms.len() != self.keys.len() {
+            return Some(format!(
+                "{} energy terms instead of {}",
+                problem.terms.len(),
+                self.keys.len()
+            ));
+        }
+        for (k, (t, key)) in problem.terms.iter().zip(&self.keys).enumerate() {
+            match (t.hessian_key(), key) {
+                (Some(a), Some(b)) if a == *b => {}
+                (None, _) | (_, None) => {
+                    return Some(format!(
+                        "term {k} ({}) cannot tell whether its Hessian is the same \
+                         (EnergyTerm::hessian_key)",
+                        t.name()
+                    ))
+                }
+                _ => {
+                    return Some(format!(
+                    "term {k} ({}, was {}) has another Hessian (weight, measure or normal field)",
+                    t.name(),
+                    self.names[k]
+                ))
+                }
+            }
+        }
+        let attractors: Vec<_> = problem
+            .operators
+            .iter()
+            .zip(placed)
+            .filter(|(op, _)| !op.repel)
+            .collect();
+        if attractors.len() != self.attractors.len() {
+            return Some(format!(
+                "{} attractors and directors instead of {}",
+                attractors.len(),
+                self.attractors.len()
+            ));
+        }
+        for (k, ((op, (_, res)), (strength, shape))) in
+            attractors.iter().zip(&self.attractors).enumerate()
+        {
+            let same = op.strength == *strength
+                && res.len() == shape.len()
+                && res
+                    .iter()
+                    .zip(shape)
+                    .all(|(r, (w, terms))| r.weight == *w && r.terms == *terms);
+            if !same {
+                return Some(format!(
+                    "attractor or director {k} has another place, strength or direction"
+                ));
+            }
+        }
+        None
+    }
+
+    /// b = Σ_t H_t s_t + Σ_attractors 2 s w t a and the known values x,
+    /// in the system's layout.
+    fn rhs(&self, problem: &Problem, placed: &[Placed], centers: &[Option<Vec<Vec3>>]) -> Rhs {
+        let np = self.known.len();
+        let coupled = self.coupled;
+        let (dim, cols) = if coupled { (3 * np, 1) } else { (np, 3) };
+        let mut b = Mat::<f64>::zeros(dim, cols);
+        for (h, s) in self.centred.iter().zip(centers) {
+            if let (Some(h), Some(s)) = (h, s) {
+                b += center_rhs(h, s, coupled);
+            }
+        }
+        for (c, r) in quadratic_residuals(&problem.operators, placed) {
+            for &(i, a) in &r.terms {
+                b[(i, 0)] += c * r.target * a;
+            }
+        }
+        let mut x = Mat::<f64>::zeros(dim, cols);
+        for (p, k) in problem.known.iter().enumerate() {
+            if let Some(v) = k {
+                for c in 0..3 {
+                    let (r, col) = if coupled { (3 * p + c, 0) } else { (p, c) };
+                    x[(r, col)] = v[c];
+                }
+            }
+        }
+        Rhs { b, x }
+    }
+
+    /// The solve proper: right-hand side, triangular solves with
+    /// refinement, Newton's method for repellors, the report.
+    fn finish(
+        &self,
+        problem: &Problem,
+        placed: &[Placed],
+        centers: Vec<Option<Vec<Vec3>>>,
+        opts: &SolveOptions,
+        t_total: Instant,
+        reused: bool,
+    ) -> Result<Solution> {
+        let t = Instant::now();
+        let sys = self.rhs(problem, placed, &centers);
+        let free = &self.free;
+        let rows = free_rows(free, self.coupled);
+        // x has zeros at free rows, so H x = H_FK x_K on the free rows.
+        let hx = &self.h * &sys.x;
+        let rhs = Mat::from_fn(rows.len(), sys.b.ncols(), |i, c| {
+            sys.b[(rows[i], c)] - hx[(rows[i], c)]
+        });
+        let rhs_seconds = t.elapsed().as_secs_f64();
+
+        let t = Instant::now();
+        let h_ff = &self.h_ff;
+        let sol = self.factor.solve(h_ff, &rhs, opts.max_refinement_steps);
+        // Repellors: Newton's method on the total energy from the
+        // quadratic solution (no constraints but the known points).
+        // Per coordinate 3p + c: its known value, or its row among the unknowns.
+        let known: Vec<Option<f64>> = (0..3 * problem.known.len())
+            .map(|i| problem.known[i / 3].map(|p| p[i % 3]))
+            .collect();
+        let mut free_index = vec![usize::MAX; known.len()];
+        for (k, &p) in free.iter().enumerate() {
+            for c in 0..3 {
+                free_index[3 * p + c] = 3 * k + c;
+            }
+        }
+        let repellors: Vec<FreeResiduals> = problem
+            .operators
+            .iter()
+            .zip(placed)
+            .filter(|(op, _)| op.repel)
+            .map(|(op, (_, res))| FreeResiduals::new(op.strength, res, &known, &free_index))
+            .collect();
+        let mut xf = sol.x.clone();
+        let mut newton_report = None;
+        let mut total_gradient = None;
+        if !repellors.is_empty() {
+            let nf = h_ff.nrows();
+            let mut triplets = Vec::new();
+            for j in 0..nf {
+                for i in 0..nf {
+                    if h_ff[(i, j)] != 0.0 {
+                        triplets.push(Triplet::new(i, j, h_ff[(i, j)]));
+                    }
+                }
+            }
+            let h = sparse(nf, &triplets)?;
+            let b: Vec<f64> = (0..nf).map(|i| -rhs[(i, 0)]).collect();
+            let x0: Vec<f64> = (0..nf).map(|i| sol.x[(i, 0)]).collect();
+            let (x, report) = newton(&h, &b, &[], &repellors, x0)?;
+            // ∇E = H x + b − Σ s ∇q / q², for the report.
+            let mut g = b.clone();
+            for j in 0..nf {
+                for i in 0..nf {
+                    g[i] += h_ff[(i, j)] * x[j];
+                }
+            }
+            for r in &repellors {
+                let (q, dq) = r.value_and_gradient(&x);
+                for (i, d) in dq {
+                    g[i] -= r.strength * d / (q * q);
+                }
+            }
+            total_gradient = Some((
+                g.iter().map(|v| v * v).sum::<f64>().sqrt(),
+                report.relative_gradient,
+            ));
+            xf = Mat::from_fn(nf, 1, |i, _| x[i]);
+            newton_report = Some(report);
+        }
+        let solve = t.elapsed().as_secs_f64();
+
+        let points = sys.fill(&rows, &xf, self.coupled);
+        let patch = TensorPatch::try_new(self.degree.0, self.degree.1, points).map_err(|_| {
+            Error::NotFinite {
+                what: "the solution (the system overflowed)".into(),
+            }
+        })?;
+        let (gradient_norm, relative_gradient) =
+            total_gradient.unwrap_or_else(|| sys.gradient(&self.h, &rows, &patch, self.coupled));
+        let rhs_norm = rhs.norm_l2();
+        let residual_norm = match total_gradient {
+            Some((g, _)) => g,
+            None => sol.residual.norm_l2(),
+        };
+        let residual = if rhs_norm > 0.0 {
+            residual_norm / rhs_norm
+        } else {
+            residual_norm
+        };
+        let x: Vec<f64> = patch.points().iter().flatten().copied().collect();
+        let operators: Vec<OperatorOutcome> = problem
+            .operators
+            .iter()
+            .zip(placed)
+            .map(|(op, (at, res))| op.outcome(at, res, &patch, &x))
+            .collect();
+        let external: f64 = operators.iter().map(|o| o.energy).sum();
+
+        let terms = problem
+            .terms
+            .iter()
+            .map(|t| {
+                Ok(TermEnergy {
+                    name: t.name().to_string(),
+                    value: t.value(&patch)?,
+                })
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let t = Instant::now();
+        let measures = opts.analyse.then(|| measures(&patch));
+        let analyse = t.elapsed().as_secs_f64();
+        let (assemble, factor) = if reused {
+            (rhs_seconds, 0.0)
+        } else {
+            (
+                self.assemble_seconds + rhs_seconds,
+                self.factor.factor_seconds,
+            )
+        };
+        let report = SolveReport {
+            energy: terms.iter().map(|t| t.value).sum::<f64>() + external,
+            terms,
+            external,
+            operators,
+            newton: newton_report,
+            gradient_norm,
+            relative_gradient,
+            residual,
+            condition_estimate: self.factor.condition,
+            basis: self.basis.to_string(),
+            refinement_steps: sol.refinement_steps,
+            unknowns: h_ff.nrows(),
+            free_points: free.len(),
+            coupled: self.coupled,
+            reused,
+            measures,
+            timings: Timings {
+                assemble,
+                factor,
+                solve,
+                analyse,
+                total: t_total.elapsed().as_secs_f64(),
+            },
+        };
+        Ok(Solution { patch, report })
+    }
+}
+
+/// One solve's right-hand side over all control points: E = ½ XᵀHX − BᵀX + c
+/// with X of one column per coordinate (per-coordinate layout) or one column
+/// of all coordinates point-major (coupled).
+struct Rhs {
     b: Mat<f64>,
     /// Known values (free entries 0), laid out like b.
     x: Mat<f64>,
 }
 
-impl System {
-    /// The system of the terms' forms; `coupled` forces the coupled layout
-    /// (operators couple the coordinates).
-    fn assemble(forms: &[TermForm], known: &[Option<Vec3>], coupled: bool) -> Self {
-        let np = known.len();
-        let coupled = coupled
-            || forms
-                .iter()
-                .any(|f| matches!(f.hessian, Hessian::Coupled(_)));
-        let (dim, cols) = if coupled { (3 * np, 1) } else { (np, 3) };
-        // (row, col) of coordinate c of point p in the layout.
-        let at = |p: usize, c: usize| if coupled { (3 * p + c, 0) } else { (p, c) };
-        let h = hessian_sum(forms, np, coupled);
-        let mut b = Mat::<f64>::zeros(dim, cols);
-        for f in forms {
-            if let Some(s) = &f.center {
-                b += center_rhs(&f.hessian, s, coupled);
-            }
-        }
-        let mut x = Mat::<f64>::zeros(dim, cols);
-        for (p, k) in known.iter().enumerate() {
-            if let Some(v) = k {
-                for c in 0..3 {
-                    x[at(p, c)] = v[c];
-                }
-            }
-        }
-        Self { coupled, h, b, x }
-    }
-
-    /// Row indices of the free unknowns.
-    fn free_rows(&self, free: &[usize]) -> Vec<usize> {
-        if self.coupled {
-            free.iter()
-                .flat_map(|&p| (0..3).map(move |c| 3 * p + c))
-                .collect()
-        } else {
-            free.to_vec()
-        }
-    }
-
-    /// H_FF and b_F − H_FK x_K.
-    fn reduce(&self, free: &[usize]) -> (Mat<f64>, Mat<f64>) {
-        let rows = self.free_rows(free);
-        let h_ff = Mat::from_fn(rows.len(), rows.len(), |i, j| self.h[(rows[i], rows[j])]);
-        // x has zeros at free rows, so H x = H_FK x_K on the free rows.
-        let hx = &self.h * &self.x;
-        let rhs = Mat::from_fn(rows.len(), self.b.ncols(), |i, c| {
-            self.b[(rows[i], c)] - hx[(rows[i], c)]
-        });
-        (h_ff, rhs)
-    }
-
-    /// All control points: known ones as given, free ones from the solution.
-    fn fill(&self, free: &[usize], xf: &Mat<f64>) -> Vec<Vec3> {
+impl Rhs {
+    /// All control points: known ones as given, free ones (at `rows`) from
+    /// the solution.
+    fn fill(&self, rows: &[usize], xf: &Mat<f64>, coupled: bool) -> Vec<Vec3> {
         let mut x = self.x.clone();
-        for (i, &r) in self.free_rows(free).iter().enumerate() {
+        for (i, &r) in rows.iter().enumerate() {
             for c in 0..x.ncols() {
                 x[(r, c)] = xf[(i, c)];
             }
         }
-        self.points(&x)
-    }
-
-    fn points(&self, x: &Mat<f64>) -> Vec<Vec3> {
-        let np = if self.coupled {
-            x.nrows() / 3
-        } else {
-            x.nrows()
-        };
+        let np = if coupled { x.nrows() / 3 } else { x.nrows() };
         (0..np)
             .map(|p| {
-                if self.coupled {
+                if coupled {
                     [x[(3 * p, 0)], x[(3 * p + 1, 0)], x[(3 * p + 2, 0)]]
                 } else {
                     [x[(p, 0)], x[(p, 1)], x[(p, 2)]]
@@ -568,26 +849,31 @@ impl System {
             .collect()
     }
 
-    /// (‖g‖₂, normwise backward error) of g = (H X − B) on the free rows at the
-    /// patch's control points, each entry a compensated dot product.
-    fn gradient(&self, free: &[usize], patch: &TensorPatch) -> (f64, f64) {
+    /// (‖g‖₂, normwise backward error) of g = (H X − B) on the free `rows` at
+    /// the patch's control points, each entry a compensated dot product.
+    fn gradient(
+        &self,
+        h: &Mat<f64>,
+        rows: &[usize],
+        patch: &TensorPatch,
+        coupled: bool,
+    ) -> (f64, f64) {
         let mut x = Mat::<f64>::zeros(self.x.nrows(), self.x.ncols());
         for (p, v) in patch.points().iter().enumerate() {
             for c in 0..3 {
-                if self.coupled {
+                if coupled {
                     x[(3 * p + c, 0)] = v[c];
                 } else {
                     x[(p, c)] = v[c];
                 }
             }
         }
-        let rows = self.free_rows(free);
         let mut g2 = 0.0;
         let mut g_inf: f64 = 0.0;
         let mut h_inf: f64 = 0.0;
         let mut b_inf: f64 = 0.0;
-        for &r in &rows {
-            let hr = self.h.col_as_slice(r); // row r of symmetric H
+        for &r in rows {
+            let hr = h.col_as_slice(r); // row r of symmetric H
             h_inf = h_inf.max(hr.iter().map(|v| v.abs()).sum());
             for c in 0..x.ncols() {
                 let g = -super::dense::dot2_residual(self.b[(r, c)], hr, x.col_as_slice(c));

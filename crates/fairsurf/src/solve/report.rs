@@ -78,6 +78,11 @@ pub struct SolveReport {
     /// Whether the coordinates were coupled (a normal-field term) or solved
     /// as three systems with one matrix.
     pub coupled: bool,
+    /// Whether the factorization came from an earlier solve
+    /// ([`crate::Factored::solve`]: only the right-hand side was rebuilt;
+    /// `timings.factor` is then 0 and `timings.assemble` is the right-hand
+    /// side's).
+    pub reused: bool,
     /// Area and functionals of the result (`None` when analysis was off).
     pub measures: Option<SurfaceMeasures>,
     /// Time per stage.
