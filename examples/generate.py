@@ -362,7 +362,27 @@ def tensor_operators():
     })
 
 
+def editor_degree10():
+    """The editor's drag scene: degree 10, lambda > 0, the initial net as guide."""
+    n = 10
+    wave = lambda x, y: 0.15 * math.sin(2 * math.pi * x) * math.cos(math.pi * y) + 0.1 * x * y
+    field = [[[r(0.3 * (i / 3 - 0.5)), r(-0.2 * (j / 3 - 0.5)), 1.0] for j in range(4)] for i in range(4)]
+    write("editor_degree10.json", {
+        "name": "Degree 10 with a normal field (lambda = 10) and the initial net as guide (gamma = 1)",
+        "description": "Wu & Yang's E1 at degree 10: drag the boundary in the editor; each drag re-solves "
+                       "with the kept factorization (only the right-hand side changes).",
+        "surface": {"type": "tensor", "degree": [n, n], "control_points": clean(graph_net(n, n, wave))},
+        "fixed_rings": 1,
+        "energy": {
+            "stretch": 1,
+            "normal_field": {"weight": 10, "degree": [3, 3], "control_points": field},
+            "guide_surface": {"weight": 1},
+        },
+    })
+
+
 if __name__ == "__main__":
+    editor_degree10()
     tensor_operators()
     monterde_ugail()
     quickstart()

@@ -8,6 +8,12 @@
 // "epoch" of the scene it belongs to (bumped when a new scene is loaded), so
 // a response for a scene no longer loaded, or older than one already shown,
 // is dropped.
+//
+// While a handle or a slider is being dragged the requests ask for a quick
+// answer ("quick": true: the server skips the area and the other measures,
+// and re-solves with the factorization it kept); letting go sends one full
+// solve. Rows of the table that a quick answer lacks keep their last full
+// value, greyed.
 
 import { Viewer } from './viewer.js';
 import {
@@ -51,13 +57,22 @@ const state = {
   compareEpoch: -1,
   compareVersion: -1,
   version: 0, // bumped by every edit of the scene
+  handleDrag: false, // a handle is being dragged
+  needFull: false, // a quick answer was asked for since the last full one
+  fullTable: null, // the table of the last full answer for this scene
 };
 
 let viewer;
 try {
   viewer = new Viewer($('viewport'), {
-    onHandleDrag: (index, position) => moveHandle(index, position),
-    onHandleDragEnd: () => flushSolve(),
+    onHandleDrag: (index, position) => {
+      state.handleDrag = true;
+      moveHandle(index, position);
+    },
+    onHandleDragEnd: () => {
+      state.handleDrag = false;
+      finishDrag();
+    },
     onRender: () => checkIdle(),
   });
 } catch (err) {
@@ -118,6 +133,18 @@ function flushSolve() {
   pump();
 }
 
+/** Whether the user is dragging a handle or a slider. */
+function dragging() {
+  return state.handleDrag || state.activeSlider !== null;
+}
+
+/** The user let go: solve at once, fully if a quick answer is on screen. */
+function finishDrag() {
+  if (state.needFull && state.scene) state.dirty = true;
+  if (state.timer !== null) flushSolve();
+  else pump();
+}
+
 /** Sends the latest scene unless a request is already in flight. */
 async function pump() {
   if (state.inFlight || !state.dirty || !state.scene) {
@@ -135,7 +162,9 @@ async function pump() {
   try {
     // postJson serializes the scene before its first await: edits made
     // while the request is out go into the next one.
-    res = await postJson('api/solve', { scene: state.scene });
+    const quick = dragging();
+    state.needFull = quick;
+    res = await postJson('api/solve', { scene: state.scene, quick });
     answer = res.ok ? await res.json() : await readError(res);
   } catch (err) {
     res = null;
@@ -175,7 +204,7 @@ function applyResponse(response, seq, epoch, roundTripMs) {
   viewer.handlesLocked = false;
   viewer.update(withSceneHandles(response), { frame });
   renderKind(response.kind);
-  renderTable(response.table || []);
+  renderTable(tableRows(response.table || [], response.quick === true, epoch));
   renderLegend(response.mesh?.legend);
   renderMethods(response.methods ?? null);
   renderSliders(response.sliders || []);
@@ -358,6 +387,22 @@ function renderKind(kind) {
   badge.textContent = kind === 'triangular' ? 'triangular' : kind === 'tensor' ? 'tensor' : String(kind || '');
 }
 
+/**
+ * The rows to show: a full answer's as they are; a quick answer's in the
+ * order of the last full table of this scene, with the rows it lacks kept
+ * from there and marked stale.
+ */
+function tableRows(rows, quick, epoch) {
+  if (!quick || !state.fullTable || state.fullTable.epoch !== epoch) {
+    if (!quick) state.fullTable = { epoch, rows };
+    return rows;
+  }
+  const fresh = new Map(rows.map((r) => [String(r.label), r]));
+  const out = state.fullTable.rows.map((r) => fresh.get(String(r.label)) ?? { ...r, stale: true });
+  const known = new Set(state.fullTable.rows.map((r) => String(r.label)));
+  return out.concat(rows.filter((r) => !known.has(String(r.label))));
+}
+
 function renderTable(rows) {
   const tbody = $('table').tBodies[0];
   // Rows are updated in place when the labels are unchanged, so the table
@@ -380,6 +425,8 @@ function renderTable(rows) {
     const td = tbody.rows[k].cells[1];
     td.textContent = formatNumber(r.value);
     td.title = typeof r.value === 'number' ? String(r.value) : '';
+    tbody.rows[k].classList.toggle('stale', r.stale === true);
+    if (r.stale) td.title = 'from the last full solve: updated when you let go';
   });
 }
 
@@ -516,6 +563,7 @@ function sliderRow(s, k) {
       state.pendingSliders = null;
       renderSliders(pending);
     }
+    finishDrag();
   };
   range.addEventListener('pointerdown', () => (state.activeSlider = s.pointer));
   range.addEventListener('pointerup', release);
@@ -763,6 +811,9 @@ window.fairsurf = {
   },
   get solveCount() {
     return state.solveCount;
+  },
+  get dragging() {
+    return dragging();
   },
   get errorCount() {
     return state.errorCount;

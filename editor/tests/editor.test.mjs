@@ -91,6 +91,17 @@ page.on('pageerror', (err) => pageErrors.push(err.message));
 page.on('console', (msg) => {
   if (msg.type() === 'error') consoleErrors.push(msg.text());
 });
+/** The bodies of the solve requests the page sent, in order. */
+const solveRequests = [];
+page.on('request', (req) => {
+  if (req.method() === 'POST' && new URL(req.url()).pathname.endsWith('/api/solve')) {
+    try {
+      solveRequests.push(JSON.parse(req.postData() || 'null'));
+    } catch {
+      solveRequests.push(null);
+    }
+  }
+});
 
 /** Waits in the page until no solve is pending or in flight and the frame is drawn. */
 const idle = () => page.evaluate(() => window.fairsurf.idle());
@@ -207,12 +218,18 @@ await step('drag a control-point handle with the mouse', async () => {
     ...(await hooks()),
   };
   const { x, y } = h.screen;
+  const sentBefore = solveRequests.length;
   await page.mouse.move(x, y);
   await page.mouse.down();
-  await page.mouse.move(x + 25, y - 20, { steps: 5 });
-  await page.mouse.move(x + 50, y - 40, { steps: 5 });
+  // Slow enough that solves go out while the button is down.
+  for (let k = 1; k <= 4; k++) {
+    await page.mouse.move(x + 12 * k, y - 10 * k, { steps: 3 });
+    await page.waitForTimeout(150);
+  }
+  const duringDrag = solveRequests.slice(sentBefore);
   await page.mouse.up();
   await idle();
+  const sent = solveRequests.slice(sentBefore);
   const after = {
     value: await page.evaluate((p) => window.fairsurf.getPointer(p), h.pointer),
     camera: await page.evaluate(() => window.fairsurf.viewer.camera.position.toArray()),
@@ -224,11 +241,16 @@ await step('drag a control-point handle with the mouse', async () => {
   assert(after.solveCount > before.solveCount, 'no new solve after the drag');
   assert(after.errorCount === before.errorCount, `the solve after the drag failed: ${await page.locator('[data-testid="error"]').innerText()}`);
   assert(sameJson(after.camera, before.camera), 'the camera moved: the drag also orbited the view');
+  // Quick answers while dragging, one full answer after letting go.
+  assert(duringDrag.length > 0 && duringDrag.every((b) => b?.quick === true), `requests while dragging: ${JSON.stringify(duringDrag.map((b) => b?.quick))}, expected quick: true`);
+  assert(sent.length > duringDrag.length && sent[sent.length - 1]?.quick === false, `the last request after letting go: ${JSON.stringify(sent.map((b) => b?.quick))}, expected quick: false`);
+  const shown = await page.evaluate(() => ({ quick: window.fairsurf.lastResponse.quick, stale: document.querySelectorAll('[data-testid="energy-table"] tr.stale').length }));
+  assert(shown.quick !== true && shown.stale === 0, `after letting go the page shows a quick answer (${JSON.stringify(shown)})`);
   assert(after.response, `the new response has no handle ${h.pointer}`);
   const off = Math.max(...after.response.position.map((c, k) => Math.abs(c - after.value[k])));
   const size = Math.max(1e-9, ...after.value.map(Math.abs));
   assert(off <= 1e-6 * Math.max(1, size), `the handle ${h.pointer} is drawn at ${JSON.stringify(after.response.position)}, the scene says ${JSON.stringify(after.value)}`);
-  return `${h.label || h.pointer}: ${JSON.stringify(before.value)} → ${JSON.stringify(after.value)}, solves ${before.solveCount} → ${after.solveCount}`;
+  return `${h.label || h.pointer}: ${JSON.stringify(before.value)} → ${JSON.stringify(after.value)}, solves ${before.solveCount} → ${after.solveCount} (${duringDrag.length} quick while dragging)`;
 });
 
 await step('load a bad scene: the server\'s error is shown, the surface stays', async () => {

@@ -542,9 +542,13 @@ const server = http.createServer(async (req, res) => {
       return res.end(fs.readFileSync(path.join(EXAMPLES, file)));
     }
     if (url.pathname === '/api/solve' && req.method === 'POST') {
-      const scene = readScene(await readJsonBody(req));
+      const body = await readJsonBody(req);
+      const scene = readScene(body);
       if (DELAY_MS) await sleep(DELAY_MS);
-      return sendJson(res, 200, solve(scene));
+      const quick = body.quick === true;
+      const answer = solve(scene);
+      // A quick answer lacks the measures (here: the rows after the first two).
+      return sendJson(res, 200, { ...answer, table: quick ? answer.table.slice(0, 2) : answer.table, quick });
     }
     if (url.pathname === '/api/export' && req.method === 'POST') {
       const format = url.searchParams.get('format') || '';

@@ -180,6 +180,67 @@ fn the_api_solves_and_describes() {
     assert!(head.contains("text/javascript"));
 }
 
+/// The table's rows as label → value.
+fn rows(v: &Value) -> std::collections::HashMap<String, Value> {
+    v["table"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| (r["label"].as_str().unwrap().to_string(), r["value"].clone()))
+        .collect()
+}
+
+/// A drag: quick solves of a moved boundary point reuse the kept
+/// factorization and give the library's fresh solution; the full solve on
+/// letting go adds the analysis; a weight change factors anew.
+#[test]
+fn drags_reuse_the_factorization() {
+    let s = start(&[]);
+    let mut scene = example("editor_degree10.json");
+    let (status, v) = post(&s, "/api/solve", &json!({ "scene": scene }));
+    assert_eq!(status, 200, "{v}");
+    assert_eq!(rows(&v)["factorization"], "new");
+    assert_eq!(v["quick"], false);
+    for k in 1..=3 {
+        scene["surface"]["control_points"][0][5][2] = json!(0.1 * k as f64);
+        let (status, v) = post(&s, "/api/solve", &json!({ "scene": scene, "quick": true }));
+        assert_eq!(status, 200, "{v}");
+        let r = rows(&v);
+        assert_eq!(r["factorization"], "reused", "step {k}");
+        assert!(!r.contains_key("area"), "a quick answer skips the area");
+        assert_eq!(v["quick"], true);
+        // The same surface as the library's fresh solve of the moved scene.
+        let direct = fairsurf_io::Scene::from_json(&scene.to_string())
+            .unwrap()
+            .solve()
+            .unwrap();
+        let fresh = direct.patch().points();
+        let got = v["result"]["surface"]["control_points"].as_array().unwrap();
+        let mut worst: f64 = 0.0;
+        for (i, row) in got.iter().enumerate() {
+            for (j, p) in row.as_array().unwrap().iter().enumerate() {
+                for c in 0..3 {
+                    let a = p[c].as_f64().unwrap();
+                    worst = worst.max((a - fresh[i * 11 + j][c]).abs());
+                }
+            }
+        }
+        assert!(
+            worst < 1e-12,
+            "step {k}: reused and fresh differ by {worst}"
+        );
+        let energy = direct.outcome.solution().unwrap().report.energy;
+        assert!((r["energy"].as_f64().unwrap() - energy).abs() <= 1e-12 * energy);
+    }
+    let (_, v) = post(&s, "/api/solve", &json!({ "scene": scene }));
+    let r = rows(&v);
+    assert_eq!(r["factorization"], "reused");
+    assert!(r["area"].as_f64().unwrap() > 1.0);
+    scene["energy"]["normal_field"]["weight"] = json!(20);
+    let (_, v) = post(&s, "/api/solve", &json!({ "scene": scene, "quick": true }));
+    assert_eq!(rows(&v)["factorization"], "new", "λ changed the matrix");
+}
+
 #[test]
 fn errors_are_json_with_paths_and_statuses() {
     let s = start(&["--max-body-mb", "1", "--max-unknowns", "500"]);
@@ -195,6 +256,7 @@ fn errors_are_json_with_paths_and_statuses() {
         (json!({"scene": example("vw_fig5_directors.json")}).to_string().into_bytes(), "/api/compare", 422, None),
         (json!({"scene": example("quickstart.json")}).to_string().into_bytes(), "/api/export?format=dxf", 400, Some("format")),
         (b"{}".to_vec(), "/api/nothing", 404, None),
+        (json!({"scene": example("quickstart.json"), "quick": "yes"}).to_string().into_bytes(), "/api/solve", 400, Some("quick")),
     ];
     for (body, path, status, at) in cases {
         let (got, _, out) = request(&s, "POST", path, &body);

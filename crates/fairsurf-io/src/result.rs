@@ -8,7 +8,7 @@ use crate::validate::{Built, Plan};
 use crate::{write_atomic, Result};
 use fairsurf::analysis::{normal_deviation, AbsMeanCurvature, NormalDeviation};
 use fairsurf::harmonic::{Construction, ConstructionReport};
-use fairsurf::{Solution, SolveOptions, SolveReport, SurfaceMeasures, TensorPatch};
+use fairsurf::{FactorCache, Solution, SolveOptions, SolveReport, SurfaceMeasures, TensorPatch};
 use serde_json::{json, Map, Value};
 use std::path::Path;
 
@@ -21,9 +21,11 @@ pub struct SolvedScene {
     pub built: Built,
     /// The surface and its report.
     pub outcome: Outcome,
-    /// Angle between the result's normals and the guiding field.
+    /// Angle between the result's normals and the guiding field (`None`
+    /// without a field or without analysis).
     pub normal_deviation: Option<NormalDeviation>,
-    /// max |R − S| over a 33×33 grid, for a guide surface S.
+    /// max |R − S| over a 33×33 grid, for a guide surface S (`None` without
+    /// one or without analysis).
     pub guide_distance: Option<f64>,
 }
 
@@ -85,9 +87,22 @@ impl Scene {
 
     /// Validates and solves.
     pub fn solve_with(&self, opts: &SolveOptions) -> Result<SolvedScene> {
+        self.solve_using(opts, None)
+    }
+
+    /// Validates and solves, reusing a factorization from `cache` when one
+    /// fits (and keeping this one there): for a designer dragging points.
+    pub fn solve_cached(&self, opts: &SolveOptions, cache: &FactorCache) -> Result<SolvedScene> {
+        self.solve_using(opts, Some(cache))
+    }
+
+    fn solve_using(&self, opts: &SolveOptions, cache: Option<&FactorCache>) -> Result<SolvedScene> {
         let built = self.build()?;
         let outcome = match &built.plan {
-            Plan::Minimize(problem) => Outcome::Minimized(problem.solve_with(opts)?),
+            Plan::Minimize(problem) => Outcome::Minimized(match cache {
+                Some(c) => c.solve(problem, opts)?,
+                None => problem.solve_with(opts)?,
+            }),
             Plan::Construct(method, net) => {
                 let copts = fairsurf::harmonic::ConstructOptions {
                     least_squares: self.least_squares,
@@ -97,11 +112,18 @@ impl Scene {
             }
         };
         let patch = outcome.patch();
+        // Without analysis (`opts.analyse` false) the measures of the result
+        // against the field and the guide are skipped too.
         let normal_deviation = built
             .normal_field
             .as_ref()
+            .filter(|_| opts.analyse)
             .map(|f| normal_deviation(patch, f, built.deviation_grid));
-        let guide_distance = built.guide.as_ref().map(|s| max_distance(patch, s));
+        let guide_distance = built
+            .guide
+            .as_ref()
+            .filter(|_| opts.analyse)
+            .map(|s| max_distance(patch, s));
         Ok(SolvedScene {
             scene: self.clone(),
             built,
@@ -221,6 +243,7 @@ pub fn report_json(r: &SolveReport) -> Value {
         "unknowns": r.unknowns,
         "free_points": r.free_points,
         "coupled": r.coupled,
+        "reused_factorization": r.reused,
         "timings_s": {
             "assemble": r.timings.assemble, "factor": r.timings.factor, "solve": r.timings.solve,
             "analyse": r.timings.analyse, "total": r.timings.total,

@@ -1,7 +1,9 @@
 //! `fairsurf serve`: the browser editor. A local HTTP server (axum on
 //! tokio) serving the page (`editor/dist`, embedded at build time) and a
 //! JSON API: solve, compare, export, and the bundled examples. The contract
-//! is `editor/API.md`; the server keeps no state between requests.
+//! is `editor/API.md`. The only state kept between requests is a few
+//! factorizations ([`fairsurf::FactorCache`]), so that a drag re-solves
+//! without assembling or factoring; answers never depend on it.
 //!
 //! Limits, each a clear JSON error: the request body (`--max-body-mb`,
 //! 413), the problem's size (`--max-unknowns`, 413), the solve time
@@ -52,12 +54,21 @@ pub struct Args {
     max_unknowns: usize,
 }
 
+/// At most this many factorizations are kept between requests…
+const FACTOR_ENTRIES: usize = 8;
+/// …together at most this large (a degree-30 problem with a normal field
+/// holds about 250 MB and is not kept).
+const FACTOR_BYTES: usize = 256 << 20;
+
 /// What the handlers share.
 pub(crate) struct Server {
     /// (file name, scene text) of the examples, the opened scene first.
     examples: Vec<(String, String)>,
     limits: Limits,
     solves: Semaphore,
+    /// Factorizations kept between requests: a drag that moves only known
+    /// points, the guide surface or attractor targets re-solves with one.
+    factors: Arc<fairsurf::FactorCache>,
 }
 
 /// The request limits.
@@ -138,6 +149,7 @@ pub fn run(a: Args) -> Result<(), Failure> {
             max_unknowns: a.max_unknowns,
         },
         solves: Semaphore::new(std::thread::available_parallelism().map_or(2, |n| n.get())),
+        factors: Arc::new(fairsurf::FactorCache::new(FACTOR_ENTRIES, FACTOR_BYTES)),
     });
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
@@ -255,6 +267,12 @@ async fn get_example(
 /// The request body's `scene`, as text for the scene parsers (which name
 /// the JSON path of every error).
 async fn scene_text(s: &Server, body: Body) -> ApiResult<String> {
+    Ok(request(s, body).await?.0)
+}
+
+/// The request body: the scene as text, and whether it asks for a quick
+/// answer (`"quick": true`, while the user drags).
+async fn request(s: &Server, body: Body) -> ApiResult<(String, bool)> {
     let bytes: Bytes = to_bytes(body, s.limits.max_body).await.map_err(|_| {
         ApiError::new(
             StatusCode::PAYLOAD_TOO_LARGE,
@@ -278,7 +296,18 @@ async fn scene_text(s: &Server, body: Body) -> ApiResult<String> {
             message: "scene: expected the request {\"scene\": {…}}".into(),
             path: Some("scene".into()),
         })?;
-    Ok(scene.to_string())
+    let quick = match v.get("quick") {
+        None | Some(Value::Null) => false,
+        Some(Value::Bool(b)) => *b,
+        Some(other) => {
+            return Err(ApiError {
+                status: StatusCode::BAD_REQUEST,
+                message: format!("quick: expected true or false, got {other}"),
+                path: Some("quick".into()),
+            })
+        }
+    };
+    Ok((scene.to_string(), quick))
 }
 
 /// Runs `f` on the blocking pool, one per core at a time, within the time
@@ -308,9 +337,10 @@ async fn limited<T: Send + 'static>(
 }
 
 async fn solve(State(s): State<Arc<Server>>, body: Body) -> ApiResult<Json<Value>> {
-    let text = scene_text(&s, body).await?;
+    let (text, quick) = request(&s, body).await?;
     let limits = s.limits;
-    let v = limited(&s, move || view::solve(&text, &limits)).await?;
+    let factors = s.factors.clone();
+    let v = limited(&s, move || view::solve(&text, quick, &limits, &factors)).await?;
     Ok(Json(v))
 }
 

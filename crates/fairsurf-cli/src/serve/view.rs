@@ -17,8 +17,15 @@ use serde_json::{json, Value};
 use std::collections::BTreeSet;
 use std::time::Instant;
 
-/// Solves the scene and describes the result for the page.
-pub(crate) fn solve(text: &str, limits: &Limits) -> ApiResult<Value> {
+/// Solves the scene and describes the result for the page. `quick` (while
+/// the user drags) skips the analysis: area, functionals, the deviation from
+/// the normal field and the distance to the guide surface.
+pub(crate) fn solve(
+    text: &str,
+    quick: bool,
+    limits: &Limits,
+    factors: &fairsurf::FactorCache,
+) -> ApiResult<Value> {
     let start = Instant::now();
     let mut v = if is_triangular(text) {
         let scene = TriScene::from_json(text)?;
@@ -27,9 +34,11 @@ pub(crate) fn solve(text: &str, limits: &Limits) -> ApiResult<Value> {
         tri_view(&solved)
     } else {
         let scene = Scene::from_json(text)?;
-        let solved = scene.solve()?;
+        let opts = fairsurf::SolveOptions::default().with_analyse(!quick);
+        let solved = scene.solve_cached(&opts, factors)?;
         tensor_view(&solved)
     };
+    v["quick"] = json!(quick);
     v["seconds"] = json!(start.elapsed().as_secs_f64());
     Ok(v)
 }
@@ -500,6 +509,11 @@ fn tensor_view(solved: &SolvedScene) -> Value {
             table.push(row("residual", r.residual));
             table.push(row("condition estimate", r.condition_estimate));
             table.push(row("unknowns", r.unknowns as f64));
+            table.push(row(
+                "factorization",
+                if r.reused { "reused" } else { "new" },
+            ));
+            table.push(row("solve (ms)", 1e3 * r.timings.total));
             if let Some(nr) = &r.newton {
                 table.push(row("Newton iterations", nr.iterations as f64));
             }
