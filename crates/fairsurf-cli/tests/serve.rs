@@ -241,6 +241,65 @@ fn drags_reuse_the_factorization() {
     assert_eq!(rows(&v)["factorization"], "new", "λ changed the matrix");
 }
 
+/// Triangular scenes: a fixed control point is a handle (at the net's value
+/// until dragged) that the solve honours exactly; an operator's marker lies
+/// on the solved surface even where a curve split the patches.
+#[test]
+fn triangular_handles_and_markers() {
+    let s = start(&[]);
+    let mut scene = example("vw_fig2_curve.json");
+    let attractor = example("vw_fig6_attractors.json")["operators"][0].clone();
+    scene["operators"] = json!([attractor]);
+    let g = 40;
+    scene["constraints"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"type": "fixed", "index": g}));
+    let net = fairsurf_io::TriScene::from_json(&scene.to_string())
+        .unwrap()
+        .surface()
+        .unwrap();
+    let (status, v) = post(&s, "/api/solve", &json!({ "scene": scene }));
+    assert_eq!(status, 200, "{v}");
+    let handle = v["handles"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|h| h["pointer"] == "/constraints/1/value")
+        .unwrap_or_else(|| panic!("no handle for the fixed point: {}", v["handles"]));
+    assert_eq!(handle["position"], json!(net.points()[g]));
+
+    // The marker is on the surface: within one mesh edge of a mesh vertex.
+    let at: Vec<f64> = serde_json::from_value(v["operators"][0]["at"].clone()).unwrap();
+    let pos: Vec<f64> = serde_json::from_value(v["mesh"]["positions"].clone()).unwrap();
+    let idx: Vec<usize> = serde_json::from_value(v["mesh"]["indices"].clone()).unwrap();
+    let p = |i: usize| &pos[3 * i..3 * i + 3];
+    let dist = |a: &[f64], b: &[f64]| (0..3).map(|c| (a[c] - b[c]).powi(2)).sum::<f64>().sqrt();
+    let edge = idx
+        .chunks(3)
+        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+        .map(|(a, b)| dist(p(a), p(b)))
+        .fold(0.0, f64::max);
+    let nearest = (0..pos.len() / 3)
+        .map(|i| dist(p(i), &at))
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        nearest <= edge,
+        "marker {at:?} is {nearest} from the mesh (edges ≤ {edge})"
+    );
+
+    // Dragging the fixed point: the solved net holds it exactly.
+    let moved = fairsurf::vector::add(net.points()[g], [0.0, 0.0, 0.25]);
+    scene["constraints"][1]["value"] = json!(moved);
+    let (status, v) = post(&s, "/api/solve", &json!({ "scene": scene }));
+    assert_eq!(status, 200, "{v}");
+    let points: Vec<[f64; 3]> = serde_json::from_value(v["net"]["points"].clone()).unwrap();
+    assert!(
+        points.contains(&moved),
+        "the fixed point {moved:?} is not in the solved net"
+    );
+}
+
 #[test]
 fn errors_are_json_with_paths_and_statuses() {
     let s = start(&["--max-body-mb", "1", "--max-unknowns", "500"]);

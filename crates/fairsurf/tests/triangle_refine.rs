@@ -128,10 +128,18 @@ fn assert_consistent(s: &TriSurface) {
     }
 }
 
+/// How far a refined surface's values may be from the original's at the
+/// same domain point: the grid's coordinates are O(1); locating a point in a
+/// sliver child (split parameters down to 0.05, twice) amplifies rounding
+/// (1.2e-14 measured on `slivers_keep_the_surface`, which failed the former
+/// 1e-14).
+const CHANGE_TOLERANCE: f64 = 1e-13;
+
 /// The refinement is the original surface: the same values at located
 /// points, the same pieces, shared edges and orientation.
 fn assert_same_shape(original: &TriSurface, r: &Refinement) {
-    assert!(max_change(original, r) < 1e-14);
+    let change = max_change(original, r);
+    assert!(change < CHANGE_TOLERANCE, "values changed by {change}");
     assert!(max_restrict_gap(original, r) < 1e-14);
     assert_consistent(&r.surface);
 }
@@ -464,6 +472,40 @@ fn separate_components_have_no_path() {
     let (from, to) = (point(0, [0.2, 0.3, 0.5]), point(1, [0.2, 0.3, 0.5]));
     let w = what(embed_curve(&s, &c, from, to, None));
     assert!(w.contains("`to` point (triangle 1)"), "{w}");
+}
+
+/// The splits of `ops` (edge?, which, a, b) as in the property test below.
+fn split_all(s: &TriSurface, ops: &[(bool, f64, f64, f64)]) -> Refinement {
+    let mut r = Refinement::identity(s);
+    for &(edge, pick, a, b) in ops {
+        r = if edge {
+            let e = (pick * r.surface.edges().len() as f64) as usize;
+            r.split_edge(e, a).unwrap().0
+        } else {
+            let t = (pick * r.surface.patch_count() as f64) as usize;
+            let bary = [a, b * (1.0 - a), (1.0 - a) * (1.0 - b)];
+            r.split_triangle(t, bary).unwrap().0
+        };
+    }
+    r
+}
+
+/// A case the property test found (CI, 2026-11-21): slivers of width 0.05
+/// split again. Locating a point in such a child divides by its small
+/// barycentric determinant, so values agree to 1.2e-14, not to 1e-14. The
+/// control points themselves (Goldman's blossoms) still agree to 3e-16.
+#[test]
+fn slivers_keep_the_surface() {
+    let ops = [
+        (true, 0.4061569512253915, 0.19923850260092307, 0.05),
+        (false, 0.5177167797980115, 0.05, 0.05),
+        (true, 0.3571600916194959, 0.930788794461278, 0.05),
+    ];
+    let s = grid();
+    let r = split_all(&s, &ops);
+    let change = max_change(&s, &r);
+    assert!(change < CHANGE_TOLERANCE, "{change}");
+    assert_same_shape(&s, &r);
 }
 
 proptest! {

@@ -577,6 +577,30 @@ fn tri_net_edges(s: &TriSurface) -> Vec<[usize; 2]> {
     edges.into_iter().collect()
 }
 
+/// The solved surface's point at (t, bary) of the scene's mesh: found in
+/// the result patch that came from triangle t (curves split patches) and
+/// contains the point, evaluated there.
+fn tri_point(sol: &fairsurf::triangle::TriSolution, t: usize, bary: [f64; 3]) -> Option<Vec3> {
+    sol.origin
+        .iter()
+        .enumerate()
+        .filter(|(_, (from, _))| *from == t)
+        .find_map(|(k, (_, [a, b, c]))| {
+            // bary = c₀a + c₁b + c₂c with c₀ + c₁ + c₂ = 1, in the first two
+            // coordinates of the original triangle.
+            let det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
+            if det.abs() < 1e-14 {
+                return None;
+            }
+            let (px, py) = (bary[0] - a[0], bary[1] - a[1]);
+            let c1 = (px * (c[1] - a[1]) - (c[0] - a[0]) * py) / det;
+            let c2 = ((b[0] - a[0]) * py - px * (b[1] - a[1])) / det;
+            let child = [1.0 - c1 - c2, c1, c2];
+            (child.iter().all(|&x| x >= -1e-12) && k < sol.surface.patch_count())
+                .then(|| sol.surface.patch(k).eval(child))
+        })
+}
+
 fn tri_view(solved: &SolvedTriScene) -> Value {
     let scene = &solved.scene;
     let s = solved.surface();
@@ -608,19 +632,46 @@ fn tri_view(solved: &SolvedTriScene) -> Value {
             }
         }
     }
+    // The initial net, for fixed points whose value the scene leaves to it.
+    let initial = scene.surface().ok();
     for (k, c) in scene_json["constraints"]
         .as_array()
         .into_iter()
         .flatten()
         .enumerate()
     {
+        let label = || {
+            c["name"]
+                .as_str()
+                .map_or(format!("constraint {k}"), str::to_string)
+        };
         if c["type"] == "point" && c["target"].is_array() {
             handles.push(json!({
                 "pointer": format!("/constraints/{k}/target"),
                 "position": c["target"],
-                "label": c["name"].as_str().map_or(format!("constraint {k}"), str::to_string),
+                "label": label(),
                 "kind": "control_point",
             }));
+        }
+        // A fixed control point: its value, or the net's when not given
+        // (dragging writes `value`).
+        if c["type"] == "fixed" {
+            let position = if c["value"].is_array() {
+                Some(c["value"].clone())
+            } else {
+                c["index"]
+                    .as_u64()
+                    .and_then(|g| initial.as_ref()?.points().get(g as usize).copied())
+                    .map(|p| json!(p))
+            };
+            if let Some(position) = position {
+                handles.push(json!({
+                    "pointer": format!("/constraints/{k}/value"),
+                    "position": position,
+                    "label": label(),
+                    "kind": "control_point",
+                }));
+            }
         }
     }
     let operators: Vec<Value> = scene_json["operators"]
@@ -636,14 +687,7 @@ fn tri_view(solved: &SolvedTriScene) -> Value {
                     b.get(1)?.as_f64()?,
                     b.get(2)?.as_f64()?,
                 ];
-                let t = t as usize;
-                (t < scene.surface.triangles.len()).then(|| {
-                    // The original vertices' plane: the point on the solved
-                    // mesh is approximate once curves split patches.
-                    let tri = scene.surface.triangles[t];
-                    let v = &scene.surface.vertices;
-                    (0..3).fold([0.0; 3], |acc, k| add(acc, scale(v[tri[k]], bary[k])))
-                })
+                tri_point(&solved.solution, t as usize, bary)
             });
             operator_json(o, at, size)
         })
