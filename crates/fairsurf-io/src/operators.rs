@@ -136,7 +136,7 @@ pub struct TensorOperatorSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
     /// Its strength s ≥ 0 (default 1).
-    #[serde(default = "one")]
+    #[serde(default = "crate::scene::one")]
     pub strength: f64,
     /// Make an attractor a repellor: s / E instead of s·E.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
@@ -169,10 +169,6 @@ pub struct TensorOperatorSpec {
     /// The attractor curve's Bézier control points (curve_attractor).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub control_points: Option<Vec<[f64; 3]>>,
-}
-
-pub(crate) fn one() -> f64 {
-    1.0
 }
 
 /// The library operator of a tensor scene's `operators[i]`.

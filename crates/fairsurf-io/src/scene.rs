@@ -223,7 +223,8 @@ pub enum NumberOrGrid {
     Grid(Vec<Vec<f64>>),
 }
 
-fn one() -> f64 {
+/// The default weight and strength, 1.
+pub(crate) fn one() -> f64 {
     1.0
 }
 

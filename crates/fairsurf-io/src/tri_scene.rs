@@ -259,7 +259,7 @@ pub struct OperatorSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
     /// Its strength s ≥ 0 (default 1).
-    #[serde(default = "one")]
+    #[serde(default = "crate::scene::one")]
     pub strength: f64,
     /// Make an attractor a repellor: s / E instead of s·E.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
@@ -295,10 +295,6 @@ pub struct OperatorSpec {
     /// The attractor curve's Bézier control points (curve_attractor).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub control_points: Option<Vec<[f64; 3]>>,
-}
-
-fn one() -> f64 {
-    1.0
 }
 
 /// A solved triangular scene.

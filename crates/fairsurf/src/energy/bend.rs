@@ -3,7 +3,8 @@
 //! Euler–Lagrange equation is Δ²R = 0.
 
 use super::{
-    check_weight, fairness, fairness_value, EnergyTerm, Hessian, Measure, Space, TermForm,
+    check_weight, fairness, fairness_key, fairness_value, EnergyTerm, Hessian, Measure, Space,
+    TermForm,
 };
 use crate::Result;
 
@@ -46,8 +47,8 @@ impl EnergyTerm for Bend {
         "bend"
     }
 
-    fn hessian_key(&self) -> Option<String> {
-        Some(format!("bend {:?} {:?}", self.weight, self.measure))
+    fn hessian_key(&self) -> Option<u64> {
+        Some(fairness_key(self.name(), self.weight, &self.measure))
     }
 
     fn value(&self, patch: &crate::TensorPatch) -> Result<f64> {

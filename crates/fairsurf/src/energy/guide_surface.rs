@@ -3,8 +3,8 @@
 //! to a given Bézier surface S (by default the initial one).
 
 use super::{
-    check_weight, check_weights, derivative_net, form, pattern_value, EnergyTerm, Hessian, Measure,
-    Space, TermForm,
+    check_weight, check_weights, derivative_net, form, pattern_value, EnergyTerm, Hessian,
+    HessianKey, Measure, Space, TermForm,
 };
 use crate::{Error, Result, TensorPatch};
 
@@ -59,11 +59,15 @@ impl EnergyTerm for GuideSurface {
     }
 
     /// γ, the measure and the sample weights: S enters only the centre.
-    fn hessian_key(&self) -> Option<String> {
-        Some(format!(
-            "guide_surface {:?} {:?} {:?}",
-            self.weight, self.measure, self.sample_weights
-        ))
+    fn hessian_key(&self) -> Option<u64> {
+        Some(
+            HessianKey::new(self.name())
+                .number(self.weight)
+                .with(&self.measure)
+                .with(&self.sample_weights.is_some())
+                .numbers(self.sample_weights.as_deref().unwrap_or(&[]))
+                .finish(),
+        )
     }
 
     fn center(&self, degree: (usize, usize)) -> Result<Option<Vec<crate::Vec3>>> {

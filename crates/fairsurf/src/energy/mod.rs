@@ -37,6 +37,7 @@ use crate::vec3::Vec3;
 use crate::{Error, Result};
 use faer::Mat;
 use std::fmt::Debug;
+use std::hash::{Hash, Hasher};
 
 /// A term of the total energy: contributes one quadratic form.
 pub trait EnergyTerm: Debug + Send + Sync {
@@ -61,11 +62,14 @@ pub trait EnergyTerm: Debug + Send + Sync {
         Ok(self.form(patch.degree())?.value(patch.points()))
     }
 
-    /// A key that is equal for two terms only when their Hessians are equal
-    /// at every degree (whatever their centres), or `None` when the term
-    /// cannot tell (the default). A [`crate::Factored`] system is reused for
-    /// a problem only when all its terms' keys match.
-    fn hessian_key(&self) -> Option<String> {
+    /// A 64-bit key of everything the term's Hessian depends on (not its
+    /// centre), equal for two terms whose Hessians are equal at every
+    /// degree; `None` when the term cannot tell (the default). A
+    /// [`crate::Factored`] system is reused for a problem only when all its
+    /// terms' keys match. Built-in terms hash their name and the bits of
+    /// their numbers ([`HessianKey`]): cheap even for large sampled fields,
+    /// and two different terms collide with probability about 2⁻⁶⁴.
+    fn hessian_key(&self) -> Option<u64> {
         None
     }
 
@@ -137,8 +141,53 @@ pub(crate) fn quad(h: &Mat<f64>, v: &[f64]) -> f64 {
     s
 }
 
+/// Builds an [`EnergyTerm::hessian_key`]: the term's name, then its numbers
+/// bit for bit (lists with their length), hashed.
+#[derive(Debug)]
+pub struct HessianKey(std::hash::DefaultHasher);
+
+impl HessianKey {
+    /// A key of the term called `name`.
+    pub fn new(name: &str) -> Self {
+        let mut h = std::hash::DefaultHasher::new();
+        name.hash(&mut h);
+        Self(h)
+    }
+
+    /// Adds a number.
+    pub fn number(mut self, x: f64) -> Self {
+        x.to_bits().hash(&mut self.0);
+        self
+    }
+
+    /// Adds a list of numbers (and its length).
+    pub fn numbers(mut self, xs: &[f64]) -> Self {
+        xs.len().hash(&mut self.0);
+        for x in xs {
+            x.to_bits().hash(&mut self.0);
+        }
+        self
+    }
+
+    /// Adds a list of points (and its length).
+    pub fn points(self, ps: &[Vec3]) -> Self {
+        self.numbers(ps.as_flattened())
+    }
+
+    /// Adds anything hashable (sizes, a measure, a tag).
+    pub fn with(mut self, x: &impl Hash) -> Self {
+        x.hash(&mut self.0);
+        self
+    }
+
+    /// The key.
+    pub fn finish(self) -> u64 {
+        self.0.finish()
+    }
+}
+
 /// How a term is measured over the parameter square.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum Measure {
     /// ∫∫ over [0, 1]², exactly (Wu & Yang eq. 1–2).
     Exact,
@@ -148,7 +197,7 @@ pub enum Measure {
 
 /// The uniform grid `u_ip = ip/np`, `v_jp = jp/mp` of Wu & Yang §4, with
 /// (np+1)(mp+1) samples numbered row-major: sample `ip·(mp+1) + jp`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct SampleGrid {
     np: usize,
     mp: usize,
@@ -288,6 +337,11 @@ pub(crate) fn fairness_value(
         }
     }
     0.5 * weight * total
+}
+
+/// The Hessian key of a fairness term: its name, weight and measure.
+pub(crate) fn fairness_key(name: &str, weight: f64, measure: &Measure) -> u64 {
+    HessianKey::new(name).number(weight).with(measure).finish()
 }
 
 /// Sum of derivative patterns `Σ c · form(pattern)` for an unweighted measure.

@@ -6,8 +6,8 @@
 //! planes orthogonal to N, and couples x, y and z.
 
 use super::{
-    check_weight, check_weights, derivative_net, form, Axis, EnergyTerm, Hessian, PatternForm,
-    SampleGrid, Space, TermForm,
+    check_weight, check_weights, derivative_net, form, Axis, EnergyTerm, Hessian, HessianKey,
+    PatternForm, SampleGrid, Space, TermForm,
 };
 use crate::basis::binomial;
 use crate::vec3::{is_finite, normalize, Vec3};
@@ -197,8 +197,21 @@ impl EnergyTerm for NormalField {
         "normal_field"
     }
 
-    fn hessian_key(&self) -> Option<String> {
-        Some(format!("normal_field {self:?}"))
+    fn hessian_key(&self) -> Option<u64> {
+        let key = HessianKey::new(self.name()).number(self.weight);
+        Some(match &self.guide {
+            NormalGuide::Field(f) => key.with(&f.degree()).points(f.points()).finish(),
+            NormalGuide::Samples {
+                grid,
+                normals,
+                weights,
+            } => key
+                .with(grid)
+                .points(normals)
+                .with(&weights.is_some())
+                .numbers(weights.as_deref().unwrap_or(&[]))
+                .finish(),
+        })
     }
 
     fn value(&self, patch: &TensorPatch) -> Result<f64> {

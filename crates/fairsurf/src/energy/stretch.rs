@@ -3,7 +3,8 @@
 //! Wesselink's stretch (eq. 6) in the parametric form.
 
 use super::{
-    check_weight, fairness, fairness_value, EnergyTerm, Hessian, Measure, Space, TermForm,
+    check_weight, fairness, fairness_key, fairness_value, EnergyTerm, Hessian, Measure, Space,
+    TermForm,
 };
 use crate::Result;
 
@@ -45,8 +46,8 @@ impl EnergyTerm for Stretch {
         "stretch"
     }
 
-    fn hessian_key(&self) -> Option<String> {
-        Some(format!("stretch {:?} {:?}", self.weight, self.measure))
+    fn hessian_key(&self) -> Option<u64> {
+        Some(fairness_key(self.name(), self.weight, &self.measure))
     }
 
     fn value(&self, patch: &crate::TensorPatch) -> Result<f64> {

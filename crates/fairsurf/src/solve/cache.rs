@@ -1,9 +1,10 @@
 //! A few factorizations kept for interactive use (the editor's drags).
 
-use super::problem::{Factored, Problem, Solution, SolveOptions};
+use super::problem::{Factored, Prepared, Problem, Solution, SolveOptions};
 use crate::Result;
 use std::collections::VecDeque;
 use std::sync::{Arc, Mutex, PoisonError};
+use std::time::Instant;
 
 /// The most recently used factorizations, shared between threads: a solve
 /// reuses one that [fits](Factored::fits) the problem, or factors the
@@ -39,11 +40,13 @@ impl FactorCache {
 
     /// Solves `problem`, reusing a kept factorization when one fits.
     pub fn solve(&self, problem: &Problem, opts: &SolveOptions) -> Result<Solution> {
-        if let Some(f) = self.find(problem) {
-            return f.solve(problem, opts);
+        let t_total = Instant::now();
+        let prep = problem.prepare()?;
+        if let Some(f) = self.find(problem, &prep) {
+            return f.solve_prepared(problem, &prep, opts, t_total);
         }
-        let (f, solution) = problem.factor_and_solve(opts)?;
-        self.keep(Arc::new(f), problem);
+        let (f, solution) = problem.factor_and_solve_prepared(&prep, opts, t_total)?;
+        self.keep(Arc::new(f), problem, &prep);
         Ok(solution)
     }
 
@@ -63,9 +66,11 @@ impl FactorCache {
     }
 
     /// A fitting factorization, moved to the front.
-    fn find(&self, problem: &Problem) -> Option<Arc<Factored>> {
+    fn find(&self, problem: &Problem, prep: &Prepared) -> Option<Arc<Factored>> {
         let mut entries = self.lock();
-        let k = entries.iter().position(|f| f.fits(problem))?;
+        let k = entries
+            .iter()
+            .position(|f| f.mismatch(problem, prep).is_none())?;
         let f = entries.remove(k)?;
         entries.push_front(f.clone());
         Some(f)
@@ -73,12 +78,12 @@ impl FactorCache {
 
     /// Keeps `f`, the factorization of `problem`, in place of any other of
     /// the same matrix (another thread may have factored it meanwhile).
-    fn keep(&self, f: Arc<Factored>, problem: &Problem) {
+    fn keep(&self, f: Arc<Factored>, problem: &Problem, prep: &Prepared) {
         if f.bytes() > self.max_bytes || self.max_entries == 0 {
             return;
         }
         let mut entries = self.lock();
-        entries.retain(|e| !e.fits(problem));
+        entries.retain(|e| e.mismatch(problem, prep).is_some());
         entries.push_front(f);
         let mut total = 0;
         let mut keep = 0;

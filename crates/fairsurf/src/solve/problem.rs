@@ -204,11 +204,18 @@ impl Problem {
     /// [`Factored::solve`]s.
     pub fn factor_and_solve(&self, opts: &SolveOptions) -> Result<(Factored, Solution)> {
         let t_total = Instant::now();
-        let free = self.check()?;
-        let placed = self.place_operators()?;
-        let factored = self.factor_placed(opts, free, &placed)?;
-        let centers = factored.centers.clone();
-        let solution = factored.finish(self, &placed, centers, opts, t_total, false)?;
+        self.factor_and_solve_prepared(&self.prepare()?, opts, t_total)
+    }
+
+    pub(crate) fn factor_and_solve_prepared(
+        &self,
+        prep: &Prepared,
+        opts: &SolveOptions,
+        t_total: Instant,
+    ) -> Result<(Factored, Solution)> {
+        let factored = self.factor_prepared(opts, prep)?;
+        let solution =
+            factored.finish(self, &prep.placed, &factored.centers, opts, t_total, false)?;
         Ok((factored, solution))
     }
 
@@ -217,9 +224,19 @@ impl Problem {
     /// problem that differs from it only where the matrix does not depend,
     /// in a fraction of the time.
     pub fn factor(&self, opts: &SolveOptions) -> Result<Factored> {
+        self.factor_prepared(opts, &self.prepare()?)
+    }
+
+    /// The checks, the operators' places and the terms' Hessian keys: what
+    /// both a factorization and the test whether one fits need, once.
+    pub(crate) fn prepare(&self) -> Result<Prepared> {
         let free = self.check()?;
         let placed = self.place_operators()?;
-        self.factor_placed(opts, free, &placed)
+        Ok(Prepared {
+            free,
+            placed,
+            keys: self.terms.iter().map(|t| t.hessian_key()).collect(),
+        })
     }
 
     /// The free control points, after checking that the problem can be
@@ -263,12 +280,8 @@ impl Problem {
             .collect()
     }
 
-    fn factor_placed(
-        &self,
-        opts: &SolveOptions,
-        free: Vec<usize>,
-        placed: &[Placed],
-    ) -> Result<Factored> {
+    fn factor_prepared(&self, opts: &SolveOptions, prep: &Prepared) -> Result<Factored> {
+        let (free, placed) = (&prep.free, &prep.placed[..]);
         let t = Instant::now();
         let forms = self
             .terms
@@ -288,7 +301,7 @@ impl Problem {
                 }
             }
         }
-        let rows = free_rows(&free, coupled);
+        let rows = free_rows(free, coupled);
         let h_ff = Mat::from_fn(rows.len(), rows.len(), |i, j| h[(rows[i], rows[j])]);
         let spd = SpdOptions {
             estimate_condition: opts.estimate_condition,
@@ -296,7 +309,7 @@ impl Problem {
         };
         // The Jacobi basis carries the internal energies only.
         let block = if opts.tensor_basis && self.operators.is_empty() {
-            self.free_block(&free)
+            self.free_block(free)
         } else {
             None
         };
@@ -333,10 +346,10 @@ impl Problem {
         }
         Ok(Factored {
             degree: self.degree,
-            free,
+            free: free.clone(),
             known: self.known.iter().map(Option::is_some).collect(),
             coupled,
-            keys: self.terms.iter().map(|t| t.hessian_key()).collect(),
+            keys: prep.keys.clone(),
             names: self.terms.iter().map(|t| t.name()).collect(),
             centred,
             centers,
@@ -422,6 +435,14 @@ fn hessian_sum(forms: &[TermForm], np: usize, coupled: bool) -> Mat<f64> {
 /// An operator's place on the patch and its residuals.
 type Placed = (TensorLocated, Vec<Residual>);
 
+/// A problem checked, its operators placed and its terms' Hessian keys
+/// taken ([`Problem::prepare`]).
+pub(crate) struct Prepared {
+    free: Vec<usize>,
+    placed: Vec<Placed>,
+    keys: Vec<Option<u64>>,
+}
+
 /// (2 s w, r) for each residual r of the attractors and directors: their
 /// quadratic energy s Σ w (a·x − t)² adds 2 s w a aᵀ to H and 2 s w t a to
 /// b. Repellors wait for Newton's method.
@@ -485,7 +506,7 @@ pub struct Factored {
     known: Vec<bool>,
     coupled: bool,
     /// The terms' [`EnergyTerm::hessian_key`]s and names.
-    keys: Vec<Option<String>>,
+    keys: Vec<Option<u64>>,
     names: Vec<&'static str>,
     /// The Hessians of the terms with a centre (they make b = Σ H_t s_t).
     centred: Vec<Option<Hessian>>,
@@ -518,8 +539,8 @@ impl Factored {
     /// [`Factored::solve`] accepts it.
     pub fn fits(&self, problem: &Problem) -> bool {
         problem
-            .place_operators()
-            .is_ok_and(|placed| self.mismatch(problem, &placed).is_none())
+            .prepare()
+            .is_ok_and(|prep| self.mismatch(problem, &prep).is_none())
     }
 
     /// Solves `problem` with this factorization. An error when the problem
@@ -530,9 +551,18 @@ impl Factored {
     /// fixed by [`Problem::factor`].
     pub fn solve(&self, problem: &Problem, opts: &SolveOptions) -> Result<Solution> {
         let t_total = Instant::now();
-        problem.check()?;
-        let placed = problem.place_operators()?;
-        if let Some(why) = self.mismatch(problem, &placed) {
+        self.solve_prepared(problem, &problem.prepare()?, opts, t_total)
+    }
+
+    /// [`Factored::solve`] of a problem already prepared.
+    pub(crate) fn solve_prepared(
+        &self,
+        problem: &Problem,
+        prep: &Prepared,
+        opts: &SolveOptions,
+        t_total: Instant,
+    ) -> Result<Solution> {
+        if let Some(why) = self.mismatch(problem, prep) {
             return Err(Error::Mismatch {
                 what: "the problem's system matrix".into(),
                 expected: "the factored one (same degree, free points, term weights and \
@@ -550,11 +580,11 @@ impl Factored {
                 None => Ok(None),
             })
             .collect::<Result<Vec<_>>>()?;
-        self.finish(problem, &placed, centers, opts, t_total, true)
+        self.finish(problem, &prep.placed, &centers, opts, t_total, true)
     }
 
     /// What makes `problem`'s matrix differ from this one, if anything.
-    fn mismatch(&self, problem: &Problem, placed: &[Placed]) -> Option<String> {
+    pub(crate) fn mismatch(&self, problem: &Problem, prep: &Prepared) -> Option<String> {
         if problem.degree != self.degree {
             return Some(format!(
                 "degree {:?} instead of {:?}",
@@ -579,9 +609,15 @@ impl Factored {
                 self.keys.len()
             ));
         }
-        for (k, (t, key)) in problem.terms.iter().zip(&self.keys).enumerate() {
-            match (t.hessian_key(), key) {
-                (Some(a), Some(b)) if a == *b => {}
+        for (k, ((t, new), key)) in problem
+            .terms
+            .iter()
+            .zip(&prep.keys)
+            .zip(&self.keys)
+            .enumerate()
+        {
+            match (new, key) {
+                (Some(a), Some(b)) if a == b => {}
                 (None, _) | (_, None) => {
                     return Some(format!(
                         "term {k} ({}) cannot tell whether its Hessian is the same \
@@ -601,7 +637,7 @@ impl Factored {
         let attractors: Vec<_> = problem
             .operators
             .iter()
-            .zip(placed)
+            .zip(&prep.placed)
             .filter(|(op, _)| !op.repel)
             .collect();
         if attractors.len() != self.attractors.len() {
@@ -664,13 +700,13 @@ impl Factored {
         &self,
         problem: &Problem,
         placed: &[Placed],
-        centers: Vec<Option<Vec<Vec3>>>,
+        centers: &[Option<Vec<Vec3>>],
         opts: &SolveOptions,
         t_total: Instant,
         reused: bool,
     ) -> Result<Solution> {
         let t = Instant::now();
-        let sys = self.rhs(problem, placed, &centers);
+        let sys = self.rhs(problem, placed, centers);
         let free = &self.free;
         let rows = free_rows(free, self.coupled);
         // x has zeros at free rows, so H x = H_FK x_K on the free rows.
