@@ -58,6 +58,7 @@ const state = {
   compareVersion: -1,
   version: 0, // bumped by every edit of the scene
   handleDrag: false, // a handle is being dragged
+  dragHandle: null, // the dragged handle's descriptor when the drag began
   needFull: false, // a quick answer was asked for since the last full one
   fullTable: null, // the table of the last full answer for this scene
 };
@@ -66,14 +67,24 @@ let viewer;
 try {
   viewer = new Viewer($('viewport'), {
     onHandleDrag: (index, position) => {
+      // The descriptor as the drag began: a direction turns about the same
+      // anchor however many answers arrive meanwhile.
+      if (!state.handleDrag) state.dragHandle = viewer.handles[index] || null;
       state.handleDrag = true;
-      moveHandle(index, position);
+      moveHandle(state.dragHandle, position);
     },
     onHandleDragEnd: () => {
       state.handleDrag = false;
+      state.dragHandle = null;
       finishDrag();
     },
     onRender: () => checkIdle(),
+    constrainHandle: (index, position) => {
+      const h = state.dragHandle || viewer.handles[index];
+      if (!h?.edit) return null;
+      const edits = handleEdits(h, position);
+      return edits.length ? handlePosition(h, edits[0][1]) : null;
+    },
   });
 } catch (err) {
   // Typically no WebGL: say so on the page rather than only in the console.
@@ -228,11 +239,63 @@ function applyResponse(response, seq, epoch, roundTripMs) {
 function withSceneHandles(response) {
   if (!Array.isArray(response.handles)) return response;
   const handles = response.handles.map((h) => {
-    const v = getPointer(state.scene, h.pointer);
-    const isPoint = Array.isArray(v) && v.length === 3 && v.every((c) => typeof c === 'number');
-    return isPoint ? { ...h, position: v } : h;
+    const position = handlePosition(h, getPointer(state.scene, h.pointer));
+    return position ? { ...h, position } : h;
   });
   return { ...response, handles };
+}
+
+const isVec3 = (v) => Array.isArray(v) && v.length === 3 && v.every((c) => typeof c === 'number' && Number.isFinite(c));
+const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+/** A power of ten about 1e-6 of `size`: coordinates are rounded to it. */
+const quantumOf = (size) => Math.pow(10, Math.floor(Math.log10(size * 1e-6)));
+
+/**
+ * Where the handle `h` is drawn when the scene's value at its pointer is
+ * `value` (API.md, `handles[].edit`), or null if the value does not fit.
+ */
+function handlePosition(h, value) {
+  const e = h.edit;
+  if (!e) return isVec3(value) ? value : null;
+  if (e.type === 'direction' && isVec3(value) && isVec3(e.anchor)) {
+    const n = Math.hypot(...value);
+    return n > 0 ? e.anchor.map((a, c) => a + (e.length * value[c]) / n) : null;
+  }
+  if (e.type === 'offset' && typeof value === 'number' && isVec3(e.anchor) && isVec3(e.normal)) {
+    const nn = dot(e.normal, e.normal);
+    if (!(nn > 0)) return null;
+    const t = (value - dot(e.normal, e.anchor)) / nn;
+    return e.anchor.map((a, c) => a + t * e.normal[c]);
+  }
+  return null;
+}
+
+/**
+ * The scene edits, [[pointer, value], …], that put the handle `h` at
+ * `position`: the point itself; for a direction the unit vector from its
+ * anchor times the direction's length as it was (and a plane's offset so
+ * that the plane still passes through the anchor); for an offset the
+ * plane's through the position.
+ */
+function handleEdits(h, position) {
+  const e = h.edit;
+  const quantum = quantumOf(viewer.scale);
+  if (!e) return [[h.pointer, position.map((v) => roundTo(v, quantum))]];
+  if (e.type === 'direction' && isVec3(e.anchor)) {
+    const v = position.map((p, c) => p - e.anchor[c]);
+    const len = Math.hypot(...v);
+    if (!(len > 1e-6 * e.length)) return [];
+    const old = getPointer(state.scene, h.pointer);
+    const keep = (isVec3(old) && Math.hypot(...old)) || 1;
+    const d = v.map((x) => roundTo((keep * x) / len, quantumOf(keep)));
+    const edits = [[h.pointer, d]];
+    if (typeof e.offset === 'string') edits.push([e.offset, roundTo(dot(d, e.anchor), quantumOf(keep * viewer.scale))]);
+    return edits;
+  }
+  if (e.type === 'offset' && isVec3(e.normal)) {
+    return [[h.pointer, roundTo(dot(e.normal, position), quantumOf(Math.hypot(...e.normal) * viewer.scale))]];
+  }
+  return [];
 }
 
 function applyError(err, epoch) {
@@ -273,18 +336,22 @@ function controlsCurrent() {
 }
 
 function edit(pointer, value, delay = DEBOUNCE_MS) {
-  setPointer(state.scene, pointer, value);
+  editAll([[pointer, value]], delay);
+}
+
+/** Sets several scene values as one edit. */
+function editAll(edits, delay = DEBOUNCE_MS) {
+  if (edits.length === 0) return;
+  for (const [pointer, value] of edits) setPointer(state.scene, pointer, value);
   state.version++;
   markCompareStale();
   scheduleSolve(delay);
 }
 
-function moveHandle(index, position) {
-  const handle = viewer.handles[index];
+function moveHandle(handle, position) {
   if (!handle || !controlsCurrent()) return;
-  // Round to ~1e-6 of the scene size so a saved scene stays readable.
-  const quantum = Math.pow(10, Math.floor(Math.log10(viewer.scale * 1e-6)));
-  edit(handle.pointer, position.map((v) => roundTo(v, quantum)));
+  // Rounded to ~1e-6 of the scene size so a saved scene stays readable.
+  editAll(handleEdits(handle, position));
 }
 
 /** Loads a scene object (a deep copy is edited), solves it, frames the camera. */

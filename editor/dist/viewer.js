@@ -33,7 +33,8 @@ const DEFAULT_VIEW = new THREE.Vector3(0.85, -1.35, 0.95).normalize();
 export class Viewer {
   /**
    * @param {HTMLElement} container  the element the canvas fills
-   * @param {object} callbacks       { onHandleDrag(index, [x,y,z]), onHandleDragEnd(index), onRender() }
+   * @param {object} callbacks       { onHandleDrag(index, [x,y,z]), onHandleDragEnd(index), onRender(),
+   *                                   constrainHandle(index, [x,y,z]) → where the dragged handle may be, or null }
    */
   constructor(container, callbacks = {}) {
     this.container = container;
@@ -103,6 +104,7 @@ export class Viewer {
       operator: new THREE.MeshStandardMaterial({ color: COLORS.operator, roughness: 0.4, emissive: 0x220011 }),
       operatorLine: new THREE.LineDashedMaterial({ color: COLORS.operator, dashSize: 0.02, gapSize: 0.014, transparent: true, opacity: 0.9 }),
       target: new THREE.MeshBasicMaterial({ color: COLORS.target, wireframe: true }),
+      stem: new THREE.LineBasicMaterial({ color: COLORS.operatorHandle }),
     };
     this.handleGeometry = new THREE.SphereGeometry(1, 20, 14);
     this.handleMaterials = {
@@ -313,6 +315,28 @@ export class Viewer {
       // (possibly older) response says it is.
       if (!(this.drag && this.drag.index === k)) mesh.position.set(...h.position);
     });
+    this.updateStems();
+  }
+
+  /** The lines from direction handles to their anchors. */
+  updateStems() {
+    if (this.stems) {
+      this.stems.removeFromParent();
+      this.stems.geometry.dispose();
+      this.stems = null;
+    }
+    const segs = [];
+    this.handles.forEach((h, k) => {
+      const a = h.edit?.type === 'direction' ? h.edit.anchor : null;
+      const p = this.handleMeshes[k]?.position;
+      if (Array.isArray(a) && a.length === 3 && p) segs.push(...a, p.x, p.y, p.z);
+    });
+    if (segs.length === 0) return;
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(segs), 3));
+    this.stems = new THREE.LineSegments(geometry, this.materials.stem);
+    this.stems.name = 'stems';
+    this.groups.handles.add(this.stems);
   }
 
   materialFor(k) {
@@ -548,8 +572,13 @@ export class Viewer {
       const hit = this.raycaster.ray.intersectPlane(this.drag.plane, new THREE.Vector3());
       if (!hit) return; // plane seen edge-on
       const pos = hit.add(this.drag.offset);
+      // A handle that is not a free point (a direction, a plane's offset)
+      // stays where its value puts it: on its sphere or line.
+      const kept = this.callbacks.constrainHandle?.(this.drag.index, [pos.x, pos.y, pos.z]);
+      if (kept) pos.set(...kept);
       const mesh = this.handleMeshes[this.drag.index];
       mesh.position.copy(pos);
+      this.updateStems();
       this.showTooltip(this.drag.index);
       this.requestRender();
       this.callbacks.onHandleDrag?.(this.drag.index, [pos.x, pos.y, pos.z]);

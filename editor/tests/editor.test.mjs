@@ -253,6 +253,75 @@ await step('drag a control-point handle with the mouse', async () => {
   return `${h.label || h.pointer}: ${JSON.stringify(before.value)} → ${JSON.stringify(after.value)}, solves ${before.solveCount} → ${after.solveCount} (${duringDrag.length} quick while dragging)`;
 });
 
+await step('turn a direction handle: the direction turns, its length stays', async () => {
+  const list = await page.evaluate(async () => (await (await fetch('/api/examples')).json()).examples);
+  // Directors are the likeliest to have one; any example will do.
+  const files = list.map((e) => e.file).sort((a, b) => /director/.test(b) - /director/.test(a));
+  let found = null;
+  for (const file of files) {
+    const outcome = await page.evaluate((f) => window.fairsurf.loadExample(f), file);
+    if (!outcome.ok) continue;
+    const { handles, rect } = await page.evaluate(() => {
+      const r = document.querySelector('[data-testid="viewport-canvas"]').getBoundingClientRect();
+      return {
+        handles: window.fairsurf.lastResponse.handles.map((h, k) => ({ ...h, index: k, screen: window.fairsurf.handleScreenPosition(k) })),
+        rect: { left: r.left, top: r.top, right: r.right, bottom: r.bottom },
+      };
+    });
+    const inside = (h) => h.screen && h.screen.inView && h.screen.x > rect.left + 80 && h.screen.x < rect.right - 160 && h.screen.y > rect.top + 110 && h.screen.y < rect.bottom - 110;
+    const gap = (h) => Math.min(...handles.filter((o) => o !== h && o.screen).map((o) => Math.hypot(o.screen.x - h.screen.x, o.screen.y - h.screen.y)), Infinity);
+    const candidates = handles.filter((h) => h.edit?.type === 'direction' && inside(h) && gap(h) > 12);
+    if (candidates.length) {
+      found = { file, h: candidates.sort((a, b) => gap(b) - gap(a))[0] };
+      break;
+    }
+  }
+  assert(found, 'no example has a direction handle on screen');
+  const { file, h } = found;
+  const norm = (v) => Math.hypot(...v);
+  const before = {
+    value: await page.evaluate((p) => window.fairsurf.getPointer(p), h.pointer),
+    table: await page.locator('[data-testid="energy-table"]').innerText(),
+    ...(await hooks()),
+  };
+  const { x, y } = h.screen;
+  await page.mouse.move(x, y);
+  await page.mouse.down();
+  for (let k = 1; k <= 4; k++) {
+    await page.mouse.move(x + 10 * k, y - 6 * k, { steps: 3 });
+    await page.waitForTimeout(100);
+  }
+  // While held, the handle stays on its sphere about the anchor.
+  const held = await page.evaluate((k) => window.fairsurf.viewer.handleMeshes[k].position.toArray(), h.index);
+  const radius = norm(held.map((c, i) => c - h.edit.anchor[i]));
+  assert(Math.abs(radius - h.edit.length) <= 1e-6 * h.edit.length, `while dragged the handle is ${radius} from its anchor, not ${h.edit.length}`);
+  await page.mouse.up();
+  await idle();
+  const after = {
+    value: await page.evaluate((p) => window.fairsurf.getPointer(p), h.pointer),
+    table: await page.locator('[data-testid="energy-table"]').innerText(),
+    offset: h.edit.offset ? await page.evaluate((p) => window.fairsurf.getPointer(p), h.edit.offset) : null,
+    response: await page.evaluate((p) => window.fairsurf.lastResponse.handles.find((o) => o.pointer === p), h.pointer),
+    ...(await hooks()),
+  };
+  assert(after.errorCount === before.errorCount, `the solve after turning failed: ${await page.locator('[data-testid="error"]').innerText()}`);
+  assert(!sameJson(after.value, before.value), `${h.pointer} stayed ${JSON.stringify(before.value)}: the drag did not grab the handle`);
+  const turned = Math.acos(Math.min(1, after.value.reduce((a, c, i) => a + c * before.value[i], 0) / (norm(after.value) * norm(before.value))));
+  assert(turned > 0.01, `${h.pointer} turned by only ${turned} rad`);
+  assert(Math.abs(norm(after.value) - norm(before.value)) <= 1e-5 * norm(before.value), `the direction's length changed: ${norm(before.value)} → ${norm(after.value)}`);
+  if (h.edit.offset) {
+    const through = after.value.reduce((a, c, i) => a + c * h.edit.anchor[i], 0);
+    assert(Math.abs(after.offset - through) <= 1e-5 * Math.max(1, Math.abs(through)), `the plane no longer passes through its anchor: offset ${after.offset}, n·anchor ${through}`);
+  }
+  assert(after.table !== before.table, 'turning the direction did not change the table');
+  assert(after.response?.edit?.type === 'direction', `the new response has no direction handle ${h.pointer}`);
+  const e = after.response.edit;
+  const want = e.anchor.map((a, i) => a + (e.length * after.value[i]) / norm(after.value));
+  const off = Math.max(...want.map((c, i) => Math.abs(c - after.response.position[i])));
+  assert(off <= 1e-6 * Math.max(1, e.length), `the handle is drawn at ${JSON.stringify(after.response.position)}, anchor + length·direction is ${JSON.stringify(want)}`);
+  return `${file}, ${h.label || h.pointer}: ${JSON.stringify(before.value)} → ${JSON.stringify(after.value)} (${turned.toFixed(3)} rad), solves ${before.solveCount} → ${after.solveCount}`;
+});
+
 await step('load a bad scene: the server\'s error is shown, the surface stays', async () => {
   const bad = await page.evaluate(() => {
     const s = structuredClone(window.fairsurf.scene);

@@ -373,6 +373,19 @@ function fakeTriangularSolve(scene) {
     if (!at) return;
     operators.push({ name: op.name || `operator ${k}`, kind: op.type || 'operator', at: displace(at), target: isPoint(op.point) ? op.point : null });
     if (isPoint(op.point)) handles.push({ pointer: `/operators/${k}/point`, position: op.point, label: `${op.name || 'operator'} target`, kind: 'operator' });
+    // A direction: drawn 0.15 from where it acts, along it (API.md, handles[].edit).
+    const d = op.type === 'director' && isPoint(op.direction) ? op.direction : null;
+    const len = d && Math.hypot(...d);
+    if (len > 0) {
+      const anchor = displace(at);
+      handles.push({
+        pointer: `/operators/${k}/direction`,
+        position: anchor.map((a, c) => a + (0.15 * d[c]) / len),
+        label: `${op.name || 'operator'}: direction`,
+        kind: 'operator',
+        edit: { type: 'direction', anchor, length: 0.15 },
+      });
+    }
   });
 
   const sliders = [];
@@ -390,6 +403,8 @@ function fakeTriangularSolve(scene) {
     table: [
       { label: 'bend', value: Math.max(...zs) - Math.min(...zs) + 1 / bendW },
       { label: 'operators', value: ops.reduce((a, op) => a + (Number(op.strength) || 0) * 1e-3, 0) },
+      // Fake, but it changes when a direction turns.
+      { label: 'director angles', value: ops.reduce((a, op) => (isPoint(op.direction) ? a + Math.atan2(op.direction[1], op.direction[0]) + Math.acos(op.direction[2] / (Math.hypot(...op.direction) || 1)) : a), 0) },
       { label: 'area', value: size * size },
       { label: 'gradient (relative)', value: 2.5e-15 },
     ],

@@ -300,6 +300,149 @@ fn triangular_handles_and_markers() {
     );
 }
 
+/// A 3-vector of the JSON.
+fn v3(v: &Value) -> [f64; 3] {
+    serde_json::from_value(v.clone()).unwrap_or_else(|_| panic!("not [x, y, z]: {v}"))
+}
+
+fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (0..3).map(|c| (a[c] - b[c]).powi(2)).sum::<f64>().sqrt()
+}
+
+/// Checks each handle of the answer `v` against the scene it solved, as
+/// `editor/API.md` states: a plain handle is at its value; a direction
+/// handle `length` from its anchor along the value; an offset handle on the
+/// plane normal·x = value, straight above its anchor. Returns the handles
+/// by edit type.
+fn check_handles(scene: &Value, v: &Value) -> std::collections::HashMap<String, Vec<Value>> {
+    let mut by_type = std::collections::HashMap::<String, Vec<Value>>::new();
+    for h in v["handles"].as_array().unwrap() {
+        let value = scene
+            .pointer(h["pointer"].as_str().unwrap())
+            .unwrap_or_else(|| panic!("{}: not in the scene", h["pointer"]));
+        let p = v3(&h["position"]);
+        let e = &h["edit"];
+        let kind = e["type"].as_str().unwrap_or("point");
+        match kind {
+            "point" => assert_eq!(v3(value), p, "{h}"),
+            "direction" => {
+                let (a, len, d) = (v3(&e["anchor"]), e["length"].as_f64().unwrap(), v3(value));
+                let n = dist(d, [0.0; 3]);
+                let want = [0, 1, 2].map(|c| a[c] + len * d[c] / n);
+                assert!(dist(p, want) <= 1e-12 * (1.0 + len), "{h}");
+            }
+            "offset" => {
+                let (a, n) = (v3(&e["anchor"]), v3(&e["normal"]));
+                let on = (0..3).map(|c| n[c] * p[c]).sum::<f64>() - value.as_f64().unwrap();
+                assert!(on.abs() <= 1e-12, "{h}: off its plane by {on}");
+                let up = [0, 1, 2].map(|c| p[c] - a[c]);
+                let cross = [
+                    up[1] * n[2] - up[2] * n[1],
+                    up[2] * n[0] - up[0] * n[2],
+                    up[0] * n[1] - up[1] * n[0],
+                ];
+                assert!(dist(cross, [0.0; 3]) <= 1e-12, "{h}: not above its anchor");
+            }
+            other => panic!("unknown edit type {other}: {h}"),
+        }
+        by_type.entry(kind.into()).or_default().push(h.clone());
+    }
+    by_type
+}
+
+/// Directions, plane normals and offsets are handles too: directors',
+/// line and plane attractors', and the triangular normal, in-plane and
+/// on-line constraints'. Each is where API.md says, its anchor on the
+/// solved surface where it acts; moving one changes the solve.
+#[test]
+fn direction_and_plane_handles() {
+    let s = start(&[]);
+    let mut tri = example("vw_fig1_point_normal.json");
+    let third = json!({"bary": [0.25, 0.25, 0.5]});
+    tri["constraints"].as_array_mut().unwrap().extend([
+        json!({"type": "in_plane", "name": "shelf", "at": {"triangle": 9, "bary": third["bary"]},
+               "normal": [0.0, 0.2, 1.0], "offset": 0.05}),
+        json!({"type": "on_line", "name": "rail", "at": {"triangle": 27, "bary": third["bary"]},
+               "point": [0.7, 0.3, 0.1], "direction": [0.0, 0.0, 2.0]}),
+    ]);
+    let cases = [
+        (
+            example("tensor_operators.json"),
+            ["director", "plane_attractor"].as_slice(),
+        ),
+        (
+            example("vw_fig8_operators.json"),
+            &["director", "plane_attractor", "line_attractor"],
+        ),
+        (tri, &["normal", "in_plane", "on_line"]),
+    ];
+    for (mut scene, kinds) in cases {
+        let (status, v) = post(&s, "/api/solve", &json!({ "scene": scene }));
+        assert_eq!(status, 200, "{v}");
+        let by_type = check_handles(&scene, &v);
+        let entries = if scene["operators"].is_array() {
+            "operators"
+        } else {
+            "constraints"
+        };
+        for kind in kinds {
+            let k = scene[entries]
+                .as_array()
+                .unwrap()
+                .iter()
+                .position(|o| o["type"] == *kind)
+                .unwrap();
+            let prefix = format!("/{entries}/{k}/");
+            let mine: Vec<&Value> = by_type
+                .values()
+                .flatten()
+                .filter(|h| h["pointer"].as_str().unwrap().starts_with(&prefix))
+                .collect();
+            let of = |t: &str| mine.iter().copied().find(|h| h["edit"]["type"] == t);
+            let direction =
+                of("direction").unwrap_or_else(|| panic!("{kind}: no direction handle"));
+            let anchor = v3(&direction["edit"]["anchor"]);
+            match *kind {
+                // Anchored where the operator acts: at its marker.
+                "director" => assert_eq!(v3(&v["operators"][k]["at"]), anchor),
+                "line_attractor" | "on_line" => assert_eq!(v3(&scene[entries][k]["point"]), anchor),
+                // The normal's arrow is drawn from the surface point.
+                "normal" => assert!(
+                    v["normals"]
+                        .as_array()
+                        .unwrap()
+                        .iter()
+                        .any(|n| v3(&n["at"]) == anchor),
+                    "no normal arrow at {anchor:?}"
+                ),
+                // The normal turns about the foot, the offset handle.
+                _ => {
+                    let offset = of("offset").unwrap_or_else(|| panic!("{kind}: no offset handle"));
+                    assert_eq!(v3(&offset["position"]), anchor);
+                    assert_eq!(direction["edit"]["offset"], format!("{prefix}offset"));
+                }
+            }
+            // Turn the direction a little, as a drag would: the surface follows.
+            let pointer = direction["pointer"].as_str().unwrap();
+            let d = v3(scene.pointer(pointer).unwrap());
+            let c = (0..3)
+                .min_by(|&a, &b| d[a].abs().total_cmp(&d[b].abs()))
+                .unwrap();
+            let mut turned = d;
+            turned[c] += 0.3 * dist(d, [0.0; 3]);
+            *scene.pointer_mut(pointer).unwrap() = json!(turned);
+            let (status, w) = post(&s, "/api/solve", &json!({ "scene": scene }));
+            assert_eq!(status, 200, "{kind}: {w}");
+            check_handles(&scene, &w);
+            assert_ne!(
+                w["net"], v["net"],
+                "{kind}: turning {pointer} changed nothing"
+            );
+            *scene.pointer_mut(pointer).unwrap() = json!(d);
+        }
+    }
+}
+
 #[test]
 fn errors_are_json_with_paths_and_statuses() {
     let s = start(&["--max-body-mb", "1", "--max-unknowns", "500"]);

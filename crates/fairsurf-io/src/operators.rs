@@ -249,6 +249,7 @@ pub(crate) fn outcomes_json(outcomes: &[OperatorOutcome]) -> Value {
                 "energy": o.energy,
                 "measure": o.measure,
                 "max": o.max,
+                "at": o.at,
                 "measure_is": if o.kind == "director" { "mean angle to the direction (rad)" } else { "root-mean-square distance to the target" },
             })
         })

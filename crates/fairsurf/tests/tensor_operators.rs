@@ -216,6 +216,7 @@ fn edge_to_curve_attractor() {
                 .sqrt();
             let m = sol.report.operators[0].measure;
             assert!((rms - m).abs() < 1e-6 * m, "{rms} vs {m}");
+            assert_eq!(sol.report.operators[0].at, Some(edge.eval(0.5)));
             m
         })
         .collect();
@@ -223,6 +224,44 @@ fn edge_to_curve_attractor() {
         assert!(w[1] < w[0], "{measures:?}");
     }
     assert!(measures[3] < 0.02, "{measures:?}");
+}
+
+/// Each outcome's `at` is a point of the result where the operator acts:
+/// the surface point itself, or a point of the surface over the region.
+#[test]
+fn outcomes_say_where_they_act() {
+    let target = Target::Point([0.5, 0.5, 0.4]);
+    let sol = solve(&[
+        op(
+            "point",
+            target.clone(),
+            TensorPlace::Point([0.4, 0.55]),
+            5.0,
+        ),
+        op("region", target, TensorPlace::Region(REGION.to_vec()), 5.0),
+    ]);
+    let ops = &sol.report.operators;
+    assert_eq!(ops[0].at, Some(sol.patch.eval(0.4, 0.55)));
+    let at = ops[1].at.unwrap();
+    // Within the sampling error of a fine grid over the region.
+    let inside = |u: f64, v: f64| {
+        (0..4).all(|k| {
+            let (a, b) = (REGION[k], REGION[(k + 1) % 4]);
+            (b[0] - a[0]) * (v - a[1]) - (b[1] - a[1]) * (u - a[0]) >= 0.0
+        })
+    };
+    let k = 400;
+    let nearest = (0..=k)
+        .flat_map(|i| (0..=k).map(move |j| (i as f64 / k as f64, j as f64 / k as f64)))
+        .filter(|&(u, v)| inside(u, v))
+        .map(|(u, v)| norm(sub(sol.patch.eval(u, v), at)))
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        nearest < 5e-3,
+        "{at:?} is {nearest} from the surface over the region"
+    );
+    // Not on the surface outside it: the far corner is far.
+    assert!(norm(sub(sol.patch.eval(1.0, 1.0), at)) > 0.3);
 }
 
 /// Splitting a region in two gives two operators whose energies add up to

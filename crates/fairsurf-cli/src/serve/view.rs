@@ -269,16 +269,24 @@ fn polyline(points: Vec<Vec3>, samples: usize) -> Vec<Vec3> {
         .collect()
 }
 
+/// The operators' markers: each entry with its outcome's point.
+fn operator_markers(
+    operators: &Value,
+    outcomes: &[fairsurf::operator::OperatorOutcome],
+    size: f64,
+) -> Vec<Value> {
+    operators
+        .as_array()
+        .into_iter()
+        .flatten()
+        .enumerate()
+        .map(|(k, o)| operator_json(o, outcomes.get(k).and_then(|r| r.at), size))
+        .collect()
+}
+
 /// Where an operator's marker goes and what it points at, from its scene
-/// entry (`at`, `region` or `edge`, and the target's fields).
+/// entry and where it acts on the result (its outcome's `at`).
 fn operator_json(o: &Value, at: Option<Vec3>, size: f64) -> Value {
-    let vec3 = |v: &Value| -> Option<Vec3> {
-        let a = v.as_array()?;
-        if a.len() != 3 {
-            return None;
-        }
-        Some([a[0].as_f64()?, a[1].as_f64()?, a[2].as_f64()?])
-    };
     let kind = o["type"].as_str().unwrap_or("operator");
     let target = at.and_then(|s| match kind {
         "point_attractor" | "repellor" => vec3(&o["point"]),
@@ -293,7 +301,7 @@ fn operator_json(o: &Value, at: Option<Vec3>, size: f64) -> Value {
         }
         "director" => Some(add(
             s,
-            scale(normalize(vec3(&o["direction"])?)?, 0.15 * size),
+            scale(normalize(vec3(&o["direction"])?)?, ARROW * size),
         )),
         "curve_attractor" => {
             let pts: Option<Vec<Vec3>> = o["control_points"].as_array()?.iter().map(vec3).collect();
@@ -333,28 +341,152 @@ fn measure_rows(table: &mut Vec<Value>, m: Option<&fairsurf::SurfaceMeasures>) {
     }
 }
 
-/// Handles and sliders of the scene's operators.
-fn operator_controls(operators: &Value, handles: &mut Vec<Value>, sliders: &mut Vec<Value>) {
-    for (k, o) in operators.as_array().into_iter().flatten().enumerate() {
-        let name = o["name"]
-            .as_str()
-            .map_or(format!("operator {k}"), str::to_string);
-        if let Some(p) = o.get("point").filter(|p| p.is_array()) {
-            handles.push(json!({
-                "pointer": format!("/operators/{k}/point"),
-                "position": p,
-                "label": format!("{name}: point"),
-                "kind": "operator",
-            }));
+/// Handles and sliders of the scene's operators; `markers` are their
+/// [`operator_json`] entries (where each acts on the surface).
+fn operator_controls(
+    scene: &Value,
+    markers: &[Value],
+    size: f64,
+    handles: &mut Vec<Value>,
+    sliders: &mut Vec<Value>,
+) {
+    for (k, field) in Field::entries(scene, "operators", "operator").enumerate() {
+        let o = field.entry;
+        let at = markers.get(k).and_then(|m| vec3(&m["at"]));
+        field.point(handles, "point");
+        match o["type"].as_str() {
+            Some("director") => field.direction(handles, "direction", at, ARROW * size),
+            Some("line_attractor") => {
+                field.direction(handles, "direction", vec3(&o["point"]), ARROW * size)
+            }
+            Some("plane_attractor") => field.plane(handles, at, ARROW * size),
+            _ => {}
         }
         let s = o["strength"].as_f64().unwrap_or(1.0);
         sliders.push(slider(
-            format!("/operators/{k}/strength"),
-            format!("{name} strength"),
+            format!("{}/strength", field.prefix),
+            format!("{} strength", field.label),
             s,
             (s / 1000.0).clamp(1e-9, 1e-3),
             (s * 1000.0).max(1e3),
         ));
+    }
+}
+
+/// Length of director markers and direction handles, over the scene size.
+const ARROW: f64 = 0.15;
+
+/// A 3-vector in the scene JSON.
+fn vec3(v: &Value) -> Option<Vec3> {
+    let a = v.as_array()?;
+    if a.len() != 3 {
+        return None;
+    }
+    Some([a[0].as_f64()?, a[1].as_f64()?, a[2].as_f64()?])
+}
+
+/// An entry of the scene (an operator or a constraint) whose fields become
+/// handles (see `editor/API.md`, `handles[].edit`).
+struct Field<'a> {
+    /// The entry's JSON pointer (`/operators/2`).
+    prefix: String,
+    entry: &'a Value,
+    /// Its name, or `operator 2`.
+    label: String,
+    /// `operator` or `control_point` (the handle's colour).
+    kind: &'static str,
+}
+
+impl<'a> Field<'a> {
+    /// The entries of the scene's list `list` (`operators`,
+    /// `constraints`), unnamed ones called `noun k`.
+    fn entries(
+        scene: &'a Value,
+        list: &'static str,
+        noun: &'static str,
+    ) -> impl Iterator<Item = Field<'a>> {
+        let kind = if list == "operators" {
+            "operator"
+        } else {
+            "control_point"
+        };
+        scene[list]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .enumerate()
+            .map(move |(k, entry)| Field {
+                prefix: format!("/{list}/{k}"),
+                entry,
+                label: entry["name"]
+                    .as_str()
+                    .map_or(format!("{noun} {k}"), str::to_string),
+                kind,
+            })
+    }
+
+    fn handle(&self, field: &str, position: Vec3, edit: Option<Value>) -> Value {
+        let mut h = json!({
+            "pointer": format!("{}/{field}", self.prefix),
+            "position": position,
+            "label": format!("{}: {field}", self.label),
+            "kind": self.kind,
+        });
+        if let Some(e) = edit {
+            h["edit"] = e;
+        }
+        h
+    }
+
+    /// The point `field`: the handle is where the value is.
+    fn point(&self, handles: &mut Vec<Value>, field: &str) {
+        if let Some(p) = vec3(&self.entry[field]) {
+            handles.push(self.handle(field, p, None));
+        }
+    }
+
+    /// The direction `field`, drawn `length` from `anchor` along it.
+    fn direction(&self, handles: &mut Vec<Value>, field: &str, anchor: Option<Vec3>, length: f64) {
+        if let Some(h) = self.direction_handle(field, anchor, length) {
+            handles.push(h);
+        }
+    }
+
+    fn direction_handle(&self, field: &str, anchor: Option<Vec3>, length: f64) -> Option<Value> {
+        let (anchor, d) = (anchor?, normalize(vec3(&self.entry[field])?)?);
+        Some(self.handle(
+            field,
+            add(anchor, scale(d, length)),
+            Some(json!({"type": "direction", "anchor": anchor, "length": length})),
+        ))
+    }
+
+    /// The plane `normal`·x = `offset` as seen from the surface point `at`:
+    /// a handle at the foot of `at` on the plane that moves the plane along
+    /// its normal, and one for the normal that turns the plane about that
+    /// foot.
+    fn plane(&self, handles: &mut Vec<Value>, at: Option<Vec3>, length: f64) {
+        let (Some(s), Some(n), Some(a)) = (
+            at,
+            vec3(&self.entry["normal"]),
+            self.entry["offset"].as_f64(),
+        ) else {
+            return;
+        };
+        let nn = dot(n, n);
+        if !(nn > 0.0 && nn.is_finite()) {
+            return;
+        }
+        let foot = add(s, scale(n, (a - dot(n, s)) / nn));
+        handles.push(self.handle(
+            "offset",
+            foot,
+            Some(json!({"type": "offset", "anchor": s, "normal": n})),
+        ));
+        if let Some(mut h) = self.direction_handle("normal", Some(foot), length) {
+            h["edit"]["offset"] = json!(format!("{}/offset", self.prefix));
+            handles.push(h);
+        }
     }
 }
 
@@ -399,37 +531,13 @@ fn tensor_view(solved: &SolvedScene) -> Value {
         }
     }
 
-    // Operators: the marker at the surface point they act on.
-    let operators: Vec<Value> = scene_json["operators"]
-        .as_array()
-        .into_iter()
-        .flatten()
-        .map(|o| {
-            let uv = o["at"]
-                .as_array()
-                .and_then(|a| Some([a.first()?.as_f64()?, a.get(1)?.as_f64()?]))
-                .or_else(|| {
-                    let r = o["region"].as_array()?;
-                    let pts: Option<Vec<[f64; 2]>> = r
-                        .iter()
-                        .map(|p| Some([p.get(0)?.as_f64()?, p.get(1)?.as_f64()?]))
-                        .collect();
-                    let pts = pts?;
-                    let k = pts.len().max(1) as f64;
-                    Some([
-                        pts.iter().map(|p| p[0]).sum::<f64>() / k,
-                        pts.iter().map(|p| p[1]).sum::<f64>() / k,
-                    ])
-                })
-                .or_else(|| match o["edge"].as_str()? {
-                    "u0" => Some([0.0, 0.5]),
-                    "u1" => Some([1.0, 0.5]),
-                    "v0" => Some([0.5, 0.0]),
-                    _ => Some([0.5, 1.0]),
-                });
-            operator_json(o, uv.map(|[u, v]| patch.eval(u, v)), size)
-        })
-        .collect();
+    // Operators: the marker at the surface point they act on (operators
+    // come only with the minimizing method).
+    let outcomes = match &solved.outcome {
+        Outcome::Minimized(sol) => sol.report.operators.as_slice(),
+        Outcome::Constructed(_) => &[],
+    };
+    let operators = operator_markers(&scene_json["operators"], outcomes, size);
 
     // Handles: the given control points that are held (not free).
     let mut handles = Vec::new();
@@ -517,7 +625,7 @@ fn tensor_view(solved: &SolvedScene) -> Value {
             if let Some(nr) = &r.newton {
                 table.push(row("Newton iterations", nr.iterations as f64));
             }
-            operator_controls(&scene_json["operators"], &mut handles, &mut sliders);
+            operator_controls(&scene_json, &operators, size, &mut handles, &mut sliders);
         }
         Outcome::Constructed(c) => {
             let r = &c.report;
@@ -577,6 +685,12 @@ fn tri_net_edges(s: &TriSurface) -> Vec<[usize; 2]> {
     edges.into_iter().collect()
 }
 
+/// The solved surface's point at a scene's domain point
+/// (`{"triangle": t, "bary": [u, v, w]}`), if it is one.
+fn domain_point(sol: &fairsurf::triangle::TriSolution, at: &Value) -> Option<Vec3> {
+    tri_point(sol, at["triangle"].as_u64()? as usize, vec3(&at["bary"])?)
+}
+
 /// The solved surface's point at (t, bary) of the scene's mesh: found in
 /// the result patch that came from triangle t (curves split patches) and
 /// contains the point, evaluated there.
@@ -619,6 +733,7 @@ fn tri_view(solved: &SolvedTriScene) -> Value {
         .collect();
 
     let mut handles = Vec::new();
+    let mut normals = Vec::new();
     if scene.fix_boundary {
         let boundary_vertices: BTreeSet<usize> = s.boundary_vertices().into_iter().collect();
         for (k, p) in scene.surface.vertices.iter().enumerate() {
@@ -634,24 +749,24 @@ fn tri_view(solved: &SolvedTriScene) -> Value {
     }
     // The initial net, for fixed points whose value the scene leaves to it.
     let initial = scene.surface().ok();
-    for (k, c) in scene_json["constraints"]
-        .as_array()
-        .into_iter()
-        .flatten()
-        .enumerate()
-    {
-        let label = || {
-            c["name"]
-                .as_str()
-                .map_or(format!("constraint {k}"), str::to_string)
-        };
-        if c["type"] == "point" && c["target"].is_array() {
-            handles.push(json!({
-                "pointer": format!("/constraints/{k}/target"),
-                "position": c["target"],
-                "label": label(),
-                "kind": "control_point",
-            }));
+    for field in Field::entries(&scene_json, "constraints", "constraint") {
+        let c = field.entry;
+        // Where a constraint acts, on the solved surface.
+        let at = || domain_point(&solved.solution, &c["at"]);
+        match c["type"].as_str() {
+            Some("point") => field.point(&mut handles, "target"),
+            Some("normal") => {
+                if let (Some(s), Some(n)) = (at(), vec3(&c["normal"]).and_then(normalize)) {
+                    normals.push(json!({"at": s, "dir": scale(n, ARROW * size)}));
+                }
+                field.direction(&mut handles, "normal", at(), ARROW * size);
+            }
+            Some("in_plane") => field.plane(&mut handles, at(), ARROW * size),
+            Some("on_line") => {
+                field.point(&mut handles, "point");
+                field.direction(&mut handles, "direction", vec3(&c["point"]), ARROW * size);
+            }
+            _ => {}
         }
         // A fixed control point: its value, or the net's when not given
         // (dragging writes `value`).
@@ -666,32 +781,15 @@ fn tri_view(solved: &SolvedTriScene) -> Value {
             };
             if let Some(position) = position {
                 handles.push(json!({
-                    "pointer": format!("/constraints/{k}/value"),
+                    "pointer": format!("{}/value", field.prefix),
                     "position": position,
-                    "label": label(),
+                    "label": field.label,
                     "kind": "control_point",
                 }));
             }
         }
     }
-    let operators: Vec<Value> = scene_json["operators"]
-        .as_array()
-        .into_iter()
-        .flatten()
-        .zip(&r.operators)
-        .map(|(o, _)| {
-            let at = o["at"]["triangle"].as_u64().and_then(|t| {
-                let b = o["at"]["bary"].as_array()?;
-                let bary = [
-                    b.first()?.as_f64()?,
-                    b.get(1)?.as_f64()?,
-                    b.get(2)?.as_f64()?,
-                ];
-                tri_point(&solved.solution, t as usize, bary)
-            });
-            operator_json(o, at, size)
-        })
-        .collect();
+    let operators = operator_markers(&scene_json["operators"], &r.operators, size);
     let mut sliders = vec![
         slider(
             "/energy/stretch".into(),
@@ -708,7 +806,7 @@ fn tri_view(solved: &SolvedTriScene) -> Value {
             1e3,
         ),
     ];
-    operator_controls(&scene_json["operators"], &mut handles, &mut sliders);
+    operator_controls(&scene_json, &operators, size, &mut handles, &mut sliders);
     let mut table = vec![
         row("energy", r.total),
         row("stretch", r.stretch),
@@ -733,7 +831,7 @@ fn tri_view(solved: &SolvedTriScene) -> Value {
         "mesh": mesh_json(&SurfaceMesh::from_tri_surface(s, resolution)),
         "net": {"points": s.points(), "edges": tri_net_edges(s)},
         "boundary": boundary,
-        "normals": [],
+        "normals": normals,
         "operators": operators,
         "handles": handles,
         "sliders": sliders,

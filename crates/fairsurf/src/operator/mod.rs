@@ -107,6 +107,11 @@ pub struct OperatorOutcome {
     pub measure: f64,
     /// The largest distance or angle over the quadrature nodes.
     pub max: f64,
+    /// A point of the result where it acts, to draw it at: the surface
+    /// point for a point operator, for a region the node nearest the
+    /// weighted mean of its quadrature nodes (on the surface, inside a
+    /// convex region), for an edge the edge curve's midpoint.
+    pub at: Option<Vec3>,
 }
 
 /// A scalar residual J·x − t with its quadrature weight, over global
@@ -335,6 +340,25 @@ pub(crate) struct Tally {
     sum: f64,
     total: f64,
     max: f64,
+    /// The surface points of the nodes with their weights, or an edge's
+    /// midpoint.
+    points: Vec<(Vec3, f64)>,
+}
+
+/// Of weighted points, the one nearest their weighted mean (None if none).
+fn nearest_to_mean(points: &[(Vec3, f64)]) -> Option<Vec3> {
+    let total: f64 = points.iter().map(|(_, w)| w.abs()).sum();
+    let mean = if total > 0.0 {
+        points.iter().fold([0.0; 3], |m, (p, w)| {
+            crate::vec3::add(m, crate::vec3::scale(*p, w.abs() / total))
+        })
+    } else {
+        points.first()?.0
+    };
+    points
+        .iter()
+        .map(|(p, _)| *p)
+        .min_by(|a, b| norm(sub(*a, mean)).total_cmp(&norm(sub(*b, mean))))
 }
 
 impl Tally {
@@ -344,6 +368,7 @@ impl Tally {
             sum: 0.0,
             total: 0.0,
             max: 0.0,
+            points: Vec::new(),
         }
     }
 
@@ -376,6 +401,7 @@ impl Tally {
             Target::Curve(_) => unreachable!("an edge place"),
         };
         self.add(value, weight);
+        self.points.push((s, weight));
     }
 
     /// Adds the distances between the edge curve and the target curve.
@@ -383,6 +409,7 @@ impl Tally {
         let Target::Curve(c) = &op.target else {
             unreachable!("a curve target")
         };
+        self.points = vec![(edge.eval(0.5), 1.0)];
         let g = GaussLegendre::new(2 * edge.degree().max(c.degree()) + 2);
         for (t, w) in g.nodes.iter().zip(&g.weights) {
             self.add(norm(sub(edge.eval(*t), c.eval(*t))), *w);
@@ -409,6 +436,7 @@ impl Tally {
             energy,
             measure: if self.squared { mean.sqrt() } else { mean },
             max: self.max,
+            at: nearest_to_mean(&self.points),
         }
     }
 }
