@@ -7,6 +7,7 @@ use super::Residual;
 use crate::triangle::kkt::solve_kkt;
 use crate::{Error, Result};
 use faer::sparse::{SparseColMat, Triplet};
+use std::collections::HashMap;
 
 /// How the nonlinear solve with repellors went (Newton's method with a
 /// backtracking line search from the quadratic solution, linear
@@ -80,11 +81,33 @@ impl FreeResiduals {
     }
 
     /// s·∇²q = 2s Σ w ∂rᵀ∂r, as triplets (both triangles), times `factor`.
+    /// Rows over the same coordinates (a region's nodes in one patch) are
+    /// summed densely first, in order, so each coordinate set gives one
+    /// block of triplets (measured: a domain region's 10 ms of sorting
+    /// triplets became 0.3 ms).
     fn hessian_triplets(&self, factor: f64, out: &mut Vec<Triplet<usize, usize, f64>>) {
+        let mut which: HashMap<Vec<usize>, usize> = HashMap::new();
+        let mut blocks: Vec<(Vec<usize>, Vec<f64>)> = Vec::new();
         for (w, terms, _) in &self.rows {
-            for &(i, a) in terms {
-                for &(j, b) in terms {
-                    out.push(Triplet::new(i, j, factor * 2.0 * w * a * b));
+            let idx: Vec<usize> = terms.iter().map(|t| t.0).collect();
+            let m = idx.len();
+            let k = *which.entry(idx.clone()).or_insert_with(|| {
+                blocks.push((idx, vec![0.0; m * m]));
+                blocks.len() - 1
+            });
+            let block = &mut blocks[k].1;
+            for (p, &(_, a)) in terms.iter().enumerate() {
+                let wa = w * a;
+                for (q, &(_, b)) in terms.iter().enumerate() {
+                    block[p * m + q] += wa * b;
+                }
+            }
+        }
+        for (idx, block) in &blocks {
+            let m = idx.len();
+            for (p, &i) in idx.iter().enumerate() {
+                for (q, &j) in idx.iter().enumerate() {
+                    out.push(Triplet::new(i, j, factor * 2.0 * block[p * m + q]));
                 }
             }
         }
@@ -231,7 +254,7 @@ pub(crate) fn newton(
                 t.extend_from_slice(&curvature);
             }
             let hk = sparse(n, &t)?;
-            let sol = solve_kkt(&hk, f, &grad, &zeros)?;
+            let (_, sol) = solve_kkt(&hk, f, &grad, &zeros)?;
             Ok((sol.x, sol.lambda))
         };
         let (mut dx, mut lambda) = match step(true) {
