@@ -298,6 +298,22 @@ fn triangular_handles_and_markers() {
         points.contains(&moved),
         "the fixed point {moved:?} is not in the solved net"
     );
+    // Only the right-hand side moved: the server's kept KKT factorization
+    // solved it, to the library's fresh answer.
+    assert_eq!(rows(&v)["factorization"], "reused");
+    let fresh = fairsurf_io::TriScene::from_json(&scene.to_string())
+        .unwrap()
+        .solve()
+        .unwrap();
+    let worst = fresh
+        .solution
+        .surface
+        .points()
+        .iter()
+        .zip(&points)
+        .flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).abs()))
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-12, "reused and fresh differ by {worst}");
 }
 
 /// A 3-vector of the JSON.

@@ -454,7 +454,22 @@ impl TriScene {
 
     /// Solves the scene.
     pub fn solve(&self) -> Result<SolvedTriScene> {
-        let solution = self.problem()?.solve()?;
+        self.solve_using(None)
+    }
+
+    /// Solves, reusing a KKT factorization the cache kept when only fixed
+    /// values, targets, plane offsets or operator targets differ (the
+    /// editor's drags); the same answer as [`Self::solve`] to rounding.
+    pub fn solve_cached(&self, cache: &fairsurf::FactorCache) -> Result<SolvedTriScene> {
+        self.solve_using(Some(cache))
+    }
+
+    fn solve_using(&self, cache: Option<&fairsurf::FactorCache>) -> Result<SolvedTriScene> {
+        let problem = self.problem()?;
+        let solution = match cache {
+            Some(c) => c.solve_triangular(&problem)?,
+            None => problem.solve()?,
+        };
         Ok(SolvedTriScene {
             scene: self.clone(),
             solution,

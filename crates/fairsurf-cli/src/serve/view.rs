@@ -30,7 +30,7 @@ pub(crate) fn solve(
     let mut v = if is_triangular(text) {
         let scene = TriScene::from_json(text)?;
         check_size(&scene, limits)?;
-        let solved = scene.solve()?;
+        let solved = scene.solve_cached(factors)?;
         tri_view(&solved)
     } else {
         let scene = Scene::from_json(text)?;
@@ -823,6 +823,8 @@ fn tri_view(solved: &SolvedTriScene) -> Value {
         row("patches", r.patches as f64),
         row("unknowns", r.unknowns as f64),
         row("continuity rows dropped", r.dropped.len() as f64),
+        row("factorization", if r.reused { "reused" } else { "new" }),
+        row("solve (ms)", 1e3 * r.seconds.total),
     ]);
     json!({
         "kind": "triangular",

@@ -1,6 +1,8 @@
 //! A few factorizations kept for interactive use (the editor's drags).
 
 use super::problem::{Factored, Prepared, Problem, Solution, SolveOptions};
+use crate::triangle::solve::Factor;
+use crate::triangle::{TriFactored, TriProblem, TriSolution};
 use crate::Result;
 use std::collections::VecDeque;
 use std::sync::{Arc, Mutex, PoisonError};
@@ -9,7 +11,8 @@ use std::time::Instant;
 /// The most recently used factorizations, shared between threads: a solve
 /// reuses one that [fits](Factored::fits) the problem, or factors the
 /// problem and keeps it, dropping the least recently used ones beyond the
-/// limits on count and bytes.
+/// limits on count and bytes. Tensor-product ([`Self::solve`]) and
+/// triangular ([`Self::solve_triangular`]) solves share the limits.
 ///
 /// ```
 /// use fairsurf::{FactorCache, Problem, SolveOptions, Stretch, TensorPatch};
@@ -24,7 +27,23 @@ use std::time::Instant;
 pub struct FactorCache {
     max_entries: usize,
     max_bytes: usize,
-    entries: Mutex<VecDeque<Arc<Factored>>>,
+    entries: Mutex<VecDeque<Kept>>,
+}
+
+/// A kept factorization of either kind.
+#[derive(Clone, Debug)]
+enum Kept {
+    Tensor(Arc<Factored>),
+    Triangular(Arc<TriFactored>),
+}
+
+impl Kept {
+    fn bytes(&self) -> usize {
+        match self {
+            Kept::Tensor(f) => f.bytes(),
+            Kept::Triangular(f) => f.bytes(),
+        }
+    }
 }
 
 impl FactorCache {
@@ -46,7 +65,41 @@ impl FactorCache {
             return f.solve_prepared(problem, &prep, opts, t_total);
         }
         let (f, solution) = problem.factor_and_solve_prepared(&prep, opts, t_total)?;
-        self.keep(Arc::new(f), problem, &prep);
+        self.keep(Kept::Tensor(Arc::new(f)), |e| match e {
+            Kept::Tensor(e) => e.mismatch(problem, &prep).is_none(),
+            Kept::Triangular(_) => false,
+        });
+        Ok(solution)
+    }
+
+    /// Solves the triangular `problem`, reusing a kept KKT factorization
+    /// when its matrix is this problem's, value for value (only fixed
+    /// values, targets, plane offsets or operator targets moved). The
+    /// report says whether it was ([`crate::triangle::TriReport::reused`]).
+    pub fn solve_triangular(&self, problem: &TriProblem) -> Result<TriSolution> {
+        let kept: Vec<Arc<TriFactored>> = self
+            .lock()
+            .iter()
+            .filter_map(|e| match e {
+                Kept::Triangular(f) => Some(f.clone()),
+                Kept::Tensor(_) => None,
+            })
+            .collect();
+        let refs: Vec<&TriFactored> = kept.iter().map(|f| &**f).collect();
+        let (solution, factor) = problem.solve_kept(&refs)?;
+        match factor {
+            Factor::Reused(k) => {
+                self.touch(|e| matches!(e, Kept::Triangular(f) if Arc::ptr_eq(f, &kept[k])));
+            }
+            Factor::New(f) => {
+                let f: Arc<TriFactored> = Arc::from(f);
+                self.keep(
+                    Kept::Triangular(f.clone()),
+                    |e| matches!(e, Kept::Triangular(k) if k.same_as(&f)),
+                );
+            }
+            Factor::None => {}
+        }
         Ok(solution)
     }
 
@@ -60,30 +113,38 @@ impl FactorCache {
         self.len() == 0
     }
 
-    fn lock(&self) -> std::sync::MutexGuard<'_, VecDeque<Arc<Factored>>> {
+    fn lock(&self) -> std::sync::MutexGuard<'_, VecDeque<Kept>> {
         // A panic elsewhere cannot leave the list half-changed.
         self.entries.lock().unwrap_or_else(PoisonError::into_inner)
     }
 
-    /// A fitting factorization, moved to the front.
+    /// A fitting tensor factorization, moved to the front.
     fn find(&self, problem: &Problem, prep: &Prepared) -> Option<Arc<Factored>> {
-        let mut entries = self.lock();
-        let k = entries
-            .iter()
-            .position(|f| f.mismatch(problem, prep).is_none())?;
-        let f = entries.remove(k)?;
-        entries.push_front(f.clone());
-        Some(f)
+        let f =
+            self.touch(|e| matches!(e, Kept::Tensor(f) if f.mismatch(problem, prep).is_none()))?;
+        match f {
+            Kept::Tensor(f) => Some(f),
+            Kept::Triangular(_) => None,
+        }
     }
 
-    /// Keeps `f`, the factorization of `problem`, in place of any other of
-    /// the same matrix (another thread may have factored it meanwhile).
-    fn keep(&self, f: Arc<Factored>, problem: &Problem, prep: &Prepared) {
+    /// The first entry that `is` says is the one, moved to the front.
+    fn touch(&self, is: impl Fn(&Kept) -> bool) -> Option<Kept> {
+        let mut entries = self.lock();
+        let k = entries.iter().position(is)?;
+        let e = entries.remove(k)?;
+        entries.push_front(e.clone());
+        Some(e)
+    }
+
+    /// Keeps `f` in front, in place of any entry `same` says is of the same
+    /// matrix (another thread may have factored it meanwhile).
+    fn keep(&self, f: Kept, same: impl Fn(&Kept) -> bool) {
         if f.bytes() > self.max_bytes || self.max_entries == 0 {
             return;
         }
         let mut entries = self.lock();
-        entries.retain(|e| e.mismatch(problem, prep).is_some());
+        entries.retain(|e| !same(e));
         entries.push_front(f);
         let mut total = 0;
         let mut keep = 0;

@@ -32,7 +32,10 @@ use crate::{Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::linalg::solvers::SolveCore;
-use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, SymmetricOrdering};
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, LdltRef, SymbolicCholesky, SymmetricOrdering,
+};
+use faer::sparse::linalg::solvers::Lu;
 use faer::sparse::linalg::LuError;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Conj, Mat, Par, Side};
@@ -90,176 +93,255 @@ pub(crate) struct KktSolution {
     pub info: KktInfo,
 }
 
-/// Solves the KKT system for H (n × n, both triangles stored), the rows of
-/// F over 0 … n−1, b and g: LDLᵀ first, LU when that breaks down.
+/// Factors the KKT matrix of H (n × n, both triangles stored) and the rows
+/// of F over 0 … n−1, and solves it for b and g: LDLᵀ first, LU when that
+/// breaks down. The factorization is returned to solve for other b and g.
 pub(crate) fn solve_kkt(
     h: &SparseColMat<usize, f64>,
     rows: &[&[(usize, f64)]],
     b: &[f64],
     g: &[f64],
-) -> Result<KktSolution> {
-    let n = h.nrows();
-    let m = rows.len();
-    let mut rhs = vec![0.0; n + m];
-    for i in 0..n {
-        rhs[i] = -b[i];
-    }
-    rhs[n..].copy_from_slice(g);
-    match solve_ldlt(h, rows, &rhs) {
-        Ok(sol) if sol.info.relative_residual <= 1e-12 => Ok(sol),
-        first => match solve_lu(h, rows, &rhs) {
-            Ok(sol) => Ok(sol),
+) -> Result<(KktFactor, KktSolution)> {
+    let solve = |f: KktFactor| {
+        let s = f.solve(b, g)?;
+        Ok::<_, Error>((f, s))
+    };
+    match KktFactor::ldlt(h, rows).and_then(solve) {
+        Ok(done) if done.1.info.relative_residual <= 1e-12 => Ok(done),
+        first => match KktFactor::lu(h, rows).and_then(solve) {
+            Ok(done) => Ok(done),
             // The LU's verdict stands unless the LDLᵀ had a usable answer.
             Err(e) => first
                 .ok()
-                .filter(|s| s.info.relative_residual <= 1e-6)
+                .filter(|(_, s)| s.info.relative_residual <= 1e-6)
                 .ok_or(e),
         },
     }
 }
 
-fn solve_ldlt(
-    h: &SparseColMat<usize, f64>,
-    rows: &[&[(usize, f64)]],
-    rhs: &[f64],
-) -> Result<KktSolution> {
-    let n = h.nrows();
-    let m = rows.len();
-    let size = n + m;
-    let hscale = (0..n)
-        .map(|j| diagonal(h, j).abs())
-        .fold(0.0f64, f64::max)
-        .max(f64::MIN_POSITIVE);
-    let delta = DELTA * hscale;
-    let mut triplets: Vec<Triplet<usize, usize, f64>> =
-        Vec::with_capacity(h.compute_nnz() / 2 + n + 2 * m);
-    for j in 0..n {
-        for (i, v) in h.row_idx_of_col(j).zip(h.val_of_col(j)) {
-            if i >= j {
+/// A factored KKT matrix with the unregularized matrix it came from (for
+/// iterative refinement, and to tell whether another system is this one):
+/// it solves for any other b and g.
+pub(crate) struct KktFactor {
+    h: SparseColMat<usize, f64>,
+    rows: Vec<Vec<(usize, f64)>>,
+    inner: Inner,
+    /// What [`KktInfo`] says of the factorization.
+    size: usize,
+    delta: f64,
+    condition: f64,
+}
+
+enum Inner {
+    /// The quasi-definite LDLᵀ: its symbolic part and values.
+    Ldlt {
+        symbolic: SymbolicCholesky<usize>,
+        values: Vec<f64>,
+    },
+    Lu(Lu<usize, f64>),
+}
+
+impl KktFactor {
+    /// The regularized quasi-definite LDLᵀ; singular when δ would move the
+    /// solution by more than 1% of itself.
+    fn ldlt(h: &SparseColMat<usize, f64>, rows: &[&[(usize, f64)]]) -> Result<Self> {
+        let n = h.nrows();
+        let m = rows.len();
+        let size = n + m;
+        let hscale = (0..n)
+            .map(|j| diagonal(h, j).abs())
+            .fold(0.0f64, f64::max)
+            .max(f64::MIN_POSITIVE);
+        let delta = DELTA * hscale;
+        let mut triplets: Vec<Triplet<usize, usize, f64>> =
+            Vec::with_capacity(h.compute_nnz() / 2 + n + 2 * m);
+        for j in 0..n {
+            for (i, v) in h.row_idx_of_col(j).zip(h.val_of_col(j)) {
+                if i >= j {
+                    triplets.push(Triplet::new(i, j, *v));
+                }
+            }
+            triplets.push(Triplet::new(j, j, delta));
+        }
+        for (r, row) in rows.iter().enumerate() {
+            for &(i, a) in row.iter() {
+                triplets.push(Triplet::new(n + r, i, a));
+            }
+            triplets.push(Triplet::new(n + r, n + r, -delta));
+        }
+        let k = SparseColMat::<usize, f64>::try_new_from_triplets(size, size, &triplets)
+            .map_err(|e| too_large(size, &format!("{e:?}")))?;
+        let symbolic = factorize_symbolic_cholesky(
+            k.symbolic(),
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            Default::default(),
+        )
+        .map_err(|e| too_large(size, &format!("{e:?}")))?;
+        let mut values = vec![0.0f64; symbolic.len_val()];
+        let signs: Vec<i8> = (0..size).map(|i| if i < n { 1 } else { -1 }).collect();
+        let par = Par::Seq;
+        let mut mem =
+            MemBuffer::new(symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()));
+        symbolic
+            .factorize_numeric_ldlt(
+                &mut values,
+                k.as_ref(),
+                Side::Lower,
+                LdltRegularization {
+                    dynamic_regularization_signs: Some(&signs),
+                    dynamic_regularization_delta: delta,
+                    dynamic_regularization_epsilon: 1e-13 * hscale,
+                },
+                par,
+                MemStack::new(&mut mem),
+                Default::default(),
+            )
+            .map_err(|e| Error::Singular {
+                unknowns: n,
+                condition: f64::INFINITY,
+                hint: format!("the regularized KKT factorization failed ({e:?})"),
+            })?;
+        let mut f = Self::new(h, rows, Inner::Ldlt { symbolic, values }, delta);
+        let inverse_norm = hager(size, |v| f.apply(v));
+        f.condition = norm_1(h, rows) * inverse_norm;
+        if inverse_norm.is_nan() || inverse_norm * delta > 0.01 {
+            return Err(singular(n, m, f.condition));
+        }
+        Ok(f)
+    }
+
+    /// Sparse LU with partial pivoting of the unregularized matrix;
+    /// singular when its condition estimate exceeds 0.01/ε.
+    fn lu(h: &SparseColMat<usize, f64>, rows: &[&[(usize, f64)]]) -> Result<Self> {
+        let n = h.nrows();
+        let m = rows.len();
+        let size = n + m;
+        let mut triplets: Vec<Triplet<usize, usize, f64>> =
+            Vec::with_capacity(h.compute_nnz() + 2 * rows.iter().map(|r| r.len()).sum::<usize>());
+        for j in 0..n {
+            for (i, v) in h.row_idx_of_col(j).zip(h.val_of_col(j)) {
                 triplets.push(Triplet::new(i, j, *v));
             }
         }
-        triplets.push(Triplet::new(j, j, delta));
-    }
-    for (r, row) in rows.iter().enumerate() {
-        for &(i, a) in row.iter() {
-            triplets.push(Triplet::new(n + r, i, a));
+        for (r, row) in rows.iter().enumerate() {
+            for &(i, a) in row.iter() {
+                triplets.push(Triplet::new(n + r, i, a));
+                triplets.push(Triplet::new(i, n + r, a));
+            }
         }
-        triplets.push(Triplet::new(n + r, n + r, -delta));
-    }
-    let k = SparseColMat::<usize, f64>::try_new_from_triplets(size, size, &triplets)
-        .map_err(|e| too_large(size, &format!("{e:?}")))?;
-    let symbolic = factorize_symbolic_cholesky(
-        k.symbolic(),
-        Side::Lower,
-        SymmetricOrdering::Amd,
-        Default::default(),
-    )
-    .map_err(|e| too_large(size, &format!("{e:?}")))?;
-    let mut values = vec![0.0f64; symbolic.len_val()];
-    let signs: Vec<i8> = (0..size).map(|i| if i < n { 1 } else { -1 }).collect();
-    let par = Par::Seq;
-    let mut mem = MemBuffer::new(
-        symbolic
-            .factorize_numeric_ldlt_scratch::<f64>(par, Default::default())
-            .or(symbolic.solve_in_place_scratch::<f64>(1, par)),
-    );
-    let ldlt = symbolic
-        .factorize_numeric_ldlt(
-            &mut values,
-            k.as_ref(),
-            Side::Lower,
-            LdltRegularization {
-                dynamic_regularization_signs: Some(&signs),
-                dynamic_regularization_delta: delta,
-                dynamic_regularization_epsilon: 1e-13 * hscale,
-            },
-            par,
-            MemStack::new(&mut mem),
-            Default::default(),
-        )
-        .map_err(|e| Error::Singular {
-            unknowns: n,
-            condition: f64::INFINITY,
-            hint: format!("the regularized KKT factorization failed ({e:?})"),
+        let k = SparseColMat::<usize, f64>::try_new_from_triplets(size, size, &triplets)
+            .map_err(|e| too_large(size, &format!("{e:?}")))?;
+        let lu = k.as_ref().sp_lu().map_err(|e| match e {
+            LuError::SymbolicSingular { .. } => singular(n, m, f64::INFINITY),
+            LuError::Generic(e) => too_large(size, &format!("{e:?}")),
         })?;
-    let mut solve = |v: &[f64]| {
-        let mut col = Mat::<f64>::from_fn(size, 1, |i, _| v[i]);
-        ldlt.solve_in_place_with_conj(Conj::No, col.as_mut(), par, MemStack::new(&mut mem));
-        (0..size).map(|i| col[(i, 0)]).collect::<Vec<f64>>()
-    };
-    let inverse_norm = hager(size, &mut solve);
-    let condition = norm_1(h, rows) * inverse_norm;
-    // Singular when δ would move the solution by more than 1% of itself.
-    if inverse_norm.is_nan() || inverse_norm * delta > 0.01 {
-        return Err(singular(n, m, condition));
+        let mut f = Self::new(h, rows, Inner::Lu(lu), 0.0);
+        f.condition = norm_1(h, rows) * hager(size, |v| f.apply(v));
+        if !f.condition.is_finite() || f.condition * f64::EPSILON > 0.01 {
+            return Err(singular(n, m, f.condition));
+        }
+        Ok(f)
     }
-    let (z, steps, relative_residual) = refine(h, rows, rhs, solve);
-    finish(
-        n,
-        z,
-        KktInfo {
-            size,
-            factor_nonzeros: Some(symbolic.len_val()),
-            delta,
-            refinement_steps: steps,
-            relative_residual,
-            condition,
-            factorization: Factorization::Ldlt,
-        },
-    )
-}
 
-fn solve_lu(
-    h: &SparseColMat<usize, f64>,
-    rows: &[&[(usize, f64)]],
-    rhs: &[f64],
-) -> Result<KktSolution> {
-    let n = h.nrows();
-    let m = rows.len();
-    let size = n + m;
-    let mut triplets: Vec<Triplet<usize, usize, f64>> =
-        Vec::with_capacity(h.compute_nnz() + 2 * rows.iter().map(|r| r.len()).sum::<usize>());
-    for j in 0..n {
-        for (i, v) in h.row_idx_of_col(j).zip(h.val_of_col(j)) {
-            triplets.push(Triplet::new(i, j, *v));
+    fn new(
+        h: &SparseColMat<usize, f64>,
+        rows: &[&[(usize, f64)]],
+        inner: Inner,
+        delta: f64,
+    ) -> Self {
+        Self {
+            h: h.clone(),
+            rows: rows.iter().map(|r| r.to_vec()).collect(),
+            size: h.nrows() + rows.len(),
+            inner,
+            delta,
+            condition: f64::NAN,
         }
     }
-    for (r, row) in rows.iter().enumerate() {
-        for &(i, a) in row.iter() {
-            triplets.push(Triplet::new(n + r, i, a));
-            triplets.push(Triplet::new(i, n + r, a));
+
+    /// K⁻¹v through the factorization (of the regularized matrix for LDLᵀ).
+    fn apply(&self, v: &[f64]) -> Vec<f64> {
+        let mut col = Mat::<f64>::from_fn(self.size, 1, |i, _| v[i]);
+        match &self.inner {
+            Inner::Ldlt { symbolic, values } => {
+                let par = Par::Seq;
+                let mut mem = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, par));
+                LdltRef::new(symbolic, values).solve_in_place_with_conj(
+                    Conj::No,
+                    col.as_mut(),
+                    par,
+                    MemStack::new(&mut mem),
+                );
+            }
+            Inner::Lu(lu) => lu.solve_in_place_with_conj(Conj::No, col.as_mut()),
         }
+        (0..self.size).map(|i| col[(i, 0)]).collect()
     }
-    let k = SparseColMat::<usize, f64>::try_new_from_triplets(size, size, &triplets)
-        .map_err(|e| too_large(size, &format!("{e:?}")))?;
-    let lu = k.as_ref().sp_lu().map_err(|e| match e {
-        LuError::SymbolicSingular { .. } => singular(n, m, f64::INFINITY),
-        LuError::Generic(e) => too_large(size, &format!("{e:?}")),
-    })?;
-    let solve = |v: &[f64]| {
-        let mut col = Mat::<f64>::from_fn(size, 1, |i, _| v[i]);
-        lu.solve_in_place_with_conj(Conj::No, col.as_mut());
-        (0..size).map(|i| col[(i, 0)]).collect::<Vec<f64>>()
-    };
-    let condition = norm_1(h, rows) * hager(size, solve);
-    if !condition.is_finite() || condition * f64::EPSILON > 0.01 {
-        return Err(singular(n, m, condition));
+
+    /// Solves the system for b and g, refined against the unregularized
+    /// matrix.
+    pub(crate) fn solve(&self, b: &[f64], g: &[f64]) -> Result<KktSolution> {
+        let n = self.h.nrows();
+        let mut rhs: Vec<f64> = b.iter().map(|v| -v).collect();
+        rhs.extend_from_slice(g);
+        let rows: Vec<&[(usize, f64)]> = self.rows.iter().map(Vec::as_slice).collect();
+        let (z, steps, relative_residual) = refine(&self.h, &rows, &rhs, |v| self.apply(v));
+        let (factorization, factor_nonzeros) = match &self.inner {
+            Inner::Ldlt { symbolic, .. } => (Factorization::Ldlt, Some(symbolic.len_val())),
+            Inner::Lu(_) => (Factorization::Lu, None),
+        };
+        finish(
+            n,
+            z,
+            KktInfo {
+                size: self.size,
+                factor_nonzeros,
+                delta: self.delta,
+                refinement_steps: steps,
+                relative_residual,
+                condition: self.condition,
+                factorization,
+            },
+        )
     }
-    let (z, steps, relative_residual) = refine(h, rows, rhs, solve);
-    finish(
-        n,
-        z,
-        KktInfo {
-            size,
-            factor_nonzeros: None,
-            delta: 0.0,
-            refinement_steps: steps,
-            relative_residual,
-            condition,
-            factorization: Factorization::Lu,
-        },
-    )
+
+    /// Whether H and F are, value for value, the matrix factored.
+    pub(crate) fn is_for(&self, h: &SparseColMat<usize, f64>, rows: &[&[(usize, f64)]]) -> bool {
+        let same = |a: &[f64], b: &[f64]| {
+            a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+        };
+        h.nrows() == self.h.nrows()
+            && rows.len() == self.rows.len()
+            && (0..h.ncols()).all(|j| {
+                h.row_idx_of_col_raw(j) == self.h.row_idx_of_col_raw(j)
+                    && same(h.val_of_col(j), self.h.val_of_col(j))
+            })
+            && rows.iter().zip(&self.rows).all(|(a, b)| {
+                a.len() == b.len()
+                    && a.iter()
+                        .zip(b)
+                        .all(|(x, y)| x.0 == y.0 && x.1.to_bits() == y.1.to_bits())
+            })
+    }
+
+    /// Whether `other` factors the same matrix.
+    pub(crate) fn same_matrix(&self, other: &KktFactor) -> bool {
+        let rows: Vec<&[(usize, f64)]> = other.rows.iter().map(Vec::as_slice).collect();
+        self.is_for(&other.h, &rows)
+    }
+
+    /// About how many bytes it holds.
+    pub(crate) fn bytes(&self) -> usize {
+        let entries = self.h.compute_nnz() + self.rows.iter().map(Vec::len).sum::<usize>();
+        let factor = match &self.inner {
+            Inner::Ldlt { values, .. } => values.len(),
+            // faer does not expose the LU's size; the fill of a KKT LU is a
+            // few times H's.
+            Inner::Lu(_) => 4 * entries,
+        };
+        16 * entries + 12 * factor
+    }
 }
 
 fn singular(n: usize, m: usize, condition: f64) -> Error {
@@ -431,7 +513,7 @@ mod tests {
         let h = SparseColMat::try_new_from_triplets(3, 3, &t).unwrap();
         let r0 = [(0, 1.0), (1, 1.0), (2, 1.0)];
         let r1 = [(0, 1.0), (1, -1.0)];
-        let s = solve_kkt(&h, &[&r0, &r1], &[0.0; 3], &[3.0, 1.0]).unwrap();
+        let (_, s) = solve_kkt(&h, &[&r0, &r1], &[0.0; 3], &[3.0, 1.0]).unwrap();
         for (got, want) in s.x.iter().zip([1.5, 0.5, 1.0]) {
             assert!((got - want).abs() < 1e-14, "{got} vs {want}");
         }
@@ -446,7 +528,7 @@ mod tests {
         let t = vec![Triplet::new(0, 0, 2.0), Triplet::new(1, 1, 0.0)];
         let h = SparseColMat::try_new_from_triplets(2, 2, &t).unwrap();
         let r = [(1, 1.0)];
-        let s = solve_kkt(&h, &[&r], &[-2.0, 0.0], &[2.0]).unwrap();
+        let (_, s) = solve_kkt(&h, &[&r], &[-2.0, 0.0], &[2.0]).unwrap();
         assert!((s.x[0] - 1.0).abs() < 1e-14 && (s.x[1] - 2.0).abs() < 1e-14);
     }
 
@@ -484,10 +566,8 @@ mod tests {
     fn ldlt_and_lu_agree_and_both_solve() {
         let (h, rows, b, g) = chain(40);
         let f: Vec<&[(usize, f64)]> = rows.iter().map(|r| r.as_slice()).collect();
-        let mut rhs: Vec<f64> = b.iter().map(|v| -v).collect();
-        rhs.extend_from_slice(&g);
-        let a = solve_ldlt(&h, &f, &rhs).unwrap();
-        let c = solve_lu(&h, &f, &rhs).unwrap();
+        let a = KktFactor::ldlt(&h, &f).unwrap().solve(&b, &g).unwrap();
+        let c = KktFactor::lu(&h, &f).unwrap().solve(&b, &g).unwrap();
         assert_eq!(a.info.factorization, Factorization::Ldlt);
         assert_eq!(c.info.factorization, Factorization::Lu);
         assert!(a.info.relative_residual < 1e-14 && c.info.relative_residual < 1e-14);
@@ -505,15 +585,49 @@ mod tests {
         assert!((0.5..2.0).contains(&ratio), "{ratio}");
     }
 
+    /// A kept factorization solves for other right-hand sides as a fresh
+    /// one does, and knows its own matrix from a changed one.
+    #[test]
+    fn a_factorization_solves_again() {
+        let (h, rows, b, g) = chain(40);
+        let f: Vec<&[(usize, f64)]> = rows.iter().map(|r| r.as_slice()).collect();
+        let (kept, _) = solve_kkt(&h, &f, &b, &g).unwrap();
+        assert!(kept.is_for(&h, &f));
+        let b2: Vec<f64> = b
+            .iter()
+            .enumerate()
+            .map(|(i, v)| v + (i % 3) as f64)
+            .collect();
+        let g2 = [0.5, 2.0, -1.0, 3.0];
+        let again = kept.solve(&b2, &g2).unwrap();
+        let (_, fresh) = solve_kkt(&h, &f, &b2, &g2).unwrap();
+        let scale = fresh.x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for (x, y) in again.x.iter().zip(&fresh.x) {
+            assert!((x - y).abs() <= 1e-13 * scale, "{x} vs {y}");
+        }
+        assert!(
+            again.info.relative_residual < 1e-12,
+            "{:e}",
+            again.info.relative_residual
+        );
+        // Another value in H or F is another matrix.
+        let mut other = rows.clone();
+        other[3][1].1 += 1e-15;
+        let o: Vec<&[(usize, f64)]> = other.iter().map(|r| r.as_slice()).collect();
+        assert!(!kept.is_for(&h, &o));
+        let t: Vec<_> = (0..40).map(|i| Triplet::new(i, i, 1.0)).collect();
+        let h2 = SparseColMat::try_new_from_triplets(40, 40, &t).unwrap();
+        assert!(!kept.is_for(&h2, &f));
+        assert!(!kept.is_for(&h, &f[..3]));
+    }
+
     #[test]
     fn lu_calls_a_singular_system_singular() {
         // Ends free and only one of them constrained: a linear function
         // along the chain costs nothing.
         let (h, _, b, _) = chain(20);
         let r = [(0usize, 1.0)];
-        let mut rhs: Vec<f64> = b.iter().map(|v| -v).collect();
-        rhs.push(0.0);
-        let err = solve_lu(&h, &[&r], &rhs).err().unwrap();
+        let err = KktFactor::lu(&h, &[&r]).err().unwrap();
         assert!(matches!(err, Error::Singular { .. }), "{err}");
         let err = solve_kkt(&h, &[&r], &b, &[0.0]).err().unwrap();
         assert!(matches!(err, Error::Singular { .. }), "{err}");

@@ -81,7 +81,7 @@ mod patch;
 mod reduce;
 mod refine;
 pub mod region;
-mod solve;
+pub(crate) mod solve;
 mod subdivide;
 mod surface;
 
@@ -100,6 +100,7 @@ pub use operator::{Place, RegionPiece};
 pub use patch::TriPatch;
 pub use refine::{embed_curve, CurvePath, DomainPoint, Refinement};
 pub use solve::{
-    ConstraintOutcome, CurveConstraint, DroppedRow, TriProblem, TriReport, TriSolution, TriTimings,
+    ConstraintOutcome, CurveConstraint, DroppedRow, TriFactored, TriProblem, TriReport,
+    TriSolution, TriTimings,
 };
 pub use surface::{MeshEdge, TriSurface};

@@ -24,7 +24,7 @@
 use super::constraint::{Constraint, NamedConstraint, Row};
 use super::continuity::{max_edge_normal_angle, Continuity};
 use super::energy::InternalEnergy;
-use super::kkt::{solve_kkt, KktInfo};
+use super::kkt::{solve_kkt, KktFactor, KktInfo};
 use super::operator::Located;
 use super::reduce::{classify, SparseRow, Verdict};
 use super::refine::{check_point, embed_curve, DomainPoint, Refinement};
@@ -67,6 +67,46 @@ pub struct TriProblem {
     curves: Vec<CurveConstraint>,
     continuity: Continuity,
     operators: Vec<Operator>,
+}
+
+/// The factored KKT matrix of a solve, kept to solve problems that differ
+/// only in the right-hand side: the values of fixed points, point targets,
+/// plane offsets, operator targets (see [`crate::FactorCache`]).
+pub struct TriFactored {
+    kkt: KktFactor,
+    /// The continuity rows' pivot tolerance that classified them.
+    tolerance: f64,
+}
+
+impl TriFactored {
+    /// About how many bytes it holds.
+    pub fn bytes(&self) -> usize {
+        self.kkt.bytes()
+    }
+
+    /// Whether both are of the same KKT matrix.
+    pub(crate) fn same_as(&self, other: &TriFactored) -> bool {
+        self.tolerance == other.tolerance && self.kkt.same_matrix(&other.kkt)
+    }
+}
+
+impl std::fmt::Debug for TriFactored {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("TriFactored")
+            .field("bytes", &self.bytes())
+            .field("tolerance", &self.tolerance)
+            .finish_non_exhaustive()
+    }
+}
+
+/// Which factorization solved a problem.
+pub(crate) enum Factor {
+    /// None (nothing was free).
+    None,
+    /// The kept one at this index.
+    Reused(usize),
+    /// A new one.
+    New(Box<TriFactored>),
 }
 
 /// A constraint row left out of the solve.
@@ -154,6 +194,10 @@ pub struct TriReport {
     pub relative_gradient: f64,
     /// The KKT solve.
     pub kkt: Option<KktInfo>,
+    /// Whether the KKT factorization of an earlier solve was reused (only
+    /// the right-hand side was new: fixed values, targets; see
+    /// [`crate::FactorCache::solve_triangular`]).
+    pub reused: bool,
     /// Seconds spent refining for curves, assembling, classifying rows,
     /// solving the KKT system, and in total.
     pub seconds: TriTimings,
@@ -249,6 +293,14 @@ impl TriProblem {
     /// Solves; errors name the bad constraint or say why the system has no
     /// unique solution.
     pub fn solve(&self) -> Result<TriSolution> {
+        Ok(self.solve_kept(&[])?.0)
+    }
+
+    /// Solves with the first of the factorizations `kept` (of earlier
+    /// solves) that is of this problem's KKT matrix (see
+    /// [`crate::FactorCache`]); returns the solution and which was used, or
+    /// the new factorization.
+    pub(crate) fn solve_kept(&self, kept: &[&TriFactored]) -> Result<(TriSolution, Factor)> {
         let start = Instant::now();
         self.energy.validate()?;
         for c in &self.constraints {
@@ -388,9 +440,7 @@ impl TriProblem {
         // again with a looser tolerance, so nearly dependent ones are
         // reduced or dropped instead (measured: exact cubic G1 on 1,000
         // patches needs 1e-3). The user's rows keep the strict one.
-        let mut attempt = 0;
-        let (verdicts, row_tolerance, sol) = loop {
-            let tol = ROW_TOLERANCES[attempt];
+        let classify_rows = |tol: f64, seconds: &mut TriTimings| {
             let t = Instant::now();
             let sparse: Vec<SparseRow<'_>> = reduced
                 .iter()
@@ -407,24 +457,81 @@ impl TriProblem {
                 .collect();
             let verdicts = classify(&sparse, free.len(), 1e-9 * size);
             seconds.classify += t.elapsed().as_secs_f64();
-            if free.is_empty() {
-                break (verdicts, tol, None);
-            }
-            let t = Instant::now();
             let kept: Vec<usize> = (0..rows.len())
                 .filter(|&r| verdicts[r] == Verdict::Independent)
                 .collect();
+            (verdicts, kept)
+        };
+        let system = |kept: &[usize]| {
             let f: Vec<&[(usize, f64)]> = kept.iter().map(|&r| reduced[r].0.as_slice()).collect();
             let g: Vec<f64> = kept.iter().map(|&r| reduced[r].1).collect();
-            let result = solve_kkt(&h, &f, &b, &g);
+            (f, g)
+        };
+        // A kept factorization serves when the rows classify as they did
+        // and H and F are, value for value, the matrix it factored.
+        let mut factor = Factor::None;
+        // (tolerance, (verdicts, kept rows)) per tolerance tried.
+        type Classified = (f64, (Vec<Verdict>, Vec<usize>));
+        let mut classified: Vec<Classified> = Vec::new();
+        let mut reuse = None;
+        for (which, k) in kept.iter().enumerate() {
+            if free.is_empty() {
+                break;
+            }
+            if !classified.iter().any(|(t, _)| *t == k.tolerance) {
+                let c = classify_rows(k.tolerance, &mut seconds);
+                classified.push((k.tolerance, c));
+            }
+            let (verdicts, kept_rows) = &classified
+                .iter()
+                .find(|(t, _)| *t == k.tolerance)
+                .expect("classified")
+                .1;
+            let (f, g) = system(kept_rows);
+            if !k.kkt.is_for(&h, &f) {
+                continue;
+            }
+            let t = Instant::now();
+            let sol = k.kkt.solve(&b, &g).ok();
             seconds.solve += t.elapsed().as_secs_f64();
-            let last = attempt + 1 == ROW_TOLERANCES.len() || kept.len() <= user_rows;
-            match result {
-                Ok(sol) if last || sol.info.relative_residual <= 1e-12 => {
-                    break (verdicts, tol, Some((kept, sol)))
+            if let Some(sol) = sol.filter(|s| s.info.relative_residual <= 1e-12) {
+                factor = Factor::Reused(which);
+                reuse = Some((
+                    verdicts.clone(),
+                    k.tolerance,
+                    Some((kept_rows.clone(), sol)),
+                ));
+                break;
+            }
+        }
+        let reused = reuse.is_some();
+        let (verdicts, row_tolerance, sol) = match reuse {
+            Some(done) => done,
+            None => {
+                let mut attempt = 0;
+                loop {
+                    let tol = ROW_TOLERANCES[attempt];
+                    let (verdicts, kept) = classify_rows(tol, &mut seconds);
+                    if free.is_empty() {
+                        break (verdicts, tol, None);
+                    }
+                    let t = Instant::now();
+                    let (f, g) = system(&kept);
+                    let result = solve_kkt(&h, &f, &b, &g);
+                    seconds.solve += t.elapsed().as_secs_f64();
+                    let last = attempt + 1 == ROW_TOLERANCES.len() || kept.len() <= user_rows;
+                    match result {
+                        Ok((kkt, sol)) if last || sol.info.relative_residual <= 1e-12 => {
+                            factor = Factor::New(Box::new(TriFactored {
+                                kkt,
+                                tolerance: tol,
+                            }));
+                            break (verdicts, tol, Some((kept, sol)));
+                        }
+                        Err(e) if last => return Err(e),
+                        _ => attempt += 1,
+                    }
                 }
-                Err(e) if last => return Err(e),
-                _ => attempt += 1,
             }
         };
         let mut dropped = Vec::new();
@@ -567,6 +674,7 @@ impl TriProblem {
             gradient_norm,
             relative_gradient,
             kkt,
+            reused,
             seconds: TriTimings {
                 total: start.elapsed().as_secs_f64(),
                 ..seconds
@@ -575,12 +683,13 @@ impl TriProblem {
         let fixed = (0..surface.point_count())
             .filter(|g| (0..3).all(|c| known[3 * g + c].is_some()))
             .collect();
-        Ok(TriSolution {
+        let solution = TriSolution {
             surface,
             origin: refinement.origin,
             fixed,
             report,
-        })
+        };
+        Ok((solution, factor))
     }
 
     /// Embeds the curves one after another; returns the composed

@@ -1,0 +1,193 @@
+//! Triangular re-solves with a kept KKT factorization
+//! (`FactorCache::solve_triangular`): when only fixed values, point
+//! targets, plane offsets or operator targets move, the kept factorization
+//! gives the fresh solve's surface; another matrix (a turned normal, a
+//! weight) is factored anew; rows that turn inconsistent are reported as a
+//! fresh solve reports them.
+
+mod common;
+
+use fairsurf::operator::{Operator, Target};
+use fairsurf::triangle::{
+    Constraint, Continuity, DomainPoint, InternalEnergy, Place, TriProblem, TriSolution,
+};
+use fairsurf::FactorCache;
+
+/// Moves of the right-hand side only.
+#[derive(Clone, Copy)]
+struct Moves {
+    target: f64,
+    fixed: f64,
+    offset: f64,
+    attractor: f64,
+    normal: [f64; 3],
+    stretch: f64,
+}
+
+const START: Moves = Moves {
+    target: 0.3,
+    fixed: 0.0,
+    offset: 0.1,
+    attractor: 0.2,
+    normal: [0.3, 0.0, 1.0],
+    stretch: 0.1,
+};
+
+fn problem(m: Moves) -> TriProblem {
+    let at = |triangle, bary| DomainPoint { triangle, bary };
+    let surface = common::tri_grid(3, 4);
+    // An interior control point of patch 7 (not on the fixed boundary).
+    let interior = surface.patch_indices(7)[7];
+    TriProblem::new(surface, InternalEnergy::new(m.stretch, 1.0))
+        .with_fixed_boundary()
+        .with_constraint(
+            "pull",
+            Constraint::Point {
+                at: at(9, [0.3, 0.3, 0.4]),
+                target: [0.55, 0.5, m.target],
+            },
+        )
+        .with_constraint(
+            "tilt",
+            Constraint::Normal {
+                at: at(9, [0.3, 0.3, 0.4]),
+                normal: m.normal,
+            },
+        )
+        .with_constraint(
+            "shelf",
+            Constraint::InPlane {
+                at: at(3, [0.2, 0.5, 0.3]),
+                normal: [0.0, 0.2, 1.0],
+                offset: m.offset,
+            },
+        )
+        .with_constraint(
+            "pin",
+            Constraint::Fixed {
+                point: interior,
+                value: [0.4, 0.2, m.fixed],
+            },
+        )
+        .with_operator(Operator {
+            name: "up".into(),
+            target: Target::Point([0.7, 0.7, m.attractor]),
+            place: Place::Point(at(14, [1.0 / 3.0; 3])),
+            strength: 5.0,
+            repel: false,
+        })
+}
+
+/// The largest coordinate difference between two results.
+fn gap(a: &TriSolution, b: &TriSolution) -> f64 {
+    a.surface
+        .points()
+        .iter()
+        .zip(b.surface.points())
+        .flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).abs()))
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn moved_values_reuse_the_factorization() {
+    let cache = FactorCache::new(4, usize::MAX);
+    let first = cache.solve_triangular(&problem(START)).unwrap();
+    assert!(!first.report.reused);
+    assert_eq!(cache.len(), 1);
+    for k in 1..=3 {
+        let s = 0.1 * k as f64;
+        let moved = Moves {
+            target: START.target + s,
+            fixed: START.fixed - s,
+            offset: START.offset + 0.5 * s,
+            attractor: START.attractor - s,
+            ..START
+        };
+        let p = problem(moved);
+        let got = cache.solve_triangular(&p).unwrap();
+        let fresh = p.solve().unwrap();
+        assert!(got.report.reused, "step {k}");
+        assert!(!fresh.report.reused);
+        assert!(gap(&got, &fresh) < 1e-12, "step {k}: {}", gap(&got, &fresh));
+        let (r, f) = (&got.report, &fresh.report);
+        assert!((r.total - f.total).abs() <= 1e-12 * f.total);
+        assert!(r.max_violation <= 1e-10, "{:?}", r.constraints);
+        assert!(r.kkt.unwrap().relative_residual < 1e-12);
+        assert!(r.relative_gradient < 1e-10);
+        assert_eq!(r.independent_rows, f.independent_rows);
+        // The kept one moved: the surface did too.
+        assert!(gap(&got, &first) > 0.01);
+    }
+    assert_eq!(cache.len(), 1);
+}
+
+#[test]
+fn another_matrix_is_factored_anew_and_both_are_kept() {
+    let cache = FactorCache::new(4, usize::MAX);
+    cache.solve_triangular(&problem(START)).unwrap();
+    let turned = Moves {
+        normal: [0.0, 0.4, 1.0],
+        ..START
+    };
+    let stiffer = Moves {
+        stretch: 1.0,
+        ..START
+    };
+    for (m, what) in [(turned, "a turned normal"), (stiffer, "a stretch weight")] {
+        let p = problem(m);
+        let got = cache.solve_triangular(&p).unwrap();
+        assert!(!got.report.reused, "{what} changes the matrix");
+        assert!(gap(&got, &p.solve().unwrap()) < 1e-13);
+    }
+    assert_eq!(cache.len(), 3);
+    // Each is found again among the kept ones.
+    for m in [START, turned, stiffer] {
+        let p = problem(Moves { target: 0.5, ..m });
+        let got = cache.solve_triangular(&p).unwrap();
+        assert!(got.report.reused);
+        assert!(gap(&got, &p.solve().unwrap()) < 1e-12);
+    }
+    assert_eq!(cache.len(), 3);
+}
+
+/// A second point constraint at the same point is dependent while its
+/// target agrees and inconsistent once it does not; the kept rows are the
+/// same, so the factorization serves, and the report says what a fresh
+/// solve says.
+#[test]
+fn rows_that_turn_inconsistent_are_reported_as_fresh() {
+    let at = DomainPoint {
+        triangle: 1,
+        bary: [0.25, 0.25, 0.5],
+    };
+    let p = |z: f64| {
+        TriProblem::new(common::tri_grid(2, 3), InternalEnergy::new(0.0, 1.0))
+            .with_fixed_boundary()
+            .with_continuity(Continuity::none())
+            .with_constraint(
+                "first",
+                Constraint::Point {
+                    at,
+                    target: [0.4, 0.5, 0.2],
+                },
+            )
+            .with_constraint(
+                "second",
+                Constraint::Point {
+                    at,
+                    target: [0.4, 0.5, z],
+                },
+            )
+    };
+    let cache = FactorCache::new(2, usize::MAX);
+    let agree = cache.solve_triangular(&p(0.2)).unwrap().report;
+    assert!(agree.inconsistent.is_empty());
+    let clash = p(0.5);
+    let got = cache.solve_triangular(&clash).unwrap();
+    let fresh = clash.solve().unwrap();
+    assert!(got.report.reused);
+    assert_eq!(got.report.inconsistent, fresh.report.inconsistent);
+    assert_eq!(got.report.inconsistent.len(), 1);
+    assert_eq!(got.report.inconsistent[0].name, "second, z");
+    assert!(gap(&got, &fresh) < 1e-13);
+}
