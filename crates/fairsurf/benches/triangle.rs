@@ -7,11 +7,15 @@
 //! everywhere, the conditions are nearly dependent and are reduced with a
 //! loose pivot tolerance; at 10,000 patches that classification's fill
 //! makes it take minutes). Peak heap is reported by divan's allocation
-//! profiler ("max alloc"). Run: `cargo bench -p fairsurf --bench triangle`.
+//! profiler ("max alloc"). `resolve_*`: a point constraint's target moved
+//! and solved again with the kept KKT factorization (`FactorCache`), as
+//! an editor drag does. Run: `cargo bench -p fairsurf --bench triangle`.
 #![allow(missing_docs)]
 
-use fairsurf::triangle::{Continuity, EdgeContinuity, InternalEnergy, TriProblem};
-use fairsurf::TriSurface;
+use fairsurf::triangle::{
+    Constraint, Continuity, DomainPoint, EdgeContinuity, InternalEnergy, TriProblem,
+};
+use fairsurf::{FactorCache, TriSurface};
 
 #[global_allocator]
 static ALLOC: divan::AllocProfiler = divan::AllocProfiler::system();
@@ -95,4 +99,50 @@ fn g1_relaxed(bencher: divan::Bencher, size: (usize, usize)) {
 #[divan::bench(args = [(25, 20)], sample_count = 3, sample_size = 1)]
 fn g1_exact(bencher: divan::Bencher, size: (usize, usize)) {
     solve(bencher, size, edges(EdgeContinuity::Exact));
+}
+
+/// The sheet with a point constraint at the middle patch's centre, lifted
+/// by `lift` above the sheet there.
+fn pulled((a, b): (usize, usize), continuity: Continuity, lift: f64) -> TriProblem {
+    let s = sheet(a, b);
+    let at = DomainPoint {
+        triangle: a * b + a,
+        bary: [1.0 / 3.0; 3],
+    };
+    let mut target = s.patch(at.triangle).eval(at.bary);
+    target[2] += lift;
+    TriProblem::new(s, InternalEnergy::new(0.1, 1.0))
+        .with_fixed_boundary()
+        .with_continuity(continuity)
+        .with_constraint("pull", Constraint::Point { at, target })
+}
+
+fn resolve(bencher: divan::Bencher, size: (usize, usize), continuity: Continuity) {
+    let cache = FactorCache::new(1, usize::MAX);
+    cache
+        .solve_triangular(&pulled(size, continuity.clone(), 0.0))
+        .unwrap();
+    let mut step = 0;
+    bencher
+        .with_inputs(|| {
+            step += 1;
+            pulled(size, continuity.clone(), 0.05 * step as f64)
+        })
+        .bench_local_refs(|p| {
+            let s = cache.solve_triangular(p).unwrap();
+            assert!(s.report.reused && s.report.max_violation < 1e-9);
+            s
+        });
+}
+
+/// Re-solves, C0: 1,000 and 10,000 patches.
+#[divan::bench(args = [(25, 20), (100, 50)], sample_count = 3, sample_size = 1)]
+fn resolve_c0(bencher: divan::Bencher, size: (usize, usize)) {
+    resolve(bencher, size, Continuity::none());
+}
+
+/// Re-solves, G1 at the vertices: 1,000 patches.
+#[divan::bench(args = [(25, 20)], sample_count = 3, sample_size = 1)]
+fn resolve_g1_at_vertices(bencher: divan::Bencher, size: (usize, usize)) {
+    resolve(bencher, size, edges(EdgeContinuity::Off));
 }

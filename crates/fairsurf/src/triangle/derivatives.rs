@@ -25,7 +25,7 @@
 
 use super::bernstein::Bary;
 use super::patch::{de_casteljau_step, TriPatch};
-use crate::vec3::{cross, normalize, scale, Vec3};
+use crate::vec3::{add, cross, normalize, scale, Vec3};
 use crate::SurfaceDerivatives;
 
 /// The direction of ∂/∂u when w = 1 − u − v.
@@ -122,9 +122,9 @@ impl TriPatch {
             return None;
         }
         let q = self.reduce_to(b, 1);
-        let du = de_casteljau_step(&q, 1, E_U)[0];
-        let dv = de_casteljau_step(&q, 1, E_V)[0];
-        normalize(cross(du, dv))
+        // One linear level: Σ x_c q_c (the degree-1 net's three points).
+        let at = |x: Bary| add(add(scale(q[0], x[0]), scale(q[1], x[1])), scale(q[2], x[2]));
+        normalize(cross(at(E_U), at(E_V)))
     }
 }
 

@@ -300,11 +300,25 @@ pub(super) fn de_casteljau_step(net: &[Vec3], m: usize, x: Bary) -> Vec<Vec3> {
     out
 }
 
-/// De Casteljau levels at b from degree m down to degree `to`.
+/// De Casteljau levels at b from degree m down to degree `to`, in place:
+/// level m − 1's point (i, j, k) is stored at or before every point of
+/// level m that a later one reads, so each level overwrites the last (no
+/// allocation per level; the same arithmetic as [`de_casteljau_step`]).
 fn reduce(mut net: Vec<Vec3>, m: usize, b: Bary, to: usize) -> Vec<Vec3> {
     for deg in (to + 1..=m).rev() {
-        net = de_casteljau_step(&net, deg, b);
+        let mut out = 0;
+        let mut row = 0;
+        for k in 0..deg {
+            let next = row + deg - k + 1;
+            for j in 0..deg - k {
+                let p = add(scale(net[row + j], b[0]), scale(net[row + j + 1], b[1]));
+                net[out] = add(p, scale(net[next + j], b[2]));
+                out += 1;
+            }
+            row = next;
+        }
     }
+    net.truncate(point_count(to));
     net
 }
 

@@ -33,7 +33,7 @@ use crate::operator::newton::{add_quadratic, newton, FreeResiduals, NewtonReport
 use crate::operator::{Operator, OperatorOutcome, Residual};
 use crate::vec3::{norm, sub, Vec3};
 use crate::{BezierCurve, Error, Result};
-use faer::sparse::{SparseColMat, Triplet};
+use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 use std::time::Instant;
 
 /// The relative pivot tolerances tried, in order, when classifying the
@@ -712,6 +712,9 @@ impl TriProblem {
     }
 
     /// H over the free coordinates (both triangles) and b = H_fk x_k.
+    /// H is written column by column: the free coordinates 3i + c are
+    /// numbered in increasing order and K's row indices are sorted, so each
+    /// column's rows come sorted without a triplet sort.
     fn hessian(
         &self,
         surface: &TriSurface,
@@ -720,30 +723,34 @@ impl TriProblem {
         free: usize,
     ) -> Result<(SparseColMat<usize, f64>, Vec<f64>)> {
         let k = self.energy.surface_matrix(surface)?;
-        let mut triplets = Vec::with_capacity(3 * k.compute_nnz());
         let mut b = vec![0.0; free];
         for j in 0..k.ncols() {
             for (i, v) in k.row_idx_of_col(j).zip(k.val_of_col(j)) {
                 for c in 0..3 {
                     let (ci, cj) = (3 * i + c, 3 * j + c);
-                    if known[ci].is_some() {
-                        continue;
-                    }
-                    match known[cj] {
-                        Some(xj) => b[free_index[ci]] += v * xj,
-                        None => triplets.push(Triplet::new(free_index[ci], free_index[cj], *v)),
+                    if let (None, Some(xj)) = (known[ci], known[cj]) {
+                        b[free_index[ci]] += v * xj;
                     }
                 }
             }
         }
-        let h = SparseColMat::try_new_from_triplets(free, free, &triplets).map_err(|e| {
-            Error::Mismatch {
-                what: "energy matrix".into(),
-                expected: "a size that fits in memory".into(),
-                got: format!("{e:?}"),
+        let mut col_ptr = Vec::with_capacity(free + 1);
+        let mut rows = Vec::with_capacity(3 * k.compute_nnz());
+        let mut values = Vec::with_capacity(3 * k.compute_nnz());
+        col_ptr.push(0);
+        for cj in (0..known.len()).filter(|&cj| known[cj].is_none()) {
+            let (j, c) = (cj / 3, cj % 3);
+            for (i, v) in k.row_idx_of_col(j).zip(k.val_of_col(j)) {
+                let ci = 3 * i + c;
+                if known[ci].is_none() {
+                    rows.push(free_index[ci]);
+                    values.push(*v);
+                }
             }
-        })?;
-        Ok((h, b))
+            col_ptr.push(rows.len());
+        }
+        let symbolic = SymbolicSparseColMat::new_checked(free, free, col_ptr, None, rows);
+        Ok((SparseColMat::new(symbolic, values), b))
     }
 }
 
