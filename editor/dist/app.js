@@ -59,6 +59,7 @@ const state = {
   version: 0, // bumped by every edit of the scene
   handleDrag: false, // a handle is being dragged
   dragHandle: null, // the dragged handle's descriptor when the drag began
+  dragLength: null, // |value| of a dragged direction when the drag began
   needFull: false, // a quick answer was asked for since the last full one
   fullTable: null, // the table of the last full answer for this scene
 };
@@ -67,23 +68,23 @@ let viewer;
 try {
   viewer = new Viewer($('viewport'), {
     onHandleDrag: (index, position) => {
-      // The descriptor as the drag began: a direction turns about the same
-      // anchor however many answers arrive meanwhile.
-      if (!state.handleDrag) state.dragHandle = viewer.handles[index] || null;
-      state.handleDrag = true;
+      startDrag(index);
       moveHandle(state.dragHandle, position);
     },
     onHandleDragEnd: () => {
       state.handleDrag = false;
       state.dragHandle = null;
+      state.dragLength = null;
       finishDrag();
     },
     onRender: () => checkIdle(),
     constrainHandle: (index, position) => {
-      const h = state.dragHandle || viewer.handles[index];
+      startDrag(index);
+      const h = state.dragHandle;
       if (!h?.edit) return null;
       const edits = handleEdits(h, position);
-      return edits.length ? handlePosition(h, edits[0][1]) : null;
+      // Too close to the anchor to say a direction: it stays where it is.
+      return handlePosition(h, edits.length ? edits[0][1] : getPointer(state.scene, h.pointer));
     },
   });
 } catch (err) {
@@ -239,10 +240,27 @@ function applyResponse(response, seq, epoch, roundTripMs) {
 function withSceneHandles(response) {
   if (!Array.isArray(response.handles)) return response;
   const handles = response.handles.map((h) => {
-    const position = handlePosition(h, getPointer(state.scene, h.pointer));
-    return position ? { ...h, position } : h;
+    // The handle being dragged keeps the anchor it started with.
+    const held = state.dragHandle?.pointer === h.pointer && h.edit ? { ...h, edit: state.dragHandle.edit } : h;
+    const position = handlePosition(held, getPointer(state.scene, h.pointer));
+    return position ? { ...held, position } : held;
   });
   return { ...response, handles };
+}
+
+/**
+ * Remembers the handle `index` as a drag of it begins (or when the handle
+ * under the drag is another one): its descriptor, so a direction turns
+ * about the same anchor however many answers arrive meanwhile, and a
+ * direction's length, so rounding cannot make it drift.
+ */
+function startDrag(index) {
+  const h = viewer.handles[index] || null;
+  if (state.handleDrag && state.dragHandle && state.dragHandle.pointer === h?.pointer) return;
+  state.handleDrag = true;
+  state.dragHandle = h;
+  const v = h ? getPointer(state.scene, h.pointer) : null;
+  state.dragLength = isVec3(v) ? Math.hypot(...v) || 1 : 1;
 }
 
 const isVec3 = (v) => Array.isArray(v) && v.length === 3 && v.every((c) => typeof c === 'number' && Number.isFinite(c));
@@ -286,7 +304,7 @@ function handleEdits(h, position) {
     const len = Math.hypot(...v);
     if (!(len > 1e-6 * e.length)) return [];
     const old = getPointer(state.scene, h.pointer);
-    const keep = (isVec3(old) && Math.hypot(...old)) || 1;
+    const keep = state.dragLength ?? ((isVec3(old) && Math.hypot(...old)) || 1);
     const d = v.map((x) => roundTo((keep * x) / len, quantumOf(keep)));
     const edits = [[h.pointer, d]];
     if (typeof e.offset === 'string') edits.push([e.offset, roundTo(dot(d, e.anchor), quantumOf(keep * viewer.scale))]);

@@ -294,7 +294,12 @@ export class Viewer {
    */
   setHandles(handles) {
     const dragged = this.drag ? this.handles[this.drag.index] : null;
-    if (dragged && handles[this.drag.index]?.pointer !== dragged.pointer) this.endDrag(); // the handles changed under the drag
+    if (dragged && handles[this.drag.index]?.pointer !== dragged.pointer) {
+      // The handles changed under the drag: it ends, and the page is told.
+      const index = this.drag.index;
+      this.endDrag();
+      this.callbacks.onHandleDragEnd?.(index);
+    }
     if (handles.length !== this.handleMeshes.length) {
       this.clearGroup('handles');
       this.handleMeshes = handles.map((_, k) => {

@@ -191,3 +191,53 @@ fn rows_that_turn_inconsistent_are_reported_as_fresh() {
     assert_eq!(got.report.inconsistent[0].name, "second, z");
     assert!(gap(&got, &fresh) < 1e-13);
 }
+
+/// When the strict row tolerance failed only for the right-hand side's sake
+/// (refinement stalling above 1e-12 on nearly dependent G1 conditions), a
+/// fresh solve of another right-hand side might not need the looser one:
+/// such a factorization is not kept, and the next solve factors anew, to
+/// the same answer as a fresh solve.
+#[test]
+fn a_looser_tolerance_chosen_for_the_right_hand_side_is_not_reused() {
+    let bump = |x: f64, y: f64| 0.2 * (3.0 * x).sin() * (2.0 * y + 0.5).cos();
+    // The same sheet, pulled at one point to a target that moves: only the
+    // right-hand side differs.
+    let sheet = |z: f64| {
+        let mut s = common::tri_grid(8, 3);
+        let pts: Vec<_> = s
+            .points()
+            .iter()
+            .map(|p| [p[0], p[1], bump(p[0], p[1])])
+            .collect();
+        s.set_points(pts).unwrap();
+        TriProblem::new(s, InternalEnergy::new(0.1, 1.0))
+            .with_fixed_boundary()
+            .with_constraint(
+                "pull",
+                Constraint::Point {
+                    at: DomainPoint {
+                        triangle: 40,
+                        bary: [1.0 / 3.0; 3],
+                    },
+                    target: [0.5, 0.3, z],
+                },
+            )
+    };
+    let cache = FactorCache::new(4, usize::MAX);
+    let first = cache.solve_triangular(&sheet(0.1)).unwrap();
+    assert!(
+        first.report.row_tolerance > 1e-9,
+        "{}",
+        first.report.row_tolerance
+    );
+    assert!(
+        cache.is_empty(),
+        "kept although chosen for this right-hand side"
+    );
+    let p = sheet(0.2);
+    let again = cache.solve_triangular(&p).unwrap();
+    assert!(!again.report.reused);
+    let fresh = p.solve().unwrap();
+    assert_eq!(again.report.row_tolerance, fresh.report.row_tolerance);
+    assert!(gap(&again, &fresh) < 1e-13);
+}

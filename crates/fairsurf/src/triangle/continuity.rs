@@ -468,9 +468,20 @@ mod tests {
             [0.0, 1.0, 0.0],
             [0.5, 0.4, 0.0],
         ];
-        let t = [[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
-        for n in 1..=6 {
-            let mut s = TriSurface::new(&v, &t, n);
+        // Each triangle's corners rotated (orientation kept) by k + its
+        // index, so the interior edges lie at every pair of corner positions.
+        let fan = [[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
+        let rotated = |k: usize| -> Vec<[usize; 3]> {
+            fan.iter()
+                .enumerate()
+                .map(|(i, t)| {
+                    let r = (k + i) % 3;
+                    [t[r], t[(r + 1) % 3], t[(r + 2) % 3]]
+                })
+                .collect()
+        };
+        for (n, k) in (1..=6).flat_map(|n| (0..3).map(move |k| (n, k))) {
+            let mut s = TriSurface::new(&v, &rotated(k), n);
             let pts = s
                 .points()
                 .iter()

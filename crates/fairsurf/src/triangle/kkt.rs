@@ -102,20 +102,81 @@ pub(crate) fn solve_kkt(
     b: &[f64],
     g: &[f64],
 ) -> Result<(KktFactor, KktSolution)> {
-    let solve = |f: KktFactor| {
+    match try_kkt(h, rows, b, g) {
+        KktOutcome::Solved {
+            factor, solution, ..
+        } => Ok((*factor, solution)),
+        KktOutcome::Unfactorable(e) | KktOutcome::Failed(e) => Err(e),
+    }
+}
+
+/// What a KKT solve came to.
+pub(crate) enum KktOutcome {
+    /// Solved by `factor`. `first_choice`: the factorization is the one a
+    /// solve with any other right-hand side would choose too (the LDLᵀ, or
+    /// the LU because no LDLᵀ of the matrix exists), so reusing it gives
+    /// what a fresh solve gives.
+    Solved {
+        factor: Box<KktFactor>,
+        solution: KktSolution,
+        first_choice: bool,
+    },
+    /// Neither factorization of the matrix exists (to working precision),
+    /// whatever the right-hand side.
+    Unfactorable(Error),
+    /// A factorization exists but the solve for this right-hand side was
+    /// not accurate enough.
+    Failed(Error),
+}
+
+/// [`solve_kkt`], saying why it failed or whether the factorization is the
+/// first choice for any right-hand side.
+pub(crate) fn try_kkt(
+    h: &SparseColMat<usize, f64>,
+    rows: &[&[(usize, f64)]],
+    b: &[f64],
+    g: &[f64],
+) -> KktOutcome {
+    let ldlt = KktFactor::ldlt(h, rows);
+    let ldlt_exists = ldlt.is_ok();
+    let first = ldlt.and_then(|f| {
         let s = f.solve(b, g)?;
-        Ok::<_, Error>((f, s))
+        Ok((f, s))
+    });
+    let first = match first {
+        Ok((factor, solution)) if solution.info.relative_residual <= 1e-12 => {
+            return KktOutcome::Solved {
+                factor: Box::new(factor),
+                solution,
+                first_choice: true,
+            }
+        }
+        other => other,
     };
-    match KktFactor::ldlt(h, rows).and_then(solve) {
-        Ok(done) if done.1.info.relative_residual <= 1e-12 => Ok(done),
-        first => match KktFactor::lu(h, rows).and_then(solve) {
-            Ok(done) => Ok(done),
-            // The LU's verdict stands unless the LDLᵀ had a usable answer.
-            Err(e) => first
-                .ok()
-                .filter(|(_, s)| s.info.relative_residual <= 1e-6)
-                .ok_or(e),
+    let lu = KktFactor::lu(h, rows);
+    let lu_exists = lu.is_ok();
+    let err = match lu.and_then(|f| {
+        let s = f.solve(b, g)?;
+        Ok((f, s))
+    }) {
+        Ok((factor, solution)) => {
+            return KktOutcome::Solved {
+                factor: Box::new(factor),
+                solution,
+                first_choice: !ldlt_exists,
+            }
+        }
+        Err(e) => e,
+    };
+    // The LU's verdict stands unless the LDLᵀ had a usable answer.
+    match first {
+        Ok((factor, solution)) if solution.info.relative_residual <= 1e-6 => KktOutcome::Solved {
+            factor: Box::new(factor),
+            solution,
+            first_choice: false,
         },
+        _ if !ldlt_exists && !lu_exists => KktOutcome::Unfactorable(err),
+        _ => KktOutcome::Failed(err),
     }
 }
 
@@ -126,6 +187,10 @@ pub(crate) struct KktFactor {
     h: SparseColMat<usize, f64>,
     rows: Vec<Vec<(usize, f64)>>,
     inner: Inner,
+    /// Entries of the factor: L's of the LDLᵀ; for the LU, the symbolic
+    /// Cholesky factor's of the same pattern (faer does not expose the LU's
+    /// own; L and U each hold at least that many).
+    factor_entries: usize,
     /// What [`KktInfo`] says of the factorization.
     size: usize,
     delta: f64,
@@ -202,7 +267,8 @@ impl KktFactor {
                 condition: f64::INFINITY,
                 hint: format!("the regularized KKT factorization failed ({e:?})"),
             })?;
-        let mut f = Self::new(h, rows, Inner::Ldlt { symbolic, values }, delta);
+        let entries = symbolic.len_val();
+        let mut f = Self::new(h, rows, Inner::Ldlt { symbolic, values }, delta, entries);
         let inverse_norm = hager(size, |v| f.apply(v));
         f.condition = norm_1(h, rows) * inverse_norm;
         if inverse_norm.is_nan() || inverse_norm * delta > 0.01 {
@@ -236,7 +302,14 @@ impl KktFactor {
             LuError::SymbolicSingular { .. } => singular(n, m, f64::INFINITY),
             LuError::Generic(e) => too_large(size, &format!("{e:?}")),
         })?;
-        let mut f = Self::new(h, rows, Inner::Lu(lu), 0.0);
+        let entries = factorize_symbolic_cholesky(
+            k.symbolic(),
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            Default::default(),
+        )
+        .map_or(k.compute_nnz(), |s| 2 * s.len_val());
+        let mut f = Self::new(h, rows, Inner::Lu(lu), 0.0, entries);
         f.condition = norm_1(h, rows) * hager(size, |v| f.apply(v));
         if !f.condition.is_finite() || f.condition * f64::EPSILON > 0.01 {
             return Err(singular(n, m, f.condition));
@@ -249,8 +322,10 @@ impl KktFactor {
         rows: &[&[(usize, f64)]],
         inner: Inner,
         delta: f64,
+        factor_entries: usize,
     ) -> Self {
         Self {
+            factor_entries,
             h: h.clone(),
             rows: rows.iter().map(|r| r.to_vec()).collect(),
             size: h.nrows() + rows.len(),
@@ -308,20 +383,18 @@ impl KktFactor {
 
     /// Whether H and F are, value for value, the matrix factored.
     pub(crate) fn is_for(&self, h: &SparseColMat<usize, f64>, rows: &[&[(usize, f64)]]) -> bool {
-        let same = |a: &[f64], b: &[f64]| {
-            a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
-        };
-        h.nrows() == self.h.nrows()
+        self.h_is(h)
             && rows.len() == self.rows.len()
+            && rows.iter().zip(&self.rows).all(|(a, b)| same_terms(a, b))
+    }
+
+    /// Whether H is, value for value, the one factored.
+    pub(crate) fn h_is(&self, h: &SparseColMat<usize, f64>) -> bool {
+        h.nrows() == self.h.nrows()
+            && h.compute_nnz() == self.h.compute_nnz()
             && (0..h.ncols()).all(|j| {
                 h.row_idx_of_col_raw(j) == self.h.row_idx_of_col_raw(j)
-                    && same(h.val_of_col(j), self.h.val_of_col(j))
-            })
-            && rows.iter().zip(&self.rows).all(|(a, b)| {
-                a.len() == b.len()
-                    && a.iter()
-                        .zip(b)
-                        .all(|(x, y)| x.0 == y.0 && x.1.to_bits() == y.1.to_bits())
+                    && same_bits(h.val_of_col(j), self.h.val_of_col(j))
             })
     }
 
@@ -333,15 +406,23 @@ impl KktFactor {
 
     /// About how many bytes it holds.
     pub(crate) fn bytes(&self) -> usize {
+        // A value and an index per entry, of H and F and of the factor.
         let entries = self.h.compute_nnz() + self.rows.iter().map(Vec::len).sum::<usize>();
-        let factor = match &self.inner {
-            Inner::Ldlt { values, .. } => values.len(),
-            // faer does not expose the LU's size; the fill of a KKT LU is a
-            // few times H's.
-            Inner::Lu(_) => 4 * entries,
-        };
-        16 * entries + 12 * factor
+        16 * (entries + self.factor_entries)
     }
+}
+
+/// Equal bit for bit.
+fn same_bits(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
+/// Sparse rows equal index for index and bit for bit.
+pub(crate) fn same_terms(a: &[(usize, f64)], b: &[(usize, f64)]) -> bool {
+    a.len() == b.len()
+        && a.iter()
+            .zip(b)
+            .all(|(x, y)| x.0 == y.0 && x.1.to_bits() == y.1.to_bits())
 }
 
 fn singular(n: usize, m: usize, condition: f64) -> Error {

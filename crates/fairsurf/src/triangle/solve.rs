@@ -24,7 +24,7 @@
 use super::constraint::{Constraint, NamedConstraint, Row};
 use super::continuity::{max_edge_normal_angle, Continuity};
 use super::energy::InternalEnergy;
-use super::kkt::{solve_kkt, KktFactor, KktInfo};
+use super::kkt::{same_terms, try_kkt, KktFactor, KktInfo, KktOutcome};
 use super::operator::Located;
 use super::reduce::{classify, SparseRow, Verdict};
 use super::refine::{check_point, embed_curve, DomainPoint, Refinement};
@@ -76,17 +76,39 @@ pub struct TriFactored {
     kkt: KktFactor,
     /// The continuity rows' pivot tolerance that classified them.
     tolerance: f64,
+    /// Every constraint row's coefficients over the free coordinates (the
+    /// kept rows' and the others'), user rows first.
+    rows: Vec<Vec<(usize, f64)>>,
+    /// How many of them are the user's.
+    user_rows: usize,
 }
 
 impl TriFactored {
     /// About how many bytes it holds.
     pub fn bytes(&self) -> usize {
-        self.kkt.bytes()
+        self.kkt.bytes() + 16 * self.rows.iter().map(Vec::len).sum::<usize>()
     }
 
     /// Whether both are of the same KKT matrix.
     pub(crate) fn same_as(&self, other: &TriFactored) -> bool {
         self.tolerance == other.tolerance && self.kkt.same_matrix(&other.kkt)
+    }
+
+    /// Whether H and every row's coefficients are those it was made for,
+    /// value for value (H first: the cheap refusal).
+    fn made_for(
+        &self,
+        h: &SparseColMat<usize, f64>,
+        rows: &[(Vec<(usize, f64)>, f64)],
+        user_rows: usize,
+    ) -> bool {
+        self.kkt.h_is(h)
+            && user_rows == self.user_rows
+            && rows.len() == self.rows.len()
+            && rows
+                .iter()
+                .zip(&self.rows)
+                .all(|((a, _), b)| same_terms(a, b))
     }
 }
 
@@ -467,27 +489,32 @@ impl TriProblem {
             let g: Vec<f64> = kept.iter().map(|&r| reduced[r].1).collect();
             (f, g)
         };
-        // A kept factorization serves when the rows classify as they did
-        // and H and F are, value for value, the matrix it factored.
+        // A kept factorization serves when H and every row's coefficients
+        // (the kept rows' and the others') are, value for value, those it
+        // was made for: the rows then classify as they did at every
+        // tolerance (independence depends on the coefficients only), so the
+        // fresh solve would come to the same tolerance and factorization.
+        // The right-hand side is new, and with it which rows are dependent
+        // or inconsistent.
         let mut factor = Factor::None;
-        // (tolerance, (verdicts, kept rows)) per tolerance tried.
+        // (tolerance, (verdicts, kept rows)) per tolerance classified.
         type Classified = (f64, (Vec<Verdict>, Vec<usize>));
         let mut classified: Vec<Classified> = Vec::new();
+        let mut classified_at = |tol: f64, seconds: &mut TriTimings| {
+            if let Some((_, c)) = classified.iter().find(|(t, _)| *t == tol) {
+                return c.clone();
+            }
+            let c = classify_rows(tol, seconds);
+            classified.push((tol, c.clone()));
+            c
+        };
         let mut reuse = None;
         for (which, k) in kept.iter().enumerate() {
-            if free.is_empty() {
-                break;
+            if free.is_empty() || !k.made_for(&h, &reduced, user_rows) {
+                continue;
             }
-            if !classified.iter().any(|(t, _)| *t == k.tolerance) {
-                let c = classify_rows(k.tolerance, &mut seconds);
-                classified.push((k.tolerance, c));
-            }
-            let (verdicts, kept_rows) = &classified
-                .iter()
-                .find(|(t, _)| *t == k.tolerance)
-                .expect("classified")
-                .1;
-            let (f, g) = system(kept_rows);
+            let (verdicts, kept_rows) = classified_at(k.tolerance, &mut seconds);
+            let (f, g) = system(&kept_rows);
             if !k.kkt.is_for(&h, &f) {
                 continue;
             }
@@ -496,11 +523,7 @@ impl TriProblem {
             seconds.solve += t.elapsed().as_secs_f64();
             if let Some(sol) = sol.filter(|s| s.info.relative_residual <= 1e-12) {
                 factor = Factor::Reused(which);
-                reuse = Some((
-                    verdicts.clone(),
-                    k.tolerance,
-                    Some((kept_rows.clone(), sol)),
-                ));
+                reuse = Some((verdicts, k.tolerance, Some((kept_rows, sol))));
                 break;
             }
         }
@@ -509,27 +532,49 @@ impl TriProblem {
             Some(done) => done,
             None => {
                 let mut attempt = 0;
+                // Whether every looser attempt so far failed for want of a
+                // factorization (not for this right-hand side's sake).
+                let mut matrix_bound = true;
                 loop {
                     let tol = ROW_TOLERANCES[attempt];
-                    let (verdicts, kept) = classify_rows(tol, &mut seconds);
+                    let (verdicts, kept) = classified_at(tol, &mut seconds);
                     if free.is_empty() {
                         break (verdicts, tol, None);
                     }
                     let t = Instant::now();
                     let (f, g) = system(&kept);
-                    let result = solve_kkt(&h, &f, &b, &g);
+                    let result = try_kkt(&h, &f, &b, &g);
                     seconds.solve += t.elapsed().as_secs_f64();
                     let last = attempt + 1 == ROW_TOLERANCES.len() || kept.len() <= user_rows;
                     match result {
-                        Ok((kkt, sol)) if last || sol.info.relative_residual <= 1e-12 => {
-                            factor = Factor::New(Box::new(TriFactored {
-                                kkt,
-                                tolerance: tol,
-                            }));
-                            break (verdicts, tol, Some((kept, sol)));
+                        KktOutcome::Solved {
+                            factor: kkt,
+                            solution,
+                            first_choice,
+                        } if last || solution.info.relative_residual <= 1e-12 => {
+                            // Kept only when a fresh solve of another
+                            // right-hand side would come to it too.
+                            if first_choice
+                                && matrix_bound
+                                && solution.info.relative_residual <= 1e-12
+                            {
+                                factor = Factor::New(Box::new(TriFactored {
+                                    kkt: *kkt,
+                                    tolerance: tol,
+                                    rows: reduced.iter().map(|(terms, _)| terms.clone()).collect(),
+                                    user_rows,
+                                }));
+                            }
+                            break (verdicts, tol, Some((kept, solution)));
                         }
-                        Err(e) if last => return Err(e),
-                        _ => attempt += 1,
+                        KktOutcome::Unfactorable(e) | KktOutcome::Failed(e) if last => {
+                            return Err(e)
+                        }
+                        KktOutcome::Unfactorable(_) => attempt += 1,
+                        _ => {
+                            matrix_bound = false;
+                            attempt += 1;
+                        }
                     }
                 }
             }
