@@ -141,3 +141,32 @@ fn a_deliberate_kink_and_a_curvature_jump_are_detected() {
     let c = continuity(&a, Edge::U1, &shifted, Edge::U0, false, 10);
     assert!((c.gap.max - 1e-3).abs() < 1e-12 && (c.gap.mean - 1e-3).abs() < 1e-12);
 }
+
+/// The deviation from a normal field over a grid is the angle between the
+/// patch normal and the field direction at each grid point, evaluated one
+/// point at a time.
+#[test]
+fn normal_deviation_is_the_pointwise_angle() {
+    use fairsurf::analysis::normal_deviation;
+    use fairsurf::energy::NormalField;
+    use fairsurf::vector::{cross, dot, norm};
+    let patch = random_net(6, 5, 11);
+    let field = NormalField::new(1.0, random_net(3, 4, 12));
+    let (ku, kv) = (17, 13);
+    let mut angles = Vec::new();
+    for i in 0..=ku {
+        for j in 0..=kv {
+            let (u, v) = (i as f64 / ku as f64, j as f64 / kv as f64);
+            if let (Some(n), Some(g)) = (patch.normal(u, v), field.direction(u, v)) {
+                angles.push(norm(cross(n, g)).atan2(dot(n, g).abs()));
+            }
+        }
+    }
+    let d = normal_deviation(&patch, &field, (ku, kv));
+    assert_eq!(d.samples, angles.len());
+    let mean = angles.iter().sum::<f64>() / angles.len() as f64;
+    let max = angles.iter().copied().fold(0.0, f64::max);
+    assert!((d.mean - mean).abs() < 1e-12, "{} vs {mean}", d.mean);
+    assert!((d.max - max).abs() < 1e-12, "{} vs {max}", d.max);
+    assert!(d.mean > 0.1, "a random field is far from the patch normals");
+}

@@ -105,6 +105,24 @@ impl NormalField {
         }
     }
 
+    /// [`Self::direction`] at every (u, v) of a tensor grid, u-major
+    /// (`out[a·vs.len() + b]` at `(us[a], vs[b])`); a field patch is
+    /// evaluated by [`TensorPatch::grid_derivatives`].
+    pub fn directions(&self, us: &[f64], vs: &[f64]) -> Vec<Option<Vec3>> {
+        match &self.guide {
+            NormalGuide::Field(f) => f
+                .grid_derivatives(us, vs)
+                .iter()
+                .map(|d| normalize(d.point))
+                .collect(),
+            NormalGuide::Samples { .. } => us
+                .iter()
+                .flat_map(|&u| vs.iter().map(move |&v| (u, v)))
+                .map(|(u, v)| self.direction(u, v))
+                .collect(),
+        }
+    }
+
     /// The (a, b) weight tables and axes: ω_ab = λ N_a N_b as Bernstein
     /// coefficients (exact) or per-sample values.
     fn weight_tables(&self) -> Result<WeightTables> {
