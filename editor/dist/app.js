@@ -240,8 +240,10 @@ function applyResponse(response, seq, epoch, roundTripMs) {
 function withSceneHandles(response) {
   if (!Array.isArray(response.handles)) return response;
   const handles = response.handles.map((h) => {
-    // The handle being dragged keeps the anchor it started with.
-    const held = state.dragHandle?.pointer === h.pointer && h.edit ? { ...h, edit: state.dragHandle.edit } : h;
+    // The handle being dragged keeps the anchor it started with (unless
+    // the handles changed under the drag, which then ends).
+    const dragged = viewer.drag && response.handles[viewer.drag.index]?.pointer === h.pointer;
+    const held = dragged && state.dragHandle?.pointer === h.pointer && h.edit ? { ...h, edit: state.dragHandle.edit } : h;
     const position = handlePosition(held, getPointer(state.scene, h.pointer));
     return position ? { ...held, position } : held;
   });

@@ -48,7 +48,7 @@ enum Command {
     /// Evaluate points and unit normals of a solved surface at given (u, v).
     Eval(eval::Args),
     /// Open the editor in the browser: a local server for the page and its
-    /// JSON API (solve, compare, export, examples).
+    /// JSON API (solve, analyse, compare, export, examples).
     Serve(serve::Args),
     /// Print the JSON Schema of scene files (tensor, or with --triangular
     /// the triangular-surface scenes).

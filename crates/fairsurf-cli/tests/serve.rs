@@ -459,6 +459,62 @@ fn direction_and_plane_handles() {
     }
 }
 
+/// Analysis measures a surface as given: a solved result's area and
+/// functionals are what the solve reported for it; a scene with a free
+/// point is refused naming that point; triangular results give their
+/// functionals and edge angles as the library computes them.
+#[test]
+fn analyse_measures_the_given_surface() {
+    let s = start(&[]);
+    let (_, solved) = post(
+        &s,
+        "/api/solve",
+        &json!({ "scene": example("wu_yang_fig1_l10_g0.json") }),
+    );
+    let (status, v) = post(&s, "/api/analyse", &json!({ "scene": solved["result"] }));
+    assert_eq!(status, 200, "{v}");
+    assert_eq!(v["kind"], "tensor");
+    let (got, want) = (rows(&v), rows(&solved));
+    for label in ["area", "Dirichlet", "biharmonic", "mean |H|"] {
+        let (a, b) = (got[label].as_f64().unwrap(), want[label].as_f64().unwrap());
+        assert!((a - b).abs() <= 1e-12 * b.abs(), "{label}: {a} vs {b}");
+    }
+    assert!(got["area error estimate"].as_f64().unwrap() < 1e-12);
+    // A free (null) point: there is no surface to measure, said by name.
+    let mut open = solved["result"].clone();
+    open["surface"]["control_points"][2][3] = Value::Null;
+    let (status, v) = post(&s, "/api/analyse", &json!({ "scene": open }));
+    assert_eq!(status, 400, "{v}");
+    assert_eq!(v["path"], "surface.control_points[2][3]", "{v}");
+
+    let (_, solved) = post(
+        &s,
+        "/api/solve",
+        &json!({ "scene": example("vw_fig1_point_normal.json") }),
+    );
+    let (status, v) = post(&s, "/api/analyse", &json!({ "scene": solved["result"] }));
+    assert_eq!(status, 200, "{v}");
+    let surface = fairsurf_io::TriScene::from_json(&solved["result"].to_string())
+        .unwrap()
+        .surface()
+        .unwrap();
+    let bend = fairsurf::triangle::InternalEnergy::new(0.0, 1.0)
+        .surface_value(&surface)
+        .unwrap();
+    let r = rows(&v);
+    assert_eq!(r["bend functional (β = 1)"].as_f64().unwrap(), bend);
+    // The solve's bend row is β·E_bend with β = 1 in this scene.
+    let solve_bend = rows(&solved)["bend"].as_f64().unwrap();
+    assert!(
+        (bend - solve_bend).abs() <= 1e-12 * bend,
+        "{bend} vs {solve_bend}"
+    );
+    assert_eq!(
+        r["max normal angle across edges (rad)"],
+        rows(&solved)["max normal angle across edges (rad)"]
+    );
+}
+
 #[test]
 fn errors_are_json_with_paths_and_statuses() {
     let s = start(&["--max-body-mb", "1", "--max-unknowns", "500"]);

@@ -194,6 +194,7 @@ pub(crate) fn router(server: Arc<Server>) -> Router {
         .route("/api/examples/{file}", get(get_example))
         .route("/api/solve", post(solve))
         .route("/api/compare", post(compare))
+        .route("/api/analyse", post(analyse))
         .route("/api/export", post(export))
         .route("/api/{*rest}", get(api_not_found).post(api_not_found))
         .fallback(get(asset))
@@ -341,6 +342,13 @@ async fn solve(State(s): State<Arc<Server>>, body: Body) -> ApiResult<Json<Value
     let limits = s.limits;
     let factors = s.factors.clone();
     let v = limited(&s, move || view::solve(&text, quick, &limits, &factors)).await?;
+    Ok(Json(v))
+}
+
+async fn analyse(State(s): State<Arc<Server>>, body: Body) -> ApiResult<Json<Value>> {
+    let text = scene_text(&s, body).await?;
+    let limits = s.limits;
+    let v = limited(&s, move || view::analyse(&text, &limits)).await?;
     Ok(Json(v))
 }
 

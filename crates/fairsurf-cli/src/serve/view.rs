@@ -43,6 +43,52 @@ pub(crate) fn solve(
     Ok(v)
 }
 
+/// Measures the surface the scene gives, as it is, without solving: a
+/// result file, or a scene whose control points are all given (a null one
+/// is a 400 naming it). Tensor: area (adaptive Gauss–Legendre, with its
+/// error estimate), the Dirichlet and biharmonic functionals (exact), |H|
+/// on a grid. Triangular: the stretch and bend functionals (weights 1),
+/// the largest normal angle across interior edges.
+pub(crate) fn analyse(text: &str, limits: &Limits) -> ApiResult<Value> {
+    let start = Instant::now();
+    let (kind, table) = if is_triangular(text) {
+        let scene = TriScene::from_json(text)?;
+        check_size(&scene, limits)?;
+        let s = scene.surface()?;
+        let functional = |stretch: f64, bend: f64| {
+            fairsurf::triangle::InternalEnergy::new(stretch, bend)
+                .surface_value(&s)
+                .map_err(fairsurf_io::Error::from)
+        };
+        let table = vec![
+            row("stretch functional (α = 1)", functional(1.0, 0.0)?),
+            row("bend functional (β = 1)", functional(0.0, 1.0)?),
+            row(
+                "max normal angle across edges (rad)",
+                fairsurf::triangle::max_edge_normal_angle(&s, 65).map(|(a, _)| a),
+            ),
+            row("patches", s.patch_count() as f64),
+            row("control points", s.point_count() as f64),
+        ];
+        ("triangular", table)
+    } else {
+        let scene = Scene::from_json(text)?;
+        let patch = scene.surface_patch()?;
+        let mut table = Vec::new();
+        let m = fairsurf::analysis::measures(&patch);
+        measure_rows(&mut table, Some(&m));
+        table.insert(1, row("area error estimate", m.area_error));
+        let (n, k) = patch.degree();
+        table.push(row("degree", format!("{n} × {k}")));
+        ("tensor", table)
+    };
+    Ok(json!({
+        "kind": kind,
+        "table": table,
+        "seconds": start.elapsed().as_secs_f64(),
+    }))
+}
+
 /// The four surfaces of Monterde & Ugail §4 with the scene's boundary.
 pub(crate) fn compare(text: &str, _limits: &Limits) -> ApiResult<Value> {
     if is_triangular(text) {

@@ -39,6 +39,7 @@ use faer::sparse::linalg::solvers::Lu;
 use faer::sparse::linalg::LuError;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Conj, Mat, Par, Side};
+use std::sync::OnceLock;
 
 /// δ relative to the largest diagonal entry of H. Small, so that the
 /// regularized inverse still shows a singular direction as a norm of
@@ -190,7 +191,8 @@ pub(crate) struct KktFactor {
     /// Entries of the factor: L's of the LDLᵀ; for the LU, the symbolic
     /// Cholesky factor's of the same pattern (faer does not expose the LU's
     /// own; L and U each hold at least that many).
-    factor_entries: usize,
+    /// (For the LU, estimated when first asked: it costs an ordering.)
+    factor_entries: OnceLock<usize>,
     /// What [`KktInfo`] says of the factorization.
     size: usize,
     delta: f64,
@@ -268,7 +270,13 @@ impl KktFactor {
                 hint: format!("the regularized KKT factorization failed ({e:?})"),
             })?;
         let entries = symbolic.len_val();
-        let mut f = Self::new(h, rows, Inner::Ldlt { symbolic, values }, delta, entries);
+        let mut f = Self::new(
+            h,
+            rows,
+            Inner::Ldlt { symbolic, values },
+            delta,
+            Some(entries),
+        );
         let inverse_norm = hager(size, |v| f.apply(v));
         f.condition = norm_1(h, rows) * inverse_norm;
         if inverse_norm.is_nan() || inverse_norm * delta > 0.01 {
@@ -302,14 +310,7 @@ impl KktFactor {
             LuError::SymbolicSingular { .. } => singular(n, m, f64::INFINITY),
             LuError::Generic(e) => too_large(size, &format!("{e:?}")),
         })?;
-        let entries = factorize_symbolic_cholesky(
-            k.symbolic(),
-            Side::Lower,
-            SymmetricOrdering::Amd,
-            Default::default(),
-        )
-        .map_or(k.compute_nnz(), |s| 2 * s.len_val());
-        let mut f = Self::new(h, rows, Inner::Lu(lu), 0.0, entries);
+        let mut f = Self::new(h, rows, Inner::Lu(lu), 0.0, None);
         f.condition = norm_1(h, rows) * hager(size, |v| f.apply(v));
         if !f.condition.is_finite() || f.condition * f64::EPSILON > 0.01 {
             return Err(singular(n, m, f.condition));
@@ -322,10 +323,14 @@ impl KktFactor {
         rows: &[&[(usize, f64)]],
         inner: Inner,
         delta: f64,
-        factor_entries: usize,
+        factor_entries: Option<usize>,
     ) -> Self {
+        let known = OnceLock::new();
+        if let Some(e) = factor_entries {
+            let _ = known.set(e);
+        }
         Self {
-            factor_entries,
+            factor_entries: known,
             h: h.clone(),
             rows: rows.iter().map(|r| r.to_vec()).collect(),
             size: h.nrows() + rows.len(),
@@ -408,7 +413,40 @@ impl KktFactor {
     pub(crate) fn bytes(&self) -> usize {
         // A value and an index per entry, of H and F and of the factor.
         let entries = self.h.compute_nnz() + self.rows.iter().map(Vec::len).sum::<usize>();
-        16 * (entries + self.factor_entries)
+        let factor = *self.factor_entries.get_or_init(|| self.lu_fill());
+        16 * (entries + factor)
+    }
+
+    /// Twice the symbolic Cholesky fill of the KKT pattern (AMD order): L
+    /// and U of the LU hold at least that many entries.
+    fn lu_fill(&self) -> usize {
+        let n = self.h.nrows();
+        let mut t: Vec<Triplet<usize, usize, f64>> = Vec::new();
+        for j in 0..n {
+            t.extend(
+                self.h
+                    .row_idx_of_col(j)
+                    .filter(|&i| i >= j)
+                    .map(|i| Triplet::new(i, j, 1.0)),
+            );
+            t.push(Triplet::new(j, j, 1.0));
+        }
+        for (r, row) in self.rows.iter().enumerate() {
+            t.extend(row.iter().map(|&(i, _)| Triplet::new(n + r, i, 1.0)));
+            t.push(Triplet::new(n + r, n + r, 1.0));
+        }
+        SparseColMat::<usize, f64>::try_new_from_triplets(self.size, self.size, &t)
+            .ok()
+            .and_then(|k| {
+                factorize_symbolic_cholesky(
+                    k.symbolic(),
+                    Side::Lower,
+                    SymmetricOrdering::Amd,
+                    Default::default(),
+                )
+                .ok()
+            })
+            .map_or(t.len(), |s| 2 * s.len_val())
     }
 }
 
@@ -647,8 +685,19 @@ mod tests {
     fn ldlt_and_lu_agree_and_both_solve() {
         let (h, rows, b, g) = chain(40);
         let f: Vec<&[(usize, f64)]> = rows.iter().map(|r| r.as_slice()).collect();
-        let a = KktFactor::ldlt(&h, &f).unwrap().solve(&b, &g).unwrap();
-        let c = KktFactor::lu(&h, &f).unwrap().solve(&b, &g).unwrap();
+        let (fa, fc) = (
+            KktFactor::ldlt(&h, &f).unwrap(),
+            KktFactor::lu(&h, &f).unwrap(),
+        );
+        let (a, c) = (fa.solve(&b, &g).unwrap(), fc.solve(&b, &g).unwrap());
+        // Both hold H, F and a factor at least as large as H's triangle.
+        for k in [&fa, &fc] {
+            assert!(
+                k.bytes() > 16 * (h.compute_nnz() + h.compute_nnz() / 2),
+                "{}",
+                k.bytes()
+            );
+        }
         assert_eq!(a.info.factorization, Factorization::Ldlt);
         assert_eq!(c.info.factorization, Factorization::Lu);
         assert!(a.info.relative_residual < 1e-14 && c.info.relative_residual < 1e-14);

@@ -91,7 +91,15 @@ impl TriFactored {
 
     /// Whether both are of the same KKT matrix.
     pub(crate) fn same_as(&self, other: &TriFactored) -> bool {
-        self.tolerance == other.tolerance && self.kkt.same_matrix(&other.kkt)
+        self.tolerance == other.tolerance
+            && self.user_rows == other.user_rows
+            && self.rows.len() == other.rows.len()
+            && self
+                .rows
+                .iter()
+                .zip(&other.rows)
+                .all(|(a, b)| same_terms(a, b))
+            && self.kkt.same_matrix(&other.kkt)
     }
 
     /// Whether H and every row's coefficients are those it was made for,
