@@ -78,6 +78,15 @@ try {
       finishDrag();
     },
     onRender: () => checkIdle(),
+    describeHandle: (index) => {
+      const h = viewer.handles[index];
+      if (!h?.edit || !state.scene) return null;
+      const v = getPointer(state.scene, h.pointer);
+      const f = (x) => String(Number(x.toPrecision(5)));
+      // The label names the field ("tilt: direction", "shelf: offset").
+      if (isVec3(v)) return `${h.label || h.pointer}  (${v.map(f).join(', ')})`;
+      return typeof v === 'number' ? `${h.label || h.pointer}  ${f(v)}` : null;
+    },
     constrainHandle: (index, position) => {
       startDrag(index);
       const h = state.dragHandle;

@@ -34,7 +34,8 @@ export class Viewer {
   /**
    * @param {HTMLElement} container  the element the canvas fills
    * @param {object} callbacks       { onHandleDrag(index, [x,y,z]), onHandleDragEnd(index), onRender(),
-   *                                   constrainHandle(index, [x,y,z]) → where the dragged handle may be, or null }
+   *                                   constrainHandle(index, [x,y,z]) → where the dragged handle may be, or null,
+   *                                   describeHandle(index) → the tooltip's text, or null for the position }
    */
   constructor(container, callbacks = {}) {
     this.container = container;
@@ -541,7 +542,9 @@ export class Viewer {
     }
     const p = mesh.position;
     const f = (x) => String(Number(x.toPrecision(5)));
-    this.tooltip.textContent = `${h.label || h.pointer}  (${f(p.x)}, ${f(p.y)}, ${f(p.z)})`;
+    // A handle whose value is not its position (a direction, an offset)
+    // says its value, as the page describes it.
+    this.tooltip.textContent = this.callbacks.describeHandle?.(index) ?? `${h.label || h.pointer}  (${f(p.x)}, ${f(p.y)}, ${f(p.z)})`;
     const s = this.handleScreenPosition(index);
     const rect = this.container.getBoundingClientRect();
     this.tooltip.style.left = `${s.x - rect.left + 14}px`;
@@ -584,9 +587,9 @@ export class Viewer {
       const mesh = this.handleMeshes[this.drag.index];
       mesh.position.copy(pos);
       this.updateStems();
+      this.callbacks.onHandleDrag?.(this.drag.index, [pos.x, pos.y, pos.z]);
       this.showTooltip(this.drag.index);
       this.requestRender();
-      this.callbacks.onHandleDrag?.(this.drag.index, [pos.x, pos.y, pos.z]);
       return;
     }
     if (e.buttons === 0) this.setHover(this.pickHandle(e));
