@@ -12,6 +12,7 @@ macro_rules! say {
 }
 pub(crate) use say;
 
+mod analyse;
 mod compare;
 mod eval;
 mod export;
@@ -47,6 +48,10 @@ enum Command {
     Export(export::Args),
     /// Evaluate points and unit normals of a solved surface at given (u, v).
     Eval(eval::Args),
+    /// Measure surfaces as result files give them, without solving: area
+    /// (with its error estimate), functionals, |H|; for triangular
+    /// surfaces the functionals and the largest normal angle across edges.
+    Analyse(analyse::Args),
     /// Open the editor in the browser: a local server for the page and its
     /// JSON API (solve, analyse, compare, export, examples).
     Serve(serve::Args),
@@ -93,6 +98,7 @@ fn main() -> ExitCode {
         Command::Solve(a) => solve::run(a),
         Command::Compare(a) => compare::run(a),
         Command::Eval(a) => eval::run(a),
+        Command::Analyse(a) => analyse::run(a),
         Command::Export(a) => export::run(a),
         Command::Serve(a) => serve::run(a),
         Command::Render(a) => render::run(a),

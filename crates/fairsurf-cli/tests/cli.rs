@@ -734,3 +734,77 @@ fn bad_triangular_scenes_exit_2_naming_the_field() {
     let schema: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert!(schema.to_string().contains("triangular"));
 }
+
+/// `analyse` measures result files as they are: the tensor measures are the
+/// ones the solve reported for the same surface; a file with a free point
+/// exits 2 naming it.
+#[test]
+fn analyse_measures_result_files() {
+    let d = tmpdir("analyse");
+    let tensor = d.join("t.result.json");
+    let tri = d.join("tri.result.json");
+    for (scene, out) in [
+        ("wu_yang_fig1_l10_g0.json", &tensor),
+        ("vw_fig1_point_normal.json", &tri),
+    ] {
+        let o = fairsurf(&[
+            "solve",
+            examples().join(scene).to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let o = fairsurf(&[
+        "analyse",
+        "--json",
+        tensor.to_str().unwrap(),
+        tri.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let result: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&tensor).unwrap()).unwrap();
+    let reported = &result["report"];
+    let m = &v[0]["measures"];
+    assert_eq!(v[0]["kind"], "tensor");
+    for (label, key) in [
+        ("area", "area"),
+        ("Dirichlet", "dirichlet"),
+        ("biharmonic", "biharmonic"),
+    ] {
+        let (a, b) = (m[label].as_f64().unwrap(), reported[key].as_f64().unwrap());
+        assert!(
+            (a - b).abs() <= 1e-12 * b.abs(),
+            "{label}: {a} vs {b} in {reported}"
+        );
+    }
+    assert_eq!(v[1]["kind"], "triangular");
+    assert!(
+        v[1]["measures"]["max normal angle across edges (rad)"]
+            .as_f64()
+            .unwrap()
+            < 1e-12
+    );
+
+    // Text output names each file.
+    let o = fairsurf(&["analyse", tensor.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains("t.result.json: tensor") && text.contains("area error estimate"),
+        "{text}"
+    );
+
+    // The scene before solving has free (null) points.
+    let o = fairsurf(&[
+        "analyse",
+        examples().join("quickstart.json").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("surface.control_points["),
+        "{}",
+        stderr(&o)
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}

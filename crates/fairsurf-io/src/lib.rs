@@ -21,6 +21,7 @@
 //! assert!((solved.patch().point(1, 1)[0] - 1.0).abs() < 1e-14);
 //! ```
 
+mod analysis;
 mod atomic;
 mod cad;
 mod compare;
@@ -36,6 +37,7 @@ mod surface_mesh;
 mod tri_scene;
 mod validate;
 
+pub use analysis::Measures;
 pub use atomic::write_atomic;
 pub use compare::comparison_json;
 pub use error::{Error, Result};

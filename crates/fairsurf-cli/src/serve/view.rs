@@ -51,37 +51,14 @@ pub(crate) fn solve(
 /// the largest normal angle across interior edges.
 pub(crate) fn analyse(text: &str, limits: &Limits) -> ApiResult<Value> {
     let start = Instant::now();
-    let (kind, table) = if is_triangular(text) {
+    let (kind, measures) = if is_triangular(text) {
         let scene = TriScene::from_json(text)?;
         check_size(&scene, limits)?;
-        let s = scene.surface()?;
-        let functional = |stretch: f64, bend: f64| {
-            fairsurf::triangle::InternalEnergy::new(stretch, bend)
-                .surface_value(&s)
-                .map_err(fairsurf_io::Error::from)
-        };
-        let table = vec![
-            row("stretch functional (α = 1)", functional(1.0, 0.0)?),
-            row("bend functional (β = 1)", functional(0.0, 1.0)?),
-            row(
-                "max normal angle across edges (rad)",
-                fairsurf::triangle::max_edge_normal_angle(&s, 65).map(|(a, _)| a),
-            ),
-            row("patches", s.patch_count() as f64),
-            row("control points", s.point_count() as f64),
-        ];
-        ("triangular", table)
+        ("triangular", scene.analyse()?)
     } else {
-        let scene = Scene::from_json(text)?;
-        let patch = scene.surface_patch()?;
-        let mut table = Vec::new();
-        let m = fairsurf::analysis::measures(&patch);
-        measure_rows(&mut table, Some(&m));
-        table.insert(1, row("area error estimate", m.area_error));
-        let (n, k) = patch.degree();
-        table.push(row("degree", format!("{n} × {k}")));
-        ("tensor", table)
+        ("tensor", Scene::from_json(text)?.analyse()?)
     };
+    let table: Vec<Value> = measures.into_iter().map(|(l, v)| row(l, v)).collect();
     Ok(json!({
         "kind": kind,
         "table": table,
