@@ -126,6 +126,9 @@ export class Viewer {
     this.canvas.addEventListener('pointermove', (e) => this.onPointerMove(e));
     this.canvas.addEventListener('pointerup', (e) => this.onPointerUp(e));
     this.canvas.addEventListener('pointercancel', (e) => this.onPointerUp(e));
+    // Capture lost without a pointerup (the window lost focus, an alert):
+    // the drag ends as if released.
+    this.canvas.addEventListener('lostpointercapture', (e) => this.onPointerUp(e));
     this.canvas.addEventListener('pointerleave', () => this.setHover(-1));
 
     this.controls = new OrbitControls(this.camera, this.canvas);
