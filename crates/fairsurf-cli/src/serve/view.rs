@@ -770,8 +770,9 @@ fn tri_view(solved: &SolvedTriScene) -> Value {
             }
         }
     }
-    // The initial net, for fixed points whose value the scene leaves to it.
-    let initial = scene.surface().ok();
+    // The initial net, for fixed points whose value the scene leaves to it
+    // (built only if one does).
+    let initial = std::cell::OnceCell::new();
     for field in Field::entries(&scene_json, "constraints", "constraint") {
         let c = field.entry;
         // Where a constraint acts, on the solved surface.
@@ -799,7 +800,10 @@ fn tri_view(solved: &SolvedTriScene) -> Value {
             } else {
                 c["index"]
                     .as_u64()
-                    .and_then(|g| initial.as_ref()?.points().get(g as usize).copied())
+                    .and_then(|g| {
+                        let net = initial.get_or_init(|| scene.surface().ok()).as_ref()?;
+                        net.points().get(g as usize).copied()
+                    })
                     .map(|p| json!(p))
             };
             if let Some(position) = position {

@@ -45,6 +45,7 @@
 use super::constraint::Row;
 use super::index::{index_of, linear_index};
 use super::surface::TriSurface;
+use crate::basis::bernstein_all;
 use crate::vec3::{add, angle, cross, normalize, scale, sub, Vec3};
 use crate::{Error, Result};
 use std::f64::consts::PI;
@@ -339,7 +340,7 @@ pub fn max_edge_normal_angle(surface: &TriSurface, samples: usize) -> Option<(f6
     }
     // Bernstein values of degree n − 1 at the samples, shared by all edges.
     let basis: Vec<Vec<f64>> = (0..samples)
-        .map(|s| bernstein_row(n - 1, s as f64 / (samples - 1) as f64))
+        .map(|s| bernstein_all(n - 1, s as f64 / (samples - 1) as f64))
         .collect();
     let mut worst: Option<(f64, [usize; 2])> = None;
     for edge in surface.edges() {
@@ -369,19 +370,6 @@ pub fn max_edge_normal_angle(surface: &TriSurface, samples: usize) -> Option<(f6
         }
     }
     worst
-}
-
-/// B_j^m(t), j = 0 … m.
-fn bernstein_row(m: usize, t: f64) -> Vec<f64> {
-    let mut b = vec![0.0; m + 1];
-    b[0] = 1.0;
-    for k in 1..=m {
-        for j in (1..=k).rev() {
-            b[j] = (1.0 - t) * b[j] + t * b[j - 1];
-        }
-        b[0] *= 1.0 - t;
-    }
-    b
 }
 
 /// The derivatives of patch `tri` in the barycentric directions

@@ -185,7 +185,7 @@ pub(crate) fn try_kkt(
 /// iterative refinement, and to tell whether another system is this one):
 /// it solves for any other b and g.
 pub(crate) struct KktFactor {
-    h: SparseColMat<usize, f64>,
+    pub(crate) h: SparseColMat<usize, f64>,
     rows: Vec<Vec<(usize, f64)>>,
     inner: Inner,
     /// Entries of the factor: L's of the LDLᵀ; for the LU, the symbolic
@@ -401,12 +401,6 @@ impl KktFactor {
                 h.row_idx_of_col_raw(j) == self.h.row_idx_of_col_raw(j)
                     && same_bits(h.val_of_col(j), self.h.val_of_col(j))
             })
-    }
-
-    /// Whether `other` factors the same matrix.
-    pub(crate) fn same_matrix(&self, other: &KktFactor) -> bool {
-        let rows: Vec<&[(usize, f64)]> = other.rows.iter().map(Vec::as_slice).collect();
-        self.is_for(&other.h, &rows)
     }
 
     /// About how many bytes it holds.

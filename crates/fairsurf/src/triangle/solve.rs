@@ -89,34 +89,29 @@ impl TriFactored {
         self.kkt.bytes() + 16 * self.rows.iter().map(Vec::len).sum::<usize>()
     }
 
-    /// Whether both are of the same KKT matrix.
+    /// Whether both are of the same KKT matrix: the same H and rows (the
+    /// kept rows follow from the rows at the same tolerance).
     pub(crate) fn same_as(&self, other: &TriFactored) -> bool {
         self.tolerance == other.tolerance
-            && self.user_rows == other.user_rows
-            && self.rows.len() == other.rows.len()
-            && self
-                .rows
-                .iter()
-                .zip(&other.rows)
-                .all(|(a, b)| same_terms(a, b))
-            && self.kkt.same_matrix(&other.kkt)
+            && self.made_for(
+                &other.kkt.h,
+                other.rows.iter().map(Vec::as_slice),
+                other.user_rows,
+            )
     }
 
     /// Whether H and every row's coefficients are those it was made for,
     /// value for value (H first: the cheap refusal).
-    fn made_for(
+    fn made_for<'r>(
         &self,
         h: &SparseColMat<usize, f64>,
-        rows: &[(Vec<(usize, f64)>, f64)],
+        rows: impl ExactSizeIterator<Item = &'r [(usize, f64)]>,
         user_rows: usize,
     ) -> bool {
         self.kkt.h_is(h)
             && user_rows == self.user_rows
             && rows.len() == self.rows.len()
-            && rows
-                .iter()
-                .zip(&self.rows)
-                .all(|((a, _), b)| same_terms(a, b))
+            && rows.zip(&self.rows).all(|(a, b)| same_terms(a, b))
     }
 }
 
@@ -518,7 +513,9 @@ impl TriProblem {
         };
         let mut reuse = None;
         for (which, k) in kept.iter().enumerate() {
-            if free.is_empty() || !k.made_for(&h, &reduced, user_rows) {
+            if free.is_empty()
+                || !k.made_for(&h, reduced.iter().map(|(t, _)| t.as_slice()), user_rows)
+            {
                 continue;
             }
             let (verdicts, kept_rows) = classified_at(k.tolerance, &mut seconds);
