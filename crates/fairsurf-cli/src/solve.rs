@@ -338,6 +338,14 @@ fn summary(path: &Path, s: &SolvedScene, written: &[String]) -> String {
                 terms.join(" + ")
             ));
             operator_lines(&mut lines, &r.operators, r.newton.as_ref());
+            lines.push(match &r.check {
+                Some(c) => format!(
+                    "  checked on the written net: energy {:.10e} (closed forms agree to {:.1e}), \
+                     {:.1e} above the minimum (relative; tolerance {:.0e}), {} correction(s)",
+                    c.energy, c.energy_error, c.excess, c.tolerance, c.corrections
+                ),
+                None => "  not checked: a term does not describe its integrand".into(),
+            });
             measures_lines(&mut lines, r.measures.as_ref());
             lines.push(format!(
                 "  gradient {:.2e} (relative {:.2e})  residual {:.2e}  condition ≈ {:.2e}  refinement steps {}",

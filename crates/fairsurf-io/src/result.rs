@@ -255,8 +255,24 @@ pub fn report_json(r: &SolveReport) -> Value {
         o["operators"] = crate::operators::outcomes_json(&r.operators);
         o["newton"] = crate::operators::newton_json(r.newton.as_ref());
     }
+    if let Some(c) = &r.check {
+        o["check"] = check_json(c);
+    }
     insert_measures(&mut o, r.measures.as_ref());
     o
+}
+
+/// The independent check of a solve ([`fairsurf::Check`]) as JSON.
+pub fn check_json(c: &fairsurf::Check) -> Value {
+    json!({
+        "energy": c.energy,
+        "energy_error": c.energy_error,
+        "excess": c.excess,
+        "scale": c.scale,
+        "corrections": c.corrections,
+        "tolerance": c.tolerance,
+        "seconds": c.seconds,
+    })
 }
 
 /// A [`ConstructionReport`] as JSON: how well the defining equations hold,

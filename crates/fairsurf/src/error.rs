@@ -117,6 +117,27 @@ pub enum Error {
         /// What usually helps.
         hint: String,
     },
+    /// The solve's answer failed the independent check on the written net
+    /// ([`crate::Check`]) even after Newton corrections with the exact
+    /// gradient: double precision cannot deliver this problem's minimizer
+    /// as a net of this degree.
+    #[error(
+        "the solution at degree {degree:?} cannot be verified in double precision: \
+         recomputed in double-double on the written net, its energy {checked:.12e} lies \
+         {excess:.1e} (relative) above the minimum, and the tolerance is {tolerance:.0e}. {hint}"
+    )]
+    Unverified {
+        /// The patch's degree.
+        degree: (usize, usize),
+        /// The energy recomputed in double-double.
+        checked: f64,
+        /// Estimated excess over the minimum, relative to the energy.
+        excess: f64,
+        /// The tolerance.
+        tolerance: f64,
+        /// What to do.
+        hint: String,
+    },
 }
 
 /// `Result` with fairsurf's [`Error`].

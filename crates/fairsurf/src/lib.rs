@@ -35,6 +35,7 @@
 //! println!("energy {} area {}", sol.report.energy, sol.report.measures.unwrap().area);
 //! ```
 
+mod check;
 mod curve;
 mod error;
 mod mesh;
@@ -50,9 +51,11 @@ pub mod harmonic;
 pub mod operator;
 pub mod triangle;
 
+pub use check::{Check, TOLERANCE as CHECK_TOLERANCE};
 pub use curve::BezierCurve;
 pub use energy::{
-    Bend, EnergyTerm, GuideSurface, Measure, NormalField, NormalGuide, SampleGrid, Stretch,
+    Bend, EnergyTerm, GuideSurface, Integrand, Measure, NormalField, NormalGuide, SampleGrid,
+    Stretch,
 };
 pub use error::{Error, Result};
 pub use mesh::TriMesh;

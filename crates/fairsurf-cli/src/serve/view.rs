@@ -637,6 +637,9 @@ fn tensor_view(solved: &SolvedScene) -> Value {
                 table.push(row("distance to guide", g));
             }
             table.push(row("gradient (relative)", r.relative_gradient));
+            if let Some(c) = &r.check {
+                table.push(row("checked: energy excess (relative)", c.excess));
+            }
             table.push(row("residual", r.residual));
             table.push(row("condition estimate", r.condition_estimate));
             table.push(row("unknowns", r.unknowns as f64));

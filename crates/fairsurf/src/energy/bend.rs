@@ -3,8 +3,8 @@
 //! Euler–Lagrange equation is Δ²R = 0.
 
 use super::{
-    check_weight, fairness, fairness_key, fairness_value, EnergyTerm, Hessian, Measure, Space,
-    TermForm,
+    check_weight, fairness, fairness_key, fairness_value, EnergyTerm, Hessian, Integrand, Measure,
+    Space, TermForm, BEND_PATTERNS,
 };
 use crate::Result;
 
@@ -51,12 +51,20 @@ impl EnergyTerm for Bend {
         Some(fairness_key(self.name(), self.weight, &self.measure))
     }
 
+    fn integrand(&self) -> Option<Integrand<'_>> {
+        Some(Integrand::Fairness {
+            weight: self.weight,
+            measure: &self.measure,
+            patterns: BEND_PATTERNS,
+        })
+    }
+
     fn value(&self, patch: &crate::TensorPatch) -> Result<f64> {
         check_weight("bend weight", self.weight)?;
         Ok(fairness_value(
             patch.degree(),
             &self.measure,
-            &[((2, 0), 1.0), ((1, 1), 2.0), ((0, 2), 1.0)],
+            BEND_PATTERNS,
             self.weight,
             patch.points(),
         ))
@@ -64,12 +72,7 @@ impl EnergyTerm for Bend {
 
     fn form_in(&self, space: &Space) -> Result<TermForm> {
         check_weight("bend weight", self.weight)?;
-        let h = fairness(
-            space,
-            &self.measure,
-            &[((2, 0), 1.0), ((1, 1), 2.0), ((0, 2), 1.0)],
-            self.weight,
-        );
+        let h = fairness(space, &self.measure, BEND_PATTERNS, self.weight);
         Ok(TermForm {
             hessian: Hessian::PerCoordinate(h),
             center: None,

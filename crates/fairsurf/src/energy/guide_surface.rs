@@ -4,7 +4,7 @@
 
 use super::{
     check_weight, check_weights, derivative_net, form, pattern_value, EnergyTerm, Hessian,
-    HessianKey, Measure, Space, TermForm,
+    HessianKey, Integrand, Measure, Space, TermForm,
 };
 use crate::{Error, Result, TensorPatch};
 
@@ -72,6 +72,15 @@ impl EnergyTerm for GuideSurface {
 
     fn center(&self, degree: (usize, usize)) -> Result<Option<Vec<crate::Vec3>>> {
         Ok(Some(self.surface_at(degree)?.points().to_vec()))
+    }
+
+    fn integrand(&self) -> Option<Integrand<'_>> {
+        Some(Integrand::GuideSurface {
+            weight: self.weight,
+            surface: &self.surface,
+            measure: &self.measure,
+            sample_weights: self.sample_weights.as_deref(),
+        })
     }
 
     fn value(&self, patch: &TensorPatch) -> Result<f64> {

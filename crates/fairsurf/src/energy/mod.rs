@@ -79,7 +79,55 @@ pub trait EnergyTerm: Debug + Send + Sync {
     fn center(&self, degree: (usize, usize)) -> Result<Option<Vec<Vec3>>> {
         Ok(self.form(degree)?.center)
     }
+
+    /// What the term integrates, for the independent check of every solve
+    /// (energy and gradient recomputed in double-double by quadrature on the
+    /// written net, see [`crate::Check`]). `None` (the default) when the
+    /// check cannot evaluate the term; the report then has no check.
+    fn integrand(&self) -> Option<Integrand<'_>> {
+        None
+    }
 }
+
+/// A term's integrand in a form the independent check evaluates without the
+/// term's own code: [`EnergyTerm::integrand`].
+#[derive(Clone, Copy, Debug)]
+pub enum Integrand<'a> {
+    /// `w · ½ Σ_patterns c · ∫ |∂ᵘʳ∂ᵛˢ R|²` for patterns ((r, s), c).
+    Fairness {
+        /// w.
+        weight: f64,
+        /// Exact integral or sample sum.
+        measure: &'a Measure,
+        /// ((r, s), c) per derivative pattern.
+        patterns: &'static [((usize, usize), f64)],
+    },
+    /// `½ λ ∫ (R_u·N)² + (R_v·N)²` or its sampled form (normals normalized).
+    NormalField {
+        /// λ.
+        weight: f64,
+        /// The guiding normals.
+        guide: &'a NormalGuide,
+    },
+    /// `½ γ ∫ |R − S|²` or its sampled form, S at its own degree.
+    GuideSurface {
+        /// γ.
+        weight: f64,
+        /// S.
+        surface: &'a crate::TensorPatch,
+        /// Exact integral or sample sum.
+        measure: &'a Measure,
+        /// Per-sample γ_ij (multiplied with γ).
+        sample_weights: Option<&'a [f64]>,
+    },
+}
+
+/// |R_u|² + |R_v|²: the stretch (membrane) integrand's patterns.
+pub(crate) const STRETCH_PATTERNS: &[((usize, usize), f64)] = &[((1, 0), 1.0), ((0, 1), 1.0)];
+
+/// |R_uu|² + 2|R_uv|² + |R_vv|²: the bend (thin-plate) integrand's patterns.
+pub(crate) const BEND_PATTERNS: &[((usize, usize), f64)] =
+    &[((2, 0), 1.0), ((1, 1), 2.0), ((0, 2), 1.0)];
 
 /// The Hessian of a quadratic energy term.
 #[derive(Clone, Debug)]

@@ -7,7 +7,7 @@
 
 use super::{
     check_weight, check_weights, derivative_net, form, Axis, EnergyTerm, Hessian, HessianKey,
-    PatternForm, SampleGrid, Space, TermForm,
+    Integrand, PatternForm, SampleGrid, Space, TermForm,
 };
 use crate::basis::binomial;
 use crate::vec3::{is_finite, normalize, Vec3};
@@ -229,6 +229,13 @@ impl EnergyTerm for NormalField {
                 .with(&weights.is_some())
                 .numbers(weights.as_deref().unwrap_or(&[]))
                 .finish(),
+        })
+    }
+
+    fn integrand(&self) -> Option<Integrand<'_>> {
+        Some(Integrand::NormalField {
+            weight: self.weight,
+            guide: &self.guide,
         })
     }
 

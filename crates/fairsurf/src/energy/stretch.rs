@@ -3,8 +3,8 @@
 //! Wesselink's stretch (eq. 6) in the parametric form.
 
 use super::{
-    check_weight, fairness, fairness_key, fairness_value, EnergyTerm, Hessian, Measure, Space,
-    TermForm,
+    check_weight, fairness, fairness_key, fairness_value, EnergyTerm, Hessian, Integrand, Measure,
+    Space, TermForm, STRETCH_PATTERNS,
 };
 use crate::Result;
 
@@ -50,12 +50,20 @@ impl EnergyTerm for Stretch {
         Some(fairness_key(self.name(), self.weight, &self.measure))
     }
 
+    fn integrand(&self) -> Option<Integrand<'_>> {
+        Some(Integrand::Fairness {
+            weight: self.weight,
+            measure: &self.measure,
+            patterns: STRETCH_PATTERNS,
+        })
+    }
+
     fn value(&self, patch: &crate::TensorPatch) -> Result<f64> {
         check_weight("stretch weight", self.weight)?;
         Ok(fairness_value(
             patch.degree(),
             &self.measure,
-            &[((1, 0), 1.0), ((0, 1), 1.0)],
+            STRETCH_PATTERNS,
             self.weight,
             patch.points(),
         ))
@@ -63,12 +71,7 @@ impl EnergyTerm for Stretch {
 
     fn form_in(&self, space: &Space) -> Result<TermForm> {
         check_weight("stretch weight", self.weight)?;
-        let h = fairness(
-            space,
-            &self.measure,
-            &[((1, 0), 1.0), ((0, 1), 1.0)],
-            self.weight,
-        );
+        let h = fairness(space, &self.measure, STRETCH_PATTERNS, self.weight);
         Ok(TermForm {
             hessian: Hessian::PerCoordinate(h),
             center: None,

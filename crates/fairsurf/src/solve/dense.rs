@@ -102,7 +102,7 @@ impl SpdFactor {
     }
 
     /// x ≈ H⁻¹ r with the factor (no refinement).
-    fn apply(&self, r: &Mat<f64>) -> Mat<f64> {
+    pub(crate) fn apply(&self, r: &Mat<f64>) -> Mat<f64> {
         let (n, s) = (self.s.len(), &self.s);
         let rq = self.basis.as_ref().map(|q| q.apply(r, true));
         let r = rq.as_ref().unwrap_or(r);
@@ -249,7 +249,7 @@ fn two_sum(a: f64, b: f64) -> (f64, f64) {
 /// The rounding error a·b − p of p = fl(a·b), exactly (Dekker 1971):
 /// a and b split into 26-bit halves whose products are exact.
 #[inline(always)]
-fn two_product_error(a: f64, b: f64, p: f64) -> f64 {
+pub(crate) fn two_product_error(a: f64, b: f64, p: f64) -> f64 {
     let (ah, al) = split(a);
     let (bh, bl) = split(b);
     ((ah * bh - p) + ah * bl + al * bh) + al * bl

@@ -11,6 +11,8 @@ use super::dense::{norm_max, SpdFactor, SpdOptions};
 use super::jacobi::TensorBasis;
 use super::report::{SolveReport, TermEnergy, Timings};
 use crate::analysis::measures;
+use crate::check::{self, tensor::EnergyAt, Check};
+use crate::energy::Integrand;
 use crate::energy::Space;
 use crate::energy::{EnergyTerm, Hessian, TermForm};
 use crate::operator::newton::{newton, sparse, FreeResiduals};
@@ -777,12 +779,9 @@ impl Factored {
         }
         let solve = t.elapsed().as_secs_f64();
 
-        let points = sys.fill(&rows, &xf, self.coupled);
-        let patch = TensorPatch::try_new(self.degree.0, self.degree.1, points).map_err(|_| {
-            Error::NotFinite {
-                what: "the solution (the system overflowed)".into(),
-            }
-        })?;
+        let t = Instant::now();
+        let checked = self.checked_net(problem, placed, &sys, &rows, xf, repellors.is_empty())?;
+        let patch = checked.patch;
         let (gradient_norm, relative_gradient) =
             total_gradient.unwrap_or_else(|| sys.gradient(&self.h, &rows, &patch, self.coupled));
         let rhs_norm = rhs.norm_l2();
@@ -804,7 +803,7 @@ impl Factored {
             .collect();
         let external: f64 = operators.iter().map(|o| o.energy).sum();
 
-        let terms = problem
+        let mut terms = problem
             .terms
             .iter()
             .map(|t| {
@@ -814,6 +813,46 @@ impl Factored {
                 })
             })
             .collect::<Result<Vec<_>>>()?;
+        // The closed forms in double precision; replaced by the recomputed
+        // values, which stay exact where the closed forms lose digits.
+        let closed_form = terms.iter().map(|t| t.value).sum::<f64>() + external;
+        let check = checked
+            .at
+            .map(|(at, excess, scale)| {
+                for (t, v) in terms.iter_mut().zip(&at.terms) {
+                    t.value = v.to_f64();
+                }
+                let recomputed = at.total.to_f64();
+                let check = Check {
+                    energy: recomputed,
+                    energy_error: (closed_form - recomputed).abs() / scale,
+                    excess: excess / scale,
+                    scale,
+                    corrections: checked.corrections,
+                    tolerance: check::TOLERANCE,
+                    seconds: t.elapsed().as_secs_f64(),
+                };
+                if check.passed() {
+                    Ok(check)
+                } else {
+                    Err(Error::Unverified {
+                        degree: self.degree,
+                        checked: recomputed,
+                        excess: check.excess,
+                        tolerance: check.tolerance,
+                        hint: "A Bernstein net of this degree cannot hold this minimizer to that \
+                               accuracy: use a lower degree (the README's limits give the degrees \
+                               that verify); B-spline surfaces are planned for more freedom at \
+                               low degree."
+                            .into(),
+                    })
+                }
+            })
+            .transpose()?;
+        let energy = match &check {
+            Some(c) => c.energy,
+            None => closed_form,
+        };
         let t = Instant::now();
         let measures = opts.analyse.then(|| measures(&patch));
         let analyse = t.elapsed().as_secs_f64();
@@ -826,7 +865,8 @@ impl Factored {
             )
         };
         let report = SolveReport {
-            energy: terms.iter().map(|t| t.value).sum::<f64>() + external,
+            energy,
+            check,
             terms,
             external,
             operators,
@@ -851,6 +891,119 @@ impl Factored {
             },
         };
         Ok(Solution { patch, report })
+    }
+}
+
+/// The written net after the independent check and its corrections.
+struct Checked {
+    patch: TensorPatch,
+    /// The recomputed energy and gradient, the estimated excess and the
+    /// scale; `None` when a term cannot be checked.
+    at: Option<(EnergyAt, f64, f64)>,
+    corrections: usize,
+}
+
+impl Factored {
+    /// The net of the free values `xf`, checked on its f64 control points:
+    /// energy and gradient in double-double ([`check::tensor`]), the excess
+    /// ½ gᵀH_FF⁻¹g with the factor. While the excess is above the tolerance
+    /// and `correct` (no repellors), Newton corrections x ← x − H_FF⁻¹g with
+    /// the exact gradient, kept only when they lower the recomputed energy.
+    fn checked_net(
+        &self,
+        problem: &Problem,
+        placed: &[Placed],
+        sys: &Rhs,
+        rows: &[usize],
+        mut xf: Mat<f64>,
+        correct: bool,
+    ) -> Result<Checked> {
+        let integrands: Vec<_> = problem.terms.iter().map(|t| t.integrand()).collect();
+        let operators: Vec<_> = problem
+            .operators
+            .iter()
+            .zip(placed)
+            .map(|(op, (_, res))| (op, &res[..]))
+            .collect();
+        // The rounding floor of the check's scale, from the data (known
+        // points, guide surfaces), never from the solution itself.
+        let max_diagonal = (0..self.h_ff.nrows())
+            .map(|i| self.h_ff[(i, i)])
+            .fold(0.0, f64::max);
+        let data = problem
+            .known
+            .iter()
+            .flatten()
+            .chain(integrands.iter().flatten().flat_map(|i| match i {
+                Integrand::GuideSurface { surface, .. } => surface.points(),
+                _ => &[],
+            }))
+            .flatten()
+            .fold(0.0, |r: f64, v| r.max(v.abs()));
+        let rounding = max_diagonal * (self.h_ff.nrows() * 3 / xf.ncols()) as f64 * data * data;
+        let net = |xf: &Mat<f64>| {
+            TensorPatch::try_new(
+                self.degree.0,
+                self.degree.1,
+                sys.fill(rows, xf, self.coupled),
+            )
+            .map_err(|_| Error::NotFinite {
+                what: "the solution (the system overflowed)".into(),
+            })
+        };
+        let mut patch = net(&xf)?;
+        let mut corrections = 0;
+        let Some(mut at) = check::tensor::energy_at(&integrands, &operators, &patch) else {
+            return Ok(Checked {
+                patch,
+                at: None,
+                corrections,
+            });
+        };
+        loop {
+            let g = self.free_gradient(&at);
+            let y = self.factor.apply(&g);
+            let excess = 0.5
+                * (0..g.nrows())
+                    .flat_map(|i| (0..g.ncols()).map(move |c| (i, c)))
+                    .map(|(i, c)| g[(i, c)] * y[(i, c)])
+                    .sum::<f64>()
+                    .abs();
+            let scale = check::scale(at.total.to_f64(), rounding);
+            let done = !excess.is_finite() || excess <= check::GOAL * scale;
+            if done || !correct || corrections == check::MAX_CORRECTIONS {
+                return Ok(Checked {
+                    patch,
+                    at: Some((at, excess, scale)),
+                    corrections,
+                });
+            }
+            let next_xf = &xf - &y;
+            let next = net(&next_xf)?;
+            let Some(next_at) = check::tensor::energy_at(&integrands, &operators, &next) else {
+                unreachable!("the integrands were evaluated before");
+            };
+            if next_at.total.to_f64() >= at.total.to_f64() {
+                return Ok(Checked {
+                    patch,
+                    at: Some((at, excess, scale)),
+                    corrections,
+                });
+            }
+            (xf, patch, at, corrections) = (next_xf, next, next_at, corrections + 1);
+        }
+    }
+
+    /// The recomputed gradient on the free rows, in the system's layout.
+    fn free_gradient(&self, at: &EnergyAt) -> Mat<f64> {
+        let g = &at.gradient;
+        if self.coupled {
+            Mat::from_fn(3 * self.free.len(), 1, |r, _| {
+                g[r % 3].v[self.free[r / 3]].to_f64()
+            })
+        } else {
+            Mat::from_fn(self.free.len(), 3, |i, c| g[c].v[self.free[i]].to_f64())
+        }
     }
 }
 

@@ -46,6 +46,11 @@ pub struct SolveReport {
     pub terms: Vec<TermEnergy>,
     /// Their sum and the operators': the minimized energy.
     pub energy: f64,
+    /// The independent check of the written net (energy and gradient
+    /// recomputed in double-double); `None` only when a term does not
+    /// describe its integrand ([`crate::EnergyTerm::integrand`]). A report is
+    /// returned only when its check passed.
+    pub check: Option<crate::Check>,
     /// The external operators' energy (Veltkamp & Wesselink §5), in `energy`.
     pub external: f64,
     /// Each operator's energy and how far its target is met.

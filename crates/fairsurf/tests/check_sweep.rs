@@ -1,0 +1,147 @@
+//! Every degree a scene may ask for (1…40) is either verified to 1e-10 on
+//! the written net or refused: no wrong surface with a clean report.
+//!
+//! Problems with a known minimizer: the flat unit square (stretch: the
+//! uniform grid, energy 1; bend: energy 0), the harmonic z = u² − v² + uv
+//! (Dirichlet extremal of its boundary, energy 8/3) and the biharmonic
+//! z = u³ + uv² (thin-plate extremal of its two outer rings, energy 8).
+
+use fairsurf::{Bend, Error, Problem, Stretch, TensorPatch};
+
+/// Largest degree of the scene schema.
+const MAX_DEGREE: usize = 40;
+
+/// C(i, k) / C(n, k): the Bernstein coefficients of t^k at degree n.
+fn power_coefficient(i: usize, k: usize, n: usize) -> f64 {
+    if i < k {
+        return 0.0;
+    }
+    (0..k).map(|r| (i - r) as f64 / (n - r) as f64).product()
+}
+
+/// The net of (u, v, z(u, v)) for z given by its monomials' coefficients
+/// [(coefficient, power of u, power of v)].
+fn polynomial_net(n: usize, z: &[(f64, usize, usize)]) -> TensorPatch {
+    TensorPatch::from_fn(n, n, |i, j| {
+        let zij = z
+            .iter()
+            .map(|&(c, a, b)| c * power_coefficient(i, a, n) * power_coefficient(j, b, n))
+            .sum();
+        [i as f64 / n as f64, j as f64 / n as f64, zij]
+    })
+}
+
+struct Case {
+    name: &'static str,
+    z: &'static [(f64, usize, usize)],
+    bend: bool,
+    energy: f64,
+}
+
+const CASES: &[Case] = &[
+    Case {
+        name: "flat, stretch",
+        z: &[],
+        bend: false,
+        energy: 1.0,
+    },
+    Case {
+        name: "flat, bend",
+        z: &[],
+        bend: true,
+        energy: 0.0,
+    },
+    Case {
+        name: "harmonic u²−v²+uv, stretch",
+        z: &[(1.0, 2, 0), (-1.0, 0, 2), (1.0, 1, 1)],
+        bend: false,
+        energy: 8.0 / 3.0,
+    },
+    Case {
+        name: "biharmonic u³+uv², bend",
+        z: &[(1.0, 3, 0), (1.0, 1, 2)],
+        bend: true,
+        energy: 8.0,
+    },
+];
+
+/// Solves one case at degree n: Ok(energy) when verified, Err(message)
+/// when refused as unverifiable; any other outcome fails the test.
+fn solve(case: &Case, n: usize) -> Result<f64, String> {
+    let net = polynomial_net(n, case.z);
+    let rings = if case.bend { 2 } else { 1 };
+    let p = Problem::new((n, n)).with_fixed_rings(&net, rings);
+    let p = if case.bend {
+        p.with_term(Bend::new(1.0))
+    } else {
+        p.with_term(Stretch::new(1.0))
+    };
+    match p.solve() {
+        Ok(s) => {
+            let c = s.report.check.expect("built-in terms are checked");
+            assert!(
+                c.passed(),
+                "{}: degree {n}: a report that failed its check: {c:?}",
+                case.name
+            );
+            assert!(s.report.energy >= 0.0);
+            // The recomputed energy is the minimum's, to the tolerance.
+            let scale = case.energy.max(c.scale);
+            assert!(
+                (c.energy - case.energy).abs() <= 2e-10 * scale,
+                "{}: degree {n}: energy {} instead of {} (check {c:?})",
+                case.name,
+                c.energy,
+                case.energy
+            );
+            assert_eq!(s.report.energy, c.energy);
+            Ok(c.energy)
+        }
+        Err(e @ Error::Unverified { .. }) => Err(e.to_string()),
+        Err(e) => panic!("{}: degree {n}: unexpected error {e}", case.name),
+    }
+}
+
+fn sweep(case: &Case) {
+    {
+        let first = if case.bend { 4 } else { 2 };
+        let mut verified = Vec::new();
+        let mut refused = Vec::new();
+        for n in first..=MAX_DEGREE {
+            match solve(case, n) {
+                Ok(_) => verified.push(n),
+                Err(message) => {
+                    assert!(message.contains("lower degree"), "{message}");
+                    refused.push(n)
+                }
+            }
+        }
+        println!("{}: verified {verified:?}, refused {refused:?}", case.name);
+        // The limits the README states: everything up to 24 verifies.
+        assert!(
+            (first..=24).all(|n| verified.contains(&n)),
+            "{}: refused below 25: {refused:?}",
+            case.name
+        );
+    }
+}
+
+#[test]
+fn flat_square_stretch_at_every_degree() {
+    sweep(&CASES[0]);
+}
+
+#[test]
+fn flat_square_bend_at_every_degree() {
+    sweep(&CASES[1]);
+}
+
+#[test]
+fn harmonic_polynomial_at_every_degree() {
+    sweep(&CASES[2]);
+}
+
+#[test]
+fn biharmonic_polynomial_at_every_degree() {
+    sweep(&CASES[3]);
+}
