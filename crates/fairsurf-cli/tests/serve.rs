@@ -574,3 +574,90 @@ fn errors_are_json_with_paths_and_statuses() {
         );
     }
 }
+
+/// Status of a raw request with the given header lines.
+fn raw_status(s: &Server, method: &str, path: &str, headers: &str, body: &str) -> u16 {
+    let mut c = TcpStream::connect(&s.addr).unwrap();
+    write!(
+        c,
+        "{method} {path} HTTP/1.1\r\n{headers}Content-Length: {}\r\nConnection: close\r\n\r\n{body}",
+        body.len()
+    )
+    .unwrap();
+    let mut out = Vec::new();
+    c.read_to_end(&mut out).unwrap();
+    String::from_utf8_lossy(&out[9..12]).parse().unwrap()
+}
+
+/// A page elsewhere cannot drive the server: a foreign Host (DNS
+/// rebinding), a foreign Origin, and the simple content types a cross-site
+/// form can send are refused; the editor's own requests are not.
+#[test]
+fn foreign_hosts_origins_and_content_types_are_refused() {
+    let s = start(&["--allow-host", "workstation"]);
+    let port = s.addr.rsplit(':').next().unwrap().to_string();
+    let body = json!({"scene": example("quickstart.json")}).to_string();
+    let json_type = "Content-Type: application/json\r\n";
+    let own = format!("Host: {}\r\n", s.addr);
+    for (headers, path, expected) in [
+        (format!("{own}"), "/api/examples", 200),
+        (format!("Host: localhost:{port}\r\n"), "/api/examples", 200),
+        (
+            format!("Host: workstation:{port}\r\n"),
+            "/api/examples",
+            200,
+        ),
+        (
+            format!("Host: evil.example:{port}\r\n"),
+            "/api/examples",
+            403,
+        ),
+        (format!("Host: evil.example\r\n"), "/", 403),
+        (String::new(), "/api/examples", 403),
+        (
+            format!("{own}Origin: http://{}\r\n", s.addr),
+            "/api/examples",
+            200,
+        ),
+        (
+            format!("{own}Origin: http://evil.example\r\n"),
+            "/api/examples",
+            403,
+        ),
+        (format!("{own}Origin: null\r\n"), "/api/examples", 403),
+    ] {
+        assert_eq!(
+            raw_status(&s, "GET", path, &headers, ""),
+            expected,
+            "{headers}"
+        );
+    }
+    for (headers, expected) in [
+        (format!("{own}{json_type}"), 200),
+        (
+            format!("{own}Content-Type: application/json; charset=utf-8\r\n"),
+            200,
+        ),
+        (format!("{own}Content-Type: text/plain\r\n"), 415),
+        (
+            format!("{own}Content-Type: application/x-www-form-urlencoded\r\n"),
+            415,
+        ),
+        (
+            format!("{own}Content-Type: multipart/form-data; boundary=x\r\n"),
+            415,
+        ),
+        (own.clone(), 415),
+        (
+            format!("{own}{json_type}Origin: http://evil.example\r\n"),
+            403,
+        ),
+        (format!("Host: evil.example:{port}\r\n{json_type}"), 403),
+    ] {
+        assert_eq!(
+            raw_status(&s, "POST", "/api/solve", &headers, &body),
+            expected,
+            "{headers}"
+        );
+    }
+}

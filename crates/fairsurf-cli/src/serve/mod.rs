@@ -5,11 +5,13 @@
 //! factorizations ([`fairsurf::FactorCache`]), so that a drag re-solves
 //! without assembling or factoring; answers never depend on it.
 //!
-//! Limits, each a clear JSON error: the request body (`--max-body-mb`,
+//! Requests not addressed to this server or not from its page are refused
+//! (`guard.rs`: Host, Origin, Content-Type). Limits, each a clear JSON error: the request body (`--max-body-mb`,
 //! 413), the problem's size (`--max-unknowns`, 413), the solve time
 //! (`--timeout`, 503), and at most as many solves at once as there are
 //! cores (the others wait their turn).
 
+mod guard;
 mod view;
 
 use crate::Failure;
@@ -52,6 +54,11 @@ pub struct Args {
     /// Largest problem: scalar unknowns (3 per control point).
     #[arg(long, default_value_t = 300_000)]
     max_unknowns: usize,
+    /// Another host name the server answers to (besides 127.0.0.1,
+    /// localhost and [::1] at its port), e.g. a name for this machine;
+    /// repeatable. Requests naming any other Host are refused (403).
+    #[arg(long = "allow-host", value_name = "NAME[:PORT]")]
+    allow_host: Vec<String>,
 }
 
 /// At most this many factorizations are kept between requests…
@@ -166,7 +173,8 @@ pub fn run(a: Args) -> Result<(), Failure> {
         println!("fairsurf editor: http://{local}/");
         use std::io::Write;
         let _ = std::io::stdout().flush();
-        axum::serve(listener, router(server))
+        let hosts = Arc::new(guard::Hosts::new(local, &a.allow_host));
+        axum::serve(listener, router(server, hosts))
             .await
             .map_err(|e| Failure::input(format!("server stopped: {e}")))
     })
@@ -188,7 +196,7 @@ fn bundled_examples() -> Vec<(String, String)> {
     out
 }
 
-pub(crate) fn router(server: Arc<Server>) -> Router {
+pub(crate) fn router(server: Arc<Server>, hosts: Arc<guard::Hosts>) -> Router {
     Router::new()
         .route("/api/examples", get(list_examples))
         .route("/api/examples/{file}", get(get_example))
@@ -199,6 +207,7 @@ pub(crate) fn router(server: Arc<Server>) -> Router {
         .route("/api/{*rest}", get(api_not_found).post(api_not_found))
         .fallback(get(asset))
         .with_state(server)
+        .layer(axum::middleware::from_fn_with_state(hosts, guard::guard))
 }
 
 async fn api_not_found() -> ApiError {
