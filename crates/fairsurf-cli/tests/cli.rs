@@ -808,3 +808,75 @@ fn analyse_measures_result_files() {
     );
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// Issue 17's silent non-solutions, each now an exit 2 that names the JSON
+/// path or says what was reached, with no output file: trailing data after
+/// the scene, a coordinate whose energy overflows, a NaN inside a
+/// triangular scene (it was reported as an unknown surface type), and a
+/// degree-34 flat square whose net double precision cannot hold (its
+/// reported energy was −14.7).
+#[test]
+fn silent_non_solutions_are_refused() {
+    let d = tmpdir("refused");
+    let quick: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(examples().join("quickstart.json")).unwrap())
+            .unwrap();
+    let mut huge = quick.clone();
+    huge["surface"]["control_points"][0][0] = serde_json::json!([1e154, 0, 0]);
+    let tri = std::fs::read_to_string(examples().join("vw_fig1_point_normal.json")).unwrap();
+    let at = tri.find("\"vertices\"").unwrap();
+    let first = at + tri[at..].find("[").unwrap() + 1;
+    let first = first + tri[first..].find('[').unwrap() + 1;
+    let rest = &tri[first..];
+    let tri_nan = format!(
+        "{}NaN,{}",
+        &tri[..first],
+        &rest[rest.find(',').unwrap() + 1..]
+    );
+    let n = 34;
+    let net: Vec<Vec<serde_json::Value>> = (0..=n)
+        .map(|i| {
+            (0..=n)
+                .map(|j| {
+                    if i == 0 || j == 0 || i == n || j == n {
+                        serde_json::json!([i as f64 / n as f64, j as f64 / n as f64, 0.0])
+                    } else {
+                        serde_json::Value::Null
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    let flat = serde_json::json!({"surface": {"type": "tensor", "degree": [n, n], "control_points": net}, "energy": {"stretch": 1.0}});
+    for (name, text, expected) in [
+        (
+            "trailing",
+            format!("{quick}\n{{\"x\": 1}}\n"),
+            "a file holds one scene",
+        ),
+        (
+            "huge",
+            huge.to_string(),
+            "surface.control_points[0][0][0]: 1e154 is too large",
+        ),
+        ("tri_nan", tri_nan, "surface.vertices[0][0]: expected value"),
+        (
+            "flat34",
+            flat.to_string(),
+            "cannot be verified in double precision",
+        ),
+    ] {
+        let scene = d.join(format!("{name}.json"));
+        std::fs::write(&scene, text).unwrap();
+        let out = d.join(format!("{name}.result.json"));
+        let o = fairsurf(&[
+            "solve",
+            scene.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{name}: {}", stderr(&o));
+        assert!(stderr(&o).contains(expected), "{name}: {}", stderr(&o));
+        assert!(!out.exists(), "{name}");
+    }
+}

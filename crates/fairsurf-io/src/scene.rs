@@ -258,26 +258,48 @@ impl Scene {
 /// Parses JSON into `T`; errors name the JSON path.
 pub(crate) fn parse_with_path<T: serde::de::DeserializeOwned>(text: &str) -> crate::Result<T> {
     let de = &mut serde_json::Deserializer::from_str(text);
-    serde_path_to_error::deserialize(de).map_err(|e| {
+    let value = serde_path_to_error::deserialize(&mut *de).map_err(|e| {
         let path = e.path().to_string();
         crate::Error::scene(
             if path == "." { String::new() } else { path },
             e.into_inner().to_string(),
         )
-    })
+    })?;
+    // One JSON value and nothing after it but white space.
+    de.end().map_err(|e| {
+        crate::Error::scene(
+            String::new(),
+            format!("more after the scene's closing brace ({e}): a file holds one scene"),
+        )
+    })?;
+    Ok(value)
 }
 
 /// Which kind of scene a JSON text holds: `"triangular"` when its
 /// `surface.type` says so, tensor otherwise (including when it does not
 /// parse, so that the tensor parser reports the error with its path).
+///
+/// A text that is not valid JSON (a NaN, 1e999, a truncated file) is
+/// triangular when it says `"type": "triangular"` anywhere (no other scene
+/// field has that value), so that the triangular parser names the real
+/// problem and its path.
 pub fn is_triangular(text: &str) -> bool {
-    serde_json::from_str::<serde_json::Value>(text)
-        .ok()
-        .and_then(|v| {
-            v.get("surface")?
-                .get("type")?
-                .as_str()
-                .map(|t| t == "triangular")
-        })
-        .unwrap_or(false)
+    match serde_json::from_str::<serde_json::Value>(text) {
+        Ok(v) => v
+            .get("surface")
+            .and_then(|s| s.get("type"))
+            .and_then(|t| t.as_str())
+            .is_some_and(|t| t == "triangular"),
+        Err(_) => says_triangular(text),
+    }
+}
+
+/// Whether the text has `"type"`, a colon and `"triangular"` in a row
+/// (white space allowed between them).
+fn says_triangular(text: &str) -> bool {
+    text.match_indices("\"type\"").any(|(k, key)| {
+        let rest = text[k + key.len()..].trim_start();
+        rest.strip_prefix(':')
+            .is_some_and(|r| r.trim_start().starts_with("\"triangular\""))
+    })
 }

@@ -7,6 +7,11 @@ use fairsurf::{
     Bend, GuideSurface, Measure, NormalField, Problem, SampleGrid, Stretch, TensorPatch, Vec3,
 };
 
+/// Largest accepted coordinate magnitude: energies square coordinates and
+/// multiply them by powers of the degree, which must stay finite in double
+/// precision (at 1e154 they overflowed to NaN).
+pub const MAX_COORDINATE: f64 = 1e100;
+
 /// Largest accepted degree: the dense system of a degree-40 patch with a
 /// normal field has 3·39² ≈ 4,600 unknowns (a 170 MB matrix).
 pub const MAX_DEGREE: usize = 40;
@@ -513,6 +518,16 @@ pub(crate) fn parse_net(
                         return Err(Error::scene(
                             format!("{}[{k}]", here()),
                             "expected a finite number",
+                        ));
+                    }
+                    if let Some(k) = c.iter().position(|x| x.abs() > MAX_COORDINATE) {
+                        return Err(Error::scene(
+                            format!("{}[{k}]", here()),
+                            format!(
+                                "{:e} is too large: coordinates must be at most {MAX_COORDINATE:e} \
+                                 in magnitude (energies square them; scale the scene)",
+                                c[k]
+                            ),
                         ));
                     }
                     out.push(Some([c[0], c[1], c[2]]));
