@@ -145,3 +145,34 @@ fn harmonic_polynomial_at_every_degree() {
 fn biharmonic_polynomial_at_every_degree() {
     sweep(&CASES[3]);
 }
+
+/// E1/E2 as in the benchmarks (λ = 10 with a degree-3 field, γ = 1):
+/// prints which degrees verify and what the check costs. `cargo test
+/// --release -p fairsurf --test check_sweep -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn guided_energies_report() {
+    use fairsurf::{GuideSurface, NormalField, SolveOptions};
+    let field = TensorPatch::from_fn(3, 3, |i, j| [0.2 * i as f64 - 0.3, 0.1 * j as f64, 1.0]);
+    for n in [5, 10, 15, 20, 24, 28, 30, 32, 36, 40] {
+        let net = TensorPatch::from_fn(n, n, |i, j| {
+            let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
+            [u, v, 0.3 * (3.0 * u).sin() * (2.0 * v).cos()]
+        });
+        for rings in [1, 2] {
+            let p = Problem::new((n, n)).with_fixed_rings(&net, rings);
+            let p = if rings == 1 { p.with_term(Stretch::new(1.0)) } else { p.with_term(Bend::new(1.0)) };
+            let p = p.with_term(NormalField::new(10.0, field.clone())).with_term(GuideSurface::new(1.0, net.clone()));
+            match p.solve_with(&SolveOptions::default().with_analyse(false)) {
+                Ok(s) => {
+                    let c = s.report.check.unwrap();
+                    println!(
+                        "degree {n} rings {rings}: verified, excess {:.1e}, closed forms {:.1e}, {} corrections, check {:.1} ms of {:.1} ms",
+                        c.excess, c.energy_error, c.corrections, 1e3 * c.seconds, 1e3 * s.report.timings.total
+                    );
+                }
+                Err(e) => println!("degree {n} rings {rings}: refused: {}", &e.to_string()[..120]),
+            }
+        }
+    }
+}
