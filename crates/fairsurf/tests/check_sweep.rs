@@ -161,8 +161,14 @@ fn guided_energies_report() {
         });
         for rings in [1, 2] {
             let p = Problem::new((n, n)).with_fixed_rings(&net, rings);
-            let p = if rings == 1 { p.with_term(Stretch::new(1.0)) } else { p.with_term(Bend::new(1.0)) };
-            let p = p.with_term(NormalField::new(10.0, field.clone())).with_term(GuideSurface::new(1.0, net.clone()));
+            let p = if rings == 1 {
+                p.with_term(Stretch::new(1.0))
+            } else {
+                p.with_term(Bend::new(1.0))
+            };
+            let p = p
+                .with_term(NormalField::new(10.0, field.clone()))
+                .with_term(GuideSurface::new(1.0, net.clone()));
             match p.solve_with(&SolveOptions::default().with_analyse(false)) {
                 Ok(s) => {
                     let c = s.report.check.unwrap();
@@ -171,7 +177,10 @@ fn guided_energies_report() {
                         c.excess, c.energy_error, c.corrections, 1e3 * c.seconds, 1e3 * s.report.timings.total
                     );
                 }
-                Err(e) => println!("degree {n} rings {rings}: refused: {}", &e.to_string()[..120]),
+                Err(e) => println!(
+                    "degree {n} rings {rings}: refused: {}",
+                    &e.to_string()[..120]
+                ),
             }
         }
     }
