@@ -194,7 +194,9 @@ pub(crate) fn tensor_operator(o: &TensorOperatorSpec, i: usize) -> Result<Tensor
             let [n, m] = p.degree;
             let rows = &p.control_points;
             let bad = |what: String| Error::scene(format!("{path}.surface.control_points"), what);
-            if rows.len() != n + 1 || rows.iter().any(|r| r.len() != m + 1) {
+            if rows.len() != n.saturating_add(1)
+                || rows.iter().any(|r| r.len() != m.saturating_add(1))
+            {
                 return Err(bad(format!(
                     "expected {} rows of {} points for degree [{n}, {m}]",
                     n + 1,

@@ -73,15 +73,7 @@ impl Scene {
     /// Checks the scene and builds its problem.
     pub fn build(&self) -> Result<Built> {
         let t = self.tensor();
-        let [n, m] = t.degree;
-        for (k, d) in [n, m].into_iter().enumerate() {
-            if d == 0 || d > MAX_DEGREE {
-                return Err(Error::scene(
-                    format!("surface.degree[{k}]"),
-                    format!("expected 1 to {MAX_DEGREE}, got {d}"),
-                ));
-            }
-        }
+        let [n, m] = self.checked_degree()?;
         let given = parse_net(&t.control_points, "surface.control_points", (n, m), true)?;
         if let Some(method) = self.method.construction() {
             return self.build_construction(method, &given, (n, m));
@@ -193,7 +185,7 @@ impl Scene {
     /// file, or a scene with no null), else an error naming the first null.
     pub fn surface_patch(&self) -> Result<TensorPatch> {
         let t = self.tensor();
-        let [n, m] = t.degree;
+        let [n, m] = self.checked_degree()?;
         let pts = parse_net(&t.control_points, "surface.control_points", (n, m), true)?;
         if let Some(k) = pts.iter().position(Option::is_none) {
             return Err(Error::scene(
@@ -206,6 +198,22 @@ impl Scene {
             m,
             pts.into_iter().map(|p| p.expect("checked")).collect(),
         ))
+    }
+
+    /// The surface's degree, each 1 to [`MAX_DEGREE`]: what every command
+    /// (solve, analyse, eval, export, render) accepts, so that no entry
+    /// point allocates for a degree the solver refuses.
+    fn checked_degree(&self) -> Result<[usize; 2]> {
+        let [n, m] = self.tensor().degree;
+        for (k, d) in [n, m].into_iter().enumerate() {
+            if d == 0 || d > MAX_DEGREE {
+                return Err(Error::scene(
+                    format!("surface.degree[{k}]"),
+                    format!("expected 1 to {MAX_DEGREE}, got {d}"),
+                ));
+            }
+        }
+        Ok([n, m])
     }
 
     fn free_mask(&self, given: &[Option<Vec3>], (n, m): (usize, usize)) -> Result<Vec<bool>> {

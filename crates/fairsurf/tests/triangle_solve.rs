@@ -584,3 +584,47 @@ fn bad_constraints_are_errors_naming_them() {
     let loose = TriProblem::new(s, bend()).solve().unwrap_err();
     assert!(matches!(loose, Error::Singular { .. }), "{loose}");
 }
+
+/// Nothing holds a free surface in place: the internal energy is the same
+/// for every translation, so the system is singular and the solve says so
+/// and in which direction (it used to collapse every point to the origin
+/// with energy 0). An in-plane constraint pins one direction; the error
+/// then names another. A point constraint pins all three (with stretch, whose
+/// only free motions are translations).
+#[test]
+fn a_surface_nothing_holds_is_singular() {
+    let at = DomainPoint {
+        triangle: 0,
+        bary: [0.2, 0.3, 0.5],
+    };
+    let free = TriProblem::new(grid(3, 3), bend());
+    match free.solve() {
+        Err(Error::Singular { hint, .. }) => assert!(hint.contains("nothing holds"), "{hint}"),
+        other => panic!("expected a singular system, got {other:?}"),
+    }
+    let plane = TriProblem::new(grid(3, 3), bend()).with_constraint(
+        "plane",
+        Constraint::InPlane {
+            at,
+            normal: [0.0, 0.0, 1.0],
+            offset: 0.0,
+        },
+    );
+    match plane.solve() {
+        Err(Error::Singular { hint, .. }) => {
+            assert!(hint.contains("(1.000, 0.000, 0.000)"), "{hint}")
+        }
+        other => panic!("expected a singular system, got {other:?}"),
+    }
+    // With stretch only constants cost nothing, and the point pins them.
+    let point = TriProblem::new(grid(3, 3), InternalEnergy::new(1.0, 0.0)).with_constraint(
+        "point",
+        Constraint::Point {
+            at,
+            target: [0.5, 0.5, 1.0],
+        },
+    );
+    let s = point.solve().unwrap();
+    // Energy 0 at the minimum: every point collapses onto the target.
+    assert!(s.report.total.abs() < 1e-12, "{}", s.report.total);
+}

@@ -457,6 +457,25 @@ impl TriProblem {
         }
         let h = add_quadratic(h, &mut b, &quadratic)?;
         seconds.assemble = t.elapsed().as_secs_f64();
+        let pinning = rows.iter().map(|r| &r.terms[..]).chain(
+            self.operators
+                .iter()
+                .zip(&residuals)
+                .filter(|(op, _)| !op.repel)
+                .flat_map(|(_, res)| res.iter().map(|r| &r.terms[..])),
+        );
+        if let Some(d) = free_translation(&known, pinning) {
+            return Err(Error::Singular {
+                unknowns: free.len(),
+                condition: f64::INFINITY,
+                hint: format!(
+                    "nothing holds the surface in place along ({:.3}, {:.3}, {:.3}): the internal \
+                     energy does not change when every point moves that way; fix the boundary \
+                     (\"fix_boundary\": true), fix or constrain a point, or add an attractor",
+                    d[0], d[1], d[2]
+                ),
+            });
+        }
 
         // 5–6. Classify rows and solve. Continuity conditions near
         // dependence (F nearly rank-deficient) make the KKT system singular
@@ -921,4 +940,60 @@ fn curve_distance(surface: &TriSurface, chain: &[usize], curve: &BezierCurve) ->
 
 fn bounding_size(points: &[Vec3]) -> f64 {
     crate::vec3::bounding_diagonal(points).max(1.0)
+}
+
+/// A direction in which every free control point can move together without
+/// changing the internal energy (translation invariant) or any constraint
+/// row or attractor residual: `None` when known coordinates, rows and
+/// residuals pin all three. A known coordinate pins its axis (the mesh
+/// couples it to every free point); a row or residual Σ a_i x_i pins the
+/// direction (Σ_{i: x} a_i, Σ_{i: y} a_i, Σ_{i: z} a_i) over its free
+/// coordinates i = 3g + c.
+fn free_translation<'a>(
+    known: &[Option<f64>],
+    pinning: impl Iterator<Item = &'a [(usize, f64)]>,
+) -> Option<Vec3> {
+    let axes = (0..3).filter_map(|c| {
+        (0..known.len() / 3)
+            .any(|g| known[3 * g + c].is_some())
+            .then(|| std::array::from_fn(|k| if k == c { 1.0 } else { 0.0 }))
+    });
+    let directions = pinning.map(|terms| {
+        let mut v = [0.0; 3];
+        let mut scale: f64 = 0.0;
+        for &(i, a) in terms {
+            if known[i].is_none() {
+                v[i % 3] += a;
+                scale = scale.max(a.abs());
+            }
+        }
+        // Coefficients that cancel to rounding pin nothing.
+        v.map(|x| if x.abs() > 1e-9 * scale { x } else { 0.0 })
+    });
+    // Gram–Schmidt: an orthonormal basis of the pinned directions.
+    let mut basis: Vec<Vec3> = Vec::new();
+    for mut v in axes.chain(directions) {
+        if basis.len() == 3 {
+            return None;
+        }
+        for q in &basis {
+            let d = crate::vec3::dot(v, *q);
+            v = crate::vec3::sub(v, crate::vec3::scale(*q, d));
+        }
+        if let Some(u) = crate::vec3::normalize(v).filter(|_| crate::vec3::norm(v) > 1e-9) {
+            basis.push(u);
+        }
+    }
+    if basis.len() == 3 {
+        return None;
+    }
+    // A unit vector orthogonal to the basis.
+    let mut free =
+        (0..3).map(|c| -> Vec3 { std::array::from_fn(|k| if k == c { 1.0 } else { 0.0 }) });
+    free.find_map(|mut v| {
+        for q in &basis {
+            v = crate::vec3::sub(v, crate::vec3::scale(*q, crate::vec3::dot(v, *q)));
+        }
+        crate::vec3::normalize(v).filter(|_| crate::vec3::norm(v) > 0.5)
+    })
 }
