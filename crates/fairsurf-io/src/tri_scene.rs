@@ -323,6 +323,7 @@ impl TriScene {
                 format!("must be 1 to {MAX_DEGREE}, got {}", s.degree),
             ));
         }
+        check_domain(&s.vertices, &s.triangles)?;
         let mut surface = TriSurface::try_new(&s.vertices, &s.triangles, s.degree)
             .map_err(|e| Error::scene("surface", e.to_string()))?;
         if let Some(points) = &s.control_points {
@@ -417,6 +418,13 @@ impl TriScene {
                         .control_points
                         .clone()
                         .ok_or_else(|| need("control_points"))?;
+                    if points.len() < 2 || points.iter().all(|p| *p == points[0]) {
+                        return Err(Error::scene(
+                            format!("{path}.control_points"),
+                            "a curve needs at least two distinct control points \
+                             (a single point is a \"point\" constraint)",
+                        ));
+                    }
                     let curve = BezierCurve::try_new(points).map_err(|e| {
                         Error::scene(format!("{path}.control_points"), e.to_string())
                     })?;
@@ -480,6 +488,46 @@ impl TriScene {
     pub fn surface(&self) -> Result<TriSurface> {
         Ok(self.problem()?.surface().clone())
     }
+}
+
+/// Vertices within the coordinate limit, and triangles with three corners
+/// not on a line: area above 1e-12 of the squared bounding diagonal (a
+/// zero-area triangle has no tangent plane; its curvature was 2e31).
+fn check_domain(vertices: &[[f64; 3]], triangles: &[[usize; 3]]) -> Result<()> {
+    let limit = crate::validate::MAX_COORDINATE;
+    for (k, v) in vertices.iter().enumerate() {
+        if let Some(c) = v.iter().position(|x| !(x.abs() <= limit)) {
+            return Err(Error::scene(
+                format!("surface.vertices[{k}][{c}]"),
+                format!(
+                    "expected a finite number of magnitude at most {limit:e}, got {:e}",
+                    v[c]
+                ),
+            ));
+        }
+    }
+    let diagonal = fairsurf::vector::bounding_diagonal(vertices);
+    for (k, t) in triangles.iter().enumerate() {
+        let Some(p) = t
+            .iter()
+            .map(|&i| vertices.get(i))
+            .collect::<Option<Vec<_>>>()
+        else {
+            continue; // an index out of range: TriSurface::try_new names it
+        };
+        use fairsurf::vector::{cross, norm, sub};
+        let area = 0.5 * norm(cross(sub(*p[1], *p[0]), sub(*p[2], *p[0])));
+        if !(area > 1e-12 * diagonal * diagonal) {
+            return Err(Error::scene(
+                format!("surface.triangles[{k}]"),
+                format!(
+                    "its corners {t:?} are equal or on a line (area {area:.1e}): a triangle \
+                     needs three corners that span a plane"
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn domain_point(p: DomainPointSpec) -> DomainPoint {

@@ -335,6 +335,13 @@ impl Scene {
                 match &f.control_points {
                     Some(cp) => {
                         let patch = parse_patch(cp, f.degree, "energy.normal_field")?;
+                        if patch.points().iter().flatten().all(|&x| x == 0.0) {
+                            return Err(Error::scene(
+                                "energy.normal_field.control_points",
+                                "the field is zero everywhere and gives no direction: \
+                                 give the normals N to follow",
+                            ));
+                        }
                         Some((f.weight, Some(patch)))
                     }
                     None if sampling.is_some_and(|s| s.normal_samples.is_some()) => Some((f.weight, None)),

@@ -549,3 +549,63 @@ fn refined_result_keeps_region_operators() {
         );
     }
 }
+
+/// Issue 17's inputs that were solved or measured into nonsense, each now
+/// an error naming its JSON path.
+#[test]
+fn degenerate_inputs_name_their_path() {
+    use fairsurf_io::TriScene;
+    // A Bézier normal field that is zero everywhere.
+    let mut v = base();
+    v["energy"]["normal_field"] = json!({"degree": [0, 0], "control_points": [[[0, 0, 0]]]});
+    let (path, msg) = err(&v);
+    assert_eq!(path, "energy.normal_field.control_points");
+    assert!(msg.contains("zero everywhere"), "{msg}");
+    // Degree [0, 0] is refused by analyse as by solve.
+    let zero =
+        json!({"surface": {"type": "tensor", "degree": [0, 0], "control_points": [[[0, 0, 0]]]}});
+    match Scene::from_json(&zero.to_string()).unwrap().analyse() {
+        Err(Error::Scene { path, .. }) => assert_eq!(path, "surface.degree[0]"),
+        other => panic!("{other:?}"),
+    }
+    // A coordinate whose energy overflows.
+    let (path, msg) = err(&with(
+        base(),
+        "/surface/control_points/0/1",
+        json!([0, 1e154, 0]),
+    ));
+    assert_eq!(path, "surface.control_points[0][1][1]");
+    assert!(msg.contains("too large"), "{msg}");
+    // Triangular: degenerate triangles, a one-point curve, data after the scene.
+    let text = std::fs::read_to_string(examples().join("vw_fig2_curve.json")).unwrap();
+    let fig2: Value = serde_json::from_str(&text).unwrap();
+    let tri_err = |v: &Value| match TriScene::from_json(&v.to_string()).and_then(|s| s.problem()) {
+        Err(Error::Scene { path, message }) => (path, message),
+        other => panic!("expected a scene error, got {other:?}"),
+    };
+    let mut same = fig2.clone();
+    for k in [1, 6] {
+        same["surface"]["vertices"][k] = json!([0.0, 0.0, 0.0]);
+    }
+    let (path, msg) = tri_err(&same);
+    assert_eq!(path, "surface.triangles[0]");
+    assert!(msg.contains("on a line"), "{msg}");
+    let mut collinear = fig2.clone();
+    collinear["surface"]["vertices"][6] = json!([0.5, 0.0, 0.0]);
+    assert_eq!(tri_err(&collinear).0, "surface.triangles[0]");
+    let mut huge = fig2.clone();
+    huge["surface"]["vertices"][3][2] = json!(1e200);
+    assert_eq!(tri_err(&huge).0, "surface.vertices[3][2]");
+    let mut one = fig2.clone();
+    one["constraints"][0]["control_points"] = json!([[0.5, 0.5, 0.2]]);
+    let (path, msg) = tri_err(&one);
+    assert_eq!(path, "constraints[0].control_points");
+    assert!(msg.contains("two distinct"), "{msg}");
+    match TriScene::from_json(&format!("{text} []")) {
+        Err(Error::Scene { path, message }) => {
+            assert_eq!(path, "");
+            assert!(message.contains("one scene"), "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
+}
