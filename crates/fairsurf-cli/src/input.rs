@@ -14,13 +14,35 @@ pub(crate) fn with_file(path: &Path) -> impl Fn(fairsurf_io::Error) -> Failure +
     }
 }
 
-/// The text of a scene file.
+/// Largest scene file read: 256 MB (a 10,000-patch triangular scene is a
+/// few MB; /dev/zero was read until memory ran out).
+pub(crate) const MAX_FILE: u64 = 256 << 20;
+
+/// The text of a scene file, at most [`MAX_FILE`] bytes.
 pub(crate) fn read(path: &Path) -> Result<String, Failure> {
-    std::fs::read_to_string(path).map_err(|source| {
+    use std::io::Read;
+    let fail = |source| {
         with_file(path)(fairsurf_io::Error::Read {
             path: path.to_path_buf(),
             source,
         })
+    };
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)
+        .and_then(|f| f.take(MAX_FILE + 1).read_to_end(&mut bytes))
+        .map_err(fail)?;
+    if bytes.len() as u64 > MAX_FILE {
+        return Err(Failure::input(format!(
+            "{}: larger than {} MB; scene files are read whole",
+            path.display(),
+            MAX_FILE >> 20
+        )));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        fail(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!("not UTF-8 text ({e})"),
+        ))
     })
 }
 

@@ -94,6 +94,12 @@ impl Failure {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // Interrupted (SIGINT, SIGTERM, SIGHUP): remove the temporaries of files
+    // being written, so every output keeps its old contents, and exit 130.
+    let _ = ctrlc::set_handler(|| {
+        fairsurf_io::remove_temporaries();
+        std::process::exit(130);
+    });
     let result = match cli.command {
         Command::Solve(a) => solve::run(a),
         Command::Compare(a) => compare::run(a),

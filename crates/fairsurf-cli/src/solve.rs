@@ -49,6 +49,19 @@ pub fn run(a: Args) -> Result<(), Failure> {
             })?;
         }
     }
+    if let (true, Some(dir)) = (many, &a.output) {
+        let mut seen: std::collections::HashMap<String, &PathBuf> = Default::default();
+        for path in &a.scenes {
+            if let Some(first) = seen.insert(result_name(path), path) {
+                return Err(Failure::input(format!(
+                    "{} and {} would both write {}: give scenes with different file names",
+                    first.display(),
+                    path.display(),
+                    dir.join(result_name(path)).display()
+                )));
+            }
+        }
+    }
     let bar = progress(a.scenes.len());
     let mut failures = 0;
     for path in &a.scenes {
@@ -120,6 +133,9 @@ fn solve_one(path: &Path, out: Option<&Path>, a: &Args) -> Result<String, Failur
     for file in out.iter().copied().chain(a.mesh.as_deref()) {
         ensure_parent(file)?;
     }
+    // The result and its mesh appear together or not at all.
+    let t = std::time::Instant::now();
+    let batch = fairsurf_io::Batch::begin();
     if let Some(o) = out {
         solved.write(o)?;
         written.push(o.display().to_string());
@@ -129,6 +145,8 @@ fn solve_one(path: &Path, out: Option<&Path>, a: &Args) -> Result<String, Failur
         write_mesh(m, &SurfaceMesh::from_patch(solved.patch(), r, r))?;
         written.push(m.display().to_string());
     }
+    batch.commit()?;
+    let written = written_in(written, t);
     if a.json {
         return Ok(serde_json::to_string_pretty(&solved.report_json()).expect("json"));
     }
@@ -149,6 +167,8 @@ fn solve_triangular(
         ensure_parent(file)?;
     }
     let mut written = Vec::new();
+    let t = std::time::Instant::now();
+    let batch = fairsurf_io::Batch::begin();
     if let Some(o) = out {
         solved.write(o)?;
         written.push(o.display().to_string());
@@ -158,10 +178,24 @@ fn solve_triangular(
         write_mesh(m, &SurfaceMesh::from_tri_surface(solved.surface(), r))?;
         written.push(m.display().to_string());
     }
+    batch.commit()?;
+    let written = written_in(written, t);
     if a.json {
         return Ok(serde_json::to_string_pretty(&solved.report_json()).expect("json"));
     }
     Ok(tri_summary(path, &solved, &written))
+}
+
+/// The files written, with the time their writing took (one entry).
+fn written_in(written: Vec<String>, start: std::time::Instant) -> Vec<String> {
+    if written.is_empty() {
+        return written;
+    }
+    vec![format!(
+        "{} in {:.3} s",
+        written.join(", "),
+        start.elapsed().as_secs_f64()
+    )]
 }
 
 fn tri_summary(path: &Path, s: &SolvedTriScene, written: &[String]) -> String {
@@ -255,7 +289,7 @@ fn tri_summary(path: &Path, s: &SolvedTriScene, written: &[String]) -> String {
     } else {
         format!(" → wrote {}", written.join(", "))
     };
-    lines.push(format!("  {:.3} s{wrote}", r.seconds.total));
+    lines.push(format!("  solved in {:.3} s{wrote}", r.seconds.total));
     lines.join("\n")
 }
 
@@ -406,7 +440,7 @@ fn summary(path: &Path, s: &SolvedScene, written: &[String]) -> String {
     } else {
         format!(" → wrote {}", written.join(", "))
     };
-    lines.push(format!("  {total:.3} s{wrote}"));
+    lines.push(format!("  solved in {total:.3} s{wrote}"));
     lines.join("\n")
 }
 

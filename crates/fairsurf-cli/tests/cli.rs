@@ -880,3 +880,101 @@ fn silent_non_solutions_are_refused() {
         assert!(!out.exists(), "{name}");
     }
 }
+
+/// A solve killed while it writes leaves the old result and mesh (a pair)
+/// and no temporary file; SIGINT and SIGTERM alike.
+#[cfg(unix)]
+#[test]
+fn an_interrupted_solve_leaves_the_old_pair_and_no_temporaries() {
+    let d = tmpdir("interrupt");
+    let scene = examples().join("quickstart.json");
+    let (out, mesh) = (d.join("r.json"), d.join("m.obj"));
+    std::fs::write(&out, "old result").unwrap();
+    std::fs::write(&mesh, "old mesh").unwrap();
+    for signal in ["-INT", "-TERM"] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_fairsurf"))
+            .args([
+                "solve",
+                scene.to_str().unwrap(),
+                "-o",
+                out.to_str().unwrap(),
+            ])
+            .args(["--mesh", mesh.to_str().unwrap(), "--resolution", "1000"])
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        // Wait until a temporary exists: the writes have begun.
+        let start = std::time::Instant::now();
+        let temporaries = || {
+            std::fs::read_dir(&d)
+                .unwrap()
+                .filter(|e| {
+                    e.as_ref()
+                        .unwrap()
+                        .file_name()
+                        .to_string_lossy()
+                        .ends_with(".tmp")
+                })
+                .count()
+        };
+        while temporaries() == 0 {
+            assert!(start.elapsed().as_secs() < 60, "no temporary appeared");
+            assert!(
+                child.try_wait().unwrap().is_none(),
+                "finished before it could be interrupted"
+            );
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        let status = Command::new("kill")
+            .args([signal, &child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(status.success());
+        let code = child.wait().unwrap();
+        assert!(!code.success(), "{signal}: {code:?}");
+        assert_eq!(temporaries(), 0, "{signal}: temporaries left");
+        assert_eq!(
+            std::fs::read_to_string(&out).unwrap(),
+            "old result",
+            "{signal}"
+        );
+        assert_eq!(
+            std::fs::read_to_string(&mesh).unwrap(),
+            "old mesh",
+            "{signal}"
+        );
+    }
+}
+
+/// Two scenes with the same file name would write the same result in the
+/// output directory: refused before anything is solved.
+#[test]
+fn colliding_result_names_are_refused() {
+    let d = tmpdir("collide");
+    std::fs::create_dir_all(d.join("b")).unwrap();
+    let scene = std::fs::read_to_string(examples().join("quickstart.json")).unwrap();
+    std::fs::write(d.join("a.json"), &scene).unwrap();
+    std::fs::write(d.join("b/a.json"), &scene).unwrap();
+    let out = d.join("out");
+    let o = fairsurf(&[
+        "solve",
+        d.join("a.json").to_str().unwrap(),
+        d.join("b/a.json").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("would both write"), "{}", stderr(&o));
+    assert!(!out.join("a.result.json").exists());
+}
+
+/// Files are read with a size cap: /dev/zero is refused, not read until
+/// memory runs out.
+#[cfg(unix)]
+#[test]
+fn endless_input_is_refused() {
+    let o = fairsurf(&["solve", "/dev/zero"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("larger than 256 MB"), "{}", stderr(&o));
+}

@@ -38,7 +38,7 @@ mod tri_scene;
 mod validate;
 
 pub use analysis::Measures;
-pub use atomic::write_atomic;
+pub use atomic::{remove_temporaries, write_atomic, Batch};
 pub use compare::comparison_json;
 pub use error::{Error, Result};
 pub use iges::write_iges;

@@ -496,7 +496,7 @@ impl TriScene {
 fn check_domain(vertices: &[[f64; 3]], triangles: &[[usize; 3]]) -> Result<()> {
     let limit = crate::validate::MAX_COORDINATE;
     for (k, v) in vertices.iter().enumerate() {
-        if let Some(c) = v.iter().position(|x| !(x.abs() <= limit)) {
+        if let Some(c) = v.iter().position(|x| !x.is_finite() || x.abs() > limit) {
             return Err(Error::scene(
                 format!("surface.vertices[{k}][{c}]"),
                 format!(
@@ -517,7 +517,7 @@ fn check_domain(vertices: &[[f64; 3]], triangles: &[[usize; 3]]) -> Result<()> {
         };
         use fairsurf::vector::{cross, norm, sub};
         let area = 0.5 * norm(cross(sub(*p[1], *p[0]), sub(*p[2], *p[0])));
-        if !(area > 1e-12 * diagonal * diagonal) {
+        if area.is_nan() || area <= 1e-12 * diagonal * diagonal {
             return Err(Error::scene(
                 format!("surface.triangles[{k}]"),
                 format!(

@@ -953,11 +953,9 @@ fn free_translation<'a>(
     known: &[Option<f64>],
     pinning: impl Iterator<Item = &'a [(usize, f64)]>,
 ) -> Option<Vec3> {
-    let axes = (0..3).filter_map(|c| {
-        (0..known.len() / 3)
-            .any(|g| known[3 * g + c].is_some())
-            .then(|| std::array::from_fn(|k| if k == c { 1.0 } else { 0.0 }))
-    });
+    let axes = (0..3)
+        .filter(|&c| (0..known.len() / 3).any(|g| known[3 * g + c].is_some()))
+        .map(|c| std::array::from_fn(|k| if k == c { 1.0 } else { 0.0 }));
     let directions = pinning.map(|terms| {
         let mut v = [0.0; 3];
         let mut scale: f64 = 0.0;
