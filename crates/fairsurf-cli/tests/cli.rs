@@ -1,6 +1,9 @@
 //! The `fairsurf` command as a user meets it: exit statuses, one-line errors
 //! that name the file and JSON path, files written whole or not at all.
 
+#[path = "../../fairsurf-io/tests/mutate/mod.rs"]
+mod mutate;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -977,4 +980,60 @@ fn endless_input_is_refused() {
     let o = fairsurf(&["solve", "/dev/zero"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("larger than 256 MB"), "{}", stderr(&o));
+}
+
+/// Mutated example scenes through the command (issue 17): exit 0 or 2 only,
+/// never a crash; on 2 no output file; on 0 the result file exists and a
+/// minimized tensor result carries its passed check.
+#[test]
+fn mutated_scenes_exit_0_or_2_and_write_only_on_success() {
+    let d = tmpdir("fuzz");
+    let seeds = mutate::small_examples();
+    let mut rng = mutate::Rng(0xD1B5_4A32_D192_ED03);
+    let (mut ok, mut refused) = (0, 0);
+    for round in 0..150 {
+        let (name, seed) = &seeds[round % seeds.len()];
+        let mut v = seed.clone();
+        mutate::mutate(&mut v, &mut rng);
+        if !mutate::small(&v) {
+            continue;
+        }
+        let scene = d.join(format!("s{round}.json"));
+        let out = d.join(format!("s{round}.result.json"));
+        std::fs::write(&scene, v.to_string()).unwrap();
+        let o = fairsurf(&[
+            "solve",
+            scene.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "-q",
+        ]);
+        match o.status.code() {
+            Some(0) => {
+                ok += 1;
+                let r: serde_json::Value =
+                    serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+                if r["surface"]["type"] == "tensor" && r["report"].get("method").is_none() {
+                    let c = &r["report"]["check"];
+                    assert!(
+                        c["excess"].as_f64().unwrap() <= 1e-10,
+                        "round {round} ({name}): {c}"
+                    );
+                }
+            }
+            Some(2) => {
+                refused += 1;
+                assert!(
+                    !out.exists(),
+                    "round {round} ({name}): an output after an error"
+                );
+                assert!(stderr(&o).starts_with("error: "), "{}", stderr(&o));
+            }
+            other => panic!(
+                "round {round} ({name}): exit {other:?}: {}\n{v}",
+                stderr(&o)
+            ),
+        }
+    }
+    assert!(ok > 10 && refused > 10, "{ok} solved, {refused} refused");
 }

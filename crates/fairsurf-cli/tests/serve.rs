@@ -661,3 +661,67 @@ fn foreign_hosts_origins_and_content_types_are_refused() {
         );
     }
 }
+
+/// Whether the server has closed `c` (a read sees the end of the stream or
+/// an error) within `wait`.
+fn closed_within(c: &mut TcpStream, wait: std::time::Duration) -> bool {
+    c.set_read_timeout(Some(wait)).unwrap();
+    let mut buf = [0u8; 64];
+    loop {
+        match c.read(&mut buf) {
+            Ok(0) => return true,
+            Ok(_) => continue,
+            Err(e)
+                if e.kind() == std::io::ErrorKind::WouldBlock
+                    || e.kind() == std::io::ErrorKind::TimedOut =>
+            {
+                return false
+            }
+            Err(_) => return true,
+        }
+    }
+}
+
+/// Connections that trickle their headers or send nothing are closed after
+/// the header timeout; beyond 256 open connections new ones are closed at
+/// once; the server answers normally afterwards.
+#[test]
+fn slow_and_excess_connections_are_closed() {
+    let s = start(&["--header-timeout", "1"]);
+    let mut trickle = TcpStream::connect(&s.addr).unwrap();
+    write!(
+        trickle,
+        "GET /api/examples HTTP/1.1\r\nHost: {}\r\n",
+        s.addr
+    )
+    .unwrap();
+    let mut idle: Vec<TcpStream> = (0..300)
+        .map(|_| TcpStream::connect(&s.addr).unwrap())
+        .collect();
+    let start = std::time::Instant::now();
+    // The ones past the cap are closed right away…
+    let quickly = idle
+        .iter_mut()
+        .rev()
+        .take(20)
+        .map(|c| closed_within(c, std::time::Duration::from_millis(200)))
+        .filter(|&closed| closed)
+        .count();
+    assert!(
+        quickly >= 20,
+        "{quickly} of the last 20 connections closed at once"
+    );
+    // …the others and the trickling one after the header timeout.
+    assert!(closed_within(
+        &mut trickle,
+        std::time::Duration::from_secs(5)
+    ));
+    assert!(closed_within(
+        &mut idle[0],
+        std::time::Duration::from_secs(5)
+    ));
+    assert!(start.elapsed().as_secs_f64() < 5.0);
+    drop(idle);
+    let (status, _, _) = request(&s, "GET", "/api/examples", b"");
+    assert_eq!(status, 200);
+}

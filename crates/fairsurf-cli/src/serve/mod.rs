@@ -6,7 +6,9 @@
 //! without assembling or factoring; answers never depend on it.
 //!
 //! Requests not addressed to this server or not from its page are refused
-//! (`guard.rs`: Host, Origin, Content-Type). Limits, each a clear JSON error: the request body (`--max-body-mb`,
+//! (`guard.rs`: Host, Origin, Content-Type). A connection must send its
+//! headers within `--header-timeout` (10 s) and its body within 30 s (408);
+//! at most 256 are open at once. Limits, each a clear JSON error: the request body (`--max-body-mb`,
 //! 413), the problem's size (`--max-unknowns`, 413), the solve time
 //! (`--timeout`, 503), and at most as many solves at once as there are
 //! cores (the others wait their turn).
@@ -59,6 +61,10 @@ pub struct Args {
     /// repeatable. Requests naming any other Host are refused (403).
     #[arg(long = "allow-host", value_name = "NAME[:PORT]")]
     allow_host: Vec<String>,
+    /// Seconds a client has to send a request's headers (a connection that
+    /// trickles them or sends nothing is closed).
+    #[arg(long, default_value_t = 10.0)]
+    header_timeout: f64,
 }
 
 /// At most this many factorizations are kept between requests…
@@ -131,6 +137,12 @@ impl IntoResponse for ApiError {
 type ApiResult<T> = Result<T, ApiError>;
 
 pub fn run(a: Args) -> Result<(), Failure> {
+    if !(a.header_timeout > 0.0 && a.header_timeout <= 3600.0) {
+        return Err(Failure::input(format!(
+            "--header-timeout {}: expected seconds in (0, 3600]",
+            a.header_timeout
+        )));
+    }
     if !(a.timeout > 0.0 && a.timeout.is_finite()) {
         return Err(Failure::input(format!(
             "--timeout {}: expected a positive number of seconds",
@@ -174,10 +186,43 @@ pub fn run(a: Args) -> Result<(), Failure> {
         use std::io::Write;
         let _ = std::io::stdout().flush();
         let hosts = Arc::new(guard::Hosts::new(local, &a.allow_host));
-        axum::serve(listener, router(server, hosts))
-            .await
-            .map_err(|e| Failure::input(format!("server stopped: {e}")))
+        let headers = Duration::from_secs_f64(a.header_timeout);
+        serve_connections(listener, router(server, hosts), headers).await;
+        Ok(())
     })
+}
+
+/// At most this many connections at once; more are closed on arrival.
+const MAX_CONNECTIONS: usize = 256;
+/// A client must send a request's body within this time (408).
+const BODY_TIMEOUT: Duration = Duration::from_secs(30);
+
+/// Accepts connections and serves each with HTTP/1.1 (hyper), with a
+/// header read timeout and a cap on open connections: what `axum::serve`
+/// does not offer.
+async fn serve_connections(listener: tokio::net::TcpListener, app: Router, headers: Duration) {
+    let open = Arc::new(Semaphore::new(MAX_CONNECTIONS));
+    loop {
+        let Ok((stream, _)) = listener.accept().await else {
+            // Out of file descriptors or similar: wait, try again.
+            tokio::time::sleep(Duration::from_millis(50)).await;
+            continue;
+        };
+        let Ok(permit) = open.clone().try_acquire_owned() else {
+            drop(stream);
+            continue;
+        };
+        let service = hyper_util::service::TowerToHyperService::new(app.clone());
+        tokio::spawn(async move {
+            let io = hyper_util::rt::TokioIo::new(stream);
+            let _ = hyper::server::conn::http1::Builder::new()
+                .timer(hyper_util::rt::TokioTimer::new())
+                .header_read_timeout(headers)
+                .serve_connection(io, service)
+                .await;
+            drop(permit);
+        });
+    }
 }
 
 /// The bundled examples, sorted by file name.
@@ -283,7 +328,18 @@ async fn scene_text(s: &Server, body: Body) -> ApiResult<String> {
 /// The request body: the scene as text, and whether it asks for a quick
 /// answer (`"quick": true`, while the user drags).
 async fn request(s: &Server, body: Body) -> ApiResult<(String, bool)> {
-    let bytes: Bytes = to_bytes(body, s.limits.max_body).await.map_err(|_| {
+    let read = tokio::time::timeout(BODY_TIMEOUT, to_bytes(body, s.limits.max_body))
+        .await
+        .map_err(|_| {
+            ApiError::new(
+                StatusCode::REQUEST_TIMEOUT,
+                format!(
+                    "the request body did not arrive within {} s",
+                    BODY_TIMEOUT.as_secs()
+                ),
+            )
+        })?;
+    let bytes: Bytes = read.map_err(|_| {
         ApiError::new(
             StatusCode::PAYLOAD_TOO_LARGE,
             format!(
