@@ -30,6 +30,11 @@ use std::process::ExitCode;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Largest memory one solve may need, in GB (estimated before the work;
+    /// larger problems are refused, saying the estimate). The server
+    /// applies it to each request.
+    #[arg(long, global = true, default_value_t = 8.0)]
+    max_memory_gb: f64,
 }
 
 #[derive(Subcommand)]
@@ -100,13 +105,37 @@ fn main() -> ExitCode {
         fairsurf_io::remove_temporaries();
         std::process::exit(130);
     });
-    let result = match cli.command {
+    if !(cli.max_memory_gb > 0.0 && cli.max_memory_gb <= 1e6) {
+        eprintln!(
+            "error: --max-memory-gb {}: expected a positive number of GB",
+            cli.max_memory_gb
+        );
+        return ExitCode::from(2);
+    }
+    let max_bytes = (cli.max_memory_gb * 1e9) as usize;
+    let budget = fairsurf::budget::Budget {
+        max_bytes,
+        cancel: None,
+    };
+    let result = fairsurf::budget::with_budget(budget, || run(cli.command, max_bytes));
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(f) => {
+            // One line: the message names the file and the JSON path.
+            eprintln!("error: {}", f.message.replace('\n', " "));
+            ExitCode::from(f.code)
+        }
+    }
+}
+
+fn run(command: Command, max_bytes: usize) -> Result<(), Failure> {
+    match command {
         Command::Solve(a) => solve::run(a),
         Command::Compare(a) => compare::run(a),
         Command::Eval(a) => eval::run(a),
         Command::Analyse(a) => analyse::run(a),
         Command::Export(a) => export::run(a),
-        Command::Serve(a) => serve::run(a),
+        Command::Serve(a) => serve::run(a, max_bytes),
         Command::Render(a) => render::run(a),
         Command::Schema { triangular } => {
             let schema = if triangular {
@@ -116,14 +145,6 @@ fn main() -> ExitCode {
             };
             say!("{}", serde_json::to_string_pretty(&schema).expect("schema"));
             Ok(())
-        }
-    };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(f) => {
-            // One line: the message names the file and the JSON path.
-            eprintln!("error: {}", f.message.replace('\n', " "));
-            ExitCode::from(f.code)
         }
     }
 }

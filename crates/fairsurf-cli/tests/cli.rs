@@ -1037,3 +1037,59 @@ fn mutated_scenes_exit_0_or_2_and_write_only_on_success() {
     }
     assert!(ok > 10 && refused > 10, "{ok} solved, {refused} refused");
 }
+
+/// Memory is estimated before the work: over `--max-memory-gb` the solve is
+/// refused at once with the estimate, for tensor and triangular scenes.
+#[test]
+fn work_over_the_memory_limit_is_refused_with_the_estimate() {
+    let d = tmpdir("memory");
+    let n = 40;
+    let net: Vec<Vec<serde_json::Value>> = (0..=n)
+        .map(|i| {
+            (0..=n)
+                .map(|j| match i == 0 || j == 0 || i == n || j == n {
+                    true => serde_json::json!([i as f64 / n as f64, j as f64 / n as f64, 0.0]),
+                    false => serde_json::Value::Null,
+                })
+                .collect()
+        })
+        .collect();
+    let field = serde_json::json!({"degree": [0, 0], "control_points": [[[0, 0, 1]]]});
+    let scene = serde_json::json!({"surface": {"type": "tensor", "degree": [n, n], "control_points": net},
+        "energy": {"stretch": 1, "normal_field": field}});
+    let path = d.join("e1.json");
+    std::fs::write(&path, scene.to_string()).unwrap();
+    let t = std::time::Instant::now();
+    let o = fairsurf(&["solve", path.to_str().unwrap(), "--max-memory-gb", "0.5"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("would need about 1.22 GB, more than the limit of 0.50 GB"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(t.elapsed().as_secs_f64() < 2.0);
+    // 200 degree-20 triangles: about 2 GB (measured 2.0-2.3 GB before).
+    let k = 10;
+    let vertices: Vec<[f64; 3]> = (0..=k)
+        .flat_map(|i| (0..=k).map(move |j| [i as f64, j as f64, 0.0]))
+        .collect();
+    let mut triangles = Vec::new();
+    for i in 0..k {
+        for j in 0..k {
+            let a = i * (k + 1) + j;
+            triangles.push([a, a + k + 1, a + k + 2]);
+            triangles.push([a, a + k + 2, a + 1]);
+        }
+    }
+    let tri = serde_json::json!({"surface": {"type": "triangular", "degree": 20,
+        "vertices": vertices, "triangles": triangles}, "fix_boundary": true});
+    let path = d.join("tri.json");
+    std::fs::write(&path, tri.to_string()).unwrap();
+    let o = fairsurf(&["solve", path.to_str().unwrap(), "--max-memory-gb", "1"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("200 degree-20 patches would need about 2.05 GB"),
+        "{}",
+        stderr(&o)
+    );
+}

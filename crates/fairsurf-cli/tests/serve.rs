@@ -725,3 +725,72 @@ fn slow_and_excess_connections_are_closed() {
     let (status, _, _) = request(&s, "GET", "/api/examples", b"");
     assert_eq!(status, 200);
 }
+
+/// CPU ticks (user + system) the process has used, from /proc.
+#[cfg(target_os = "linux")]
+fn cpu_ticks(pid: u32) -> u64 {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).unwrap();
+    // Fields after the command name (which is in parentheses).
+    let rest = &stat[stat.rfind(')').unwrap() + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    f[11].parse::<u64>().unwrap() + f[12].parse::<u64>().unwrap()
+}
+
+/// A solve past its time is cancelled: the 503 comes at the timeout and the
+/// server stops using the CPU long before the solve would have finished
+/// (measured on the same machine in the same test); a later request works.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_timed_out_solve_stops_using_the_cpu() {
+    let n = 30;
+    let net: Vec<Vec<Value>> = (0..=n)
+        .map(|i| {
+            (0..=n)
+                .map(|j| {
+                    let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
+                    if i == 0 || j == 0 || i == n || j == n {
+                        json!([u, v, 0.3 * (3.0 * u).sin() * (2.0 * v).cos()])
+                    } else {
+                        Value::Null
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    let field = json!({"weight": 10, "degree": [1, 1],
+        "control_points": [[[0, 0, 1], [0.1, 0, 1]], [[0, 0.2, 1], [0.1, 0.1, 1]]]});
+    let scene = json!({"surface": {"type": "tensor", "degree": [n, n], "control_points": net},
+        "energy": {"stretch": 1, "normal_field": field}});
+    // The whole solve, uncancelled.
+    let full = start(&[]);
+    let t = std::time::Instant::now();
+    let (status, v) = post(&full, "/api/solve", &json!({ "scene": scene }));
+    assert_eq!(status, 200, "{v}");
+    let full_seconds = t.elapsed().as_secs_f64();
+    // The same with a timeout of a tenth of it.
+    let timeout = format!("{}", 0.1 * full_seconds);
+    let s = start(&["--timeout", &timeout]);
+    let t = std::time::Instant::now();
+    let (status, v) = post(&s, "/api/solve", &json!({ "scene": scene }));
+    assert_eq!(status, 503, "{v}");
+    let pid = s.child.id();
+    let mut last = cpu_ticks(pid);
+    let idle_at = loop {
+        std::thread::sleep(std::time::Duration::from_millis(200));
+        let now = cpu_ticks(pid);
+        if now - last <= 2 {
+            break t.elapsed().as_secs_f64();
+        }
+        last = now;
+        assert!(
+            t.elapsed().as_secs_f64() < 2.0 * full_seconds + 10.0,
+            "never idle"
+        );
+    };
+    assert!(
+        idle_at < 0.6 * full_seconds,
+        "idle {idle_at:.2} s after the request; the whole solve takes {full_seconds:.2} s"
+    );
+    let (status, _, _) = request(&s, "GET", "/api/examples", b"");
+    assert_eq!(status, 200);
+}

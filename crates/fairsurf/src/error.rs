@@ -117,6 +117,26 @@ pub enum Error {
         /// What usually helps.
         hint: String,
     },
+    /// The work would need more memory than its budget allows
+    /// ([`crate::budget`]).
+    #[error(
+        "{what} would need about {:.2} GB, more than the limit of {:.2} GB; \
+         lower the degree or the number of patches, or raise the limit \
+         (fairsurf --max-memory-gb)",
+        estimate / 1e9,
+        limit / 1e9
+    )]
+    TooLarge {
+        /// What was estimated.
+        what: String,
+        /// The estimate, in bytes.
+        estimate: f64,
+        /// The limit, in bytes.
+        limit: f64,
+    },
+    /// The work was cancelled (a timeout, or the client went away).
+    #[error("the solve was cancelled")]
+    Cancelled,
     /// The solve's answer failed the independent check on the written net
     /// ([`crate::Check`]) even after Newton corrections with the exact
     /// gradient: double precision cannot deliver this problem's minimizer

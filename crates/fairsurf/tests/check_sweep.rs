@@ -185,3 +185,65 @@ fn guided_energies_report() {
         }
     }
 }
+
+/// Solves estimate their memory before the work and refuse what exceeds the
+/// budget; a cancelled budget stops tensor and triangular solves at their
+/// first checkpoint.
+#[test]
+fn budgets_refuse_large_work_and_cancel() {
+    use fairsurf::budget::{with_budget, Budget};
+    use fairsurf::triangle::{InternalEnergy, TriProblem};
+    use fairsurf::TriSurface;
+    use std::sync::atomic::AtomicBool;
+    use std::sync::Arc;
+    let n = 20;
+    let net = polynomial_net(n, &[]);
+    let problem = Problem::new((n, n))
+        .with_fixed_rings(&net, 1)
+        .with_term(Stretch::new(1.0));
+    // 441 points per coordinate, 1 term: 8 · 441² · 5 bytes.
+    assert_eq!(problem.memory_estimate(), 8.0 * 441.0 * 441.0 * 5.0);
+    let small = Budget {
+        max_bytes: 1 << 20,
+        cancel: None,
+    };
+    match with_budget(small, || problem.solve()) {
+        Err(Error::TooLarge { estimate, .. }) => assert_eq!(estimate, problem.memory_estimate()),
+        other => panic!("{other:?}"),
+    }
+    let cancelled = || Budget {
+        max_bytes: usize::MAX,
+        cancel: Some(Arc::new(AtomicBool::new(true))),
+    };
+    assert!(matches!(
+        with_budget(cancelled(), || problem.solve()),
+        Err(Error::Cancelled)
+    ));
+    let square = TriSurface::try_new(
+        &[
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ],
+        &[[0, 1, 2], [0, 2, 3]],
+        3,
+    )
+    .unwrap();
+    let tri = TriProblem::new(square, InternalEnergy::new(1.0, 1.0)).with_fixed_boundary();
+    assert!(tri.solve().is_ok());
+    assert!(matches!(
+        with_budget(cancelled(), || tri.solve()),
+        Err(Error::Cancelled)
+    ));
+    let tiny = Budget {
+        max_bytes: 1000,
+        cancel: None,
+    };
+    assert!(matches!(
+        with_budget(tiny, || tri.solve()),
+        Err(Error::TooLarge { .. })
+    ));
+    // Outside with_budget the defaults hold again.
+    assert!(problem.solve().is_ok());
+}

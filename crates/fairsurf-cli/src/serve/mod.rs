@@ -90,6 +90,8 @@ pub(crate) struct Limits {
     pub timeout: Duration,
     pub max_body: usize,
     pub max_unknowns: usize,
+    /// Largest estimated memory of one solve (`--max-memory-gb`).
+    pub max_bytes: usize,
 }
 
 /// An API error: a 4xx status and `{"error", "path"}`.
@@ -119,6 +121,12 @@ impl From<fairsurf_io::Error> for ApiError {
                 message,
                 path: (!path.is_empty()).then_some(path),
             },
+            fairsurf_io::Error::Solve(fairsurf::Error::TooLarge { .. }) => {
+                ApiError::new(StatusCode::PAYLOAD_TOO_LARGE, message)
+            }
+            fairsurf_io::Error::Solve(fairsurf::Error::Cancelled) => {
+                ApiError::new(StatusCode::SERVICE_UNAVAILABLE, message)
+            }
             _ => ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, message),
         }
     }
@@ -136,7 +144,7 @@ impl IntoResponse for ApiError {
 
 type ApiResult<T> = Result<T, ApiError>;
 
-pub fn run(a: Args) -> Result<(), Failure> {
+pub fn run(a: Args, max_bytes: usize) -> Result<(), Failure> {
     if !(a.header_timeout > 0.0 && a.header_timeout <= 3600.0) {
         return Err(Failure::input(format!(
             "--header-timeout {}: expected seconds in (0, 3600]",
@@ -166,6 +174,7 @@ pub fn run(a: Args) -> Result<(), Failure> {
             timeout: Duration::from_secs_f64(a.timeout),
             max_body: a.max_body_mb.saturating_mul(1 << 20),
             max_unknowns: a.max_unknowns,
+            max_bytes,
         },
         solves: Semaphore::new(std::thread::available_parallelism().map_or(2, |n| n.get())),
         factors: Arc::new(fairsurf::FactorCache::new(FACTOR_ENTRIES, FACTOR_BYTES)),
@@ -386,7 +395,22 @@ async fn limited<T: Send + 'static>(
         s.solves.acquire().await.map_err(|_| {
             ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the server is stopping")
         })?;
-    match tokio::time::timeout(s.limits.timeout, tokio::task::spawn_blocking(f)).await {
+    // Cancelled when the time is up or the client goes away (this future
+    // is dropped): the solve stops at its next checkpoint.
+    struct CancelOnDrop(Arc<std::sync::atomic::AtomicBool>);
+    impl Drop for CancelOnDrop {
+        fn drop(&mut self) {
+            self.0.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
+    }
+    let flag = Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let _cancel = CancelOnDrop(flag.clone());
+    let budget = fairsurf::budget::Budget {
+        max_bytes: s.limits.max_bytes,
+        cancel: Some(flag),
+    };
+    let work = move || fairsurf::budget::with_budget(budget, f);
+    match tokio::time::timeout(s.limits.timeout, tokio::task::spawn_blocking(work)).await {
         Ok(Ok(r)) => r,
         Ok(Err(e)) => Err(ApiError::new(
             StatusCode::INTERNAL_SERVER_ERROR,

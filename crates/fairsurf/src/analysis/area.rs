@@ -80,7 +80,10 @@ pub fn area(patch: &TensorPatch) -> Area {
             .fold((0.0, 0.0), |(v, e), l| (v + l.value, e + l.error))
     };
     let (mut value, mut error) = total(&heap);
-    while error > AREA_TOLERANCE * value.abs() && heap.len() * 4 < AREA_MAX_PANELS {
+    while error > AREA_TOLERANCE * value.abs()
+        && heap.len() * 4 < AREA_MAX_PANELS
+        && !crate::budget::cancelled()
+    {
         let worst = heap.pop().expect("never empty");
         for (q, v) in worst.kids.into_iter().zip(worst.kid_values) {
             heap.push(leaf(q, v));

@@ -11,6 +11,7 @@ use super::dense::{norm_max, SpdFactor, SpdOptions};
 use super::jacobi::TensorBasis;
 use super::report::{SolveReport, TermEnergy, Timings};
 use crate::analysis::measures;
+use crate::budget;
 use crate::check::{self, tensor::EnergyAt, Check};
 use crate::energy::Integrand;
 use crate::energy::Space;
@@ -284,11 +285,18 @@ impl Problem {
 
     fn factor_prepared(&self, opts: &SolveOptions, prep: &Prepared) -> Result<Factored> {
         let (free, placed) = (&prep.free, &prep.placed[..]);
+        budget::reserve(
+            &format!("the degree {:?} system", self.degree),
+            self.memory_estimate(),
+        )?;
         let t = Instant::now();
         let forms = self
             .terms
             .iter()
-            .map(|t| t.form(self.degree))
+            .map(|t| {
+                budget::checkpoint()?;
+                t.form(self.degree)
+            })
             .collect::<Result<Vec<_>>>()?;
         // Operators couple the coordinates.
         let coupled = !self.operators.is_empty()
@@ -329,6 +337,7 @@ impl Problem {
             None => None,
         };
         let assemble_seconds = t.elapsed().as_secs_f64();
+        budget::checkpoint()?;
         let factor = SpdFactor::new(&h_ff, spd, &self.hint(), pre.as_ref().map(|(h, q)| (h, q)))?;
         let attractors = self
             .operators
@@ -362,6 +371,23 @@ impl Problem {
             factor,
             assemble_seconds,
         })
+    }
+
+    /// Estimated peak bytes of a solve: the dense system over all control
+    /// points (3 per point when a term or operator may couple the
+    /// coordinates), one such matrix per term's form, H, H_FF, the factor
+    /// and the basis change: 8 · dim² · (terms + 4).
+    pub fn memory_estimate(&self) -> f64 {
+        let np = self.known.len() as f64;
+        let per_coordinate = self.operators.is_empty()
+            && self.terms.iter().all(|t| {
+                matches!(
+                    t.integrand(),
+                    Some(Integrand::Fairness { .. } | Integrand::GuideSurface { .. })
+                )
+            });
+        let dim = if per_coordinate { np } else { 3.0 * np };
+        8.0 * dim * dim * (self.terms.len() as f64 + 4.0)
     }
 
     /// When the free points are exactly a block of contiguous rows ×
@@ -855,6 +881,7 @@ impl Factored {
         };
         let t = Instant::now();
         let measures = opts.analyse.then(|| measures(&patch));
+        budget::checkpoint()?;
         let analyse = t.elapsed().as_secs_f64();
         let (assemble, factor) = if reused {
             (rhs_seconds, 0.0)
@@ -961,6 +988,7 @@ impl Factored {
             });
         };
         loop {
+            budget::checkpoint()?;
             let g = self.free_gradient(&at);
             let y = self.factor.apply(&g);
             let excess = 0.5

@@ -339,6 +339,15 @@ impl TriProblem {
         // 1. Curves refine the mesh.
         let (refinement, chains) = self.embed_curves()?;
         let mut surface = refinement.surface.clone();
+        crate::budget::reserve(
+            &format!(
+                "the system of {} degree-{} patches",
+                surface.patch_count(),
+                surface.degree()
+            ),
+            memory_estimate(&surface),
+        )?;
+        crate::budget::checkpoint()?;
         let placed: Vec<Located> = self
             .operators
             .iter()
@@ -403,6 +412,7 @@ impl TriProblem {
         }
         surface.set_points(points)?;
 
+        crate::budget::checkpoint()?;
         // 3. Rows: the user's, then continuity.
         let mut rows: Vec<Row> = Vec::new();
         for (nc, c) in &located {
@@ -411,6 +421,7 @@ impl TriProblem {
         let user_rows = rows.len();
         rows.extend(self.continuity.rows(&surface)?);
 
+        crate::budget::checkpoint()?;
         // 4. Eliminate known coordinates.
         let mut free_index = vec![usize::MAX; coords];
         let mut free = Vec::new();
@@ -477,6 +488,7 @@ impl TriProblem {
             });
         }
 
+        crate::budget::checkpoint()?;
         // 5–6. Classify rows and solve. Continuity conditions near
         // dependence (F nearly rank-deficient) make the KKT system singular
         // to working precision although every kept pivot is far from 0: on
@@ -994,4 +1006,16 @@ fn free_translation<'a>(
         }
         crate::vec3::normalize(v).filter(|_| crate::vec3::norm(v) > 0.5)
     })
+}
+
+/// Estimated peak bytes of a triangular solve: x, y and z of every patch's
+/// (d+1)(d+2)/2 points coupled in one sparse KKT system, k² entries a patch
+/// and coordinate pair block, 16 bytes an entry (value and indices), four
+/// times for the matrix, its ordering and the factor's fill. Measured: 200
+/// degree-20 patches took 2.0–2.3 GB (estimate 2.0 GB); 10,000 cubic
+/// patches with C0 0.3 GB (estimate 0.2 GB).
+pub(crate) fn memory_estimate(surface: &TriSurface) -> f64 {
+    let d = surface.degree() as f64;
+    let k = (d + 1.0) * (d + 2.0) / 2.0;
+    64.0 * 3.0 * surface.patch_count() as f64 * k * k
 }

@@ -1,0 +1,111 @@
+//! Bounded work: a memory budget and a cancellation flag for the solves run
+//! on a thread. Front ends set them ([`with_budget`]: the command line from
+//! its flags, the server per request, cancelling on timeout or when the
+//! client goes away); solves estimate their memory before the work and
+//! refuse what exceeds the budget ([`crate::Error::TooLarge`]), and stop at
+//! their checkpoints once cancelled ([`crate::Error::Cancelled`]).
+//!
+//! The factorizations themselves (faer's Cholesky, LDLᵀ, LU) are not
+//! interrupted: cancellation takes effect at the next checkpoint between
+//! stages, assembly loops and iterations.
+
+use crate::{Error, Result};
+use std::cell::RefCell;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+/// The limits of the work done on one thread.
+#[derive(Clone, Debug)]
+pub struct Budget {
+    /// Largest estimated memory of one solve, in bytes.
+    pub max_bytes: usize,
+    /// Set to true to stop the work at its next checkpoint.
+    pub cancel: Option<Arc<AtomicBool>>,
+}
+
+/// 8 GB: a 24 GB machine with room for two solves at once and the rest.
+pub const DEFAULT_MAX_BYTES: usize = 8 << 30;
+
+impl Default for Budget {
+    fn default() -> Self {
+        Self {
+            max_bytes: DEFAULT_MAX_BYTES,
+            cancel: None,
+        }
+    }
+}
+
+thread_local! {
+    static BUDGET: RefCell<Budget> = RefCell::new(Budget::default());
+}
+
+/// Runs `f` with `budget` as this thread's budget (the previous one again
+/// afterwards, also when `f` panics).
+pub fn with_budget<T>(budget: Budget, f: impl FnOnce() -> T) -> T {
+    struct Restore(Option<Budget>);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            if let Some(b) = self.0.take() {
+                BUDGET.with(|c| *c.borrow_mut() = b);
+            }
+        }
+    }
+    let previous = BUDGET.with(|c| c.replace(budget));
+    let _restore = Restore(Some(previous));
+    f()
+}
+
+/// Refuses work whose estimated memory exceeds the budget.
+pub(crate) fn reserve(what: &str, bytes: f64) -> Result<()> {
+    let limit = BUDGET.with(|c| c.borrow().max_bytes);
+    if bytes > limit as f64 {
+        return Err(Error::TooLarge {
+            what: what.to_string(),
+            estimate: bytes,
+            limit: limit as f64,
+        });
+    }
+    Ok(())
+}
+
+/// Whether the work was cancelled (for loops that stop early and leave the
+/// error to the next [`checkpoint`]).
+pub(crate) fn cancelled() -> bool {
+    BUDGET.with(|c| {
+        c.borrow()
+            .cancel
+            .as_ref()
+            .is_some_and(|f| f.load(Ordering::Relaxed))
+    })
+}
+
+/// An error once the work was cancelled.
+pub(crate) fn checkpoint() -> Result<()> {
+    if cancelled() {
+        return Err(Error::Cancelled);
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn budgets_are_per_call_and_restored() {
+        assert!(reserve("x", 1e9).is_ok());
+        let flag = Arc::new(AtomicBool::new(false));
+        let b = Budget {
+            max_bytes: 1000,
+            cancel: Some(flag.clone()),
+        };
+        with_budget(b, || {
+            assert!(matches!(reserve("x", 2000.0), Err(Error::TooLarge { .. })));
+            assert!(checkpoint().is_ok());
+            flag.store(true, Ordering::Relaxed);
+            assert!(matches!(checkpoint(), Err(Error::Cancelled)));
+        });
+        assert!(reserve("x", 2000.0).is_ok());
+        assert!(checkpoint().is_ok());
+    }
+}
