@@ -432,7 +432,7 @@ fn summary(path: &Path, s: &SolvedScene, written: &[String]) -> String {
     if let Some(d) = s.guide_distance {
         lines.push(format!("  max distance to the guide surface {d:.6e}"));
     }
-    for note in &s.built.notes {
+    for note in &s.notes() {
         lines.push(format!("  note: {note}"));
     }
     let wrote = if written.is_empty() {

@@ -210,8 +210,29 @@ impl SolvedScene {
         if let Some(d) = self.guide_distance {
             o.insert("guide_distance_max".into(), json!(d));
         }
-        o.insert("notes".into(), json!(self.built.notes));
+        o.insert("notes".into(), json!(self.notes()));
         r
+    }
+
+    /// What the result's reader should know: the scene's notes, and a fold
+    /// when the normal turns by more than 90° between neighbouring samples.
+    pub fn notes(&self) -> Vec<String> {
+        let mut notes = self.built.notes.clone();
+        let fold = self
+            .outcome
+            .measures()
+            .and_then(|m| m.normal_turn)
+            .filter(|t| t.is_fold());
+        if let Some(t) = fold {
+            notes.push(format!(
+                "the surface folds: its normal turns by {:.1}° between neighbouring samples \
+                 near (u, v) = ({:.3}, {:.3}); lower λ or give a normal field the boundary can follow",
+                t.angle.to_degrees(),
+                t.at.0,
+                t.at.1
+            ));
+        }
+        notes
     }
 
     /// Writes the result file (atomically).
@@ -331,4 +352,10 @@ fn insert_measures(o: &mut Value, m: Option<&SurfaceMeasures>) {
         "abs_mean_curvature".into(),
         curvature_json(&m.abs_mean_curvature),
     );
+    if let Some(t) = m.normal_turn {
+        obj.insert(
+            "max_normal_turn_deg".into(),
+            json!({"angle": t.angle.to_degrees(), "at": [t.at.0, t.at.1], "fold": t.is_fold()}),
+        );
+    }
 }

@@ -609,3 +609,44 @@ fn degenerate_inputs_name_their_path() {
         other => panic!("{other:?}"),
     }
 }
+
+/// A surface that folds says so: a flat square's membrane pulled by a huge
+/// λ toward normals lying in its own plane turns its normal by more than
+/// 90° between neighbouring samples; the result's notes and measures say
+/// it. The same scene with a small λ does not fold and has no such note.
+#[test]
+fn folds_are_noted() {
+    let n = 6;
+    let net: Vec<Vec<Value>> = (0..=n)
+        .map(|i| {
+            (0..=n)
+                .map(|j| match i == 0 || j == 0 || i == n || j == n {
+                    true => json!([i as f64 / n as f64, j as f64 / n as f64, 0.0]),
+                    false => Value::Null,
+                })
+                .collect()
+        })
+        .collect();
+    let scene = |lambda: f64| {
+        json!({"surface": {"type": "tensor", "degree": [n, n], "control_points": net},
+            "energy": {"stretch": 1, "normal_field": {"weight": lambda, "degree": [1, 1],
+                "control_points": [[[1, 0, 0.2], [1, 1, 0]], [[0, 1, 0], [1, 0, -0.3]]]}}})
+    };
+    let notes = |lambda: f64| {
+        let s = Scene::from_json(&scene(lambda).to_string())
+            .unwrap()
+            .solve()
+            .unwrap();
+        let turn = s.outcome.measures().unwrap().normal_turn.unwrap();
+        (s.notes(), turn)
+    };
+    let (folded, turn) = notes(1e6);
+    assert!(turn.is_fold(), "{turn:?}");
+    assert!(
+        folded.iter().any(|n| n.contains("the surface folds")),
+        "{folded:?}"
+    );
+    let (fair, turn) = notes(0.1);
+    assert!(!turn.is_fold(), "{turn:?}");
+    assert!(fair.iter().all(|n| !n.contains("folds")), "{fair:?}");
+}

@@ -4,12 +4,14 @@
 mod area;
 mod continuity;
 mod curvature;
+mod folds;
 mod functionals;
 mod normals;
 
 pub use area::{area, Area, AREA_TOLERANCE};
 pub use continuity::{continuity, Continuity, Edge, Stat};
 pub use curvature::{abs_mean_curvature, curvature, curvature_from, AbsMeanCurvature, Curvature};
+pub use folds::{largest_normal_turn, NormalTurn};
 pub use functionals::{biharmonic, dirichlet};
 pub use normals::{normal_deviation, NormalDeviation};
 
@@ -29,5 +31,6 @@ pub fn measures(patch: &TensorPatch) -> SurfaceMeasures {
         dirichlet: dirichlet(patch),
         biharmonic: biharmonic(patch),
         abs_mean_curvature: abs_mean_curvature(patch, CURVATURE_GRID),
+        normal_turn: largest_normal_turn(patch, CURVATURE_GRID),
     }
 }

@@ -37,6 +37,9 @@ pub struct SurfaceMeasures {
     pub biharmonic: f64,
     /// |H| on the 65×65 grid (Monterde & Ugail §4.4).
     pub abs_mean_curvature: crate::analysis::AbsMeanCurvature,
+    /// The largest turn of the unit normal between neighbouring samples of
+    /// the same grid; more than 90° is a fold, which reports note.
+    pub normal_turn: Option<crate::analysis::NormalTurn>,
 }
 
 /// Everything a solve knows about its answer.

@@ -1,0 +1,97 @@
+//! Folds: where the surface's unit normal turns by more than 90° between
+//! neighbouring samples of a parameter grid — the surface doubles back on
+//! itself there (a very large λ with a normal field the boundary cannot
+//! follow does this). Reports say so instead of presenting the surface as
+//! fair.
+
+use crate::vec3::{angle, cross, normalize};
+use crate::TensorPatch;
+
+/// The largest turn of the unit normal between neighbouring grid samples.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NormalTurn {
+    /// The angle in radians (π/2 and more is a fold).
+    pub angle: f64,
+    /// Parameters of the first sample of the pair.
+    pub at: (f64, f64),
+}
+
+impl NormalTurn {
+    /// Whether the turn is a fold (more than 90°).
+    pub fn is_fold(&self) -> bool {
+        self.angle > std::f64::consts::FRAC_PI_2
+    }
+}
+
+/// The largest angle between the unit normals of horizontally or vertically
+/// neighbouring samples of the (k+1)×(k+1) grid; samples where the normal
+/// is undefined (a collapsed corner) are skipped. `None` when no pair has
+/// two normals.
+pub fn largest_normal_turn(patch: &TensorPatch, k: usize) -> Option<NormalTurn> {
+    let k = k.max(1);
+    let ts: Vec<f64> = (0..=k).map(|i| i as f64 / k as f64).collect();
+    let normals: Vec<_> = patch
+        .grid_derivatives(&ts, &ts)
+        .iter()
+        .map(|d| normalize(cross(d.du, d.dv)))
+        .collect();
+    let mut best: Option<NormalTurn> = None;
+    for a in 0..=k {
+        for b in 0..=k {
+            let Some(n) = normals[a * (k + 1) + b] else {
+                continue;
+            };
+            let neighbours = [(a + 1, b), (a, b + 1)];
+            for (c, d) in neighbours {
+                if c > k || d > k {
+                    continue;
+                }
+                if let Some(m) = normals[c * (k + 1) + d] {
+                    let turn = angle(n, m);
+                    if best.is_none_or(|t| turn > t.angle) {
+                        best = Some(NormalTurn {
+                            angle: turn,
+                            at: (ts[a], ts[b]),
+                        });
+                    }
+                }
+            }
+        }
+    }
+    best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A flat patch turns by 0; a patch folded back over itself (its middle
+    /// column of control points pulled past the far side) turns by more
+    /// than 90° somewhere; a gently curved one by little.
+    #[test]
+    fn folds_are_found_and_fair_surfaces_are_not_folds() {
+        let flat = TensorPatch::from_fn(3, 3, |i, j| [i as f64, j as f64, 0.0]);
+        assert!(largest_normal_turn(&flat, 16).unwrap().angle < 1e-12);
+        let bump = TensorPatch::from_fn(3, 3, |i, j| {
+            [
+                i as f64,
+                j as f64,
+                if (1..3).contains(&i) && (1..3).contains(&j) {
+                    0.5
+                } else {
+                    0.0
+                },
+            ]
+        });
+        let t = largest_normal_turn(&bump, 32).unwrap();
+        assert!(!t.is_fold() && t.angle > 0.01, "{t:?}");
+        // x goes 0, 3, −2, 1: the surface runs forward, back past its start
+        // and forward again; with almost no rise its normal flips between
+        // two samples where x turns (at u = 1/4 and 3/4, between samples of
+        // the 30-step grid).
+        let xs = [0.0, 3.0, -2.0, 1.0];
+        let folded = TensorPatch::from_fn(3, 3, |i, j| [xs[i], j as f64, 0.001 * i as f64]);
+        let t = largest_normal_turn(&folded, 30).unwrap();
+        assert!(t.is_fold(), "{t:?}");
+    }
+}
