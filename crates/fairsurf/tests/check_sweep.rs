@@ -247,3 +247,39 @@ fn budgets_refuse_large_work_and_cancel() {
     // Outside with_budget the defaults hold again.
     assert!(problem.solve().is_ok());
 }
+
+/// How far verified nets and their surfaces are from the exact minimizer
+/// (the harmonic polynomial's own net): prints net error, surface error on a
+/// 21×21 grid, the excess and the check's cost. `cargo test --release -p
+/// fairsurf --test check_sweep net_errors -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn net_errors() {
+    for n in [5usize, 10, 15, 20, 24, 28] {
+        let net = polynomial_net(n, &[(1.0, 2, 0), (-1.0, 0, 2), (1.0, 1, 1)]);
+        let p = Problem::new((n, n))
+            .with_fixed_rings(&net, 1)
+            .with_term(Stretch::new(1.0));
+        let t = std::time::Instant::now();
+        let s = p
+            .solve_with(&fairsurf::SolveOptions::default().with_analyse(false))
+            .unwrap();
+        let err = s
+            .patch
+            .points()
+            .iter()
+            .zip(net.points())
+            .map(|(a, b)| (0..3).map(|c| (a[c] - b[c]).abs()).fold(0.0, f64::max))
+            .fold(0.0, f64::max);
+        let c = s.report.check.unwrap();
+        let mut surface: f64 = 0.0;
+        for a in 0..=20 {
+            for b in 0..=20 {
+                let (u, v) = (a as f64 / 20.0, b as f64 / 20.0);
+                let (p, q) = (s.patch.eval(u, v), net.eval(u, v));
+                surface = surface.max((0..3).map(|c| (p[c] - q[c]).abs()).fold(0.0, f64::max));
+            }
+        }
+        println!("{n}: net error {err:.1e}, surface error {surface:.1e}, excess {:.1e}, corrections {}, check {:.2} ms, total {:.2} ms", c.excess, c.corrections, 1e3 * c.seconds, 1e3 * t.elapsed().as_secs_f64());
+    }
+}
