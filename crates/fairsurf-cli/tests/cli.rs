@@ -25,6 +25,22 @@ fn tmpdir(name: &str) -> PathBuf {
     d
 }
 
+/// The degree-n net of the flat unit square with its boundary given and
+/// its interior free (null).
+fn flat_square_net(n: usize) -> serde_json::Value {
+    let rows: Vec<Vec<serde_json::Value>> = (0..=n)
+        .map(|i| {
+            (0..=n)
+                .map(|j| match i == 0 || j == 0 || i == n || j == n {
+                    true => serde_json::json!([i as f64 / n as f64, j as f64 / n as f64, 0.0]),
+                    false => serde_json::Value::Null,
+                })
+                .collect()
+        })
+        .collect();
+    serde_json::json!(rows)
+}
+
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
@@ -837,19 +853,7 @@ fn silent_non_solutions_are_refused() {
         &rest[rest.find(',').unwrap() + 1..]
     );
     let n = 34;
-    let net: Vec<Vec<serde_json::Value>> = (0..=n)
-        .map(|i| {
-            (0..=n)
-                .map(|j| {
-                    if i == 0 || j == 0 || i == n || j == n {
-                        serde_json::json!([i as f64 / n as f64, j as f64 / n as f64, 0.0])
-                    } else {
-                        serde_json::Value::Null
-                    }
-                })
-                .collect()
-        })
-        .collect();
+    let net = flat_square_net(n);
     let flat = serde_json::json!({"surface": {"type": "tensor", "degree": [n, n], "control_points": net}, "energy": {"stretch": 1.0}});
     for (name, text, expected) in [
         (
@@ -1044,16 +1048,7 @@ fn mutated_scenes_exit_0_or_2_and_write_only_on_success() {
 fn work_over_the_memory_limit_is_refused_with_the_estimate() {
     let d = tmpdir("memory");
     let n = 40;
-    let net: Vec<Vec<serde_json::Value>> = (0..=n)
-        .map(|i| {
-            (0..=n)
-                .map(|j| match i == 0 || j == 0 || i == n || j == n {
-                    true => serde_json::json!([i as f64 / n as f64, j as f64 / n as f64, 0.0]),
-                    false => serde_json::Value::Null,
-                })
-                .collect()
-        })
-        .collect();
+    let net = flat_square_net(n);
     let field = serde_json::json!({"degree": [0, 0], "control_points": [[[0, 0, 1]]]});
     let scene = serde_json::json!({"surface": {"type": "tensor", "degree": [n, n], "control_points": net},
         "energy": {"stretch": 1, "normal_field": field}});

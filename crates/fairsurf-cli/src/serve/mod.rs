@@ -8,10 +8,11 @@
 //! Requests not addressed to this server or not from its page are refused
 //! (`guard.rs`: Host, Origin, Content-Type). A connection must send its
 //! headers within `--header-timeout` (10 s) and its body within 30 s (408);
-//! at most 256 are open at once. Limits, each a clear JSON error: the request body (`--max-body-mb`,
-//! 413), the problem's size (`--max-unknowns`, 413), the solve time
-//! (`--timeout`, 503), and at most as many solves at once as there are
-//! cores (the others wait their turn).
+//! at most 256 are open at once. Limits, each a clear JSON error: the
+//! request body (`--max-body-mb`, 413), the problem's size
+//! (`--max-unknowns`, 413), its estimated memory (`--max-memory-gb`, 413),
+//! the solve time (`--timeout`, 503; the solve is cancelled), and at most
+//! as many solves at once as there are cores (the others wait their turn).
 
 mod guard;
 mod view;

@@ -81,9 +81,17 @@ pub struct AbsMeanCurvature {
 /// |H| on the (k+1)×(k+1) grid u, v = 0, 1/k, …, 1.
 pub fn abs_mean_curvature(patch: &TensorPatch, k: usize) -> AbsMeanCurvature {
     let k = k.max(1);
-    let ts: Vec<f64> = (0..=k).map(|i| i as f64 / k as f64).collect();
+    abs_mean_curvature_on(&patch.grid_derivatives(&unit_grid(k), &unit_grid(k)), k)
+}
+
+/// 0, 1/k, …, 1.
+pub(crate) fn unit_grid(k: usize) -> Vec<f64> {
+    (0..=k).map(|i| i as f64 / k as f64).collect()
+}
+
+/// [`abs_mean_curvature`] from the derivatives on that grid (u-major).
+pub(crate) fn abs_mean_curvature_on(d: &[SurfaceDerivatives], k: usize) -> AbsMeanCurvature {
     let w = |i: usize| if i == 0 || i == k { 0.5 } else { 1.0 };
-    let d = patch.grid_derivatives(&ts, &ts);
     let (mut min, mut max, mut num, mut den) = (f64::INFINITY, 0.0f64, 0.0, 0.0);
     let (mut samples, mut singular) = (0, 0);
     for a in 0..=k {

@@ -4,8 +4,9 @@
 //! follow does this). Reports say so instead of presenting the surface as
 //! fair.
 
+use super::curvature::unit_grid;
 use crate::vec3::{angle, cross, normalize};
-use crate::TensorPatch;
+use crate::{SurfaceDerivatives, TensorPatch};
 
 /// The largest turn of the unit normal between neighbouring grid samples.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -29,12 +30,13 @@ impl NormalTurn {
 /// two normals.
 pub fn largest_normal_turn(patch: &TensorPatch, k: usize) -> Option<NormalTurn> {
     let k = k.max(1);
-    let ts: Vec<f64> = (0..=k).map(|i| i as f64 / k as f64).collect();
-    let normals: Vec<_> = patch
-        .grid_derivatives(&ts, &ts)
-        .iter()
-        .map(|d| normalize(cross(d.du, d.dv)))
-        .collect();
+    largest_normal_turn_on(&patch.grid_derivatives(&unit_grid(k), &unit_grid(k)), k)
+}
+
+/// [`largest_normal_turn`] from the derivatives on that grid (u-major).
+pub(crate) fn largest_normal_turn_on(d: &[SurfaceDerivatives], k: usize) -> Option<NormalTurn> {
+    let ts = unit_grid(k);
+    let normals: Vec<_> = d.iter().map(|d| normalize(cross(d.du, d.dv))).collect();
     let mut best: Option<NormalTurn> = None;
     for a in 0..=k {
         for b in 0..=k {

@@ -25,12 +25,16 @@ pub const CURVATURE_GRID: usize = 64;
 /// patch.
 pub fn measures(patch: &TensorPatch) -> SurfaceMeasures {
     let a = area(patch);
+    // One derivative grid serves the |H| statistics and the normal turn.
+    let k = CURVATURE_GRID;
+    let ts = curvature::unit_grid(k);
+    let grid = patch.grid_derivatives(&ts, &ts);
     SurfaceMeasures {
         area: a.value,
         area_error: a.error,
         dirichlet: dirichlet(patch),
         biharmonic: biharmonic(patch),
-        abs_mean_curvature: abs_mean_curvature(patch, CURVATURE_GRID),
-        normal_turn: largest_normal_turn(patch, CURVATURE_GRID),
+        abs_mean_curvature: curvature::abs_mean_curvature_on(&grid, k),
+        normal_turn: folds::largest_normal_turn_on(&grid, k),
     }
 }

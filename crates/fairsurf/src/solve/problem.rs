@@ -991,12 +991,7 @@ impl Factored {
             budget::checkpoint()?;
             let g = self.free_gradient(&at);
             let y = self.factor.apply(&g);
-            let excess = 0.5
-                * (0..g.nrows())
-                    .flat_map(|i| (0..g.ncols()).map(move |c| (i, c)))
-                    .map(|(i, c)| g[(i, c)] * y[(i, c)])
-                    .sum::<f64>()
-                    .abs();
+            let excess = 0.5 * (g.transpose() * &y).diagonal().column_vector().sum().abs();
             let scale = check::scale(at.total.to_f64(), rounding);
             let done = !excess.is_finite() || excess <= check::GOAL * scale;
             if done || !correct || corrections == check::MAX_CORRECTIONS {
