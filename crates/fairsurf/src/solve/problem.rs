@@ -1006,7 +1006,9 @@ impl Factored {
             let Some(next_at) = check::tensor::energy_at(&integrands, &operators, &next) else {
                 unreachable!("the integrands were evaluated before");
             };
-            if next_at.total.to_f64() >= at.total.to_f64() {
+            // Compared in double-double: near the minimum the energies
+            // differ far below a double's resolution.
+            if (next_at.total - at.total).to_f64() >= 0.0 {
                 return Ok(Checked {
                     patch,
                     at: Some((at, excess, scale)),
