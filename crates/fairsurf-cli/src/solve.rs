@@ -129,24 +129,13 @@ fn solve_one(path: &Path, out: Option<&Path>, a: &Args) -> Result<String, Failur
     let solved = scene.solve().map_err(with_file);
     spinner.finish_and_clear();
     let solved = solved?;
-    let mut written = Vec::new();
-    for file in out.iter().copied().chain(a.mesh.as_deref()) {
-        ensure_parent(file)?;
-    }
-    // The result and its mesh appear together or not at all.
-    let t = std::time::Instant::now();
-    let batch = fairsurf_io::Batch::begin();
-    if let Some(o) = out {
-        solved.write(o)?;
-        written.push(o.display().to_string());
-    }
-    if let Some(m) = &a.mesh {
-        let r = a.resolution as usize;
-        write_mesh(m, &SurfaceMesh::from_patch(solved.patch(), r, r))?;
-        written.push(m.display().to_string());
-    }
-    batch.commit()?;
-    let written = written_in(written, t);
+    let r = a.resolution as usize;
+    let written = write_outputs(
+        out,
+        a.mesh.as_deref().map(|m| (m, 2 * r * r)),
+        |o| solved.write(o),
+        || SurfaceMesh::from_patch(solved.patch(), r, r),
+    )?;
     if a.json {
         return Ok(serde_json::to_string_pretty(&solved.report_json()).expect("json"));
     }
@@ -163,39 +152,77 @@ fn solve_triangular(
     let with_file = crate::input::with_file(path);
     let scene = TriScene::from_json(text).map_err(&with_file)?;
     let solved = scene.solve().map_err(&with_file)?;
-    for file in out.iter().copied().chain(a.mesh.as_deref()) {
-        ensure_parent(file)?;
-    }
-    let mut written = Vec::new();
-    let t = std::time::Instant::now();
-    let batch = fairsurf_io::Batch::begin();
-    if let Some(o) = out {
-        solved.write(o)?;
-        written.push(o.display().to_string());
-    }
-    if let Some(m) = &a.mesh {
-        let r = (a.resolution as usize).div_ceil(4).max(1);
-        write_mesh(m, &SurfaceMesh::from_tri_surface(solved.surface(), r))?;
-        written.push(m.display().to_string());
-    }
-    batch.commit()?;
-    let written = written_in(written, t);
+    let r = (a.resolution as usize).div_ceil(4).max(1);
+    let written = write_outputs(
+        out,
+        a.mesh
+            .as_deref()
+            .map(|m| (m, r * r * solved.surface().patch_count())),
+        |o| solved.write(o),
+        || SurfaceMesh::from_tri_surface(solved.surface(), r),
+    )?;
     if a.json {
         return Ok(serde_json::to_string_pretty(&solved.report_json()).expect("json"));
     }
     Ok(tri_summary(path, &solved, &written))
 }
 
-/// The files written, with the time their writing took (one entry).
-fn written_in(written: Vec<String>, start: std::time::Instant) -> Vec<String> {
-    if written.is_empty() {
-        return written;
+/// Meshes of at least this many triangles are built and written under a
+/// spinner (on a terminal): about a second's work.
+const LARGE_MESH: usize = 1 << 20;
+
+/// Writes a solve's result file and mesh (path and about how many
+/// triangles) as one batch: both appear or neither. A large mesh is built
+/// and written under a spinner on a terminal that says which phase runs and
+/// for how long. Returns the summary's entry: the files and the time their
+/// writing took.
+fn write_outputs(
+    out: Option<&Path>,
+    mesh: Option<(&Path, usize)>,
+    write_result: impl FnOnce(&Path) -> fairsurf_io::Result<()>,
+    build_mesh: impl FnOnce() -> SurfaceMesh,
+) -> Result<Vec<String>, Failure> {
+    for file in out.iter().copied().chain(mesh.map(|m| m.0)) {
+        ensure_parent(file)?;
     }
-    vec![format!(
+    let t = std::time::Instant::now();
+    let mut written = Vec::new();
+    let batch = fairsurf_io::Batch::begin();
+    if let Some(o) = out {
+        write_result(o)?;
+        written.push(o.display().to_string());
+    }
+    if let Some((m, triangles)) = mesh {
+        let spinner = if triangles >= LARGE_MESH && std::io::stderr().is_terminal() {
+            let s = ProgressBar::new_spinner();
+            s.set_style(
+                ProgressStyle::with_template("{spinner} {elapsed} {msg}").expect("valid template"),
+            );
+            s.enable_steady_tick(std::time::Duration::from_millis(200));
+            s
+        } else {
+            ProgressBar::hidden()
+        };
+        spinner.set_message(format!(
+            "building a mesh of about {:.1} M triangles",
+            triangles as f64 / 1e6
+        ));
+        let built = build_mesh();
+        spinner.set_message(format!("writing {}", m.display()));
+        let done = write_mesh(m, &built);
+        spinner.finish_and_clear();
+        done?;
+        written.push(m.display().to_string());
+    }
+    batch.commit()?;
+    if written.is_empty() {
+        return Ok(written);
+    }
+    Ok(vec![format!(
         "{} in {:.3} s",
         written.join(", "),
-        start.elapsed().as_secs_f64()
-    )]
+        t.elapsed().as_secs_f64()
+    )])
 }
 
 fn tri_summary(path: &Path, s: &SolvedTriScene, written: &[String]) -> String {
@@ -278,6 +305,10 @@ fn tri_summary(path: &Path, s: &SolvedTriScene, written: &[String]) -> String {
             ));
         }
     }
+    lines.push(check_line(r.check.as_ref(), "nothing was free"));
+    for note in &s.notes() {
+        lines.push(format!("  note: {note}"));
+    }
     if let Some(k) = &r.kkt {
         lines.push(format!(
             "  gradient {:.2e} (relative {:.2e})  KKT {}×{} by {}: residual {:.2e}, condition ≈ {:.2e}, refinement steps {}",
@@ -291,6 +322,18 @@ fn tri_summary(path: &Path, s: &SolvedTriScene, written: &[String]) -> String {
     };
     lines.push(format!("  solved in {:.3} s{wrote}", r.seconds.total));
     lines.join("\n")
+}
+
+/// The summary's line for the independent check of the written net.
+fn check_line(check: Option<&fairsurf::Check>, why_not: &str) -> String {
+    match check {
+        Some(c) => format!(
+            "  checked on the written net: energy {:.10e} (closed forms agree to {:.1e}), \
+             {:.1e} above the minimum (relative; tolerance {:.0e}), {} correction(s)",
+            c.energy, c.energy_error, c.excess, c.tolerance, c.corrections
+        ),
+        None => format!("  not checked: {why_not}"),
+    }
 }
 
 pub(crate) fn ensure_parent(file: &Path) -> Result<(), Failure> {
@@ -372,14 +415,10 @@ fn summary(path: &Path, s: &SolvedScene, written: &[String]) -> String {
                 terms.join(" + ")
             ));
             operator_lines(&mut lines, &r.operators, r.newton.as_ref());
-            lines.push(match &r.check {
-                Some(c) => format!(
-                    "  checked on the written net: energy {:.10e} (closed forms agree to {:.1e}), \
-                     {:.1e} above the minimum (relative; tolerance {:.0e}), {} correction(s)",
-                    c.energy, c.energy_error, c.excess, c.tolerance, c.corrections
-                ),
-                None => "  not checked: a term does not describe its integrand".into(),
-            });
+            lines.push(check_line(
+                r.check.as_ref(),
+                "a term does not describe its integrand",
+            ));
             measures_lines(&mut lines, r.measures.as_ref());
             lines.push(format!(
                 "  gradient {:.2e} (relative {:.2e})  residual {:.2e}  condition ≈ {:.2e}  refinement steps {}",

@@ -744,9 +744,31 @@ impl SolvedTriScene {
         out
     }
 
-    /// The `"report"` object.
+    /// The `"report"` object, with the [`Self::notes`].
     pub fn report_json(&self) -> Value {
-        tri_report_json(&self.solution.report)
+        let mut r = tri_report_json(&self.solution.report);
+        r["notes"] = json!(self.notes());
+        r
+    }
+
+    /// What the result's reader should know: a fold inside a patch, when
+    /// the normal turns by more than 90° between neighbouring samples.
+    pub fn notes(&self) -> Vec<String> {
+        let fold = self.solution.report.normal_turn.filter(|t| t.is_fold());
+        fold.map(|t| {
+            format!(
+                "the surface folds: its normal turns by {:.1}° between neighbouring samples \
+                 of patch {} near barycentric ({:.3}, {:.3}, {:.3}); lower the operators' \
+                 strengths or move their targets",
+                t.angle.to_degrees(),
+                t.patch,
+                t.at[0],
+                t.at[1],
+                t.at[2]
+            )
+        })
+        .into_iter()
+        .collect()
     }
 
     /// Writes the result file (atomically).
@@ -794,7 +816,7 @@ pub fn tri_report_json(r: &TriReport) -> Value {
             .map(|x| json!({"name": x.name, "residual": x.residual}))
             .collect()
     };
-    json!({
+    let mut o = json!({
         "energy": {"stretch": r.stretch, "bend": r.bend, "total": r.total},
         "mesh": {"patches": r.patches, "vertices": r.vertices, "control_points": r.points},
         "unknowns": r.unknowns,
@@ -815,6 +837,8 @@ pub fn tri_report_json(r: &TriReport) -> Value {
         "unenforced_continuity_residual": r.unenforced_residual,
         "row_tolerance": r.row_tolerance,
         "max_edge_normal_angle_rad": r.max_edge_normal_angle.map(|(a, _)| a),
+        "max_normal_turn_deg": r.normal_turn.map(|t| t.angle.to_degrees()),
+        "max_normal_turn_at": r.normal_turn.map(|t| json!({"patch": t.patch, "bary": t.at})),
         "max_edge_normal_angle_at": r.max_edge_normal_angle.map(|(_, e)| e),
         "gradient_norm": r.gradient_norm,
         "relative_gradient": r.relative_gradient,
@@ -834,5 +858,9 @@ pub fn tri_report_json(r: &TriReport) -> Value {
             "solve": r.seconds.solve,
             "total": r.seconds.total,
         },
-    })
+    });
+    if let Some(c) = &r.check {
+        o["check"] = crate::result::check_json(c);
+    }
+    o
 }

@@ -3,8 +3,8 @@
 //! negative or fractional, an element removed or repeated, a key removed or
 //! added, a string or type swapped, a value nulled), parsed, validated and
 //! solved. Nothing may panic; every error must be one of the crate's errors;
-//! every tensor solve that returns must carry a passed check of its written
-//! net. Deterministic (a fixed seed), bounded in time: degrees above 12 and
+//! every solve that returns (tensor or triangular) must carry a passed check
+//! of its written net. Deterministic (a fixed seed), bounded in time: degrees above 12 and
 //! large sample grids are validated, not solved.
 
 mod mutate;
@@ -20,11 +20,23 @@ fn exercise(text: &str, solve: bool) -> bool {
         let Ok(scene) = TriScene::from_json(text) else {
             return false;
         };
-        return if solve {
-            scene.solve().is_ok()
-        } else {
-            scene.problem().is_ok()
+        if !solve {
+            return scene.problem().is_ok();
+        }
+        let Ok(solved) = scene.solve() else {
+            return false;
         };
+        let r = &solved.solution.report;
+        // Nothing free (every point fixed): nothing to check.
+        if r.unknowns > 0 {
+            let check = r.check.as_ref().expect("free points were solved for");
+            assert!(
+                check.passed(),
+                "a returned solve failed its check: {check:?}\n{text}"
+            );
+            assert!(r.total.is_finite() && r.total == check.energy, "{text}");
+        }
+        return true;
     }
     let Ok(scene) = Scene::from_json(text) else {
         return false;

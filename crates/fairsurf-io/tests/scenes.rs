@@ -650,3 +650,41 @@ fn folds_are_noted() {
     assert!(!turn.is_fold(), "{turn:?}");
     assert!(fair.iter().all(|n| !n.contains("folds")), "{fair:?}");
 }
+
+/// A triangular surface that folds inside a patch says so: one cubic
+/// triangle whose fixed boundary edge runs forward, back past its start and
+/// forward again keeps the fold after the solve; the same triangle with a
+/// straight edge does not fold and has no note.
+#[test]
+fn triangular_folds_are_noted() {
+    use fairsurf::TriSurface;
+    let corners = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    let scene = |folded: bool| {
+        let mut s = TriSurface::new(&corners, &[[0, 1, 2]], 3);
+        let mut pts = s.points().to_vec();
+        if folded {
+            for (i, x) in [0.0, 3.0, -2.0, 1.0].iter().enumerate() {
+                pts[s.global_index(0, 3 - i, i, 0)] = [*x, 0.0, 0.001 * i as f64];
+            }
+        }
+        s.set_points(pts.clone()).unwrap();
+        json!({"surface": {"type": "triangular", "degree": 3, "vertices": corners,
+            "triangles": [[0, 1, 2]], "control_points": pts},
+            "fix_boundary": true, "energy": {"stretch": 1}})
+    };
+    let solve = |folded: bool| {
+        fairsurf_io::TriScene::from_json(&scene(folded).to_string())
+            .unwrap()
+            .solve()
+            .unwrap()
+    };
+    let s = solve(true);
+    let turn = s.solution.report.normal_turn.unwrap();
+    assert!(turn.is_fold(), "{turn:?}");
+    let notes = s.notes();
+    assert!(notes.iter().any(|n| n.contains("folds")), "{notes:?}");
+    assert_eq!(s.report_json()["notes"][0], notes[0]);
+    let flat = solve(false);
+    assert!(!flat.solution.report.normal_turn.unwrap().is_fold());
+    assert!(flat.notes().is_empty());
+}

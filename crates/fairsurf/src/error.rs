@@ -142,13 +142,14 @@ pub enum Error {
     /// gradient: double precision cannot deliver this problem's minimizer
     /// as a net of this degree.
     #[error(
-        "the solution at degree {degree:?} cannot be verified in double precision: \
+        "the solution at degree {degree} cannot be verified in double precision: \
          recomputed in double-double on the written net, its energy {checked:.12e} lies \
          {excess:.1e} (relative) above the minimum, and the tolerance is {tolerance:.0e}. {hint}"
     )]
     Unverified {
-        /// The patch's degree.
-        degree: (usize, usize),
+        /// The patches' degree: `(n, m)` for a tensor patch, `n` for
+        /// triangular ones.
+        degree: String,
         /// The energy recomputed in double-double.
         checked: f64,
         /// Estimated excess over the minimum, relative to the energy.

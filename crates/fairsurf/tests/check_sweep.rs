@@ -283,3 +283,289 @@ fn net_errors() {
         println!("{n}: net error {err:.1e}, surface error {surface:.1e}, excess {:.1e}, corrections {}, check {:.2} ms, total {:.2} ms", c.excess, c.corrections, 1e3 * c.seconds, 1e3 * t.elapsed().as_secs_f64());
     }
 }
+
+/// The triangular side: one patch over the equilateral domain of side 1
+/// (x, y) ∈ Δ, the net of (x, y, z(x, y)) at every degree the triangular
+/// schema allows (to 20), solved and checked.
+mod triangular {
+    use fairsurf::basis::GaussLegendre;
+    use fairsurf::triangle::{
+        linear_index, multi_indices, point_count, trinomial, Constraint, InternalEnergy,
+        TriProblem, EQUILATERAL,
+    };
+    use fairsurf::{Error, TriSurface};
+
+    /// Largest degree of the triangular scene schema.
+    const MAX_DEGREE: usize = 20;
+
+    /// A polynomial on Δ in Bernstein form: degree and coefficients in
+    /// storage order.
+    type Bern = (usize, Vec<f64>);
+
+    /// The product of two Bernstein-form polynomials:
+    /// c_γ = Σ_{α+β=γ} a_α b_β · T(α) T(β) / T(γ), T the trinomials.
+    fn product(a: &Bern, b: &Bern) -> Bern {
+        let n = a.0 + b.0;
+        let mut c = vec![0.0; point_count(n)];
+        for (p, al) in multi_indices(a.0).enumerate() {
+            for (q, be) in multi_indices(b.0).enumerate() {
+                let g = [al[0] + be[0], al[1] + be[1], al[2] + be[2]];
+                c[linear_index(n, g[0], g[1], g[2])] += a.1[p]
+                    * b.1[q]
+                    * trinomial(al[0], al[1], al[2])
+                    * trinomial(be[0], be[1], be[2])
+                    / trinomial(g[0], g[1], g[2]);
+            }
+        }
+        (n, c)
+    }
+
+    fn sum(terms: &[(f64, Bern)], n: usize) -> Vec<f64> {
+        let one = |d: usize| (d, vec![1.0; point_count(d)]);
+        let mut out = vec![0.0; point_count(n)];
+        for (c, t) in terms {
+            let e = product(t, &one(n - t.0));
+            for (o, v) in out.iter_mut().zip(&e.1) {
+                *o += c * v;
+            }
+        }
+        out
+    }
+
+    /// x and y as degree-1 polynomials: their values at the corners.
+    fn x() -> Bern {
+        (1, EQUILATERAL.iter().map(|v| v[0]).collect())
+    }
+    fn y() -> Bern {
+        (1, EQUILATERAL.iter().map(|v| v[1]).collect())
+    }
+    fn monomial(a: usize, b: usize) -> Bern {
+        let mut m = (0, vec![1.0]);
+        for _ in 0..a {
+            m = product(&m, &x());
+        }
+        for _ in 0..b {
+            m = product(&m, &y());
+        }
+        m
+    }
+
+    /// z by its monomials [(coefficient, power of x, power of y)] and its
+    /// derivatives for the quadrature of the known energy.
+    struct Poly(&'static [(f64, i32, i32)]);
+
+    impl Poly {
+        fn d(&self, x: f64, y: f64, dx: i32, dy: i32) -> f64 {
+            let falling = |p: i32, k: i32| (0..k).map(|r| (p - r) as f64).product::<f64>();
+            self.0
+                .iter()
+                .filter(|&&(_, a, b)| a >= dx && b >= dy)
+                .map(|&(c, a, b)| {
+                    c * falling(a, dx) * falling(b, dy) * x.powi(a - dx) * y.powi(b - dy)
+                })
+                .sum()
+        }
+    }
+
+    /// ∫_Δ f dA by the collapsed Gauss rule (12 × 12 nodes: exact to
+    /// degree 23).
+    fn integrate(f: impl Fn(f64, f64) -> f64) -> f64 {
+        let g = GaussLegendre::new(12);
+        let [v1, v2, v3] = EQUILATERAL;
+        let two_area = 3f64.sqrt() / 2.0;
+        let mut total = 0.0;
+        for (&s, &ws) in g.nodes.iter().zip(&g.weights) {
+            for (&t, &wt) in g.nodes.iter().zip(&g.weights) {
+                let (u, v, w) = (s, (1.0 - s) * t, (1.0 - s) * (1.0 - t));
+                let px = u * v1[0] + v * v2[0] + w * v3[0];
+                let py = u * v1[1] + v * v2[1] + w * v3[1];
+                total += ws * wt * (1.0 - s) * two_area * f(px, py);
+            }
+        }
+        total
+    }
+
+    struct Case {
+        name: &'static str,
+        z: Poly,
+        bend: bool,
+        /// The lowest degree that has free points and holds z.
+        first: usize,
+    }
+
+    impl Case {
+        /// The known minimum: ½∫ 2 + |∇z|² (stretch) or ½∫ |Hess z|²_F.
+        fn energy(&self) -> f64 {
+            let z = &self.z;
+            0.5 * integrate(|x, y| {
+                if self.bend {
+                    z.d(x, y, 2, 0).powi(2)
+                        + 2.0 * z.d(x, y, 1, 1).powi(2)
+                        + z.d(x, y, 0, 2).powi(2)
+                } else {
+                    2.0 + z.d(x, y, 1, 0).powi(2) + z.d(x, y, 0, 1).powi(2)
+                }
+            })
+        }
+
+        /// The problem at degree n: the net of (x, y, z), the boundary
+        /// (stretch) or the two outer rings (bend) fixed.
+        fn problem(&self, n: usize) -> TriProblem {
+            let corners: Vec<[f64; 3]> = EQUILATERAL.iter().map(|v| [v[0], v[1], 0.0]).collect();
+            let mut s = TriSurface::new(&corners, &[[0, 1, 2]], n);
+            let zs: Vec<(f64, Bern)> = self
+                .z
+                .0
+                .iter()
+                .map(|&(c, a, b)| (c, monomial(a as usize, b as usize)))
+                .collect();
+            let (xs, ys, z) = (sum(&[(1.0, x())], n), sum(&[(1.0, y())], n), sum(&zs, n));
+            let mut points = s.points().to_vec();
+            for [i, j, k] in multi_indices(n) {
+                let l = linear_index(n, i, j, k);
+                points[s.global_index(0, i, j, k)] = [xs[l], ys[l], z[l]];
+            }
+            s.set_points(points).unwrap();
+            let energy = if self.bend {
+                InternalEnergy::new(0.0, 1.0)
+            } else {
+                InternalEnergy::new(1.0, 0.0)
+            };
+            let mut p = TriProblem::new(s.clone(), energy);
+            let ring = if self.bend { 1 } else { 0 };
+            for [i, j, k] in multi_indices(n).filter(|m| m.iter().min().unwrap() <= &ring) {
+                let g = s.global_index(0, i, j, k);
+                p = p.with_constraint(
+                    format!("ring point {g}"),
+                    Constraint::Fixed {
+                        point: g,
+                        value: s.points()[g],
+                    },
+                );
+            }
+            p
+        }
+    }
+
+    const CASES: &[Case] = &[
+        Case {
+            name: "triangular flat, stretch",
+            z: Poly(&[]),
+            bend: false,
+            first: 3,
+        },
+        Case {
+            name: "triangular flat, bend",
+            z: Poly(&[]),
+            bend: true,
+            first: 6,
+        },
+        Case {
+            name: "triangular harmonic x²−y²+xy+x³−3xy², stretch",
+            z: Poly(&[
+                (1.0, 2, 0),
+                (-1.0, 0, 2),
+                (1.0, 1, 1),
+                (1.0, 3, 0),
+                (-3.0, 1, 2),
+            ]),
+            bend: false,
+            first: 3,
+        },
+        Case {
+            name: "triangular biharmonic x³+xy²+x²y, bend",
+            z: Poly(&[(1.0, 3, 0), (1.0, 1, 2), (1.0, 2, 1)]),
+            bend: true,
+            first: 6,
+        },
+    ];
+
+    fn sweep(case: &Case) {
+        let known = case.energy();
+        let (mut verified, mut refused) = (Vec::new(), Vec::new());
+        for n in case.first..=MAX_DEGREE {
+            match case.problem(n).solve() {
+                Ok(s) => {
+                    let r = &s.report;
+                    let c = r.check.expect("free points were solved for");
+                    assert!(c.passed(), "{}: degree {n}: {c:?}", case.name);
+                    assert_eq!(r.total, c.energy);
+                    let scale = known.max(c.scale);
+                    assert!(
+                        (c.energy - known).abs() <= 2e-10 * scale,
+                        "{}: degree {n}: energy {} instead of {known} (check {c:?})",
+                        case.name,
+                        c.energy
+                    );
+                    assert!(r.max_violation == 0.0, "fixed points moved");
+                    verified.push(n);
+                }
+                Err(e @ Error::Unverified { .. }) => {
+                    assert!(e.to_string().contains("lower degree"), "{e}");
+                    refused.push(n);
+                }
+                Err(e) => panic!("{}: degree {n}: unexpected error {e}", case.name),
+            }
+        }
+        println!("{}: verified {verified:?}, refused {refused:?}", case.name);
+        assert!(
+            (case.first..=MAX_DEGREE).all(|n| verified.contains(&n)),
+            "{}: refused {refused:?}",
+            case.name
+        );
+    }
+
+    #[test]
+    fn every_degree_verifies() {
+        for case in CASES {
+            sweep(case);
+        }
+    }
+
+    /// What the check costs on large triangular solves: cubic patches over
+    /// a grid, boundary fixed, stretch 0.1 + bend 1, C0 and G1 at the
+    /// vertices. `cargo test --release -p fairsurf --test check_sweep
+    /// triangular_check_cost -- --ignored --nocapture`.
+    #[test]
+    #[ignore]
+    fn triangular_check_cost() {
+        use fairsurf::triangle::{Continuity, EdgeContinuity};
+        for (a, b) in [(25, 20), (80, 63)] {
+            let id = |i: usize, j: usize| j * (a + 1) + i;
+            let mut v = Vec::new();
+            for j in 0..=b {
+                for i in 0..=a {
+                    let (x, y) = (i as f64 / a as f64, j as f64 / b as f64);
+                    v.push([
+                        i as f64,
+                        j as f64,
+                        0.2 * a as f64 * (3.0 * x).sin() * (2.0 * y + 0.5).cos(),
+                    ]);
+                }
+            }
+            let mut t = Vec::new();
+            for j in 0..b {
+                for i in 0..a {
+                    t.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                    t.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+                }
+            }
+            let s = TriSurface::new(&v, &t, 3);
+            for vertices in [false, true] {
+                let p = TriProblem::new(s.clone(), InternalEnergy::new(0.1, 1.0))
+                    .with_fixed_boundary()
+                    .with_continuity(Continuity {
+                        vertices,
+                        edges: EdgeContinuity::Off,
+                        boundary_angles: Vec::new(),
+                    });
+                let r = p.solve().unwrap().report;
+                let c = r.check.unwrap();
+                println!(
+                    "{} patches, G1 at vertices {vertices}: check {:.3} s of {:.3} s, excess {:.1e}, {} corrections",
+                    r.patches, c.seconds, r.seconds.total, c.excess, c.corrections
+                );
+            }
+        }
+    }
+}

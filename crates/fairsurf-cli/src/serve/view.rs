@@ -847,6 +847,10 @@ fn tri_view(solved: &SolvedTriScene) -> Value {
         row("max constraint violation", r.max_violation),
         row("gradient (relative)", r.relative_gradient),
         row(
+            "checked: energy excess (relative)",
+            r.check.as_ref().map(|c| c.excess),
+        ),
+        row(
             "max normal angle across edges (rad)",
             r.max_edge_normal_angle.map(|(a, _)| a),
         ),

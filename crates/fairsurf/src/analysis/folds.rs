@@ -6,7 +6,7 @@
 
 use super::curvature::unit_grid;
 use crate::vec3::{angle, cross, normalize};
-use crate::{SurfaceDerivatives, TensorPatch};
+use crate::{SurfaceDerivatives, TensorPatch, TriSurface};
 
 /// The largest turn of the unit normal between neighbouring grid samples.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -63,6 +63,67 @@ pub(crate) fn largest_normal_turn_on(d: &[SurfaceDerivatives], k: usize) -> Opti
     best
 }
 
+/// The largest turn of the unit normal inside the patches of a triangular
+/// surface (across their edges: [`crate::triangle::max_edge_normal_angle`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TriNormalTurn {
+    /// The angle in radians (π/2 and more is a fold).
+    pub angle: f64,
+    /// The patch.
+    pub patch: usize,
+    /// Barycentric coordinates of the first sample of the pair.
+    pub at: [f64; 3],
+}
+
+impl TriNormalTurn {
+    /// Whether the turn is a fold (more than 90°).
+    pub fn is_fold(&self) -> bool {
+        self.angle > std::f64::consts::FRAC_PI_2
+    }
+}
+
+/// The largest angle between the unit normals of neighbouring samples of
+/// each patch's barycentric grid (i/k, j/k, (k−i−j)/k), neighbours along
+/// the grid's three directions; samples without a normal are skipped.
+pub fn largest_tri_normal_turn(surface: &TriSurface, k: usize) -> Option<TriNormalTurn> {
+    let k = k.max(1);
+    let kf = k as f64;
+    let grid: Vec<[usize; 2]> = (0..=k)
+        .flat_map(|i| (0..=k - i).map(move |j| [i, j]))
+        .collect();
+    let index = |i: usize, j: usize| grid.iter().position(|g| *g == [i, j]);
+    let neighbours: Vec<Vec<usize>> = grid
+        .iter()
+        .map(|&[i, j]| {
+            let mut n = vec![index(i + 1, j), index(i, j + 1)];
+            if j > 0 {
+                n.push(index(i + 1, j - 1));
+            }
+            n.into_iter().flatten().collect()
+        })
+        .collect();
+    let bary = |[i, j]: [usize; 2]| [i as f64 / kf, j as f64 / kf, (k - i - j) as f64 / kf];
+    let mut best: Option<TriNormalTurn> = None;
+    for (t, patch) in surface.patches().enumerate() {
+        let normals: Vec<_> = grid.iter().map(|&g| patch.normal(bary(g))).collect();
+        for (a, near) in neighbours.iter().enumerate() {
+            let Some(n) = normals[a] else { continue };
+            for &b in near {
+                let Some(m) = normals[b] else { continue };
+                let turn = angle(n, m);
+                if best.is_none_or(|x| turn > x.angle) {
+                    best = Some(TriNormalTurn {
+                        angle: turn,
+                        patch: t,
+                        at: bary(grid[a]),
+                    });
+                }
+            }
+        }
+    }
+    best
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -95,5 +156,25 @@ mod tests {
         let folded = TensorPatch::from_fn(3, 3, |i, j| [xs[i], j as f64, 0.001 * i as f64]);
         let t = largest_normal_turn(&folded, 30).unwrap();
         assert!(t.is_fold(), "{t:?}");
+    }
+
+    /// The triangular version: a flat surface turns by 0, a patch whose
+    /// middle edge points are pulled past the far corner folds.
+    #[test]
+    fn triangular_folds_are_found() {
+        let v = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let mut s = TriSurface::new(&v, &[[0, 1, 2]], 3);
+        assert!(largest_tri_normal_turn(&s, 8).unwrap().angle < 1e-12);
+        // Edge w = 0 runs 0, 3, −2, 1 in x: forward, back, forward.
+        let xs = [0.0, 3.0, -2.0, 1.0];
+        let mut pts = s.points().to_vec();
+        for (i, x) in xs.iter().enumerate() {
+            let g = s.global_index(0, 3 - i, i, 0);
+            pts[g] = [*x, 0.0, 0.001 * i as f64];
+        }
+        s.set_points(pts).unwrap();
+        let t = largest_tri_normal_turn(&s, 24).unwrap();
+        assert!(t.is_fold(), "{t:?}");
+        assert_eq!(t.patch, 0);
     }
 }

@@ -11,7 +11,7 @@ mod normals;
 pub use area::{area, Area, AREA_TOLERANCE};
 pub use continuity::{continuity, Continuity, Edge, Stat};
 pub use curvature::{abs_mean_curvature, curvature, curvature_from, AbsMeanCurvature, Curvature};
-pub use folds::{largest_normal_turn, NormalTurn};
+pub use folds::{largest_normal_turn, largest_tri_normal_turn, NormalTurn, TriNormalTurn};
 pub use functionals::{biharmonic, dirichlet};
 pub use normals::{normal_deviation, NormalDeviation};
 

@@ -18,10 +18,20 @@
 //! the solve first takes Newton corrections x ← x − H⁻¹g with the exact
 //! gradient; when that does not reach the tolerance, the solve is refused
 //! ([`crate::Error::Unverified`]).
+//!
+//! Tensor problems: [`tensor`] (Gauss–Legendre tensor rules, the excess
+//! from the solve's Cholesky factor). Triangular problems: [`triangle`]
+//! (collapsed Gauss rules on every patch; with constraint rows the excess is
+//! that of the minimizer within the rows, from the solve's KKT
+//! factorization).
 
 pub(crate) mod dd;
 mod nodes;
 pub(crate) mod tensor;
+pub(crate) mod triangle;
+
+use crate::operator::Residual;
+use dd::Dd;
 
 /// Relative tolerance of the check's energy excess.
 pub const TOLERANCE: f64 = 1e-10;
@@ -74,4 +84,37 @@ impl Check {
 pub(crate) fn scale(energy: f64, rounding: f64) -> f64 {
     let floor = f64::EPSILON * f64::EPSILON * rounding / TOLERANCE;
     energy.max(floor).max(f64::MIN_POSITIVE)
+}
+
+/// An attractor's s·q or a repellor's s/q with q = Σ w (a·x − t)²
+/// (Veltkamp & Wesselink §5), in double-double at the flattened
+/// coordinates `x`; each gradient entry (index, ∂E/∂x_index) goes to `add`.
+pub(crate) fn operator_energy(
+    strength: f64,
+    repel: bool,
+    residuals: &[Residual],
+    x: &[Dd],
+    mut add: impl FnMut(usize, Dd),
+) -> Dd {
+    let mut q = Dd::new(0.0);
+    let mut dq: Vec<(usize, Dd)> = Vec::new();
+    for r in residuals {
+        let v = r
+            .terms
+            .iter()
+            .fold(Dd::new(-r.target), |s, &(i, a)| s + x[i] * a);
+        q += v * v * r.weight;
+        let two_wv = v * (2.0 * r.weight);
+        dq.extend(r.terms.iter().map(|&(i, a)| (i, two_wv * a)));
+    }
+    let s = Dd::new(strength);
+    let (e, scale) = if repel {
+        (s / q, -(s / (q * q)))
+    } else {
+        (s * q, s)
+    };
+    for (i, d) in dq {
+        add(i, d * scale);
+    }
+    e
 }

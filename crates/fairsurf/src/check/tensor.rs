@@ -170,7 +170,9 @@ pub(crate) fn energy_at(
         .map(|&v| Dd::new(v))
         .collect();
     for (op, residuals) in operators {
-        total += operator(op, residuals, &x, &mut gradient);
+        total += super::operator_energy(op.strength, op.repel, residuals, &x, |i, g| {
+            gradient[i % 3].v[i / 3] += g;
+        });
     }
     Some(EnergyAt {
         total,
@@ -307,38 +309,6 @@ fn guide(
             d.v[k] = o * diff * weight;
         }
         accumulate(&mut gradient[c], &pr.adjoint(&d, degree));
-    }
-    e
-}
-
-/// An attractor's s·q or a repellor's s/q with q = Σ w (a·x − t)², and its
-/// gradient, over the flattened coordinates 3g + c.
-fn operator(
-    op: &TensorOperator,
-    residuals: &[Residual],
-    x: &[Dd],
-    gradient: &mut [Table; 3],
-) -> Dd {
-    let mut q = Dd::new(0.0);
-    let mut dq: Vec<(usize, Dd)> = Vec::new();
-    for r in residuals {
-        let v = r
-            .terms
-            .iter()
-            .fold(Dd::new(-r.target), |s, &(i, a)| s + x[i] * a);
-        q += v * v * r.weight;
-        let two_wv = v * (2.0 * r.weight);
-        dq.extend(r.terms.iter().map(|&(i, a)| (i, two_wv * a)));
-    }
-    let s = Dd::new(op.strength);
-    let (e, scale) = if op.repel {
-        (s / q, -(s / (q * q)))
-    } else {
-        (s * q, s)
-    };
-    for (i, d) in dq {
-        let (p, c) = (i / 3, i % 3);
-        gradient[c].v[p] += d * scale;
     }
     e
 }

@@ -862,7 +862,7 @@ impl Factored {
                     Ok(check)
                 } else {
                     Err(Error::Unverified {
-                        degree: self.degree,
+                        degree: format!("({}, {})", self.degree.0, self.degree.1),
                         checked: recomputed,
                         excess: check.excess,
                         tolerance: check.tolerance,

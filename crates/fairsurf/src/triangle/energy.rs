@@ -28,9 +28,9 @@ const EDGES: [(usize, usize); 3] = [(0, 1), (1, 2), (2, 0)];
 /// `Q_λ = Σ c · P_{λ+shift}` (a difference operator without its factor
 /// n!/(n − order)!).
 #[derive(Clone, Debug)]
-struct Stencil {
-    order: usize,
-    terms: Vec<([usize; 3], f64)>,
+pub(crate) struct Stencil {
+    pub order: usize,
+    pub terms: Vec<([usize; 3], f64)>,
 }
 
 impl Stencil {
@@ -61,7 +61,7 @@ impl Stencil {
 
     /// For each term, the positions of P_{λ+shift} in the degree-n net, λ
     /// over the degree-(n − order) net in storage order.
-    fn positions(&self, n: usize) -> Vec<Vec<usize>> {
+    pub fn positions(&self, n: usize) -> Vec<Vec<usize>> {
         let m = n - self.order;
         self.terms
             .iter()
@@ -74,38 +74,41 @@ impl Stencil {
     }
 }
 
-/// `(weight, D)` pairs with |∇T|² = Σ weight |D T|² (up to n!/(n−1)!).
-fn stretch_stencils() -> Vec<(f64, Stencil)> {
+/// `(weight, D)` pairs with |∇T|² = Σ (weight/9) |D T|² (up to
+/// n!/(n−1)!); weights in ninths so that the check can take them exactly.
+pub(crate) fn stretch_stencils() -> Vec<(u32, Stencil)> {
     EDGES
         .iter()
-        .map(|&(a, b)| (2.0 / 3.0, Stencil::edge(a, b)))
+        .map(|&(a, b)| (6, Stencil::edge(a, b)))
         .collect()
 }
 
-/// `(weight, D)` pairs with ‖Hess T‖²_F = Σ weight |D T|² (up to
+/// `(weight, D)` pairs with ‖Hess T‖²_F = Σ (weight/9) |D T|² (up to
 /// n!/(n−2)!): the 9 ordered edge pairs, the 6 off-diagonal ones merged.
-fn bend_stencils() -> Vec<(f64, Stencil)> {
+pub(crate) fn bend_stencils() -> Vec<(u32, Stencil)> {
     let mut out = Vec::with_capacity(6);
     for (p, &(a, b)) in EDGES.iter().enumerate() {
         for &(c, d) in &EDGES[p..] {
-            let w = if (a, b) == (c, d) {
-                4.0 / 9.0
-            } else {
-                8.0 / 9.0
-            };
+            let w = if (a, b) == (c, d) { 4 } else { 8 };
             out.push((w, Stencil::edge(a, b).then(&Stencil::edge(c, d))));
         }
     }
     out
 }
 
+/// A stencil weight in double precision: ninths/9, correctly rounded (6/9
+/// is the double nearest ⅔).
+fn ninths(w: u32) -> f64 {
+    f64::from(w) / 9.0
+}
+
 /// n!/(n − r)!.
-fn falling(n: usize, r: usize) -> f64 {
+pub(crate) fn falling(n: usize, r: usize) -> f64 {
     (0..r).map(|i| (n - i) as f64).product()
 }
 
 /// `A (n!/(n−r)!)² Σ weight · Dᵀ G D` with G the Gram matrix of degree n − r.
-fn form(n: usize, stencils: &[(f64, Stencil)]) -> Mat<f64> {
+fn form(n: usize, stencils: &[(u32, Stencil)]) -> Mat<f64> {
     let size = point_count(n);
     let mut k = Mat::<f64>::zeros(size, size);
     let Some(order) = stencils.first().map(|s| s.1.order) else {
@@ -121,7 +124,7 @@ fn form(n: usize, stencils: &[(f64, Stencil)]) -> Mat<f64> {
         let pos = st.positions(n);
         for l in 0..point_count(m) {
             for q in 0..point_count(m) {
-                let g = scale * w * gram[(l, q)];
+                let g = scale * ninths(*w) * gram[(l, q)];
                 for (s, &(_, cs)) in st.terms.iter().enumerate() {
                     for (t, &(_, ct)) in st.terms.iter().enumerate() {
                         k[(pos[s][l], pos[t][q])] += g * cs * ct;
@@ -147,7 +150,7 @@ fn symmetrize(k: &mut Mat<f64>) {
 
 /// `A (n!/(n−r)!)² Σ_c Σ weight · d_cᵀ G d_c` with d_c = D P_c, from the
 /// difference nets (no matrix of size (n+1)(n+2)/2 is formed).
-fn form_value(n: usize, points: &[Vec3], stencils: &[(f64, Stencil)]) -> f64 {
+fn form_value(n: usize, points: &[Vec3], stencils: &[(u32, Stencil)]) -> f64 {
     let Some(order) = stencils.first().map(|s| s.1.order) else {
         return 0.0;
     };
@@ -169,7 +172,7 @@ fn form_value(n: usize, points: &[Vec3], stencils: &[(f64, Stencil)]) -> f64 {
                         .sum()
                 })
                 .collect();
-            total += w * crate::energy::quad(&gram, &d);
+            total += ninths(*w) * crate::energy::quad(&gram, &d);
         }
     }
     EQUILATERAL_AREA * falling(n, order).powi(2) * total

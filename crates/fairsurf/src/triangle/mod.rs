@@ -72,7 +72,7 @@ mod continuity;
 mod convert;
 mod derivatives;
 mod elevate;
-mod energy;
+pub(crate) mod energy;
 mod index;
 mod integral;
 pub(crate) mod kkt;

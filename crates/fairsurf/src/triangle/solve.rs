@@ -29,6 +29,9 @@ use super::operator::Located;
 use super::reduce::{classify, SparseRow, Verdict};
 use super::refine::{check_point, embed_curve, DomainPoint, Refinement};
 use super::surface::TriSurface;
+use crate::analysis::{largest_tri_normal_turn, TriNormalTurn};
+use crate::check::triangle::{TriEnergy, Verify};
+use crate::check::Check;
 use crate::operator::newton::{add_quadratic, newton, FreeResiduals, NewtonReport};
 use crate::operator::{Operator, OperatorOutcome, Residual};
 use crate::vec3::{norm, sub, Vec3};
@@ -167,6 +170,11 @@ pub struct TriReport {
     pub external: f64,
     /// stretch + bend + external: the total energy (eq. 1, 30).
     pub total: f64,
+    /// The independent check of the written net: energies recomputed in
+    /// double-double (the figures above are those), how far above the
+    /// minimum over the constraints it lies ([`crate::Check`]). `None` when
+    /// nothing was free.
+    pub check: Option<Check>,
     /// Each operator's energy and how far its target is met.
     pub operators: Vec<OperatorOutcome>,
     /// The Newton iterations for repellors (eq. 30), if any.
@@ -212,6 +220,10 @@ pub struct TriReport {
     /// The largest angle (radians) between the two patches' normals along
     /// any interior edge (65 samples per edge), with the edge's vertices.
     pub max_edge_normal_angle: Option<(f64, [usize; 2])>,
+    /// The largest turn of the unit normal between neighbouring samples
+    /// inside a patch (a barycentric grid of step 1/(2n + 2) for degree n);
+    /// above 90° the surface folds there.
+    pub normal_turn: Option<TriNormalTurn>,
     /// ‖H x + b + Fᵀλ‖∞ over the free coordinates: the gradient of the
     /// Lagrangian at the solution.
     pub gradient_norm: f64,
@@ -325,7 +337,10 @@ impl TriProblem {
     /// solves) that is of this problem's KKT matrix (see
     /// [`crate::FactorCache`]); returns the solution and which was used, or
     /// the new factorization.
-    pub(crate) fn solve_kept(&self, kept: &[&TriFactored]) -> Result<(TriSolution, Factor)> {
+    pub(crate) fn solve_kept(
+        &self,
+        kept_factors: &[&TriFactored],
+    ) -> Result<(TriSolution, Factor)> {
         let start = Instant::now();
         self.energy.validate()?;
         for c in &self.constraints {
@@ -543,7 +558,7 @@ impl TriProblem {
             c
         };
         let mut reuse = None;
-        for (which, k) in kept.iter().enumerate() {
+        for (which, k) in kept_factors.iter().enumerate() {
             if free.is_empty()
                 || !k.made_for(&h, reduced.iter().map(|(t, _)| t.as_slice()), user_rows)
             {
@@ -564,6 +579,8 @@ impl TriProblem {
             }
         }
         let reused = reuse.is_some();
+        // A new factorization, and whether to keep it for later solves.
+        let mut fresh: Option<(Box<KktFactor>, bool)> = None;
         let (verdicts, row_tolerance, sol) = match reuse {
             Some(done) => done,
             None => {
@@ -590,17 +607,10 @@ impl TriProblem {
                         } if last || solution.info.relative_residual <= 1e-12 => {
                             // Kept only when a fresh solve of another
                             // right-hand side would come to it too.
-                            if first_choice
+                            let keep = first_choice
                                 && matrix_bound
-                                && solution.info.relative_residual <= 1e-12
-                            {
-                                factor = Factor::New(Box::new(TriFactored {
-                                    kkt: *kkt,
-                                    tolerance: tol,
-                                    rows: reduced.iter().map(|(terms, _)| terms.clone()).collect(),
-                                    user_rows,
-                                }));
-                            }
+                                && solution.info.relative_residual <= 1e-12;
+                            fresh = Some((kkt, keep));
                             break (verdicts, tol, Some((kept, solution)));
                         }
                         KktOutcome::Unfactorable(e) | KktOutcome::Failed(e) if last => {
@@ -641,47 +651,69 @@ impl TriProblem {
         let mut kept = Vec::new();
         let mut newton_report = None;
         let (mut gradient_norm, mut relative_gradient) = (0.0, 0.0);
+        let mut verified = None;
         if let Some((kept_rows, sol)) = sol {
             kept = kept_rows;
             let f: Vec<&[(usize, f64)]> = kept.iter().map(|&r| reduced[r].0.as_slice()).collect();
-            for (k, &i) in free.iter().enumerate() {
-                x[i] = sol.x[k];
-            }
-            // One pass over H: Hx + b and the row sums of |H|.
-            let mut grad = b.clone();
-            let mut row_sums = vec![0.0f64; free.len()];
-            for j in 0..free.len() {
-                for (i, v) in h.row_idx_of_col(j).zip(h.val_of_col(j)) {
-                    grad[i] += v * sol.x[j];
-                    row_sums[i] += v.abs();
-                }
-            }
-            // Scale: ‖H‖∞‖x_f‖∞ + ‖b‖∞, the size of the terms that cancel.
-            let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-            let scale = inf(&row_sums) * inf(&sol.x) + inf(&b);
-            for (row, lam) in f.iter().zip(&sol.lambda) {
-                for &(i, a) in row.iter() {
-                    grad[i] += a * lam;
-                }
-            }
-            gradient_norm = grad.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            relative_gradient = if scale > 0.0 {
-                gradient_norm / scale
-            } else {
-                gradient_norm
-            };
+            let (mut xf, lambda) = (sol.x, sol.lambda);
             kkt = Some(sol.info);
             if !repellors.is_empty() {
-                let (xf, report) = newton(&h, &b, &f, &repellors, sol.x)?;
-                for (k, &i) in free.iter().enumerate() {
-                    x[i] = xf[k];
-                }
-                gradient_norm = report.gradient_norm;
-                relative_gradient = report.relative_gradient;
+                let (x_newton, report) = newton(&h, &b, &f, &repellors, xf)?;
+                xf = x_newton;
                 newton_report = Some(report);
             }
+            seconds.solve += t.elapsed().as_secs_f64();
+            let t = Instant::now();
+            let factor = match (&factor, &fresh) {
+                (Factor::Reused(which), _) => &kept_factors[*which].kkt,
+                (_, Some((f, _))) => f,
+                _ => unreachable!("a solution comes with its factorization"),
+            };
+            let data = known
+                .iter()
+                .flatten()
+                .chain(rows.iter().map(|r| &r.rhs))
+                .chain(residuals.iter().flatten().map(|r| &r.target))
+                .fold(0.0f64, |m, v| m.max(v.abs()));
+            let max_diagonal = (0..free.len())
+                .map(|j| {
+                    h.row_idx_of_col(j)
+                        .zip(h.val_of_col(j))
+                        .find(|(i, _)| *i == j)
+                        .map_or(0.0, |(_, v)| *v)
+                })
+                .fold(0.0, f64::max);
+            let v = Verify {
+                energy: TriEnergy::new(
+                    &self.energy,
+                    surface.degree(),
+                    self.operators
+                        .iter()
+                        .zip(&residuals)
+                        .map(|(op, r)| (op.strength, op.repel, &r[..]))
+                        .collect(),
+                ),
+                free: &free,
+                factor,
+                rows: &f,
+                rhs: &kept.iter().map(|&r| reduced[r].1).collect::<Vec<_>>(),
+                rounding: max_diagonal * free.len() as f64 * data * data,
+                correct: repellors.is_empty(),
+            };
+            let checked = v.run(&surface, xf, lambda)?;
+            let (xf, lambda) = (&checked.xf, &checked.lambda);
+            for (k, &i) in free.iter().enumerate() {
+                x[i] = xf[k];
+            }
+            (gradient_norm, relative_gradient) = match &newton_report {
+                Some(r) if checked.corrections == 0 => (r.gradient_norm, r.relative_gradient),
+                _ => lagrangian_gradient(&h, &b, &f, xf, lambda),
+            };
+            verified = Some((checked, t));
         }
-        seconds.solve += t.elapsed().as_secs_f64();
+        if verified.is_none() {
+            seconds.solve += t.elapsed().as_secs_f64();
+        }
         let pts: Vec<Vec3> = x.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
         surface.set_points(pts)?;
 
@@ -726,14 +758,59 @@ impl TriProblem {
             .zip(placed.iter().zip(&residuals))
             .map(|(op, (at, res))| op.outcome(at, res, &surface, &x))
             .collect();
-        let external = operators.iter().map(|o| o.energy).sum::<f64>();
-        let stretch = InternalEnergy::new(self.energy.stretch, 0.0).surface_value(&surface)?;
-        let bend = InternalEnergy::new(0.0, self.energy.bend).surface_value(&surface)?;
+        let mut external = operators.iter().map(|o| o.energy).sum::<f64>();
+        let mut stretch = InternalEnergy::new(self.energy.stretch, 0.0).surface_value(&surface)?;
+        let mut bend = InternalEnergy::new(0.0, self.energy.bend).surface_value(&surface)?;
+        let mut total = stretch + bend + external;
+        let check = match verified {
+            None => None,
+            Some((v, t)) => {
+                // The closed forms in double precision give way to the
+                // recomputed values.
+                let closed_form = total;
+                (stretch, bend, external) = (
+                    v.at.stretch.to_f64(),
+                    v.at.bend.to_f64(),
+                    v.at.external.to_f64(),
+                );
+                total = v.at.total.to_f64();
+                let check = Check {
+                    energy: total,
+                    energy_error: (closed_form - total).abs() / v.scale,
+                    excess: v.excess / v.scale,
+                    scale: v.scale,
+                    corrections: v.corrections,
+                    tolerance: crate::check::TOLERANCE,
+                    seconds: t.elapsed().as_secs_f64(),
+                };
+                if !check.passed() {
+                    return Err(Error::Unverified {
+                        degree: surface.degree().to_string(),
+                        checked: total,
+                        excess: check.excess,
+                        tolerance: check.tolerance,
+                        hint: "A triangular net of this degree cannot hold this minimizer to that \
+                               accuracy: use a lower degree, with more triangles for more freedom."
+                            .into(),
+                    });
+                }
+                Some(check)
+            }
+        };
+        if let Some((kkt, true)) = fresh {
+            factor = Factor::New(Box::new(TriFactored {
+                kkt: *kkt,
+                tolerance: row_tolerance,
+                rows: reduced.iter().map(|(terms, _)| terms.clone()).collect(),
+                user_rows,
+            }));
+        }
         let report = TriReport {
             stretch,
             bend,
             external,
-            total: stretch + bend + external,
+            total,
+            check,
             operators,
             newton: newton_report,
             patches: surface.patch_count(),
@@ -752,6 +829,7 @@ impl TriProblem {
             unenforced_residual,
             row_tolerance,
             max_edge_normal_angle: max_edge_normal_angle(&surface, 65),
+            normal_turn: largest_tri_normal_turn(&surface, 2 * surface.degree() + 2),
             gradient_norm,
             relative_gradient,
             kkt,
@@ -833,6 +911,35 @@ impl TriProblem {
         let symbolic = SymbolicSparseColMat::new_checked(free, free, col_ptr, None, rows);
         Ok((SparseColMat::new(symbolic, values), b))
     }
+}
+
+/// ‖H x + b + Fᵀλ‖∞ over the free coordinates (the gradient of the
+/// Lagrangian) and the same over ‖H‖∞‖x‖∞ + ‖b‖∞, the size of the terms
+/// that cancel.
+fn lagrangian_gradient(
+    h: &SparseColMat<usize, f64>,
+    b: &[f64],
+    f: &[&[(usize, f64)]],
+    x: &[f64],
+    lambda: &[f64],
+) -> (f64, f64) {
+    let mut grad = b.to_vec();
+    let mut row_sums = vec![0.0f64; x.len()];
+    for (j, xj) in x.iter().enumerate() {
+        for (i, v) in h.row_idx_of_col(j).zip(h.val_of_col(j)) {
+            grad[i] += v * xj;
+            row_sums[i] += v.abs();
+        }
+    }
+    for (row, lam) in f.iter().zip(lambda) {
+        for &(i, a) in row.iter() {
+            grad[i] += a * lam;
+        }
+    }
+    let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let scale = inf(&row_sums) * inf(x) + inf(b);
+    let norm = inf(&grad);
+    (norm, if scale > 0.0 { norm / scale } else { norm })
 }
 
 /// A curve's name and its chain of mesh vertices.
