@@ -10,10 +10,11 @@
 //! itself does. The gradient is the adjoint of the same maps.
 
 use super::dd::Dd;
-use super::nodes::{bernstein, Nodes, Table};
+use super::nodes::{Nodes, Table};
 use crate::energy::{Integrand, Measure, NormalGuide};
 use crate::operator::{Residual, TensorOperator};
 use crate::TensorPatch;
+use std::sync::Arc;
 
 /// Energy (total and per term) and gradient ∂E/∂P at every control point.
 pub(crate) struct EnergyAt {
@@ -80,8 +81,10 @@ fn coordinate(points: &[crate::Vec3], (n, m): (usize, usize), c: usize) -> Table
 struct Pattern {
     r: usize,
     s: usize,
-    bu: Table,
-    bv: Table,
+    bu: Arc<Table>,
+    bv: Arc<Table>,
+    but: Arc<Table>,
+    bvt: Arc<Table>,
 }
 
 impl Pattern {
@@ -90,8 +93,10 @@ impl Pattern {
         (r <= n && s <= m).then(|| Self {
             r,
             s,
-            bu: bernstein(n - r, &grid.u.t),
-            bv: bernstein(m - s, &grid.v.t),
+            bu: grid.u.bernstein(n - r, false),
+            bv: grid.v.bernstein(m - s, false),
+            but: grid.u.bernstein(n - r, true),
+            bvt: grid.v.bernstein(m - s, true),
         })
     }
 
@@ -102,12 +107,12 @@ impl Pattern {
             .transpose()
             .diff_rows(self.s)
             .transpose();
-        self.bu.mul(&d).mul(&self.bv.transpose())
+        self.bu.mul(&d).mul(&self.bvt)
     }
 
     /// The adjoint of [`Pattern::eval`]: ∂/∂P of Σ_ab G_ab · (∂ᵘʳ∂ᵛˢR)_ab.
     fn adjoint(&self, g: &Table, (n, m): (usize, usize)) -> Table {
-        let t = self.bu.transpose().mul(g).mul(&self.bv);
+        let t = self.but.mul(g).mul(&self.bv);
         t.diff_rows_adjoint(self.r, n + 1)
             .transpose()
             .diff_rows_adjoint(self.s, m + 1)

@@ -20,7 +20,7 @@
 //! integrand itself does. The gradient is the adjoint of the same maps.
 
 use super::dd::Dd;
-use super::nodes::{bernstein, Nodes, Table};
+use super::nodes::{Nodes, Table};
 use crate::operator::Residual;
 use crate::triangle::energy::{bend_stencils, falling, stretch_stencils, Stencil};
 use crate::triangle::kkt::KktFactor;
@@ -69,8 +69,10 @@ impl Rule {
             .collect();
         Self {
             m,
-            s: bernstein(m, &nodes.t),
-            t: (0..=m).map(|i| bernstein(m - i, &nodes.t)).collect(),
+            s: (*nodes.bernstein(m, false)).clone(),
+            t: (0..=m)
+                .map(|i| (*nodes.bernstein(m - i, false)).clone())
+                .collect(),
             omega,
         }
     }

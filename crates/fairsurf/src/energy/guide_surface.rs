@@ -119,7 +119,7 @@ impl EnergyTerm for GuideSurface {
         let h = match &self.measure {
             Measure::Exact => {
                 let ((au, av), w) = self.measure.unit();
-                faer::Scale(self.weight) * form(space, (0, 0), (&au, &av), &w)
+                form(space, &[((0, 0), self.weight)], (&au, &av), &w)
             }
             Measure::Grid(g) => {
                 if let Some(w) = &self.sample_weights {
@@ -128,7 +128,7 @@ impl EnergyTerm for GuideSurface {
                 }
                 let (au, av) = g.axes();
                 let w = g.weight_table(self.sample_weights.as_deref());
-                faer::Scale(self.weight) * form(space, (0, 0), (&au, &av), &w)
+                form(space, &[((0, 0), self.weight)], (&au, &av), &w)
             }
         };
         Ok(TermForm {

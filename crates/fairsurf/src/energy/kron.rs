@@ -56,8 +56,10 @@ pub(crate) fn axis_matrices(basis: &Basis1d, r: usize, axis: &Axis) -> Vec<Mat<f
                 .collect()
         }
         (Basis1d::Jacobi(j), Axis::Bernstein(w)) => {
+            // M_α = Φᵀ diag(g ∘ B_α) Φ with Φ[a][p] = φ_p(t_a).
             let gl = GaussLegendre::new(j.n + w / 2 + 2);
             let phis: Vec<Vec<f64>> = gl.nodes.iter().map(|&t| basis.eval(t, r)).collect();
+            let phi = Mat::from_fn(phis.len(), k, |a, p| phis[a][p]);
             let weights: Vec<Vec<f64>> = gl
                 .nodes
                 .iter()
@@ -65,16 +67,10 @@ pub(crate) fn axis_matrices(basis: &Basis1d, r: usize, axis: &Axis) -> Vec<Mat<f
                 .collect();
             (0..=*w)
                 .map(|alpha| {
-                    let mut m = Mat::<f64>::zeros(k, k);
-                    for ((phi, bw), &gw) in phis.iter().zip(&weights).zip(&gl.weights) {
-                        let c = gw * bw[alpha];
-                        for q in 0..k {
-                            for p in 0..k {
-                                m[(p, q)] += c * phi[p] * phi[q];
-                            }
-                        }
-                    }
-                    m
+                    let scaled = Mat::from_fn(phis.len(), k, |a, p| {
+                        gl.weights[a] * weights[a][alpha] * phis[a][p]
+                    });
+                    phi.transpose() * scaled
                 })
                 .collect()
         }
@@ -88,37 +84,58 @@ pub(crate) fn axis_matrices(basis: &Basis1d, r: usize, axis: &Axis) -> Vec<Mat<f
     }
 }
 
-/// `Σ_{α,β} W[α][β] · mu[α] ⊗ mv[β]`, ordered like the control points:
-/// row index `i·(m+1) + j` with i the u-index.
-pub(crate) fn weighted_kron(w: &Mat<f64>, mu: &[Mat<f64>], mv: &[Mat<f64>]) -> Mat<f64> {
-    debug_assert_eq!((w.nrows(), w.ncols()), (mu.len(), mv.len()));
-    let nu = mu[0].nrows();
-    let nv = mv[0].nrows();
-    // Flatten the small matrices once: tiny faer operations cost more in
-    // overhead than in arithmetic here.
-    let mu_flat = flatten(mu);
-    let mv_flat = flatten(mv);
-    let mut out = Mat::<f64>::zeros(nu * nv, nu * nv);
+/// A coefficient and the 1D matrices M^u_α, M^v_β of one pattern.
+pub(crate) type KronTerm = (f64, Vec<Mat<f64>>, Vec<Mat<f64>>);
+
+/// `Σ_terms c · Σ_{α,β} W[α][β] · mu[α] ⊗ mv[β]` for terms (c, mu, mv),
+/// ordered like the control points: row index `i·(m+1) + j` with i the
+/// u-index. Every M^v_β is symmetric (a Gram matrix of one basis against
+/// itself), so the inner loop runs along its rows; the result is symmetric
+/// and only its lower half (row (i, j) ≥ column (k, l)) is summed, then
+/// mirrored.
+pub(crate) fn weighted_kron(w: &Mat<f64>, terms: &[KronTerm]) -> Mat<f64> {
+    let Some((_, mu0, mv0)) = terms.first() else {
+        return Mat::zeros(0, 0);
+    };
+    let (nu, nv) = (mu0[0].nrows(), mv0[0].nrows());
+    let size = nu * nv;
+    let mut out = Mat::<f64>::zeros(size, size);
     let mut t = vec![0.0; nu * nu];
-    for beta in 0..mv.len() {
-        // T_β = Σ_α W[α][β] M^u_α (row-major)
-        if !sum_factor(w, beta, &mu_flat, nu, &mut t) {
-            continue;
-        }
-        let mvb = &mv_flat[beta * nv * nv..(beta + 1) * nv * nv];
-        for k in 0..nu {
-            for l in 0..nv {
-                let col = out.col_as_slice_mut(k * nv + l);
-                for i in 0..nu {
-                    let tik = t[i * nu + k];
-                    if tik == 0.0 {
-                        continue;
-                    }
-                    for j in 0..nv {
-                        col[i * nv + j] += tik * mvb[j * nv + l];
+    for (c, mu, mv) in terms {
+        debug_assert_eq!((w.nrows(), w.ncols()), (mu.len(), mv.len()));
+        // Flatten the small matrices once: tiny faer operations cost more in
+        // overhead than in arithmetic here.
+        let mu_flat = flatten(mu);
+        let mv_flat = flatten(mv);
+        for beta in 0..mv.len() {
+            // T_β = c Σ_α W[α][β] M^u_α (row-major)
+            if !sum_factor(w, beta, &mu_flat, nu, &mut t) {
+                continue;
+            }
+            t.iter_mut().for_each(|x| *x *= c);
+            let mvb = &mv_flat[beta * nv * nv..(beta + 1) * nv * nv];
+            for k in 0..nu {
+                for l in 0..nv {
+                    let col = out.col_as_slice_mut(k * nv + l);
+                    let row = &mvb[l * nv..(l + 1) * nv];
+                    for i in k..nu {
+                        let tik = t[i * nu + k];
+                        if tik == 0.0 {
+                            continue;
+                        }
+                        let from = if i == k { l } else { 0 };
+                        let dst = &mut col[i * nv + from..(i + 1) * nv];
+                        for (x, &m) in dst.iter_mut().zip(&row[from..]) {
+                            *x += tik * m;
+                        }
                     }
                 }
             }
+        }
+    }
+    for j in 0..size {
+        for i in 0..j {
+            out[(i, j)] = out[(j, i)];
         }
     }
     out
@@ -154,17 +171,29 @@ fn sum_factor(w: &Mat<f64>, beta: usize, flat: &[f64], k: usize, out: &mut [f64]
     any
 }
 
-/// One derivative pattern `∂ᵘ^{ru} ∂ᵛ^{rv}` of a degree (n, m) patch, integrated
-/// with weights `w` along the given axes: the matrix Q of the module docs.
+/// Derivative patterns `∂ᵘ^{ru} ∂ᵛ^{rv}` of a degree (n, m) patch, each with
+/// a coefficient, integrated with weights `w` along the given axes: Σ c·Q
+/// with Q the matrix of the module docs, summed in one pass.
 pub(crate) fn form(
     space: &Space,
-    (ru, rv): (usize, usize),
+    patterns: &[((usize, usize), f64)],
     (axis_u, axis_v): (&Axis, &Axis),
     w: &Mat<f64>,
 ) -> Mat<f64> {
-    let mu = axis_matrices(&space.u, ru, axis_u);
-    let mv = axis_matrices(&space.v, rv, axis_v);
-    weighted_kron(w, &mu, &mv)
+    if patterns.is_empty() {
+        return Mat::zeros(space.len(), space.len());
+    }
+    let terms: Vec<_> = patterns
+        .iter()
+        .map(|&((ru, rv), c)| {
+            (
+                c,
+                axis_matrices(&space.u, ru, axis_u),
+                axis_matrices(&space.v, rv, axis_v),
+            )
+        })
+        .collect();
+    weighted_kron(w, &terms)
 }
 
 /// The r-th u- and s-th v-derivative control net of one coordinate:
@@ -264,7 +293,7 @@ mod tests {
         let w = Mat::from_fn(wu + 1, wv + 1, |a, b| 0.3 + a as f64 - 0.7 * b as f64);
         let q = form(
             &Space::bernstein((n, m)),
-            (1, 2),
+            &[((1, 2), 1.0)],
             (&Axis::Bernstein(wu), &Axis::Bernstein(wv)),
             &w,
         );

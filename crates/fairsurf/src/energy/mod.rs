@@ -400,10 +400,6 @@ pub(crate) fn fairness(
     weight: f64,
 ) -> Mat<f64> {
     let ((au, av), w) = measure.unit();
-    let n = space.len();
-    let mut h = Mat::<f64>::zeros(n, n);
-    for &(pattern, c) in patterns {
-        h += faer::Scale(weight * c) * form(space, pattern, (&au, &av), &w);
-    }
-    h
+    let scaled: Vec<_> = patterns.iter().map(|&(p, c)| (p, weight * c)).collect();
+    form(space, &scaled, (&au, &av), &w)
 }

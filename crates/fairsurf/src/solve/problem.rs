@@ -312,7 +312,7 @@ impl Problem {
             }
         }
         let rows = free_rows(free, coupled);
-        let h_ff = Mat::from_fn(rows.len(), rows.len(), |i, j| h[(rows[i], rows[j])]);
+        let h_ff = gather(&h, &rows);
         let spd = SpdOptions {
             estimate_condition: opts.estimate_condition,
             singular_condition: opts.singular_condition,
@@ -423,15 +423,29 @@ fn add_hessian(h: &mut Mat<f64>, term: &Hessian, coupled: bool) {
     match term {
         Hessian::PerCoordinate(m) if coupled => {
             for q in 0..m.ncols() {
-                for p in 0..m.nrows() {
-                    for c in 0..3 {
-                        h[(3 * p + c, 3 * q + c)] += m[(p, q)];
+                let src = m.col_as_slice(q);
+                for c in 0..3 {
+                    let dst = h.col_as_slice_mut(3 * q + c);
+                    for (d, &v) in dst[c..].iter_mut().step_by(3).zip(src) {
+                        *d += v;
                     }
                 }
             }
         }
         Hessian::PerCoordinate(m) | Hessian::Coupled(m) => *h += m,
     }
+}
+
+/// The submatrix H[rows, rows], column by column.
+fn gather(h: &Mat<f64>, rows: &[usize]) -> Mat<f64> {
+    let mut out = Mat::<f64>::zeros(rows.len(), rows.len());
+    for (j, &rj) in rows.iter().enumerate() {
+        let src = h.col_as_slice(rj);
+        for (d, &ri) in out.col_as_slice_mut(j).iter_mut().zip(rows) {
+            *d = src[ri];
+        }
+    }
+    out
 }
 
 /// H_t s for a term with centre s, in the system's layout.
