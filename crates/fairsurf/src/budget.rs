@@ -55,6 +55,24 @@ pub fn with_budget<T>(budget: Budget, f: impl FnOnce() -> T) -> T {
     f()
 }
 
+/// Runs `a` and `b` on two threads (this one and a scoped one), both under
+/// this thread's budget, and returns both results.
+pub(crate) fn join<A: Send, B: Send>(
+    a: impl FnOnce() -> A + Send,
+    b: impl FnOnce() -> B + Send,
+) -> (A, B) {
+    let budget = BUDGET.with(|c| c.borrow().clone());
+    std::thread::scope(|s| {
+        let other = s.spawn(|| with_budget(budget, b));
+        let first = a();
+        let second = match other.join() {
+            Ok(v) => v,
+            Err(panic) => std::panic::resume_unwind(panic),
+        };
+        (first, second)
+    })
+}
+
 /// Refuses work whose estimated memory exceeds the budget.
 pub(crate) fn reserve(what: &str, bytes: f64) -> Result<()> {
     let limit = BUDGET.with(|c| c.borrow().max_bytes);
@@ -90,6 +108,19 @@ pub(crate) fn checkpoint() -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn joined_work_runs_under_the_callers_budget() {
+        let flag = Arc::new(AtomicBool::new(true));
+        let b = Budget {
+            max_bytes: 10,
+            cancel: Some(flag),
+        };
+        let (x, y) = with_budget(b, || join(cancelled, || (cancelled(), reserve("x", 11.0))));
+        assert!(x && y.0);
+        assert!(matches!(y.1, Err(Error::TooLarge { .. })));
+        assert!(!join(cancelled, cancelled).1);
+    }
 
     #[test]
     fn budgets_are_per_call_and_restored() {

@@ -4,7 +4,7 @@
 
 use super::dd::Dd;
 use crate::basis::GaussLegendre;
-use crate::solve::dense::two_product_error;
+use crate::solve::dense::{two_product_err, with_fma};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
@@ -184,6 +184,11 @@ impl Table {
     /// term, are left out), at a third of the cost, and the loop over a row
     /// of B vectorizes.
     pub fn mul(&self, b: &Table) -> Table {
+        with_fma(|| self.mul_with::<true>(b), || self.mul_with::<false>(b))
+    }
+
+    #[inline(always)]
+    fn mul_with<const FMA: bool>(&self, b: &Table) -> Table {
         debug_assert_eq!(self.cols, b.rows);
         let n = b.cols;
         let mut out = Table::zeros(self.rows, n);
@@ -199,7 +204,7 @@ impl Table {
                 let row = &b.v[k * n..(k + 1) * n];
                 for ((sj, cj), bkj) in s.iter_mut().zip(c.iter_mut()).zip(row) {
                     let p = a.hi * bkj.hi;
-                    let ep = two_product_error(a.hi, bkj.hi, p);
+                    let ep = two_product_err::<FMA>(a.hi, bkj.hi, p);
                     let t = *sj + p;
                     let z = t - *sj;
                     let es = (*sj - (t - z)) + (p - z);

@@ -290,51 +290,27 @@ impl Problem {
             self.memory_estimate(),
         )?;
         let t = Instant::now();
-        let forms = self
-            .terms
-            .iter()
-            .map(|t| {
-                budget::checkpoint()?;
-                t.form(self.degree)
-            })
-            .collect::<Result<Vec<_>>>()?;
-        // Operators couple the coordinates.
-        let coupled = !self.operators.is_empty()
-            || forms
-                .iter()
-                .any(|f| matches!(f.hessian, Hessian::Coupled(_)));
-        let mut h = hessian_sum(&forms, self.known.len(), coupled);
-        for (c, r) in quadratic_residuals(&self.operators, placed) {
-            for &(i, a) in &r.terms {
-                for &(j, b) in &r.terms {
-                    h[(i, j)] += c * a * b;
-                }
-            }
-        }
-        let rows = free_rows(free, coupled);
-        let h_ff = gather(&h, &rows);
-        let spd = SpdOptions {
-            estimate_condition: opts.estimate_condition,
-            singular_condition: opts.singular_condition,
-        };
         // The Jacobi basis carries the internal energies only.
         let block = if opts.tensor_basis && self.operators.is_empty() {
             self.free_block(free)
         } else {
             None
         };
-        let pre = match block {
-            Some((ru, rv)) => {
-                let space = Space::jacobi(self.degree, ru, rv);
-                let forms = self
-                    .terms
-                    .iter()
-                    .map(|t| t.form_in(&space))
-                    .collect::<Result<Vec<_>>>()?;
-                let h = hessian_sum(&forms, space.len(), coupled);
-                TensorBasis::from_space(&space, if coupled { 3 } else { 1 }).map(|q| (h, q))
-            }
-            None => None,
+        // The system in the Bernstein basis and the preconditioner in the
+        // Jacobi basis are independent: large ones are assembled side by
+        // side on two threads.
+        let bernstein = || self.bernstein_system(free, placed);
+        let jacobi = || self.jacobi_system(block);
+        let (system, pre) = if self.known.len() >= PARALLEL_ASSEMBLY {
+            budget::join(bernstein, jacobi)
+        } else {
+            (bernstein(), jacobi())
+        };
+        let (forms, coupled, h, h_ff) = system?;
+        let pre = pre?;
+        let spd = SpdOptions {
+            estimate_condition: opts.estimate_condition,
+            singular_condition: opts.singular_condition,
         };
         let assemble_seconds = t.elapsed().as_secs_f64();
         budget::checkpoint()?;
@@ -371,6 +347,61 @@ impl Problem {
             factor,
             assemble_seconds,
         })
+    }
+
+    /// The terms' forms, whether they couple the coordinates, the system H
+    /// over all control points (with the attractors' and directors'
+    /// quadratic terms) and its free block H_FF.
+    fn bernstein_system(&self, free: &[usize], placed: &[Placed]) -> Result<BernsteinSystem> {
+        let forms = self
+            .terms
+            .iter()
+            .map(|t| {
+                budget::checkpoint()?;
+                t.form(self.degree)
+            })
+            .collect::<Result<Vec<_>>>()?;
+        // Operators couple the coordinates.
+        let coupled = !self.operators.is_empty()
+            || forms
+                .iter()
+                .any(|f| matches!(f.hessian, Hessian::Coupled(_)));
+        let mut h = hessian_sum(&forms, self.known.len(), coupled);
+        for (c, r) in quadratic_residuals(&self.operators, placed) {
+            for &(i, a) in &r.terms {
+                for &(j, b) in &r.terms {
+                    h[(i, j)] += c * a * b;
+                }
+            }
+        }
+        let h_ff = gather(&h, &free_rows(free, coupled));
+        Ok((forms, coupled, h, h_ff))
+    }
+
+    /// The preconditioner: the free block's system in the Jacobi basis
+    /// (rows a..=n−b, columns c..=m−d for `block` ((a, b), (c, d))) and the
+    /// basis change.
+    fn jacobi_system(
+        &self,
+        block: Option<((usize, usize), (usize, usize))>,
+    ) -> Result<Option<(Mat<f64>, TensorBasis)>> {
+        let Some((ru, rv)) = block else {
+            return Ok(None);
+        };
+        let space = Space::jacobi(self.degree, ru, rv);
+        let forms = self
+            .terms
+            .iter()
+            .map(|t| {
+                budget::checkpoint()?;
+                t.form_in(&space)
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let coupled = forms
+            .iter()
+            .any(|f| matches!(f.hessian, Hessian::Coupled(_)));
+        let h = hessian_sum(&forms, space.len(), coupled);
+        Ok(TensorBasis::from_space(&space, if coupled { 3 } else { 1 }).map(|q| (h, q)))
     }
 
     /// Estimated peak bytes of a solve: the dense system over all control
@@ -476,6 +507,14 @@ fn hessian_sum(forms: &[TermForm], np: usize, coupled: bool) -> Mat<f64> {
 
 /// An operator's place on the patch and its residuals.
 type Placed = (TensorLocated, Vec<Residual>);
+
+/// Forms, coupled, H, H_FF ([`Problem::bernstein_system`]).
+type BernsteinSystem = (Vec<TermForm>, bool, Mat<f64>, Mat<f64>);
+
+/// From this many control points on, the Bernstein system and the Jacobi
+/// preconditioner are assembled on two threads (degree 9×9 and up: below,
+/// a thread costs more than it saves).
+const PARALLEL_ASSEMBLY: usize = 100;
 
 /// A problem checked, its operators placed and its terms' Hessian keys
 /// taken ([`Problem::prepare`]).
