@@ -311,8 +311,10 @@ fn tri_summary(path: &Path, s: &SolvedTriScene, written: &[String]) -> String {
     }
     if let Some(k) = &r.kkt {
         lines.push(format!(
-            "  gradient {:.2e} (relative {:.2e})  KKT {}×{} by {}: residual {:.2e}, condition ≈ {:.2e}, refinement steps {}",
-            r.gradient_norm, r.relative_gradient, k.size, k.size, k.factorization.name(), k.relative_residual, k.condition, k.refinement_steps
+            "  gradient {:.2e} (relative {:.2e})  KKT {}×{}{} by {}: residual {:.2e}, condition ≈ {:.2e}, refinement steps {}",
+            r.gradient_norm, r.relative_gradient, k.size, k.size,
+            if k.per_coordinate { " (one for x, y and z)" } else { "" },
+            k.factorization.name(), k.relative_residual, k.condition, k.refinement_steps
         ));
     }
     let wrote = if written.is_empty() {

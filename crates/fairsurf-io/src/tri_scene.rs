@@ -845,6 +845,7 @@ pub fn tri_report_json(r: &TriReport) -> Value {
         "kkt": r.kkt.map(|k| json!({
             "size": k.size,
             "factorization": k.factorization.name(),
+            "per_coordinate": k.per_coordinate,
             "factor_nonzeros": k.factor_nonzeros,
             "delta": k.delta,
             "refinement_steps": k.refinement_steps,

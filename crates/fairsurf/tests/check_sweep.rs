@@ -562,8 +562,8 @@ mod triangular {
                 let r = p.solve().unwrap().report;
                 let c = r.check.unwrap();
                 println!(
-                    "{} patches, G1 at vertices {vertices}: check {:.3} s of {:.3} s, excess {:.1e}, {} corrections; {:?}",
-                    r.patches, c.seconds, r.seconds.total, c.excess, c.corrections, r.seconds
+                    "{} patches, G1 at vertices {vertices}: check {:.3} s of {:.3} s, excess {:.1e}, {} corrections; {:?}; {:?}",
+                    r.patches, c.seconds, r.seconds.total, c.excess, c.corrections, r.seconds, r.kkt
                 );
             }
         }

@@ -35,6 +35,7 @@
 //! 10,080 cubic patches 0.42 s against 0.72 s through the LDLᵀ of the
 //! interleaved system, measured).
 
+use super::nullspace::NullSpace;
 use crate::{Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
@@ -73,18 +74,23 @@ pub struct KktInfo {
     pub condition: f64,
     /// Which factorization solved it.
     pub factorization: Factorization,
+    /// Whether the system was one matrix for x, y and z: H = K ⊗ I₃ and
+    /// F = F₁ ⊗ I₃ (no term or row couples the coordinates), factored at a
+    /// third of the size with three right-hand sides. `size` and
+    /// `factor_nonzeros` are then those of the one matrix.
+    pub per_coordinate: bool,
 }
 
 /// The factorization of the KKT matrix.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Factorization {
-    /// Without constraint rows and with H = K ⊗ I₃ (no term couples x, y
-    /// and z, and the three coordinates of a point are free together): the
-    /// sparse Cholesky factorization of K, one matrix for the three
-    /// coordinates (the first choice when it applies).
-    SharedLlt,
-    /// Regularized quasi-definite LDLᵀ (the first choice with rows or
-    /// coupled coordinates).
+    /// Sparse Cholesky of H (no constraint rows).
+    Llt,
+    /// The rows eliminated group by group (each group's unknowns shared
+    /// with no other), then sparse Cholesky of the reduced Hessian ZᵀHZ
+    /// ([`super::nullspace`]).
+    NullSpace,
+    /// Regularized quasi-definite LDLᵀ (the first choice with rows).
     Ldlt,
     /// Sparse LU with partial pivoting of the unregularized matrix (when
     /// the LDLᵀ broke down).
@@ -92,10 +98,11 @@ pub enum Factorization {
 }
 
 impl Factorization {
-    /// "LLT per coordinate", "LDLT" or "LU".
+    /// "LLT", "null space + LLT", "LDLT" or "LU".
     pub fn name(self) -> &'static str {
         match self {
-            Factorization::SharedLlt => "LLT per coordinate",
+            Factorization::Llt => "LLT",
+            Factorization::NullSpace => "null space + LLT",
             Factorization::Ldlt => "LDLT",
             Factorization::Lu => "LU",
         }
@@ -153,20 +160,11 @@ pub(crate) fn try_kkt(
     b: &[f64],
     g: &[f64],
 ) -> KktOutcome {
-    if rows.is_empty() {
-        if let Some(Ok((factor, solution))) = KktFactor::shared(h).map(|f| {
-            let f = f?;
-            let s = f.solve(b, g)?;
-            Ok::<_, Error>((f, s))
-        }) {
-            if solution.info.relative_residual <= 1e-12 {
-                return KktOutcome::Solved {
-                    factor: Box::new(factor),
-                    solution,
-                    first_choice: true,
-                };
-            }
-        }
+    if let Some(done) = KktFactor::per_coordinate(h, rows, b, g) {
+        return done;
+    }
+    if let Some(done) = KktFactor::null_space(h, rows, b, g) {
+        return done;
     }
     let ldlt = KktFactor::ldlt(h, rows);
     let ldlt_exists = ldlt.is_ok();
@@ -230,64 +228,151 @@ pub(crate) struct KktFactor {
 }
 
 enum Inner {
-    /// The Cholesky factor of K with H = K ⊗ I₃ (unknowns 3p + c).
-    Shared {
+    /// The sparse Cholesky factor of H (no rows).
+    Llt {
         symbolic: SymbolicCholesky<usize>,
         values: Vec<f64>,
     },
-    /// The quasi-definite LDLᵀ: its symbolic part and values.
+    /// The factorization of [K F₁ᵀ; F₁ 0] when H = K ⊗ I₃ and F = F₁ ⊗ I₃
+    /// (unknowns 3p + c, rows 3s + c): one system for the three coordinates.
+    PerCoordinate(Box<KktFactor>),
+    /// The rows eliminated, the reduced Hessian factored.
+    NullSpace(NullSpace),
+    /// The quasi-definite LDLᵀ of diag(I, D) K diag(I, D): its symbolic
+    /// part and values, and the rows' scales D.
     Ldlt {
         symbolic: SymbolicCholesky<usize>,
         values: Vec<f64>,
+        row_scale: Vec<f64>,
     },
     Lu(Lu<usize, f64>),
 }
 
 impl KktFactor {
-    /// The Cholesky factorization of K when H = K ⊗ I₃ and there are no
-    /// rows (`None` when H is not of that form); singular when its
-    /// condition estimate exceeds 0.01/ε.
-    fn shared(h: &SparseColMat<usize, f64>) -> Option<Result<Self>> {
+    /// When H = K ⊗ I₃ and F = F₁ ⊗ I₃: the factorization of the one
+    /// system (K, F₁), as [`try_kkt`] chooses it, and the solve of the
+    /// whole system through it (refined against the whole). `None` when
+    /// the system is not of that form.
+    fn per_coordinate(
+        h: &SparseColMat<usize, f64>,
+        rows: &[&[(usize, f64)]],
+        b: &[f64],
+        g: &[f64],
+    ) -> Option<KktOutcome> {
         let k = shared_block(h)?;
-        let n = h.nrows();
-        Some((|| {
-            let symbolic = factorize_symbolic_cholesky(
-                k.symbolic(),
-                Side::Lower,
-                SymmetricOrdering::Amd,
-                Default::default(),
-            )
-            .map_err(|e| too_large(n, &format!("{e:?}")))?;
-            let mut values = vec![0.0f64; symbolic.len_val()];
-            let par = Par::Seq;
-            let mut mem = MemBuffer::new(
-                symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
-            );
-            symbolic
-                .factorize_numeric_llt(
-                    &mut values,
-                    k.as_ref(),
-                    Side::Lower,
-                    LltRegularization::default(),
-                    par,
-                    MemStack::new(&mut mem),
-                    Default::default(),
-                )
-                .map_err(|_| singular(n, 0, f64::INFINITY))?;
-            let entries = 3 * symbolic.len_val();
-            let mut f = Self::new(
-                h,
-                &[],
-                Inner::Shared { symbolic, values },
-                0.0,
-                Some(entries),
-            );
-            f.condition = norm_1(h, &[]) * hager(n, |v| f.apply(v));
-            if !f.condition.is_finite() || f.condition * f64::EPSILON > 0.01 {
-                return Err(singular(n, 0, f.condition));
+        let f1 = shared_rows(rows)?;
+        let f1: Vec<&[(usize, f64)]> = f1.iter().map(Vec::as_slice).collect();
+        // The one system's right-hand sides do not matter to its
+        // factorization; the x coordinates' serve.
+        let bx: Vec<f64> = b.iter().step_by(3).copied().collect();
+        let gx: Vec<f64> = g.iter().step_by(3).copied().collect();
+        let inner = if f1.is_empty() {
+            match Self::llt(&k) {
+                Ok(f) => KktOutcome::Solved {
+                    factor: Box::new(f),
+                    solution: KktSolution {
+                        x: Vec::new(),
+                        lambda: Vec::new(),
+                        info: KktInfo {
+                            size: 0,
+                            factor_nonzeros: None,
+                            delta: 0.0,
+                            refinement_steps: 0,
+                            relative_residual: 0.0,
+                            condition: f64::NAN,
+                            factorization: Factorization::Llt,
+                            per_coordinate: false,
+                        },
+                    },
+                    first_choice: true,
+                },
+                Err(_) => return None,
             }
-            Ok(f)
-        })())
+        } else {
+            try_kkt(&k, &f1, &bx, &gx)
+        };
+        let KktOutcome::Solved {
+            factor: one,
+            first_choice,
+            ..
+        } = inner
+        else {
+            return None;
+        };
+        let (delta, condition, entries) =
+            (one.delta, one.condition, one.factor_entries.get().copied());
+        let mut f = Self::new(
+            h,
+            rows,
+            Inner::PerCoordinate(one),
+            delta,
+            entries.map(|e| 3 * e),
+        );
+        f.condition = condition;
+        match f.solve(b, g) {
+            Ok(solution) if solution.info.relative_residual <= 1e-12 => Some(KktOutcome::Solved {
+                factor: Box::new(f),
+                solution,
+                first_choice,
+            }),
+            _ => None,
+        }
+    }
+
+    /// The null-space elimination of local rows ([`NullSpace`]) and the
+    /// solve through it; `None` when it does not apply or does not solve to
+    /// 1e-12 (the KKT factorizations then take over).
+    fn null_space(
+        h: &SparseColMat<usize, f64>,
+        rows: &[&[(usize, f64)]],
+        b: &[f64],
+        g: &[f64],
+    ) -> Option<KktOutcome> {
+        if rows.is_empty() {
+            return None;
+        }
+        let ns = NullSpace::new(h, rows)?;
+        let entries = ns.factor_entries();
+        let mut f = Self::new(h, rows, Inner::NullSpace(ns), 0.0, Some(entries));
+        f.condition = norm_1(h, rows) * hager(f.size, |v| f.apply(v));
+        if !f.condition.is_finite() || f.condition * f64::EPSILON > 0.01 {
+            return None;
+        }
+        match f.solve(b, g) {
+            Ok(solution) if solution.info.relative_residual <= 1e-12 => Some(KktOutcome::Solved {
+                factor: Box::new(f),
+                solution,
+                first_choice: true,
+            }),
+            _ => None,
+        }
+    }
+
+    /// The sparse Cholesky factorization of SPD H (no rows); singular when
+    /// its condition estimate exceeds 0.01/ε.
+    fn llt(h: &SparseColMat<usize, f64>) -> Result<Self> {
+        let n = h.nrows();
+        let mut lower = Vec::with_capacity(h.compute_nnz() / 2 + n);
+        for j in 0..n {
+            for (i, v) in h.row_idx_of_col(j).zip(h.val_of_col(j)) {
+                if i >= j {
+                    lower.push(Triplet::new(i, j, *v));
+                }
+            }
+        }
+        let lower = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &lower)
+            .map_err(|e| too_large(n, &format!("{e:?}")))?;
+        let (symbolic, values) = sparse_llt(&lower).map_err(|e| match e {
+            LltFailure::Symbolic(why) => too_large(n, &why),
+            LltFailure::NotPositive => singular(n, 0, f64::INFINITY),
+        })?;
+        let entries = symbolic.len_val();
+        let mut f = Self::new(h, &[], Inner::Llt { symbolic, values }, 0.0, Some(entries));
+        f.condition = norm_1(h, &[]) * hager(n, |v| f.apply(v));
+        if !f.condition.is_finite() || f.condition * f64::EPSILON > 0.01 {
+            return Err(singular(n, 0, f.condition));
+        }
+        Ok(f)
     }
 
     /// The regularized quasi-definite LDLᵀ; singular when δ would move the
@@ -311,9 +396,23 @@ impl KktFactor {
             }
             triplets.push(Triplet::new(j, j, delta));
         }
+        // Rows scaled to H's size: the factored matrix is
+        // diag(I, D) K diag(I, D), whose quasi-definite LDLᵀ holds up where
+        // rows of size 1 against H's diagonal of 1e3 broke it down.
+        let row_scale: Vec<f64> = rows
+            .iter()
+            .map(|row| {
+                let big = row.iter().fold(0.0f64, |m, &(_, a)| m.max(a.abs()));
+                if big > 0.0 {
+                    hscale / big
+                } else {
+                    1.0
+                }
+            })
+            .collect();
         for (r, row) in rows.iter().enumerate() {
             for &(i, a) in row.iter() {
-                triplets.push(Triplet::new(n + r, i, a));
+                triplets.push(Triplet::new(n + r, i, a * row_scale[r]));
             }
             triplets.push(Triplet::new(n + r, n + r, -delta));
         }
@@ -354,7 +453,11 @@ impl KktFactor {
         let mut f = Self::new(
             h,
             rows,
-            Inner::Ldlt { symbolic, values },
+            Inner::Ldlt {
+                symbolic,
+                values,
+                row_scale,
+            },
             delta,
             Some(entries),
         );
@@ -423,22 +526,40 @@ impl KktFactor {
 
     /// K⁻¹v through the factorization (of the regularized matrix for LDLᵀ).
     fn apply(&self, v: &[f64]) -> Vec<f64> {
-        if let Inner::Shared { symbolic, values } = &self.inner {
-            let m = self.size / 3;
-            let mut xyz = Mat::<f64>::from_fn(m, 3, |p, c| v[3 * p + c]);
-            let par = Par::Seq;
-            let mut mem = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(3, par));
-            LltRef::new(symbolic, values).solve_in_place_with_conj(
-                Conj::No,
-                xyz.as_mut(),
-                par,
-                MemStack::new(&mut mem),
-            );
-            return (0..self.size).map(|i| xyz[(i / 3, i % 3)]).collect();
+        if let Inner::NullSpace(ns) = &self.inner {
+            return ns.apply(v);
+        }
+        if let Inner::PerCoordinate(one) = &self.inner {
+            let n = self.h.nrows();
+            let (m, r) = (n / 3, self.rows.len() / 3);
+            let mut out = vec![0.0; self.size];
+            for c in 0..3 {
+                let w: Vec<f64> = (0..m)
+                    .map(|p| v[3 * p + c])
+                    .chain((0..r).map(|s| v[n + 3 * s + c]))
+                    .collect();
+                let y = one.apply(&w);
+                for p in 0..m {
+                    out[3 * p + c] = y[p];
+                }
+                for s in 0..r {
+                    out[n + 3 * s + c] = y[m + s];
+                }
+            }
+            return out;
         }
         let mut col = Mat::<f64>::from_fn(self.size, 1, |i, _| v[i]);
         match &self.inner {
-            Inner::Ldlt { symbolic, values } => {
+            Inner::Ldlt {
+                symbolic,
+                values,
+                row_scale,
+            } => {
+                // K⁻¹ = diag(I, D) (diag(I, D) K diag(I, D))⁻¹ diag(I, D).
+                let n = self.h.nrows();
+                for (r, d) in row_scale.iter().enumerate() {
+                    col[(n + r, 0)] *= d;
+                }
                 let par = Par::Seq;
                 let mut mem = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, par));
                 LdltRef::new(symbolic, values).solve_in_place_with_conj(
@@ -447,9 +568,21 @@ impl KktFactor {
                     par,
                     MemStack::new(&mut mem),
                 );
+                for (r, d) in row_scale.iter().enumerate() {
+                    col[(n + r, 0)] *= d;
+                }
             }
             Inner::Lu(lu) => lu.solve_in_place_with_conj(Conj::No, col.as_mut()),
-            Inner::Shared { .. } => unreachable!("solved above"),
+            Inner::Llt { symbolic, values } => LltRef::new(symbolic, values)
+                .solve_in_place_with_conj(
+                    Conj::No,
+                    col.as_mut(),
+                    Par::Seq,
+                    MemStack::new(&mut MemBuffer::new(
+                        symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
+                    )),
+                ),
+            Inner::PerCoordinate(_) | Inner::NullSpace(_) => unreachable!("solved above"),
         }
         (0..self.size).map(|i| col[(i, 0)]).collect()
     }
@@ -462,22 +595,29 @@ impl KktFactor {
         rhs.extend_from_slice(g);
         let rows: Vec<&[(usize, f64)]> = self.rows.iter().map(Vec::as_slice).collect();
         let (z, steps, relative_residual) = refine(&self.h, &rows, &rhs, |v| self.apply(v));
-        let (factorization, factor_nonzeros) = match &self.inner {
-            Inner::Shared { symbolic, .. } => (Factorization::SharedLlt, Some(symbolic.len_val())),
+        let (one, per_coordinate) = match &self.inner {
+            Inner::PerCoordinate(one) => (&**one, true),
+            _ => (self, false),
+        };
+        let (factorization, factor_nonzeros) = match &one.inner {
+            Inner::Llt { symbolic, .. } => (Factorization::Llt, Some(symbolic.len_val())),
             Inner::Ldlt { symbolic, .. } => (Factorization::Ldlt, Some(symbolic.len_val())),
             Inner::Lu(_) => (Factorization::Lu, None),
+            Inner::NullSpace(ns) => (Factorization::NullSpace, Some(ns.factor_entries())),
+            Inner::PerCoordinate(_) => unreachable!("one level"),
         };
         finish(
             n,
             z,
             KktInfo {
-                size: self.size,
+                size: one.size,
                 factor_nonzeros,
                 delta: self.delta,
                 refinement_steps: steps,
                 relative_residual,
                 condition: self.condition,
                 factorization,
+                per_coordinate,
             },
         )
     }
@@ -540,7 +680,7 @@ impl KktFactor {
     }
 }
 
-/// K, lower triangle, when H (unknowns 3p + c) is K ⊗ I₃: no entry between
+/// K (both triangles) when H (unknowns 3p + c) is K ⊗ I₃: no entry between
 /// different coordinates and the three coordinates' blocks equal entry for
 /// entry. `None` otherwise.
 fn shared_block(h: &SparseColMat<usize, f64>) -> Option<SparseColMat<usize, f64>> {
@@ -565,12 +705,71 @@ fn shared_block(h: &SparseColMat<usize, f64>) -> Option<SparseColMat<usize, f64>
             }
         }
         for (&i, &v) in first.iter().zip(values) {
-            if i / 3 >= q {
-                triplets.push(Triplet::new(i / 3, q, v));
-            }
+            triplets.push(Triplet::new(i / 3, q, v));
         }
     }
     SparseColMat::try_new_from_triplets(n / 3, n / 3, &triplets).ok()
+}
+
+/// F₁ when the rows (3s + c over unknowns 3p + c) are F₁ ⊗ I₃: row 3s + c
+/// has terms on coordinate c only, and rows 3s + 1, 3s + 2 are row 3s
+/// shifted, coefficient for coefficient. `None` otherwise.
+fn shared_rows(rows: &[&[(usize, f64)]]) -> Option<Vec<Vec<(usize, f64)>>> {
+    if rows.len() % 3 != 0 {
+        return None;
+    }
+    rows.chunks_exact(3)
+        .map(|xyz| {
+            let x = xyz[0];
+            let shifted = |d: usize| {
+                xyz[d].len() == x.len()
+                    && xyz[d]
+                        .iter()
+                        .zip(x)
+                        .all(|(a, b)| a.0 == b.0 + d && a.1.to_bits() == b.1.to_bits())
+            };
+            (x.iter().all(|&(i, _)| i % 3 == 0) && shifted(1) && shifted(2))
+                .then(|| x.iter().map(|&(i, a)| (i / 3, a)).collect())
+        })
+        .collect()
+}
+
+/// Why [`sparse_llt`] failed.
+pub(crate) enum LltFailure {
+    /// The symbolic analysis (too large).
+    Symbolic(String),
+    /// A pivot was not positive.
+    NotPositive,
+}
+
+/// The sparse Cholesky factorization (AMD ordering) of the SPD matrix whose
+/// lower triangle is `lower`: symbolic part and values.
+pub(crate) fn sparse_llt(
+    lower: &SparseColMat<usize, f64>,
+) -> std::result::Result<(SymbolicCholesky<usize>, Vec<f64>), LltFailure> {
+    let symbolic = factorize_symbolic_cholesky(
+        lower.symbolic(),
+        Side::Lower,
+        SymmetricOrdering::Amd,
+        Default::default(),
+    )
+    .map_err(|e| LltFailure::Symbolic(format!("{e:?}")))?;
+    let mut values = vec![0.0f64; symbolic.len_val()];
+    let par = Par::Seq;
+    let mut mem =
+        MemBuffer::new(symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()));
+    symbolic
+        .factorize_numeric_llt(
+            &mut values,
+            lower.as_ref(),
+            Side::Lower,
+            LltRegularization::default(),
+            par,
+            MemStack::new(&mut mem),
+            Default::default(),
+        )
+        .map_err(|_| LltFailure::NotPositive)?;
+    Ok((symbolic, values))
 }
 
 /// Equal bit for bit.

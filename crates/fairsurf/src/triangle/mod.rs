@@ -76,6 +76,7 @@ pub(crate) mod energy;
 mod index;
 mod integral;
 pub(crate) mod kkt;
+mod nullspace;
 mod operator;
 mod patch;
 mod reduce;
