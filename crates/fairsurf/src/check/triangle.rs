@@ -22,8 +22,8 @@
 use super::dd::Dd;
 use super::nodes::{Nodes, Table};
 use crate::operator::Residual;
+use crate::solve::kkt::KktFactor;
 use crate::triangle::energy::{bend_stencils, falling, stretch_stencils, Stencil};
-use crate::triangle::kkt::KktFactor;
 use crate::triangle::{linear_index, point_count, InternalEnergy, TriSurface};
 use crate::Result;
 

@@ -4,7 +4,7 @@
 //! linear constraints F x = F x₀, and Σ s/q(x) for the repellors.
 
 use super::Residual;
-use crate::triangle::kkt::solve_kkt;
+use crate::solve::kkt::solve_kkt;
 use crate::{Error, Result};
 use faer::sparse::{SparseColMat, Triplet};
 use std::collections::HashMap;

@@ -1,9 +1,15 @@
-//! Problems, the solve, and what a solve reports.
+//! Problems, the solve, and what a solve reports; the linear algebra every
+//! surface kind shares: dense SPD solves with refinement (`dense`), sparse
+//! equality-constrained quadratic minimization (`kkt`: one matrix for x, y
+//! and z when nothing couples them, local rows eliminated by `nullspace`,
+//! else the KKT system by LDLᵀ or LU), refined least squares (`lstsq`).
 
 mod cache;
 pub(crate) mod dense;
 mod jacobi;
+pub(crate) mod kkt;
 pub(crate) mod lstsq;
+mod nullspace;
 mod problem;
 mod report;
 

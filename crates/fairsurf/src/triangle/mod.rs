@@ -75,8 +75,6 @@ mod elevate;
 pub(crate) mod energy;
 mod index;
 mod integral;
-pub(crate) mod kkt;
-mod nullspace;
 mod operator;
 mod patch;
 mod reduce;
@@ -87,6 +85,7 @@ mod subdivide;
 mod surface;
 
 pub use crate::operator::{NewtonReport, Operator, OperatorOutcome, Target};
+pub use crate::solve::kkt::{Factorization, KktInfo};
 pub use bernstein::{tri_bernstein, tri_bernstein_all, trinomial, Bary};
 pub use constraint::{Constraint, NamedConstraint, Row};
 pub use continuity::{max_edge_normal_angle, Continuity, EdgeContinuity};
@@ -96,7 +95,6 @@ pub use energy::{
 };
 pub use index::{linear_index, multi_index, multi_indices, point_count};
 pub use integral::{tri_gram_matrix, tri_product_integral};
-pub use kkt::{Factorization, KktInfo};
 pub use operator::{Place, RegionPiece};
 pub use patch::TriPatch;
 pub use refine::{embed_curve, CurvePath, DomainPoint, Refinement};

@@ -24,7 +24,6 @@
 use super::constraint::{Constraint, NamedConstraint, Row};
 use super::continuity::{max_edge_normal_angle, Continuity};
 use super::energy::InternalEnergy;
-use super::kkt::{same_terms, try_kkt, KktFactor, KktInfo, KktOutcome};
 use super::operator::Located;
 use super::reduce::{classify, SparseRow, Verdict};
 use super::refine::{check_point, embed_curve, DomainPoint, Refinement};
@@ -34,6 +33,7 @@ use crate::check::triangle::{TriEnergy, Verify};
 use crate::check::Check;
 use crate::operator::newton::{add_quadratic, newton, FreeResiduals, NewtonReport};
 use crate::operator::{Operator, OperatorOutcome, Residual};
+use crate::solve::kkt::{same_terms, try_kkt, KktFactor, KktInfo, KktOutcome};
 use crate::vec3::{norm, sub, Vec3};
 use crate::{BezierCurve, Error, Result};
 use faer::sparse::{SparseColMat, SymbolicSparseColMat};
