@@ -321,12 +321,21 @@ pub(crate) fn norm_max(m: &Mat<f64>) -> f64 {
 /// It is a lower bound that is usually within a small factor.
 fn condition_estimate(a: &Mat<f64>, llt: &Llt<f64>) -> f64 {
     let n = a.nrows();
-    let lmax = power_iteration(n, &|v| a * v);
-    let inv = power_iteration(n, &|v| {
-        let mut w = v.clone();
-        llt.solve_in_place(&mut w);
-        w
-    });
+    let largest = || power_iteration(n, &|v| a * v);
+    let inverse = || {
+        power_iteration(n, &|v| {
+            let mut w = v.clone();
+            llt.solve_in_place(&mut w);
+            w
+        })
+    };
+    // The two iterations are independent: side by side on two threads
+    // when they are worth a thread (from 400 unknowns).
+    let (lmax, inv) = if n >= 400 {
+        crate::budget::join(largest, inverse)
+    } else {
+        (largest(), inverse())
+    };
     lmax * inv
 }
 
