@@ -58,7 +58,7 @@ pub struct Args {
     #[arg(long, default_value_t = 300_000)]
     max_unknowns: usize,
     /// Another host name the server answers to (besides 127.0.0.1,
-    /// localhost and [::1] at its port), e.g. a name for this machine;
+    /// localhost and `[::1]` at its port), e.g. a name for this machine;
     /// repeatable. Requests naming any other Host are refused (403).
     #[arg(long = "allow-host", value_name = "NAME[:PORT]")]
     allow_host: Vec<String>,

@@ -88,7 +88,7 @@ pub enum Factorization {
     Llt,
     /// The rows eliminated group by group (each group's unknowns shared
     /// with no other), then sparse Cholesky of the reduced Hessian ZᵀHZ
-    /// ([`super::nullspace`]).
+    /// (`solve/nullspace.rs`).
     NullSpace,
     /// Regularized quasi-definite LDLᵀ (the first choice with rows).
     Ldlt,
