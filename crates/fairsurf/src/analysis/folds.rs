@@ -91,7 +91,9 @@ pub fn largest_tri_normal_turn(surface: &TriSurface, k: usize) -> Option<TriNorm
     let grid: Vec<[usize; 2]> = (0..=k)
         .flat_map(|i| (0..=k - i).map(move |j| [i, j]))
         .collect();
-    let index = |i: usize, j: usize| grid.iter().position(|g| *g == [i, j]);
+    // Row i holds j = 0…k−i and starts at i(k+1) − i(i−1)/2.
+    let index =
+        |i: usize, j: usize| (i + j <= k).then(|| i * (k + 1) - i * i.saturating_sub(1) / 2 + j);
     let neighbours: Vec<Vec<usize>> = grid
         .iter()
         .map(|&[i, j]| {

@@ -262,42 +262,21 @@ impl KktFactor {
         let k = shared_block(h)?;
         let f1 = shared_rows(rows)?;
         let f1: Vec<&[(usize, f64)]> = f1.iter().map(Vec::as_slice).collect();
-        // The one system's right-hand sides do not matter to its
-        // factorization; the x coordinates' serve.
-        let bx: Vec<f64> = b.iter().step_by(3).copied().collect();
-        let gx: Vec<f64> = g.iter().step_by(3).copied().collect();
-        let inner = if f1.is_empty() {
-            match Self::llt(&k) {
-                Ok(f) => KktOutcome::Solved {
-                    factor: Box::new(f),
-                    solution: KktSolution {
-                        x: Vec::new(),
-                        lambda: Vec::new(),
-                        info: KktInfo {
-                            size: 0,
-                            factor_nonzeros: None,
-                            delta: 0.0,
-                            refinement_steps: 0,
-                            relative_residual: 0.0,
-                            condition: f64::NAN,
-                            factorization: Factorization::Llt,
-                            per_coordinate: false,
-                        },
-                    },
-                    first_choice: true,
-                },
-                Err(_) => return None,
-            }
+        let (one, first_choice) = if f1.is_empty() {
+            (Box::new(Self::llt(&k).ok()?), true)
         } else {
-            try_kkt(&k, &f1, &bx, &gx)
-        };
-        let KktOutcome::Solved {
-            factor: one,
-            first_choice,
-            ..
-        } = inner
-        else {
-            return None;
+            // The one system's right-hand sides do not matter to its
+            // factorization; the x coordinates' serve.
+            let bx: Vec<f64> = b.iter().step_by(3).copied().collect();
+            let gx: Vec<f64> = g.iter().step_by(3).copied().collect();
+            match try_kkt(&k, &f1, &bx, &gx) {
+                KktOutcome::Solved {
+                    factor,
+                    first_choice,
+                    ..
+                } => (factor, first_choice),
+                _ => return None,
+            }
         };
         let (delta, condition, entries) =
             (one.delta, one.condition, one.factor_entries.get().copied());

@@ -52,8 +52,6 @@ pub(crate) struct NullSpace {
     n: usize,
     m: usize,
     groups: Vec<Group>,
-    /// Each unknown's column in Z's free block, if free.
-    free_index: Vec<Option<usize>>,
     /// Z by rows: for every unknown, (free column, coefficient).
     z_rows: Vec<Vec<(usize, f64)>>,
     symbolic: SymbolicCholesky<usize>,
@@ -119,7 +117,6 @@ impl NullSpace {
             n,
             m,
             groups: built,
-            free_index,
             z_rows,
             symbolic,
             values,
@@ -169,7 +166,6 @@ impl NullSpace {
         for (i, zr) in self.z_rows.iter().enumerate() {
             out[i] = x0[i] + zr.iter().map(|&(k, z)| z * y[(k, 0)]).sum::<f64>();
         }
-        debug_assert!(self.free_index.len() == n);
         // λ per group: A_Bᵀ λ = (r₁ − H x)_B.
         let q = residual(&self.h, r1, &out[..n]);
         for g in &self.groups {
