@@ -5,9 +5,10 @@
 //! refuse what exceeds the budget ([`crate::Error::TooLarge`]), and stop at
 //! their checkpoints once cancelled ([`crate::Error::Cancelled`]).
 //!
-//! The factorizations themselves (faer's Cholesky, LDLᵀ, LU) are not
-//! interrupted: cancellation takes effect at the next checkpoint between
-//! stages, assembly loops and iterations.
+//! The dense Cholesky checks between its panels. The sparse factorizations
+//! (faer's LLT, LDLᵀ, LU) are not interrupted: cancellation takes effect at
+//! the next checkpoint after them (the server runs large sparse problems in
+//! a worker process it can kill).
 
 use crate::{Error, Result};
 use std::cell::RefCell;

@@ -5,7 +5,8 @@
 //! therefore:
 //! 1. equilibrates symmetrically, Â = S H S with S = diag(1/√H_ii), which
 //!    removes the large spread of Bernstein Gram diagonals;
-//! 2. factors Â = L Lᵀ (faer's dense Cholesky);
+//! 2. factors Â = L Lᵀ (a blocked Cholesky on faer's kernels, stopping
+//!    between panels once the work is cancelled, [`crate::budget`]);
 //! 3. refines iteratively with residuals computed in twice-working precision
 //!    (Ogita–Rump–Oishi compensated dot products), so the returned solution of
 //!    the assembled system is accurate to about ε even when cond·ε is not small;
@@ -14,8 +15,12 @@
 
 use super::jacobi::TensorBasis;
 use crate::{Error, Result};
-use faer::linalg::solvers::{Llt, Solve};
-use faer::{Mat, Side};
+use faer::linalg::matmul::triangular::BlockStructure;
+use faer::linalg::triangular_solve::{
+    solve_lower_triangular_in_place, solve_upper_triangular_in_place,
+};
+use faer::reborrow::{Reborrow, ReborrowMut};
+use faer::{Accum, Mat, MatMut};
 
 /// Options for [`SpdFactor::new`].
 #[derive(Clone, Copy, Debug)]
@@ -40,7 +45,8 @@ pub(crate) struct SpdSolution {
 pub(crate) struct SpdFactor {
     /// The equilibration S = diag(1/√H_ii).
     s: Vec<f64>,
-    llt: Llt<f64>,
+    /// L of Â = L Lᵀ (lower triangle; the upper is not read).
+    l: Mat<f64>,
     basis: Option<TensorBasis>,
     /// Estimated condition number of the equilibrated matrix (NaN if not estimated).
     pub condition: f64,
@@ -74,14 +80,14 @@ impl SpdFactor {
         let s: Vec<f64> = (0..n).map(|i| 1.0 / m[(i, i)].sqrt()).collect();
         let a = Mat::from_fn(n, n, |i, j| s[i] * m[(i, j)] * s[j]);
         let t0 = std::time::Instant::now();
-        let llt = a.llt(Side::Lower).map_err(|e| match e {
-            faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } => {
-                not_pd(index)
-            }
+        let mut l = a.clone();
+        cholesky_in_place(l.as_mut()).map_err(|e| match e {
+            CholeskyStop::NotPositive(index) => not_pd(index),
+            CholeskyStop::Cancelled => Error::Cancelled,
         })?;
         let factor_seconds = t0.elapsed().as_secs_f64();
         let condition = if opts.estimate_condition {
-            condition_estimate(&a, &llt)
+            condition_estimate(&a, &l)
         } else {
             f64::NAN
         };
@@ -94,7 +100,7 @@ impl SpdFactor {
         }
         Ok(Self {
             s,
-            llt,
+            l,
             basis: precond.map(|p| p.1.clone()),
             condition,
             factor_seconds,
@@ -107,7 +113,7 @@ impl SpdFactor {
         let rq = self.basis.as_ref().map(|q| q.apply(r, true));
         let r = rq.as_ref().unwrap_or(r);
         let mut y = Mat::from_fn(n, r.ncols(), |i, c| s[i] * r[(i, c)]);
-        self.llt.solve_in_place(&mut y);
+        llt_solve(&self.l, y.as_mut());
         let y = Mat::from_fn(n, r.ncols(), |i, c| s[i] * y[(i, c)]);
         match &self.basis {
             Some(q) => q.apply(&y, false),
@@ -130,6 +136,81 @@ impl SpdFactor {
             refinement_steps,
         }
     }
+}
+
+/// Why [`cholesky_in_place`] stopped.
+#[derive(Debug, PartialEq)]
+pub(crate) enum CholeskyStop {
+    /// The pivot of this row was not positive (or not finite).
+    NotPositive(usize),
+    /// The work was cancelled ([`crate::budget::checkpoint`]).
+    Cancelled,
+}
+
+/// Columns per panel of [`cholesky_in_place`]: a panel of a 5,000-unknown
+/// system takes a few tens of milliseconds, the longest a cancelled
+/// factorization runs on.
+const PANEL: usize = 256;
+
+/// A = L Lᵀ in place (the lower triangle becomes L; the strict upper
+/// triangle is left as it was), right-looking by panels of [`PANEL`]
+/// columns on faer's kernels: the diagonal block by faer's Cholesky,
+/// the panel below it by a triangular solve, the trailing lower triangle
+/// by a symmetric rank-k update. Between panels it checks for
+/// cancellation, so a cancelled solve stops within one panel's work
+/// instead of running the whole O(n³/3) to its end.
+pub(crate) fn cholesky_in_place(mut a: MatMut<'_, f64>) -> std::result::Result<(), CholeskyStop> {
+    use faer::linalg::cholesky::llt::factor as llt;
+    let n = a.nrows();
+    let par = faer::get_global_parallelism();
+    let mut buffer = faer::dyn_stack::MemBuffer::new(llt::cholesky_in_place_scratch::<f64>(
+        PANEL.min(n),
+        par,
+        Default::default(),
+    ));
+    let mut k = 0;
+    while k < n {
+        crate::budget::checkpoint().map_err(|_| CholeskyStop::Cancelled)?;
+        let b = PANEL.min(n - k);
+        let (_, _, _, rest) = a.rb_mut().split_at_mut(k, k);
+        let (mut a11, _, mut a21, mut a22) = rest.split_at_mut(b, b);
+        let stack = faer::dyn_stack::MemStack::new(&mut buffer);
+        llt::cholesky_in_place(
+            a11.rb_mut(),
+            Default::default(),
+            par,
+            stack,
+            Default::default(),
+        )
+        .map_err(|e| match e {
+            llt::LltError::NonPositivePivot { index } => CholeskyStop::NotPositive(k + index),
+        })?;
+        if k + b < n {
+            // A21 ← A21 L11⁻ᵀ, i.e. L11 A21ᵀ = A21ᵀ (old).
+            solve_lower_triangular_in_place(a11.rb(), a21.rb_mut().transpose_mut(), par);
+            // A22 ← A22 − A21 A21ᵀ, lower triangle only.
+            faer::linalg::matmul::triangular::matmul(
+                a22.rb_mut(),
+                BlockStructure::TriangularLower,
+                Accum::Add,
+                a21.rb(),
+                BlockStructure::Rectangular,
+                a21.rb().transpose(),
+                BlockStructure::Rectangular,
+                -1.0,
+                par,
+            );
+        }
+        k += b;
+    }
+    Ok(())
+}
+
+/// X ← A⁻¹ X for A = L Lᵀ with L from [`cholesky_in_place`].
+pub(crate) fn llt_solve(l: &Mat<f64>, mut x: MatMut<'_, f64>) {
+    let par = faer::get_global_parallelism();
+    solve_lower_triangular_in_place(l.as_ref(), x.rb_mut(), par);
+    solve_upper_triangular_in_place(l.transpose(), x, par);
 }
 
 /// Iterative refinement from x: r = residual(x) (compensated), x += solve(r),
@@ -319,13 +400,13 @@ pub(crate) fn norm_max(m: &Mat<f64>) -> f64 {
 /// λ_max(A)/λ_min(A) for SPD A with its Cholesky factor: 30 steps of power
 /// iteration each way from a fixed start, so the estimate is reproducible.
 /// It is a lower bound that is usually within a small factor.
-fn condition_estimate(a: &Mat<f64>, llt: &Llt<f64>) -> f64 {
+fn condition_estimate(a: &Mat<f64>, l: &Mat<f64>) -> f64 {
     let n = a.nrows();
     let largest = || power_iteration(n, &|v| a * v);
     let inverse = || {
         power_iteration(n, &|v| {
             let mut w = v.clone();
-            llt.solve_in_place(&mut w);
+            llt_solve(l, w.as_mut());
             w
         })
     };
@@ -381,6 +462,81 @@ mod tests {
             SpdFactor::new(&h, opts(), "x", None),
             Err(Error::NotPositiveDefinite { .. } | Error::Singular { .. })
         ));
+    }
+
+    /// A symmetric positive definite matrix spanning several panels, with
+    /// a spread of scales.
+    fn spd(n: usize) -> Mat<f64> {
+        let g = Mat::from_fn(n, n, |i, j| (((i * 31 + j * 17) % 23) as f64 - 11.0) / 7.0);
+        let mut a = &g * g.transpose();
+        for i in 0..n {
+            a[(i, i)] += 1.0 + i as f64;
+        }
+        a
+    }
+
+    /// The blocked factor is a Cholesky factor: L Lᵀ reproduces A to
+    /// rounding, and it agrees with faer's unblocked one.
+    #[test]
+    fn blocked_cholesky_factors_across_panels() {
+        let n = 2 * PANEL + 37;
+        let a = spd(n);
+        let mut l = a.clone();
+        cholesky_in_place(l.as_mut()).unwrap();
+        let l = Mat::from_fn(n, n, |i, j| if i >= j { l[(i, j)] } else { 0.0 });
+        let back = &l * l.transpose();
+        let err = norm_max(&(&back - &a));
+        assert!(err <= 1e-13 * norm_max(&a), "‖LLᵀ − A‖ = {err}");
+        let faer_l = a.llt(faer::Side::Lower).unwrap().L().to_owned();
+        assert!(norm_max(&(&l - &faer_l)) <= 1e-12 * norm_max(&faer_l));
+        // And the solve with it.
+        let x = Mat::from_fn(n, 2, |i, c| (i + c) as f64);
+        let mut y = &a * &x;
+        llt_solve(&l, y.as_mut());
+        assert!(norm_max(&(&y - &x)) <= 1e-9 * norm_max(&x));
+    }
+
+    /// A pivot that fails in a later panel is named by its row in the whole
+    /// matrix; a cancelled factorization stops.
+    #[test]
+    fn blocked_cholesky_names_the_failing_row_and_stops_when_cancelled() {
+        let n = PANEL + 50;
+        let mut a = spd(n);
+        let bad = PANEL + 20;
+        a[(bad, bad)] = -1e6;
+        assert_eq!(
+            cholesky_in_place(a.as_mut()),
+            Err(CholeskyStop::NotPositive(bad))
+        );
+        let flag = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(true));
+        let budget = crate::budget::Budget {
+            cancel: Some(flag),
+            ..Default::default()
+        };
+        let mut a = spd(n);
+        let r = crate::budget::with_budget(budget, || cholesky_in_place(a.as_mut()));
+        assert_eq!(r, Err(CholeskyStop::Cancelled));
+    }
+
+    /// Timing against faer's own Cholesky (run by hand: `cargo test
+    /// --release -p fairsurf blocked_cholesky_speed -- --ignored --nocapture`).
+    #[test]
+    #[ignore]
+    fn blocked_cholesky_speed() {
+        for n in [600, 1323, 2883, 5043] {
+            let a = spd(n);
+            let mut best = [f64::INFINITY; 2];
+            for _ in 0..5 {
+                let t = std::time::Instant::now();
+                let _ = a.llt(faer::Side::Lower).unwrap();
+                best[0] = best[0].min(t.elapsed().as_secs_f64());
+                let t = std::time::Instant::now();
+                let mut l = a.clone();
+                cholesky_in_place(l.as_mut()).unwrap();
+                best[1] = best[1].min(t.elapsed().as_secs_f64());
+            }
+            println!("n {n}: faer {:.4} s, blocked {:.4} s", best[0], best[1]);
+        }
     }
 
     /// Dekker's product error equals the fused multiply-add's (exact) on
