@@ -60,6 +60,10 @@ enum Command {
     /// Open the editor in the browser: a local server for the page and its
     /// JSON API (solve, analyse, compare, export, examples).
     Serve(serve::Args),
+    /// One job of `fairsurf serve` in a process of its own (started by the
+    /// server, which kills it at its timeout).
+    #[command(hide = true)]
+    ServeWorker,
     /// Print the JSON Schema of scene files (tensor, or with --triangular
     /// the triangular-surface scenes).
     Schema {
@@ -143,6 +147,7 @@ fn run(command: Command, max_bytes: usize) -> Result<(), Failure> {
         Command::Analyse(a) => analyse::run(a),
         Command::Export(a) => export::run(a),
         Command::Serve(a) => serve::run(a, max_bytes),
+        Command::ServeWorker => serve::run_worker(),
         Command::Render(a) => render::run(a),
         Command::Schema { triangular } => {
             let schema = if triangular {

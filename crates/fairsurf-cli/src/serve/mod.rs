@@ -11,11 +11,16 @@
 //! at most 256 are open at once. Limits, each a clear JSON error: the
 //! request body (`--max-body-mb`, 413), the problem's size
 //! (`--max-unknowns`, 413), its estimated memory (`--max-memory-gb`, 413),
-//! the solve time (`--timeout`, 503; the solve is cancelled), and at most
-//! as many solves at once as there are cores (the others wait their turn).
+//! the solve time (`--timeout`, 503; the solve is cancelled, or its worker
+//! process killed: `worker.rs`), and at most as many solves at once as
+//! there are cores (the others wait their turn).
 
 mod guard;
 mod view;
+mod worker;
+
+pub use worker::run_worker;
+use worker::{dispatch, Job, Reply};
 
 use crate::Failure;
 use axum::body::{to_bytes, Body, Bytes};
@@ -66,6 +71,12 @@ pub struct Args {
     /// trickles them or sends nothing is closed).
     #[arg(long, default_value_t = 10.0)]
     header_timeout: f64,
+    /// Requests whose surface may have more scalar unknowns than this run in
+    /// a worker process, killed at the timeout or when the client goes away
+    /// (a sparse factorization cannot be stopped inside the server); smaller
+    /// ones, such as every drag, run in the server itself.
+    #[arg(long, default_value_t = 30_000)]
+    worker_unknowns: usize,
 }
 
 /// At most this many factorizations are kept between requests…
@@ -93,6 +104,8 @@ pub(crate) struct Limits {
     pub max_unknowns: usize,
     /// Largest estimated memory of one solve (`--max-memory-gb`).
     pub max_bytes: usize,
+    /// Larger problems run in a worker process (`--worker-unknowns`).
+    pub worker_unknowns: usize,
 }
 
 /// An API error: a 4xx status and `{"error", "path"}`.
@@ -176,6 +189,7 @@ pub fn run(a: Args, max_bytes: usize) -> Result<(), Failure> {
             max_body: a.max_body_mb.saturating_mul(1 << 20),
             max_unknowns: a.max_unknowns,
             max_bytes,
+            worker_unknowns: a.worker_unknowns,
         },
         solves: Semaphore::new(std::thread::available_parallelism().map_or(2, |n| n.get())),
         factors: Arc::new(fairsurf::FactorCache::new(FACTOR_ENTRIES, FACTOR_BYTES)),
@@ -329,15 +343,16 @@ async fn get_example(
         .into_response())
 }
 
-/// The request body's `scene`, as text for the scene parsers (which name
-/// the JSON path of every error).
-async fn scene_text(s: &Server, body: Body) -> ApiResult<String> {
-    Ok(request(s, body).await?.0)
+/// A request body: the scene as text for the scene parsers (which name the
+/// JSON path of every error), whether it asks for a quick answer
+/// (`"quick": true`, while the user drags), and a bound on its unknowns.
+struct Request {
+    scene: String,
+    quick: bool,
+    unknowns: usize,
 }
 
-/// The request body: the scene as text, and whether it asks for a quick
-/// answer (`"quick": true`, while the user drags).
-async fn request(s: &Server, body: Body) -> ApiResult<(String, bool)> {
+async fn request(s: &Server, body: Body) -> ApiResult<Request> {
     let read = tokio::time::timeout(BODY_TIMEOUT, to_bytes(body, s.limits.max_body))
         .await
         .map_err(|_| {
@@ -383,70 +398,42 @@ async fn request(s: &Server, body: Body) -> ApiResult<(String, bool)> {
             })
         }
     };
-    Ok((scene.to_string(), quick))
-}
-
-/// Runs `f` on the blocking pool, one per core at a time, within the time
-/// limit.
-async fn limited<T: Send + 'static>(
-    s: &Server,
-    f: impl FnOnce() -> ApiResult<T> + Send + 'static,
-) -> ApiResult<T> {
-    let _permit =
-        s.solves.acquire().await.map_err(|_| {
-            ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the server is stopping")
-        })?;
-    // Cancelled when the time is up or the client goes away (this future
-    // is dropped): the solve stops at its next checkpoint.
-    struct CancelOnDrop(Arc<std::sync::atomic::AtomicBool>);
-    impl Drop for CancelOnDrop {
-        fn drop(&mut self) {
-            self.0.store(true, std::sync::atomic::Ordering::Relaxed);
-        }
-    }
-    let flag = Arc::new(std::sync::atomic::AtomicBool::new(false));
-    let _cancel = CancelOnDrop(flag.clone());
-    let budget = fairsurf::budget::Budget {
-        max_bytes: s.limits.max_bytes,
-        cancel: Some(flag),
-    };
-    let work = move || fairsurf::budget::with_budget(budget, f);
-    match tokio::time::timeout(s.limits.timeout, tokio::task::spawn_blocking(work)).await {
-        Ok(Ok(r)) => r,
-        Ok(Err(e)) => Err(ApiError::new(
-            StatusCode::INTERNAL_SERVER_ERROR,
-            format!("the solve failed: {e}"),
-        )),
-        Err(_) => Err(ApiError::new(
-            StatusCode::SERVICE_UNAVAILABLE,
-            format!(
-                "the solve took longer than {} s (--timeout); lower the degree or the sampling",
-                s.limits.timeout.as_secs_f64()
-            ),
-        )),
-    }
+    Ok(Request {
+        unknowns: worker::unknowns_bound(&scene),
+        scene: scene.to_string(),
+        quick,
+    })
 }
 
 async fn solve(State(s): State<Arc<Server>>, body: Body) -> ApiResult<Json<Value>> {
-    let (text, quick) = request(&s, body).await?;
-    let limits = s.limits;
-    let factors = s.factors.clone();
-    let v = limited(&s, move || view::solve(&text, quick, &limits, &factors)).await?;
-    Ok(Json(v))
+    let r = request(&s, body).await?;
+    let job = Job::Solve {
+        scene: r.scene,
+        quick: r.quick,
+    };
+    json_reply(dispatch(&s, job, r.unknowns).await?)
 }
 
 async fn analyse(State(s): State<Arc<Server>>, body: Body) -> ApiResult<Json<Value>> {
-    let text = scene_text(&s, body).await?;
-    let limits = s.limits;
-    let v = limited(&s, move || view::analyse(&text, &limits)).await?;
-    Ok(Json(v))
+    let r = request(&s, body).await?;
+    let job = Job::Analyse { scene: r.scene };
+    json_reply(dispatch(&s, job, r.unknowns).await?)
 }
 
 async fn compare(State(s): State<Arc<Server>>, body: Body) -> ApiResult<Json<Value>> {
-    let text = scene_text(&s, body).await?;
-    let limits = s.limits;
-    let v = limited(&s, move || view::compare(&text, &limits)).await?;
-    Ok(Json(v))
+    let r = request(&s, body).await?;
+    let job = Job::Compare { scene: r.scene };
+    json_reply(dispatch(&s, job, r.unknowns).await?)
+}
+
+fn json_reply(reply: Reply) -> ApiResult<Json<Value>> {
+    match reply {
+        Reply::Json(v) => Ok(Json(v)),
+        Reply::File { .. } => Err(ApiError::new(
+            StatusCode::INTERNAL_SERVER_ERROR,
+            "expected a JSON answer, got a file",
+        )),
+    }
 }
 
 async fn export(
@@ -455,14 +442,24 @@ async fn export(
     body: Body,
 ) -> ApiResult<Response> {
     let format = q.get("format").cloned().unwrap_or_default();
-    let text = scene_text(&s, body).await?;
-    let limits = s.limits;
-    let (name, kind, bytes) = limited(&s, move || view::export(&text, &format, &limits)).await?;
+    let r = request(&s, body).await?;
+    let job = Job::Export {
+        scene: r.scene,
+        format,
+    };
+    let Reply::File { name, kind, bytes } = dispatch(&s, job, r.unknowns).await? else {
+        return Err(ApiError::new(
+            StatusCode::INTERNAL_SERVER_ERROR,
+            "expected a file, got a JSON answer",
+        ));
+    };
     let disposition = HeaderValue::from_str(&format!("attachment; filename=\"{name}\""))
         .unwrap_or_else(|_| HeaderValue::from_static("attachment"));
+    let kind = HeaderValue::from_str(&kind)
+        .unwrap_or_else(|_| HeaderValue::from_static("application/octet-stream"));
     Ok((
         [
-            (header::CONTENT_TYPE, HeaderValue::from_static(kind)),
+            (header::CONTENT_TYPE, kind),
             (header::CONTENT_DISPOSITION, disposition),
         ],
         bytes,
