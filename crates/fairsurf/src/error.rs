@@ -137,6 +137,16 @@ pub enum Error {
     /// The work was cancelled (a timeout, or the client went away).
     #[error("the solve was cancelled")]
     Cancelled,
+    /// A constraint's equation is (nearly) a combination of the ones before
+    /// it: a repeated constraint, or one the others already decide.
+    #[error(
+        "{row}: this equation depends on the constraints before it (a repeated constraint, \
+         or one the others already decide); remove it or move it"
+    )]
+    DependentConstraint {
+        /// The equation's name (constraint and which of its equations).
+        row: String,
+    },
     /// The solve's answer failed the independent check on the written net
     /// ([`crate::Check`]) even after Newton corrections with the exact
     /// gradient: double precision cannot deliver this problem's minimizer

@@ -47,6 +47,7 @@ pub mod analysis;
 pub mod basis;
 pub mod budget;
 pub mod colour;
+pub mod constraint;
 pub mod energy;
 pub mod harmonic;
 pub mod operator;
@@ -64,7 +65,7 @@ pub use solve::{
     FactorCache, Factored, Problem, Solution, SolveOptions, SolveReport, SurfaceMeasures,
     TermEnergy, Timings,
 };
-pub use tensor::{SurfaceDerivatives, TensorPatch};
+pub use tensor::{SurfaceDerivatives, TensorConstraint, TensorPatch};
 pub use triangle::{TriPatch, TriSurface};
 pub use vec3::Vec3;
 

@@ -2,7 +2,8 @@
 //! surface kind shares: dense SPD solves with refinement (`dense`), sparse
 //! equality-constrained quadratic minimization (`kkt`: one matrix for x, y
 //! and z when nothing couples them, local rows eliminated by `nullspace`,
-//! else the KKT system by LDLᵀ or LU), refined least squares (`lstsq`).
+//! else the KKT system by LDLᵀ or LU), a few rows on a dense factor by the
+//! range-space method (`rows`), refined least squares (`lstsq`).
 
 mod cache;
 pub(crate) mod dense;
@@ -12,6 +13,7 @@ pub(crate) mod lstsq;
 mod nullspace;
 mod problem;
 mod report;
+mod rows;
 
 pub use cache::FactorCache;
 pub use problem::{Factored, Problem, Solution, SolveOptions};

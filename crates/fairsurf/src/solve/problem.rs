@@ -6,19 +6,26 @@
 //! `H_FF x_F = b_F − H_FK x_K`, `b = Σ_t H_t s_t` — Wu & Yang 2015, eq. (3)
 //! for E1 and eq. (4) for E2, here assembled from the exact forms rather than
 //! written out coefficient by coefficient.
+//!
+//! Linear constraints at (u, v) (point, normal, in plane, on line:
+//! [`crate::constraint`]) add rows F x = c, solved on the same factor by the
+//! range-space method (`rows.rs`).
 
 use super::dense::{norm_max, SpdFactor, SpdOptions};
 use super::jacobi::TensorBasis;
 use super::report::{SolveReport, TermEnergy, Timings};
+use super::rows::RowSystem;
 use crate::analysis::measures;
 use crate::budget;
-use crate::check::{self, tensor::EnergyAt, Check};
+use crate::check::{self, dd::Dd, tensor::EnergyAt, Check};
+use crate::constraint::{ConstraintOutcome, NamedConstraint, Row};
 use crate::energy::Integrand;
 use crate::energy::Space;
 use crate::energy::{EnergyTerm, Hessian, TermForm};
 use crate::operator::newton::{newton, sparse, FreeResiduals};
 use crate::operator::tensor::TensorLocated;
 use crate::operator::{OperatorOutcome, Residual, TensorOperator};
+use crate::tensor::{TensorConstraint, Uv};
 use crate::vec3::{is_finite, Vec3};
 use crate::{Error, Result, TensorPatch};
 use faer::sparse::Triplet;
@@ -42,6 +49,7 @@ pub struct Problem {
     known: Vec<Option<Vec3>>,
     terms: Vec<Box<dyn EnergyTerm>>,
     operators: Vec<TensorOperator>,
+    constraints: Vec<NamedConstraint<Uv>>,
 }
 
 /// Options for [`Problem::solve_with`].
@@ -105,6 +113,7 @@ impl Problem {
             known: vec![None; n],
             terms: Vec::new(),
             operators: Vec::new(),
+            constraints: Vec::new(),
         }
     }
 
@@ -193,6 +202,45 @@ impl Problem {
         &self.operators
     }
 
+    /// Adds a linear constraint at a point (u, v) of the patch (Veltkamp &
+    /// Wesselink eq. 31 on a tensor patch): the surface passes through a
+    /// point, has a normal, lies in a plane or on a line there. The solve
+    /// meets it exactly (to rounding) and reports its violation. A
+    /// [`crate::constraint::Constraint::Fixed`] one fixes the control point
+    /// of index i·(m+1) + j instead.
+    pub fn with_constraint(
+        mut self,
+        name: impl Into<String>,
+        constraint: TensorConstraint,
+    ) -> Self {
+        if let TensorConstraint::Fixed { point, value } = constraint {
+            if point < self.known.len() {
+                self.known[point] = Some(value);
+                return self;
+            }
+        }
+        self.constraints.push(NamedConstraint {
+            name: name.into(),
+            constraint,
+        });
+        self
+    }
+
+    /// The constraints at points of the patch.
+    pub fn constraints(&self) -> &[NamedConstraint<Uv>] {
+        &self.constraints
+    }
+
+    /// A patch of this degree with every control point at the origin: what
+    /// the constraints' weights need (they depend on the degree only).
+    fn blank(&self) -> TensorPatch {
+        TensorPatch::new(
+            self.degree.0,
+            self.degree.1,
+            vec![[0.0; 3]; self.known.len()],
+        )
+    }
+
     /// Solves with default options.
     pub fn solve(&self) -> Result<Solution> {
         self.solve_with(&SolveOptions::default())
@@ -235,9 +283,16 @@ impl Problem {
     pub(crate) fn prepare(&self) -> Result<Prepared> {
         let free = self.check()?;
         let placed = self.place_operators()?;
+        let blank = self.blank();
+        let rows = self
+            .constraints
+            .iter()
+            .flat_map(|c| c.constraint.rows(&blank, &c.name))
+            .collect();
         Ok(Prepared {
             free,
             placed,
+            rows,
             keys: self.terms.iter().map(|t| t.hessian_key()).collect(),
         })
     }
@@ -267,6 +322,10 @@ impl Problem {
         }
         for op in &self.operators {
             op.validate()?;
+        }
+        let blank = self.blank();
+        for c in &self.constraints {
+            c.constraint.validate(&blank, &c.name)?;
         }
         Ok(free)
     }
@@ -300,7 +359,7 @@ impl Problem {
         // Jacobi basis are independent: large ones are assembled side by
         // side on two threads.
         let bernstein = || self.bernstein_system(free, placed);
-        let jacobi = || self.jacobi_system(block);
+        let jacobi = || self.jacobi_system(block, !self.constraints.is_empty());
         let (system, pre) = if self.known.len() >= PARALLEL_ASSEMBLY {
             budget::join(bernstein, jacobi)
         } else {
@@ -315,6 +374,7 @@ impl Problem {
         let assemble_seconds = t.elapsed().as_secs_f64();
         budget::checkpoint()?;
         let factor = SpdFactor::new(&h_ff, spd, &self.hint(), pre.as_ref().map(|(h, q)| (h, q)))?;
+        let rows = FreeRows::new(&prep.rows, free, &factor, &h_ff, opts)?;
         let attractors = self
             .operators
             .iter()
@@ -349,6 +409,7 @@ impl Problem {
             h_ff,
             basis: if pre.is_some() { "jacobi" } else { "bernstein" },
             factor,
+            rows,
             assemble_seconds,
         })
     }
@@ -365,8 +426,9 @@ impl Problem {
                 t.form(self.degree)
             })
             .collect::<Result<Vec<_>>>()?;
-        // Operators couple the coordinates.
+        // Operators and constraints couple the coordinates.
         let coupled = !self.operators.is_empty()
+            || !self.constraints.is_empty()
             || forms
                 .iter()
                 .any(|f| matches!(f.hessian, Hessian::Coupled(_)));
@@ -388,6 +450,7 @@ impl Problem {
     fn jacobi_system(
         &self,
         block: Option<((usize, usize), (usize, usize))>,
+        force_coupled: bool,
     ) -> Result<Option<(Mat<f64>, TensorBasis)>> {
         let Some((ru, rv)) = block else {
             return Ok(None);
@@ -401,9 +464,10 @@ impl Problem {
                 t.form_in(&space)
             })
             .collect::<Result<Vec<_>>>()?;
-        let coupled = forms
-            .iter()
-            .any(|f| matches!(f.hessian, Hessian::Coupled(_)));
+        let coupled = force_coupled
+            || forms
+                .iter()
+                .any(|f| matches!(f.hessian, Hessian::Coupled(_)));
         let h = hessian_sum(&forms, space.len(), coupled);
         Ok(TensorBasis::from_space(&space, if coupled { 3 } else { 1 }).map(|q| (h, q)))
     }
@@ -415,6 +479,7 @@ impl Problem {
     pub fn memory_estimate(&self) -> f64 {
         let np = self.known.len() as f64;
         let per_coordinate = self.operators.is_empty()
+            && self.constraints.is_empty()
             && self.terms.iter().all(|t| {
                 matches!(
                     t.integrand(),
@@ -525,6 +590,8 @@ const PARALLEL_ASSEMBLY: usize = 100;
 pub(crate) struct Prepared {
     free: Vec<usize>,
     placed: Vec<Placed>,
+    /// The constraints' rows over all coordinates (3p + c).
+    rows: Vec<Row>,
     keys: Vec<Option<u64>>,
 }
 
@@ -608,6 +675,8 @@ pub struct Factored {
     h_row_norm: f64,
     basis: &'static str,
     factor: SpdFactor,
+    /// The constraints' rows on the free unknowns, with S factored.
+    rows: FreeRows,
     assemble_seconds: f64,
 }
 
@@ -620,7 +689,7 @@ impl Factored {
     /// About how many bytes it holds (H, H_FF and the factor).
     pub fn bytes(&self) -> usize {
         let (d, f) = (self.h.nrows(), self.h_ff.nrows());
-        8 * (d * d + 2 * f * f)
+        8 * (d * d + 2 * f * f + (f + 1) * self.rows.all.len())
     }
 
     /// Whether `problem` has this system's matrix, so that
@@ -722,6 +791,9 @@ impl Factored {
                 }
             }
         }
+        if let Some(why) = self.rows.mismatch(&prep.rows) {
+            return Some(why);
+        }
         let attractors: Vec<_> = problem
             .operators
             .iter()
@@ -806,7 +878,23 @@ impl Factored {
 
         let t = Instant::now();
         let h_ff = &self.h_ff;
-        let sol = self.factor.solve(h_ff, &rhs, opts.max_refinement_steps);
+        let mut sol = self.factor.solve(h_ff, &rhs, opts.max_refinement_steps);
+        // Constraints: the rows on the same factor, refined on the whole
+        // system; λ their multipliers.
+        let mut lambda = Vec::new();
+        // (Also checks the rows no free coordinate enters.)
+        let c = self.rows.rhs(&sys.x)?;
+        if let Some(system) = &self.rows.system {
+            let x_u = std::mem::replace(&mut sol.x, Mat::zeros(0, 0));
+            let (x, l, r, steps) =
+                system.solve(&self.factor, h_ff, &rhs, &c, x_u, opts.max_refinement_steps);
+            (sol.x, sol.residual, lambda) = (x, r, l);
+            sol.refinement_steps += steps;
+        }
+        let f_rows: Vec<&[(usize, f64)]> = match &self.rows.system {
+            Some(system) => system.rows().iter().map(|r| &r[..]).collect(),
+            None => Vec::new(),
+        };
         // Repellors: Newton's method on the total energy from the
         // quadratic solution (no constraints but the known points).
         // Per coordinate 3p + c: its known value, or its row among the unknowns.
@@ -842,7 +930,7 @@ impl Factored {
             let h = sparse(nf, &triplets)?;
             let b: Vec<f64> = (0..nf).map(|i| -rhs[(i, 0)]).collect();
             let x0: Vec<f64> = (0..nf).map(|i| sol.x[(i, 0)]).collect();
-            let (x, report) = newton(&h, &b, &[], &repellors, x0)?;
+            let (x, report) = newton(&h, &b, &f_rows, &repellors, x0)?;
             // ∇E = H x + b − Σ s ∇q / q², for the report.
             let mut g = b.clone();
             for j in 0..nf {
@@ -856,23 +944,36 @@ impl Factored {
                     g[i] -= r.strength * d / (q * q);
                 }
             }
-            total_gradient = Some((
-                g.iter().map(|v| v * v).sum::<f64>().sqrt(),
-                report.relative_gradient,
-            ));
+            // With rows, ∇E is balanced by Fᵀλ: Newton's own figure is the
+            // gradient of the Lagrangian.
+            let norm = if f_rows.is_empty() {
+                g.iter().map(|v| v * v).sum::<f64>().sqrt()
+            } else {
+                report.gradient_norm
+            };
+            total_gradient = Some((norm, report.relative_gradient));
             xf = Mat::from_fn(nf, 1, |i, _| x[i]);
             newton_report = Some(report);
         }
         let solve = t.elapsed().as_secs_f64();
 
         let t = Instant::now();
-        let checked = self.checked_net(problem, placed, &sys, &rows, xf, repellors.is_empty())?;
+        let checked = self.checked_net(
+            problem,
+            placed,
+            &sys,
+            &rows,
+            (xf, lambda),
+            repellors.is_empty(),
+        )?;
         let patch = checked.patch;
         // The check's exact gradient when there is one (no second pass over
         // H), else H X − B in compensated arithmetic.
         let (gradient_norm, relative_gradient) = match (total_gradient, &checked.at) {
             (Some(t), _) => t,
-            (None, Some((at, _, _))) => self.exact_gradient(at, &sys, &rows, &patch),
+            (None, Some((at, _, _))) => {
+                self.exact_gradient(at, &checked.lambda, &sys, &rows, &patch)
+            }
             (None, None) => sys.gradient(&self.h, &rows, &patch, self.coupled),
         };
         let rhs_norm = rhs.norm_l2();
@@ -892,6 +993,16 @@ impl Factored {
             .zip(placed)
             .map(|(op, (at, res))| op.outcome(at, res, &patch, &x))
             .collect();
+        let constraints: Vec<ConstraintOutcome> = problem
+            .constraints
+            .iter()
+            .map(|c| ConstraintOutcome {
+                name: c.name.clone(),
+                kind: c.constraint.kind(),
+                violation: c.constraint.violation(&patch),
+            })
+            .collect();
+        let max_violation = constraints.iter().map(|c| c.violation).fold(0.0, f64::max);
         let external: f64 = operators.iter().map(|o| o.energy).sum();
 
         let mut terms = problem
@@ -962,6 +1073,8 @@ impl Factored {
             terms,
             external,
             operators,
+            constraints,
+            max_violation,
             newton: newton_report,
             gradient_norm,
             relative_gradient,
@@ -992,22 +1105,27 @@ struct Checked {
     /// The recomputed energy and gradient, the estimated excess and the
     /// scale; `None` when a term cannot be checked.
     at: Option<(EnergyAt, f64, f64)>,
+    /// The constraints' multipliers (corrected with the net).
+    lambda: Vec<f64>,
     corrections: usize,
 }
 
 impl Factored {
     /// The net of the free values `xf`, checked on its f64 control points:
     /// energy and gradient in double-double ([`check::tensor`]), the excess
-    /// ½ gᵀH_FF⁻¹g with the factor. While the excess is above the tolerance
-    /// and `correct` (no repellors), Newton corrections x ← x − H_FF⁻¹g with
-    /// the exact gradient, kept only when they lower the recomputed energy.
+    /// ½ gᵀy with the factor, y = H_FF⁻¹g (with constraints: g the gradient
+    /// of the Lagrangian g + Fᵀλ summed in double-double, y the step of
+    /// [H Fᵀ; F 0][y; μ] = [g; 0], which moves along the rows). While the
+    /// excess is above the tolerance and `correct` (no repellors), Newton
+    /// corrections x ← x − y (λ ← λ − μ), kept only when they lower the
+    /// recomputed energy and keep the rows to their rounding.
     fn checked_net(
         &self,
         problem: &Problem,
         placed: &[Placed],
         sys: &Rhs,
         rows: &[usize],
-        mut xf: Mat<f64>,
+        (mut xf, mut lambda): (Mat<f64>, Vec<f64>),
         correct: bool,
     ) -> Result<Checked> {
         let integrands: Vec<_> = problem.terms.iter().map(|t| t.integrand()).collect();
@@ -1049,13 +1167,19 @@ impl Factored {
             return Ok(Checked {
                 patch,
                 at: None,
+                lambda,
                 corrections,
             });
         };
+        let c = self.rows.rhs(&sys.x)?;
+        let mut row_error = self.rows.relative_residuals(&xf, &c);
         loop {
             budget::checkpoint()?;
-            let g = self.free_gradient(&at);
-            let y = self.factor.apply(&g);
+            let g = self.free_gradient(&at, &lambda);
+            let (y, mu) = match &self.rows.system {
+                Some(system) => system.apply(&self.factor, &g, &vec![0.0; c.len()]),
+                None => (self.factor.apply(&g), Vec::new()),
+            };
             let excess = 0.5 * (g.transpose() * &y).diagonal().column_vector().sum().abs();
             let scale = check::scale(at.total.to_f64(), rounding);
             let done = !excess.is_finite() || excess <= check::GOAL * scale;
@@ -1063,6 +1187,7 @@ impl Factored {
                 return Ok(Checked {
                     patch,
                     at: Some((at, excess, scale)),
+                    lambda,
                     corrections,
                 });
             }
@@ -1071,16 +1196,22 @@ impl Factored {
             let Some(next_at) = check::tensor::energy_at(&integrands, &operators, &next) else {
                 unreachable!("the integrands were evaluated before");
             };
+            let next_row_error = self.rows.relative_residuals(&next_xf, &c);
             // Compared in double-double: near the minimum the energies
             // differ far below a double's resolution.
-            if (next_at.total - at.total).to_f64() >= 0.0 {
+            if (next_at.total - at.total).to_f64() >= 0.0
+                || next_row_error > row_error.max(ROW_ROUNDING)
+            {
                 return Ok(Checked {
                     patch,
                     at: Some((at, excess, scale)),
+                    lambda,
                     corrections,
                 });
             }
-            (xf, patch, at, corrections) = (next_xf, next, next_at, corrections + 1);
+            lambda = lambda.iter().zip(&mu).map(|(l, m)| l - m).collect();
+            (xf, patch, at, row_error) = (next_xf, next, next_at, next_row_error);
+            corrections += 1;
         }
     }
 
@@ -1091,11 +1222,12 @@ impl Factored {
     fn exact_gradient(
         &self,
         at: &EnergyAt,
+        lambda: &[f64],
         sys: &Rhs,
         rows: &[usize],
         patch: &TensorPatch,
     ) -> (f64, f64) {
-        let g = self.free_gradient(at);
+        let g = self.free_gradient(at, lambda);
         let (mut g2, mut g_inf) = (0.0, 0.0f64);
         for c in 0..g.ncols() {
             for &v in g.col_as_slice(c) {
@@ -1116,12 +1248,23 @@ impl Factored {
         (g2.sqrt(), if denom > 0.0 { g_inf / denom } else { g_inf })
     }
 
-    fn free_gradient(&self, at: &EnergyAt) -> Mat<f64> {
+    /// The gradient of the Lagrangian g + Fᵀλ on the free rows (g the
+    /// recomputed one, in the system's layout), summed in double-double:
+    /// about zero at a solution, its large parts cancel exactly.
+    fn free_gradient(&self, at: &EnergyAt, lambda: &[f64]) -> Mat<f64> {
         let g = &at.gradient;
         if self.coupled {
-            Mat::from_fn(3 * self.free.len(), 1, |r, _| {
-                g[r % 3].v[self.free[r / 3]].to_f64()
-            })
+            let mut sum: Vec<Dd> = (0..3 * self.free.len())
+                .map(|r| g[r % 3].v[self.free[r / 3]])
+                .collect();
+            if let Some(system) = &self.rows.system {
+                for (row, &l) in system.rows().iter().zip(lambda) {
+                    for &(i, a) in row {
+                        sum[i] += Dd::new(a) * l;
+                    }
+                }
+            }
+            Mat::from_fn(sum.len(), 1, |r, _| sum[r].to_f64())
         } else {
             Mat::from_fn(self.free.len(), 3, |i, c| g[c].v[self.free[i]].to_f64())
         }
@@ -1194,5 +1337,140 @@ impl Rhs {
         }
         let denom = h_inf * norm_max(&x) + b_inf;
         (g2.sqrt(), if denom > 0.0 { g_inf / denom } else { g_inf })
+    }
+}
+
+/// A correction may leave a row's residual at this many units of its size
+/// (the rounding of the written net), or where it was if larger.
+const ROW_ROUNDING: f64 = 16.0 * f64::EPSILON;
+
+/// The constraints' rows on the free unknowns (the coupled layout: the
+/// free point k's coordinate c at 3k + c).
+#[derive(Debug)]
+struct FreeRows {
+    /// Every row over all coordinates (3p + c), as prepared: for the
+    /// mismatch test and the known part of each right-hand side.
+    all: Vec<Row>,
+    /// Per row of `all`: its terms on known coordinates, and whether a free
+    /// one enters it (else the known points alone decide it).
+    known_terms: Vec<(Vec<(usize, f64)>, bool)>,
+    /// The rows with a free coordinate, S factored.
+    system: Option<RowSystem>,
+}
+
+impl FreeRows {
+    fn new(
+        all: &[Row],
+        free: &[usize],
+        factor: &SpdFactor,
+        h_ff: &Mat<f64>,
+        opts: &SolveOptions,
+    ) -> Result<Self> {
+        let mut index = std::collections::HashMap::new();
+        for (k, &p) in free.iter().enumerate() {
+            for c in 0..3 {
+                index.insert(3 * p + c, 3 * k + c);
+            }
+        }
+        let (mut reduced, mut names, mut known_terms) = (Vec::new(), Vec::new(), Vec::new());
+        for row in all {
+            let (on_free, on_known): (Vec<_>, Vec<_>) =
+                row.terms.iter().partition(|(i, _)| index.contains_key(i));
+            known_terms.push((on_known, !on_free.is_empty()));
+            if !on_free.is_empty() {
+                reduced.push(on_free.iter().map(|&(i, a)| (index[&i], a)).collect());
+                names.push(row.name.clone());
+            }
+        }
+        let system = if reduced.is_empty() {
+            None
+        } else {
+            budget::checkpoint()?;
+            Some(RowSystem::new(
+                factor,
+                h_ff,
+                reduced,
+                &names,
+                opts.max_refinement_steps,
+            )?)
+        };
+        Ok(Self {
+            all: all.to_vec(),
+            known_terms,
+            system,
+        })
+    }
+
+    /// What makes `rows` differ from these (their right-hand sides may).
+    fn mismatch(&self, rows: &[Row]) -> Option<String> {
+        if rows.len() != self.all.len() {
+            return Some(format!(
+                "{} constraint equations instead of {}",
+                rows.len(),
+                self.all.len()
+            ));
+        }
+        let k = rows
+            .iter()
+            .zip(&self.all)
+            .position(|(a, b)| a.terms != b.terms)?;
+        Some(format!(
+            "constraint equation {} has another place or direction",
+            rows[k].name
+        ))
+    }
+
+    /// The right-hand sides c = rhs − Σ known a·x of the solved rows for
+    /// the known values `x` (coupled layout, one column), compensated.
+    /// An error when a row no free coordinate enters is not met.
+    fn rhs(&self, x: &Mat<f64>) -> Result<Vec<f64>> {
+        let mut c = Vec::new();
+        for (row, (known, has_free)) in self.all.iter().zip(&self.known_terms) {
+            let a: Vec<f64> = known.iter().map(|&(_, a)| a).collect();
+            let xs: Vec<f64> = known.iter().map(|&(i, _)| x[(i, 0)]).collect();
+            let r = super::dense::dot2_residual(row.rhs, &a, &xs);
+            if *has_free {
+                c.push(r);
+                continue;
+            }
+            let size = row.rhs.abs() + a.iter().zip(&xs).map(|(a, x)| (a * x).abs()).sum::<f64>();
+            if r.abs() > 1e-12 * size.max(f64::MIN_POSITIVE) && r != 0.0 {
+                return Err(Error::Mismatch {
+                    what: row.name.clone(),
+                    expected: "an equation some free control point enters, or one the known \
+                               control points meet"
+                        .into(),
+                    got: format!(
+                        "one the known control points alone decide, missing it by {r:.3e}"
+                    ),
+                });
+            }
+        }
+        Ok(c)
+    }
+
+    /// max over the solved rows of |c − F x| / (Σ|a x| + |c|) at the free
+    /// values `xf` (0 without rows).
+    fn relative_residuals(&self, xf: &Mat<f64>, c: &[f64]) -> f64 {
+        let Some(system) = &self.system else {
+            return 0.0;
+        };
+        let x = xf.col_as_slice(0);
+        system
+            .rows()
+            .iter()
+            .zip(c)
+            .map(|(row, &ci)| {
+                let a: Vec<f64> = row.iter().map(|&(_, a)| a).collect();
+                let xs: Vec<f64> = row.iter().map(|&(i, _)| x[i]).collect();
+                let r = super::dense::dot2_residual(ci, &a, &xs);
+                let size = ci.abs() + a.iter().zip(&xs).map(|(a, x)| (a * x).abs()).sum::<f64>();
+                if size > 0.0 {
+                    r.abs() / size
+                } else {
+                    0.0
+                }
+            })
+            .fold(0.0, f64::max)
     }
 }

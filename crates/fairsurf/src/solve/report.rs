@@ -58,6 +58,10 @@ pub struct SolveReport {
     pub external: f64,
     /// Each operator's energy and how far its target is met.
     pub operators: Vec<crate::operator::OperatorOutcome>,
+    /// Each constraint's violation on the result (met to rounding).
+    pub constraints: Vec<crate::constraint::ConstraintOutcome>,
+    /// The largest of them (0 without constraints).
+    pub max_violation: f64,
     /// With repellors: how Newton's method went (then `gradient_norm` and
     /// `relative_gradient` are those of the total, nonlinear energy).
     pub newton: Option<crate::operator::NewtonReport>,

@@ -42,10 +42,10 @@
 //! t_r = r/(n−1), r = 1 … n−2 (the paper's e₂, f₂, g₂ for cubics): n − 2
 //! conditions instead of n − 1, approximate G1 only.
 
-use super::constraint::Row;
 use super::index::{index_of, linear_index};
 use super::surface::TriSurface;
 use crate::basis::bernstein_all;
+use crate::constraint::Row;
 use crate::vec3::{add, angle, cross, normalize, scale, sub, Vec3};
 use crate::{Error, Result};
 use std::f64::consts::PI;

@@ -84,10 +84,11 @@ pub(crate) mod solve;
 mod subdivide;
 mod surface;
 
+pub use crate::constraint::{ConstraintOutcome, Row};
 pub use crate::operator::{NewtonReport, Operator, OperatorOutcome, Target};
 pub use crate::solve::kkt::{Factorization, KktInfo};
 pub use bernstein::{tri_bernstein, tri_bernstein_all, trinomial, Bary};
-pub use constraint::{Constraint, NamedConstraint, Row};
+pub use constraint::{Constraint, NamedConstraint};
 pub use continuity::{max_edge_normal_angle, Continuity, EdgeContinuity};
 pub use energy::{
     bend_matrix, bend_value, stretch_matrix, stretch_value, InternalEnergy, EQUILATERAL,
@@ -99,7 +100,6 @@ pub use operator::{Place, RegionPiece};
 pub use patch::TriPatch;
 pub use refine::{embed_curve, CurvePath, DomainPoint, Refinement};
 pub use solve::{
-    ConstraintOutcome, CurveConstraint, DroppedRow, TriFactored, TriProblem, TriReport,
-    TriSolution, TriTimings,
+    CurveConstraint, DroppedRow, TriFactored, TriProblem, TriReport, TriSolution, TriTimings,
 };
 pub use surface::{MeshEdge, TriSurface};

@@ -21,7 +21,7 @@
 //! what was reduced, dropped or found inconsistent, the largest normal
 //! angle across interior edges, and timings.
 
-use super::constraint::{Constraint, NamedConstraint, Row};
+use super::constraint::{Constraint, NamedConstraint};
 use super::continuity::{max_edge_normal_angle, Continuity};
 use super::energy::InternalEnergy;
 use super::operator::Located;
@@ -31,6 +31,7 @@ use super::surface::TriSurface;
 use crate::analysis::{largest_tri_normal_turn, TriNormalTurn};
 use crate::check::triangle::{TriEnergy, Verify};
 use crate::check::Check;
+use crate::constraint::{ConstraintOutcome, Row};
 use crate::operator::newton::{add_quadratic, newton, FreeResiduals, NewtonReport};
 use crate::operator::{Operator, OperatorOutcome, Residual};
 use crate::solve::kkt::{same_terms, try_kkt, KktFactor, KktInfo, KktOutcome};
@@ -145,18 +146,6 @@ pub struct DroppedRow {
     /// How far the constraints kept force it off (its reduced right-hand
     /// side over its largest coefficient).
     pub residual: f64,
-}
-
-/// One user constraint's outcome.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ConstraintOutcome {
-    /// Its name.
-    pub name: String,
-    /// Its kind (`point`, `normal`, …, `curve`).
-    pub kind: &'static str,
-    /// [`Constraint::violation`] on the result (for a curve: the largest
-    /// distance between the chain edges and the curve, sampled).
-    pub violation: f64,
 }
 
 /// How good a solve is.

@@ -1,0 +1,80 @@
+//! The constraints of [`crate::constraint`] on a tensor-product patch, at
+//! (u, v) ∈ [0, 1]²:
+//!
+//! ```text
+//! point     R(u, v) = Σ_ij B_i^n(u) B_j^m(v) P_ij
+//! normal    N·R_u = N·R_v = 0,   R_u = Σ_ij B_i^n′(u) B_j^m(v) P_ij, R_v alike
+//! ```
+
+use super::TensorPatch;
+use crate::basis::bernstein_derivatives;
+use crate::constraint::ConstraintSurface;
+use crate::vec3::Vec3;
+use crate::{Error, Result};
+
+/// A point (u, v) of a tensor-product patch's parameter square.
+pub type Uv = [f64; 2];
+
+/// One linear constraint of a tensor-product patch (eq. 31 of Veltkamp &
+/// Wesselink, at (u, v)).
+pub type TensorConstraint = crate::constraint::Constraint<Uv>;
+
+/// How far outside [0, 1] a parameter may lie (rounding of a computed one).
+const OUTSIDE: f64 = 1e-12;
+
+impl TensorPatch {
+    /// (index i·(m+1) + j, dᵃB_i^n(u)·dᵇB_j^m(v)) for the a-th u- and
+    /// b-th v-derivative, zeros left out.
+    fn weights(&self, [u, v]: Uv, a: usize, b: usize) -> Vec<(usize, f64)> {
+        let (n, m) = self.degree();
+        let bu = &bernstein_derivatives(n, u, a)[a];
+        let bv = &bernstein_derivatives(m, v, b)[b];
+        let mut out = Vec::with_capacity((n + 1) * (m + 1));
+        for (i, &x) in bu.iter().enumerate() {
+            for (j, &y) in bv.iter().enumerate() {
+                if x * y != 0.0 {
+                    out.push((i * (m + 1) + j, x * y));
+                }
+            }
+        }
+        out
+    }
+}
+
+impl ConstraintSurface for TensorPatch {
+    type At = Uv;
+
+    fn check_at(&self, at: Uv, what: &str) -> Result<()> {
+        if at.iter().all(|t| (-OUTSIDE..=1.0 + OUTSIDE).contains(t)) {
+            return Ok(());
+        }
+        Err(Error::Mismatch {
+            what: format!("{what}: (u, v)"),
+            expected: "a point of the parameter square [0, 1]²".into(),
+            got: format!("{at:?}"),
+        })
+    }
+
+    fn point_weights(&self, at: Uv) -> Vec<(usize, f64)> {
+        self.weights(at, 0, 0)
+    }
+
+    fn tangent_weights(&self, at: Uv) -> [(Vec<(usize, f64)>, &'static str); 2] {
+        [
+            (self.weights(at, 1, 0), "∂R/∂u"),
+            (self.weights(at, 0, 1), "∂R/∂v"),
+        ]
+    }
+
+    fn value_at(&self, [u, v]: Uv) -> Vec3 {
+        self.eval(u, v)
+    }
+
+    fn normal_at(&self, [u, v]: Uv) -> Option<Vec3> {
+        self.normal(u, v)
+    }
+
+    fn control_points(&self) -> &[Vec3] {
+        self.points()
+    }
+}
