@@ -360,6 +360,23 @@ def tensor_operators():
             {"type": "repellor", "name": "push", "strength": 0.05, "at": [0.5, 0.5], "point": [0.5, 0.5, -0.1]},
         ],
     })
+    write("tensor_constraints.json", {
+        "name": f"Veltkamp & Wesselink's constraints (section 4.1) on a tensor patch: a point, a normal, a plane and a line",
+        "description": "Degree 7x7, boundary fixed on the unit square, thin plate with a little membrane. "
+                       "The surface passes through a point with a prescribed normal there, touches a plane "
+                       "and meets a vertical line, each exactly.",
+        "surface": {"type": "tensor", "degree": [7, 7],
+                    "control_points": [[[r(i / 7), r(j / 7), 0.0] for j in range(8)] for i in range(8)]},
+        "fixed_rings": 1,
+        "energy": {"stretch": 0.1, "bend": 1},
+        "constraints": [
+            {"type": "point", "name": "peak", "at": {"uv": [0.35, 0.4]}, "target": [0.35, 0.4, 0.3]},
+            {"type": "normal", "name": "slope", "at": {"uv": [0.35, 0.4]}, "normal": [-0.4, 0.2, 1.0]},
+            {"type": "in_plane", "name": "shelf", "at": {"uv": [0.7, 0.7]}, "normal": [0, 0, 1], "offset": -0.1},
+            {"type": "on_line", "name": "post", "at": {"uv": [0.75, 0.25]},
+             "point": [0.8, 0.2, 0.0], "direction": [0, 0, 1]},
+        ],
+    })
 
 
 def editor_degree10():

@@ -269,12 +269,7 @@ fn tri_summary(path: &Path, s: &SolvedTriScene, written: &[String]) -> String {
             fixed.len()
         ));
     }
-    for c in r.constraints.iter().filter(|c| c.kind != "fixed") {
-        lines.push(format!(
-            "  {} ({}): violation {:.2e}",
-            c.name, c.kind, c.violation
-        ));
-    }
+    constraint_lines(&mut lines, &r.constraints);
     lines.push(format!(
         "  max constraint violation {:.2e}; continuity rows off by {:.2e} (kept), {:.2e} (left out)",
         r.max_violation, r.continuity_residual, r.unenforced_residual
@@ -417,6 +412,13 @@ fn summary(path: &Path, s: &SolvedScene, written: &[String]) -> String {
                 terms.join(" + ")
             ));
             operator_lines(&mut lines, &r.operators, r.newton.as_ref());
+            constraint_lines(&mut lines, &r.constraints);
+            if !r.constraints.is_empty() {
+                lines.push(format!(
+                    "  max constraint violation {:.2e}",
+                    r.max_violation
+                ));
+            }
             lines.push(check_line(
                 r.check.as_ref(),
                 "a term does not describe its integrand",
@@ -503,6 +505,19 @@ fn measures_lines(lines: &mut Vec<String>, ms: Option<&fairsurf::SurfaceMeasures
             } else {
                 String::new()
             }
+        ));
+    }
+}
+
+/// One line per constraint (fixed control points are summed up apart).
+fn constraint_lines(
+    lines: &mut Vec<String>,
+    constraints: &[fairsurf::constraint::ConstraintOutcome],
+) {
+    for c in constraints.iter().filter(|c| c.kind != "fixed") {
+        lines.push(format!(
+            "  {} ({}): violation {:.2e}",
+            c.name, c.kind, c.violation
         ));
     }
 }

@@ -367,8 +367,8 @@ fn check_handles(scene: &Value, v: &Value) -> std::collections::HashMap<String, 
 }
 
 /// Directions, plane normals and offsets are handles too: directors',
-/// line and plane attractors', and the triangular normal, in-plane and
-/// on-line constraints'. Each is where API.md says, its anchor on the
+/// line and plane attractors', and the normal, in-plane and on-line
+/// constraints' on triangular and tensor surfaces. Each is where API.md says, its anchor on the
 /// solved surface where it acts; moving one changes the solve.
 #[test]
 fn direction_and_plane_handles() {
@@ -391,6 +391,10 @@ fn direction_and_plane_handles() {
             &["director", "plane_attractor", "line_attractor"],
         ),
         (tri, &["normal", "in_plane", "on_line"]),
+        (
+            example("tensor_constraints.json"),
+            &["normal", "in_plane", "on_line"],
+        ),
     ];
     for (mut scene, kinds) in cases {
         let (status, v) = post(&s, "/api/solve", &json!({ "scene": scene }));

@@ -32,10 +32,10 @@ pub struct SolvedScene {
 /// The answer: a minimized energy or a construction from the boundary.
 #[derive(Clone, Debug)]
 pub enum Outcome {
-    /// `method: "minimize"`.
-    Minimized(Solution),
+    /// `method: "minimize"` (boxed: a solution's report is large).
+    Minimized(Box<Solution>),
     /// A harmonic / biharmonic surface or mask.
-    Constructed(Construction),
+    Constructed(Box<Construction>),
 }
 
 impl Outcome {
@@ -58,7 +58,7 @@ impl Outcome {
     /// The minimization's solution, if this was one.
     pub fn solution(&self) -> Option<&Solution> {
         match self {
-            Outcome::Minimized(s) => Some(s),
+            Outcome::Minimized(s) => Some(s.as_ref()),
             Outcome::Constructed(_) => None,
         }
     }
@@ -67,7 +67,7 @@ impl Outcome {
     pub fn construction(&self) -> Option<&Construction> {
         match self {
             Outcome::Minimized(_) => None,
-            Outcome::Constructed(c) => Some(c),
+            Outcome::Constructed(c) => Some(c.as_ref()),
         }
     }
 }
@@ -99,16 +99,16 @@ impl Scene {
     fn solve_using(&self, opts: &SolveOptions, cache: Option<&FactorCache>) -> Result<SolvedScene> {
         let built = self.build()?;
         let outcome = match &built.plan {
-            Plan::Minimize(problem) => Outcome::Minimized(match cache {
+            Plan::Minimize(problem) => Outcome::Minimized(Box::new(match cache {
                 Some(c) => c.solve(problem, opts)?,
                 None => problem.solve_with(opts)?,
-            }),
+            })),
             Plan::Construct(method, net) => {
                 let copts = fairsurf::harmonic::ConstructOptions {
                     least_squares: self.least_squares,
                     analyse: opts.analyse,
                 };
-                Outcome::Constructed(method.construct(net, &copts)?)
+                Outcome::Constructed(Box::new(method.construct(net, &copts)?))
             }
         };
         let patch = outcome.patch();
@@ -275,6 +275,10 @@ pub fn report_json(r: &SolveReport) -> Value {
         o["external"] = json!(r.external);
         o["operators"] = crate::operators::outcomes_json(&r.operators);
         o["newton"] = crate::operators::newton_json(r.newton.as_ref());
+    }
+    if !r.constraints.is_empty() {
+        o["constraints"] = crate::constraints::outcomes_json(&r.constraints);
+        o["max_violation"] = json!(r.max_violation);
     }
     if let Some(c) = &r.check {
         o["check"] = check_json(c);

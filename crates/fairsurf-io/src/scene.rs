@@ -56,6 +56,11 @@ pub struct Scene {
     /// `"minimize"`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub operators: Vec<crate::TensorOperatorSpec>,
+    /// Linear constraints at points (u, v) of the patch (Veltkamp &
+    /// Wesselink eq. 31): point, normal, in_plane, on_line; met exactly
+    /// (only with method `"minimize"`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub constraints: Vec<crate::TensorConstraintSpec>,
     /// Written by `fairsurf solve` into result files; ignored on input.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(skip)]

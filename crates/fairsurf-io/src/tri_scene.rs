@@ -374,26 +374,19 @@ impl TriScene {
                     format!("required for a {} constraint", kind_name(c.kind)),
                 )
             };
+            let fields = crate::constraints::Fields {
+                target: c.target,
+                normal: c.normal,
+                offset: c.offset,
+                point: c.point,
+                direction: c.direction,
+            };
             let at = || c.at.map(domain_point).ok_or_else(|| need("at"));
+            if let Some(constraint) = crate::constraints::located(c.kind, &path, &fields, at)? {
+                problem = problem.with_constraint(name, constraint);
+                continue;
+            }
             let constraint = match c.kind {
-                ConstraintKind::Point => Constraint::Point {
-                    at: at()?,
-                    target: c.target.ok_or_else(|| need("target"))?,
-                },
-                ConstraintKind::Normal => Constraint::Normal {
-                    at: at()?,
-                    normal: c.normal.ok_or_else(|| need("normal"))?,
-                },
-                ConstraintKind::InPlane => Constraint::InPlane {
-                    at: at()?,
-                    normal: c.normal.ok_or_else(|| need("normal"))?,
-                    offset: c.offset.ok_or_else(|| need("offset"))?,
-                },
-                ConstraintKind::OnLine => Constraint::OnLine {
-                    at: at()?,
-                    point: c.point.ok_or_else(|| need("point"))?,
-                    direction: c.direction.ok_or_else(|| need("direction"))?,
-                },
                 ConstraintKind::Fixed => {
                     let index = c.index.ok_or_else(|| need("index"))?;
                     let value = match c.value {
@@ -437,6 +430,11 @@ impl TriScene {
                     });
                     continue;
                 }
+                // Built by `located` above.
+                ConstraintKind::Point
+                | ConstraintKind::Normal
+                | ConstraintKind::InPlane
+                | ConstraintKind::OnLine => continue,
             };
             problem = problem.with_constraint(name, constraint);
         }
@@ -614,16 +612,7 @@ fn set_region(o: &mut OperatorSpec, pieces: Vec<RegionPiece>) {
     );
 }
 
-fn kind_name(k: ConstraintKind) -> &'static str {
-    match k {
-        ConstraintKind::Point => "point",
-        ConstraintKind::Normal => "normal",
-        ConstraintKind::InPlane => "in_plane",
-        ConstraintKind::OnLine => "on_line",
-        ConstraintKind::Fixed => "fixed",
-        ConstraintKind::Curve => "curve",
-    }
-}
+use crate::constraints::kind_name;
 
 impl SolvedTriScene {
     /// The solved surface.
@@ -828,7 +817,7 @@ pub fn tri_report_json(r: &TriReport) -> Value {
         },
         "dropped_continuity": rows(&r.dropped),
         "inconsistent": rows(&r.inconsistent),
-        "constraints": r.constraints.iter().map(|c| json!({"name": c.name, "kind": c.kind, "violation": c.violation})).collect::<Vec<_>>(),
+        "constraints": crate::constraints::outcomes_json(&r.constraints),
         "max_violation": r.max_violation,
         "external": r.external,
         "operators": crate::operators::outcomes_json(&r.operators),

@@ -98,6 +98,10 @@ impl Scene {
         for (i, o) in self.operators.iter().enumerate() {
             problem = problem.with_operator(crate::operators::tensor_operator(o, i)?);
         }
+        for (i, c) in self.constraints.iter().enumerate() {
+            let (name, constraint) = c.build(i)?;
+            problem = problem.with_constraint(name, constraint);
+        }
         built.plan = Plan::Minimize(problem);
         Ok(built)
     }
@@ -129,6 +133,9 @@ impl Scene {
         }
         if !self.operators.is_empty() {
             return unused("operators");
+        }
+        if !self.constraints.is_empty() {
+            return unused("constraints");
         }
         if self.least_squares && !matches!(method, M::Harmonic | M::Biharmonic) {
             return Err(Error::scene(

@@ -44,6 +44,84 @@ fn the_base_scene_solves() {
     assert!(sol.report.relative_gradient < 1e-14);
 }
 
+/// Constraints on the tensor patch: each bad field is named by its path;
+/// `{"uv": [u, v]}` and `[u, v]` are the same place; the result file keeps
+/// them and reports each one's violation.
+#[test]
+fn tensor_constraints_name_their_paths_and_round_trip() {
+    let with_constraints = |c: Value| {
+        let mut v = with(base(), "/energy", json!({"stretch": 1}));
+        v["constraints"] = c;
+        v
+    };
+    let cases = [
+        (
+            json!([{"type": "point", "at": {"uv": [0.5, 0.5]}}]),
+            "constraints[0].target",
+            "required for a point",
+        ),
+        (
+            json!([{"type": "normal", "at": [0.5, 1.5], "normal": [0, 0, 1]}]),
+            "constraints[0].at",
+            "[0, 1]²",
+        ),
+        (
+            json!([{"type": "fixed", "at": [0.5, 0.5]}]),
+            "constraints[0].type",
+            "point, normal, in_plane or on_line",
+        ),
+        (
+            json!([{"type": "in_plane", "at": [0.5, 0.5], "normal": [0, 0, 1]}]),
+            "constraints[0].offset",
+            "required",
+        ),
+        (
+            json!([{"type": "point", "at": {"uv": [0.5, 0.5], "w": 1}, "target": [0, 0, 0]}]),
+            "constraints[0].at",
+            "",
+        ),
+        (
+            json!([{"type": "point", "at": [0.5, 0.5], "target": [0, 0, 0], "bary": 1}]),
+            "constraints[0].bary",
+            "unknown field",
+        ),
+    ];
+    for (c, path, text) in cases {
+        let (p, m) = err(&with_constraints(c.clone()));
+        assert_eq!(p, path, "{c}: {m}");
+        assert!(m.contains(text), "{c}: {m}");
+    }
+    // Constructions have no use for them.
+    let mut v = base();
+    v["method"] = json!("harmonic");
+    v.as_object_mut().unwrap().remove("energy");
+    v["constraints"] = json!([{"type": "point", "at": [0.5, 0.5], "target": [1, 1, 0]}]);
+    assert_eq!(err(&v).0, "constraints");
+    // Both spellings of the place, one answer; the result file keeps them.
+    let solve = |at: Value| {
+        let v = with_constraints(json!([
+            {"type": "point", "name": "lift", "at": at, "target": [1.4, 1.6, 0.4]},
+        ]));
+        Scene::from_json(&v.to_string()).unwrap().solve().unwrap()
+    };
+    let (a, b) = (
+        solve(json!({"uv": [0.45, 0.55]})),
+        solve(json!([0.45, 0.55])),
+    );
+    assert_eq!(a.patch().points(), b.patch().points());
+    let result = a.result_scene();
+    let report = result.report.clone().unwrap();
+    assert_eq!(report["constraints"][0]["name"], "lift");
+    assert_eq!(report["constraints"][0]["kind"], "point");
+    assert!(report["max_violation"].as_f64().unwrap() < 1e-14);
+    let text = serde_json::to_string(&result).unwrap();
+    assert!(text.contains("\"uv\""), "{text}");
+    let again = Scene::from_json(&text).unwrap().solve().unwrap();
+    assert_eq!(again.patch().eval(0.45, 0.55), a.patch().eval(0.45, 0.55));
+    let p = a.patch().eval(0.45, 0.55);
+    assert!(fairsurf::vector::norm(fairsurf::vector::sub(p, [1.4, 1.6, 0.4])) < 1e-14);
+}
+
 /// Operators on the tensor patch: each bad field is named by its path.
 #[test]
 fn tensor_operator_errors_name_the_path() {
@@ -331,6 +409,7 @@ fn results_round_trip() {
         "biharmonic_mask_bump.json",
         "tensor_operators.json",
         "tensor_repellor.json",
+        "tensor_constraints.json",
     ] {
         let scene = Scene::read(&examples().join(name)).unwrap();
         let first = scene.solve().unwrap();

@@ -396,6 +396,45 @@ fn operator_controls(
     }
 }
 
+/// Handles of the scene's point, normal, in-plane and on-line constraints
+/// (the prescribed normals also drawn as arrows); `at` finds where a
+/// constraint acts on the solved surface.
+fn constraint_controls(
+    scene: &Value,
+    at: impl Fn(&Value) -> Option<Vec3>,
+    size: f64,
+    handles: &mut Vec<Value>,
+    normals: &mut Vec<Value>,
+) {
+    for field in Field::entries(scene, "constraints", "constraint") {
+        let c = field.entry;
+        match c["type"].as_str() {
+            Some("point") => field.point(handles, "target"),
+            Some("normal") => {
+                if let (Some(s), Some(n)) = (at(c), vec3(&c["normal"]).and_then(normalize)) {
+                    normals.push(json!({"at": s, "dir": scale(n, ARROW * size)}));
+                }
+                field.direction(handles, "normal", at(c), ARROW * size);
+            }
+            Some("in_plane") => field.plane(handles, at(c), ARROW * size),
+            Some("on_line") => {
+                field.point(handles, "point");
+                field.direction(handles, "direction", vec3(&c["point"]), ARROW * size);
+            }
+            _ => {}
+        }
+    }
+}
+
+/// (u, v) of a tensor constraint's `at`: `{"uv": [u, v]}` or `[u, v]`.
+fn uv_of(at: &Value) -> Option<[f64; 2]> {
+    let a = at.get("uv").unwrap_or(at).as_array()?;
+    match a.as_slice() {
+        [u, v] => Some([u.as_f64()?, v.as_f64()?]),
+        _ => None,
+    }
+}
+
 /// Length of director markers and direction handles, over the scene size.
 const ARROW: f64 = 0.15;
 
@@ -636,6 +675,9 @@ fn tensor_view(solved: &SolvedScene) -> Value {
             if let Some(g) = solved.guide_distance {
                 table.push(row("distance to guide", g));
             }
+            if !r.constraints.is_empty() {
+                table.push(row("max constraint violation", r.max_violation));
+            }
             table.push(row("gradient (relative)", r.relative_gradient));
             if let Some(c) = &r.check {
                 table.push(row("checked: energy excess (relative)", c.excess));
@@ -652,6 +694,8 @@ fn tensor_view(solved: &SolvedScene) -> Value {
                 table.push(row("Newton iterations", nr.iterations as f64));
             }
             operator_controls(&scene_json, &operators, size, &mut handles, &mut sliders);
+            let at = |c: &Value| uv_of(&c["at"]).map(|[u, v]| patch.eval(u, v));
+            constraint_controls(&scene_json, at, size, &mut handles, &mut normals);
         }
         Outcome::Constructed(c) => {
             let r = &c.report;
@@ -776,25 +820,10 @@ fn tri_view(solved: &SolvedTriScene) -> Value {
     // The initial net, for fixed points whose value the scene leaves to it
     // (built only if one does).
     let initial = std::cell::OnceCell::new();
+    let at = |c: &Value| domain_point(&solved.solution, &c["at"]);
+    constraint_controls(&scene_json, at, size, &mut handles, &mut normals);
     for field in Field::entries(&scene_json, "constraints", "constraint") {
         let c = field.entry;
-        // Where a constraint acts, on the solved surface.
-        let at = || domain_point(&solved.solution, &c["at"]);
-        match c["type"].as_str() {
-            Some("point") => field.point(&mut handles, "target"),
-            Some("normal") => {
-                if let (Some(s), Some(n)) = (at(), vec3(&c["normal"]).and_then(normalize)) {
-                    normals.push(json!({"at": s, "dir": scale(n, ARROW * size)}));
-                }
-                field.direction(&mut handles, "normal", at(), ARROW * size);
-            }
-            Some("in_plane") => field.plane(&mut handles, at(), ARROW * size),
-            Some("on_line") => {
-                field.point(&mut handles, "point");
-                field.direction(&mut handles, "direction", vec3(&c["point"]), ARROW * size);
-            }
-            _ => {}
-        }
         // A fixed control point: its value, or the net's when not given
         // (dragging writes `value`).
         if c["type"] == "fixed" {
