@@ -169,6 +169,24 @@ pub enum Error {
         /// What to do.
         hint: String,
     },
+    /// The written net misses a constraint by more than the check's
+    /// tolerance: double precision cannot hold this constrained minimizer
+    /// as a net of this degree.
+    #[error(
+        "the solution at degree {degree} cannot meet {row} in double precision: the written \
+         net misses it by {miss:.1e} of the data's size (tolerance {tolerance:.0e}). Use a \
+         lower degree (the README's limits give the degrees that verify)."
+    )]
+    Unmet {
+        /// The patch's degree `(n, m)`.
+        degree: String,
+        /// The constraint equation missed the most.
+        row: String,
+        /// By how much, over the data's size.
+        miss: f64,
+        /// The tolerance.
+        tolerance: f64,
+    },
 }
 
 /// `Result` with fairsurf's [`Error`].

@@ -1003,6 +1003,17 @@ impl Factored {
             })
             .collect();
         let max_violation = constraints.iter().map(|c| c.violation).fold(0.0, f64::max);
+        // The written net must meet the rows as well as it is a minimum:
+        // a high-degree net whose coefficients blow up misses them by its
+        // rounding, which the energy check alone would not see.
+        if let Some((row, miss)) = self.rows.unmet(problem, &patch) {
+            return Err(Error::Unmet {
+                degree: format!("({}, {})", self.degree.0, self.degree.1),
+                row,
+                miss,
+                tolerance: check::TOLERANCE,
+            });
+        }
         let external: f64 = operators.iter().map(|o| o.energy).sum();
 
         let mut terms = problem
@@ -1447,6 +1458,31 @@ impl FreeRows {
             }
         }
         Ok(c)
+    }
+
+    /// The worst row the written patch misses by more than the check's
+    /// tolerance of the data's size (the largest known coordinate or
+    /// right-hand side): its name and the miss over that size.
+    fn unmet(&self, problem: &Problem, patch: &TensorPatch) -> Option<(String, f64)> {
+        let x: Vec<f64> = patch.points().iter().flatten().copied().collect();
+        let size = problem
+            .known
+            .iter()
+            .flatten()
+            .flatten()
+            .chain(self.all.iter().map(|r| &r.rhs))
+            .fold(0.0f64, |m, v| m.max(v.abs()))
+            .max(f64::MIN_POSITIVE);
+        self.all
+            .iter()
+            .map(|row| {
+                let a: Vec<f64> = row.terms.iter().map(|&(_, a)| a).collect();
+                let xs: Vec<f64> = row.terms.iter().map(|&(i, _)| x[i]).collect();
+                let miss = super::dense::dot2_residual(row.rhs, &a, &xs).abs() / size;
+                (row.name.clone(), miss)
+            })
+            .filter(|(_, miss)| miss.is_nan() || *miss > check::TOLERANCE)
+            .max_by(|a, b| a.1.total_cmp(&b.1))
     }
 
     /// max over the solved rows of |c − F x| / (Σ|a x| + |c|) at the free
