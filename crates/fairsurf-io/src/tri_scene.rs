@@ -835,6 +835,7 @@ pub fn tri_report_json(r: &TriReport) -> Value {
             "size": k.size,
             "factorization": k.factorization.name(),
             "per_coordinate": k.per_coordinate,
+            "reused_symbolic": k.reused_symbolic,
             "factor_nonzeros": k.factor_nonzeros,
             "delta": k.delta,
             "refinement_steps": k.refinement_steps,

@@ -9,7 +9,9 @@
 //! makes it take minutes). Peak heap is reported by divan's allocation
 //! profiler ("max alloc"). `resolve_*`: a point constraint's target moved
 //! and solved again with the kept KKT factorization (`FactorCache`), as
-//! an editor drag does. Run: `cargo bench -p fairsurf --bench triangle`.
+//! an editor drag does; `reweight_*`: the stretch weight changed and solved
+//! again, the kept factorization's symbolic analysis reused (as a weight
+//! slider does). Run: `cargo bench -p fairsurf --bench triangle`.
 #![allow(missing_docs)]
 
 use fairsurf::triangle::{
@@ -103,7 +105,17 @@ fn g1_exact(bencher: divan::Bencher, size: (usize, usize)) {
 
 /// The sheet with a point constraint at the middle patch's centre, lifted
 /// by `lift` above the sheet there.
-fn pulled((a, b): (usize, usize), continuity: Continuity, lift: f64) -> TriProblem {
+fn pulled(size: (usize, usize), continuity: Continuity, lift: f64) -> TriProblem {
+    pulled_with(size, continuity, lift, 0.1)
+}
+
+/// [`pulled`] with the stretch weight α.
+fn pulled_with(
+    (a, b): (usize, usize),
+    continuity: Continuity,
+    lift: f64,
+    stretch: f64,
+) -> TriProblem {
     let s = sheet(a, b);
     let at = DomainPoint {
         triangle: a * b + a,
@@ -111,17 +123,23 @@ fn pulled((a, b): (usize, usize), continuity: Continuity, lift: f64) -> TriProbl
     };
     let mut target = s.patch(at.triangle).eval(at.bary);
     target[2] += lift;
-    TriProblem::new(s, InternalEnergy::new(0.1, 1.0))
+    TriProblem::new(s, InternalEnergy::new(stretch, 1.0))
         .with_fixed_boundary()
         .with_continuity(continuity)
         .with_constraint("pull", Constraint::Point { at, target })
 }
 
-fn resolve(bencher: divan::Bencher, size: (usize, usize), continuity: Continuity) {
+/// A cache holding the factorization of the unlifted sheet.
+fn warm(size: (usize, usize), continuity: &Continuity) -> FactorCache {
     let cache = FactorCache::new(1, usize::MAX);
     cache
         .solve_triangular(&pulled(size, continuity.clone(), 0.0))
         .unwrap();
+    cache
+}
+
+fn resolve(bencher: divan::Bencher, size: (usize, usize), continuity: Continuity) {
+    let cache = warm(size, &continuity);
     let mut step = 0;
     bencher
         .with_inputs(|| {
@@ -145,4 +163,32 @@ fn resolve_c0(bencher: divan::Bencher, size: (usize, usize)) {
 #[divan::bench(args = [(25, 20)], sample_count = 3, sample_size = 1)]
 fn resolve_g1_at_vertices(bencher: divan::Bencher, size: (usize, usize)) {
     resolve(bencher, size, edges(EdgeContinuity::Off));
+}
+
+fn reweight(bencher: divan::Bencher, size: (usize, usize), continuity: Continuity) {
+    let cache = warm(size, &continuity);
+    let mut step = 0;
+    bencher
+        .with_inputs(|| {
+            step += 1;
+            pulled_with(size, continuity.clone(), 0.0, 0.1 + 0.05 * step as f64)
+        })
+        .bench_local_refs(|p| {
+            let s = cache.solve_triangular(p).unwrap();
+            let k = s.report.kkt.unwrap();
+            assert!(!s.report.reused && k.reused_symbolic);
+            s
+        });
+}
+
+/// A changed weight, C0: 1,000 and 10,000 patches.
+#[divan::bench(args = [(25, 20), (100, 50)], sample_count = 3, sample_size = 1)]
+fn reweight_c0(bencher: divan::Bencher, size: (usize, usize)) {
+    reweight(bencher, size, Continuity::none());
+}
+
+/// A changed weight, G1 at the vertices: 1,000 and 10,000 patches.
+#[divan::bench(args = [(25, 20), (100, 50)], sample_count = 3, sample_size = 1)]
+fn reweight_g1_at_vertices(bencher: divan::Bencher, size: (usize, usize)) {
+    reweight(bencher, size, edges(EdgeContinuity::Off));
 }

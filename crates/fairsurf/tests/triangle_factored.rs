@@ -2,14 +2,16 @@
 //! (`FactorCache::solve_triangular`): when only fixed values, point
 //! targets, plane offsets or operator targets move, the kept factorization
 //! gives the fresh solve's surface; another matrix (a turned normal, a
-//! weight) is factored anew; rows that turn inconsistent are reported as a
-//! fresh solve reports them.
+//! weight) is factored anew — a weight with the kept ordering (symbolic
+//! analysis), only the numbers factored again; rows that turn inconsistent
+//! are reported as a fresh solve reports them.
 
 mod common;
 
 use fairsurf::operator::{Operator, Target};
 use fairsurf::triangle::{
-    Constraint, Continuity, DomainPoint, InternalEnergy, Place, TriProblem, TriSolution,
+    Constraint, Continuity, DomainPoint, EdgeContinuity, Factorization, InternalEnergy, Place,
+    TriProblem, TriSolution,
 };
 use fairsurf::FactorCache;
 
@@ -137,6 +139,10 @@ fn another_matrix_is_factored_anew_and_both_are_kept() {
         let p = problem(m);
         let got = cache.solve_triangular(&p).unwrap();
         assert!(!got.report.reused, "{what} changes the matrix");
+        // A weight keeps the pattern: the ordering is reused; a turned
+        // normal changes a row: everything is new.
+        let symbolic = got.report.kkt.unwrap().reused_symbolic;
+        assert_eq!(symbolic, what.contains("weight"), "{what}");
         assert!(gap(&got, &p.solve().unwrap()) < 1e-13);
     }
     assert_eq!(cache.len(), 3);
@@ -240,4 +246,82 @@ fn a_looser_tolerance_chosen_for_the_right_hand_side_is_not_reused() {
     let fresh = p.solve().unwrap();
     assert_eq!(again.report.row_tolerance, fresh.report.row_tolerance);
     assert!(gap(&again, &fresh) < 1e-13);
+}
+
+/// A problem of a stretch weight and a height.
+type Variant = dyn Fn(f64, f64) -> TriProblem;
+
+/// A weight slider keeps the ordering: for each kind of factorization that
+/// has a symbolic part (sparse Cholesky of one matrix for x, y and z; the
+/// null-space elimination of G1 at the vertices; the KKT LDLᵀ), a changed
+/// stretch weight refactors the numbers only (counted in the report), to
+/// the fresh solve's surface; a moved point then reuses the numbers too.
+#[test]
+fn a_weight_change_keeps_the_ordering() {
+    let g1_vertices = Continuity {
+        vertices: true,
+        edges: EdgeContinuity::Off,
+        boundary_angles: Vec::new(),
+    };
+    // The boundary fixed, an interior control point pinned at height z.
+    let pinned = |continuity: Continuity, stretch: f64, z: f64| {
+        let grid = common::tri_grid(4, 3);
+        let point = grid.patch_indices(9)[7];
+        TriProblem::new(grid, InternalEnergy::new(stretch, 1.0))
+            .with_fixed_boundary()
+            .with_continuity(continuity)
+            .with_constraint(
+                "pin",
+                Constraint::Fixed {
+                    point,
+                    value: [0.5, 0.4, z],
+                },
+            )
+    };
+    let kinds: [(&str, Box<Variant>); 3] = [
+        (
+            "C0",
+            Box::new(move |stretch, z| pinned(Continuity::none(), stretch, z)),
+        ),
+        (
+            "G1 at the vertices",
+            Box::new(move |stretch, z| pinned(g1_vertices.clone(), stretch, z)),
+        ),
+        (
+            "constraints",
+            Box::new(|stretch, z| {
+                problem(Moves {
+                    stretch,
+                    target: z,
+                    ..START
+                })
+            }),
+        ),
+    ];
+    let mut seen = Vec::new();
+    for (what, p) in &kinds {
+        let cache = FactorCache::new(4, usize::MAX);
+        let first = cache.solve_triangular(&p(0.1, 0.2)).unwrap().report;
+        let k = first.kkt.unwrap();
+        assert!(!k.reused_symbolic && !first.reused, "{what}");
+        seen.push(k.factorization);
+        let heavier = p(0.7, 0.2);
+        let got = cache.solve_triangular(&heavier).unwrap();
+        let k2 = got.report.kkt.unwrap();
+        assert!(k2.reused_symbolic, "{what}: the ordering was not kept");
+        assert!(!got.report.reused, "{what}");
+        assert_eq!(k2.factorization, k.factorization, "{what}");
+        assert_eq!(k2.factor_nonzeros, k.factor_nonzeros, "{what}");
+        let fresh = heavier.solve().unwrap();
+        assert!(!fresh.report.kkt.unwrap().reused_symbolic);
+        assert!(gap(&got, &fresh) < 1e-12, "{what}: {}", gap(&got, &fresh));
+        assert!(got.report.check.unwrap().passed());
+        // The same weight again with a moved point: the numbers serve too.
+        let moved = cache.solve_triangular(&p(0.7, 0.35)).unwrap();
+        assert!(moved.report.reused, "{what}");
+        assert!(gap(&moved, &p(0.7, 0.35).solve().unwrap()) < 1e-12);
+    }
+    assert!(seen.contains(&Factorization::Llt), "{seen:?}");
+    assert!(seen.contains(&Factorization::NullSpace), "{seen:?}");
+    assert!(seen.contains(&Factorization::Ldlt), "{seen:?}");
 }

@@ -886,7 +886,14 @@ fn tri_view(solved: &SolvedTriScene) -> Value {
         row("patches", r.patches as f64),
         row("unknowns", r.unknowns as f64),
         row("continuity rows dropped", r.dropped.len() as f64),
-        row("factorization", if r.reused { "reused" } else { "new" }),
+        row(
+            "factorization",
+            match (r.reused, r.kkt.is_some_and(|k| k.reused_symbolic)) {
+                (true, _) => "reused",
+                (false, true) => "refactored (ordering kept)",
+                _ => "new",
+            },
+        ),
         row("solve (ms)", 1e3 * r.seconds.total),
     ]);
     json!({

@@ -48,7 +48,7 @@ use faer::sparse::linalg::solvers::Lu;
 use faer::sparse::linalg::LuError;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Conj, Mat, Par, Side};
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 /// δ relative to the largest diagonal entry of H. Small, so that the
 /// regularized inverse still shows a singular direction as a norm of
@@ -79,6 +79,10 @@ pub struct KktInfo {
     /// third of the size with three right-hand sides. `size` and
     /// `factor_nonzeros` are then those of the one matrix.
     pub per_coordinate: bool,
+    /// Whether the factorization reused the symbolic analysis (ordering,
+    /// elimination tree) of an earlier one of the same pattern: only its
+    /// numbers were redone (a weight changed; see [`crate::FactorCache`]).
+    pub reused_symbolic: bool,
 }
 
 /// The factorization of the KKT matrix.
@@ -166,7 +170,7 @@ pub(crate) fn try_kkt(
     if let Some(done) = KktFactor::null_space(h, rows, b, g) {
         return done;
     }
-    let ldlt = KktFactor::ldlt(h, rows);
+    let ldlt = KktFactor::ldlt(h, rows, None);
     let ldlt_exists = ldlt.is_ok();
     let first = ldlt.and_then(|f| {
         let s = f.solve(b, g)?;
@@ -225,12 +229,14 @@ pub(crate) struct KktFactor {
     size: usize,
     delta: f64,
     condition: f64,
+    /// Made by [`KktFactor::refactored`].
+    reused_symbolic: bool,
 }
 
 enum Inner {
     /// The sparse Cholesky factor of H (no rows).
     Llt {
-        symbolic: SymbolicCholesky<usize>,
+        symbolic: Arc<SymbolicCholesky<usize>>,
         values: Vec<f64>,
     },
     /// The factorization of [K F₁ᵀ; F₁ 0] when H = K ⊗ I₃ and F = F₁ ⊗ I₃
@@ -241,7 +247,7 @@ enum Inner {
     /// The quasi-definite LDLᵀ of diag(I, D) K diag(I, D): its symbolic
     /// part and values, and the rows' scales D.
     Ldlt {
-        symbolic: SymbolicCholesky<usize>,
+        symbolic: Arc<SymbolicCholesky<usize>>,
         values: Vec<f64>,
         row_scale: Vec<f64>,
     },
@@ -263,7 +269,7 @@ impl KktFactor {
         let f1 = shared_rows(rows)?;
         let f1: Vec<&[(usize, f64)]> = f1.iter().map(Vec::as_slice).collect();
         let (one, first_choice) = if f1.is_empty() {
-            (Box::new(Self::llt(&k).ok()?), true)
+            (Box::new(Self::llt(&k, None).ok()?), true)
         } else {
             // The one system's right-hand sides do not matter to its
             // factorization; the x coordinates' serve.
@@ -310,13 +316,7 @@ impl KktFactor {
         if rows.is_empty() {
             return None;
         }
-        let ns = NullSpace::new(h, rows)?;
-        let entries = ns.factor_entries();
-        let mut f = Self::new(h, rows, Inner::NullSpace(ns), 0.0, Some(entries));
-        f.condition = norm_1(h, rows) * hager(f.size, |v| f.apply(v));
-        if !f.condition.is_finite() || f.condition * f64::EPSILON > 0.01 {
-            return None;
-        }
+        let f = Self::with_null_space(h, rows, NullSpace::new(h, rows)?)?;
         match f.solve(b, g) {
             Ok(solution) if solution.info.relative_residual <= 1e-12 => Some(KktOutcome::Solved {
                 factor: Box::new(f),
@@ -327,9 +327,72 @@ impl KktFactor {
         }
     }
 
-    /// The sparse Cholesky factorization of SPD H (no rows); singular when
-    /// its condition estimate exceeds 0.01/ε.
-    fn llt(h: &SparseColMat<usize, f64>) -> Result<Self> {
+    /// The factor through the null-space elimination `ns`, `None` when its
+    /// condition estimate exceeds 0.01/ε.
+    fn with_null_space(
+        h: &SparseColMat<usize, f64>,
+        rows: &[&[(usize, f64)]],
+        ns: NullSpace,
+    ) -> Option<Self> {
+        let entries = ns.factor_entries();
+        let mut f = Self::new(h, rows, Inner::NullSpace(ns), 0.0, Some(entries));
+        f.condition = norm_1(h, rows) * hager(f.size, |v| f.apply(v));
+        if !f.condition.is_finite() || f.condition * f64::EPSILON > 0.01 {
+            return None;
+        }
+        Some(f)
+    }
+
+    /// The factorization of another H with the pattern of this one's and
+    /// the same rows, reusing this one's symbolic analysis (the ordering
+    /// and elimination tree; for the null space also the elimination of the
+    /// rows): only the numbers are factored again. `None` when the pattern
+    /// differs, for an LU (faer keeps its symbolic part inside), or when
+    /// the new matrix does not factor so (the caller then starts afresh).
+    pub(crate) fn refactored(&self, h: &SparseColMat<usize, f64>) -> Option<Self> {
+        if !self.same_pattern(h) {
+            return None;
+        }
+        let rows: Vec<&[(usize, f64)]> = self.rows.iter().map(Vec::as_slice).collect();
+        let mut f = match &self.inner {
+            Inner::Llt { symbolic, .. } => Self::llt(h, Some(symbolic)).ok()?,
+            Inner::Ldlt { symbolic, .. } => Self::ldlt(h, &rows, Some(symbolic)).ok()?,
+            Inner::NullSpace(ns) => Self::with_null_space(h, &rows, ns.refactored(h)?)?,
+            Inner::PerCoordinate(one) => {
+                let one = one.refactored(&shared_block(h)?)?;
+                let (delta, condition) = (one.delta, one.condition);
+                let entries = one.factor_entries.get().copied();
+                let inner = Inner::PerCoordinate(Box::new(one));
+                let mut f = Self::new(h, &rows, inner, delta, entries.map(|e| 3 * e));
+                f.condition = condition;
+                f
+            }
+            Inner::Lu(_) => return None,
+        };
+        f.reused_symbolic = true;
+        Some(f)
+    }
+
+    /// Whether H has the sparsity pattern of the H factored (its values
+    /// may differ).
+    pub(crate) fn same_pattern(&self, h: &SparseColMat<usize, f64>) -> bool {
+        h.nrows() == self.h.nrows()
+            && h.compute_nnz() == self.h.compute_nnz()
+            && (0..h.ncols()).all(|j| h.row_idx_of_col_raw(j) == self.h.row_idx_of_col_raw(j))
+    }
+
+    /// Whether the rows are, coefficient for coefficient, those factored.
+    pub(crate) fn rows_are(&self, rows: &[&[(usize, f64)]]) -> bool {
+        rows.len() == self.rows.len() && rows.iter().zip(&self.rows).all(|(a, b)| same_terms(a, b))
+    }
+
+    /// The sparse Cholesky factorization of SPD H (no rows), with `reuse`'s
+    /// symbolic analysis when given; singular when its condition estimate
+    /// exceeds 0.01/ε.
+    fn llt(
+        h: &SparseColMat<usize, f64>,
+        reuse: Option<&Arc<SymbolicCholesky<usize>>>,
+    ) -> Result<Self> {
         let n = h.nrows();
         let mut lower = Vec::with_capacity(h.compute_nnz() / 2 + n);
         for j in 0..n {
@@ -341,7 +404,7 @@ impl KktFactor {
         }
         let lower = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &lower)
             .map_err(|e| too_large(n, &format!("{e:?}")))?;
-        let (symbolic, values) = sparse_llt(&lower).map_err(|e| match e {
+        let (symbolic, values) = sparse_llt(&lower, reuse).map_err(|e| match e {
             LltFailure::Symbolic(why) => too_large(n, &why),
             LltFailure::NotPositive => singular(n, 0, f64::INFINITY),
         })?;
@@ -354,9 +417,14 @@ impl KktFactor {
         Ok(f)
     }
 
-    /// The regularized quasi-definite LDLᵀ; singular when δ would move the
-    /// solution by more than 1% of itself.
-    fn ldlt(h: &SparseColMat<usize, f64>, rows: &[&[(usize, f64)]]) -> Result<Self> {
+    /// The regularized quasi-definite LDLᵀ, with `reuse`'s symbolic
+    /// analysis when given; singular when δ would move the solution by more
+    /// than 1% of itself.
+    fn ldlt(
+        h: &SparseColMat<usize, f64>,
+        rows: &[&[(usize, f64)]],
+        reuse: Option<&Arc<SymbolicCholesky<usize>>>,
+    ) -> Result<Self> {
         let n = h.nrows();
         let m = rows.len();
         let size = n + m;
@@ -397,13 +465,18 @@ impl KktFactor {
         }
         let k = SparseColMat::<usize, f64>::try_new_from_triplets(size, size, &triplets)
             .map_err(|e| too_large(size, &format!("{e:?}")))?;
-        let symbolic = factorize_symbolic_cholesky(
-            k.symbolic(),
-            Side::Lower,
-            SymmetricOrdering::Amd,
-            Default::default(),
-        )
-        .map_err(|e| too_large(size, &format!("{e:?}")))?;
+        let symbolic = match reuse {
+            Some(s) => s.clone(),
+            None => Arc::new(
+                factorize_symbolic_cholesky(
+                    k.symbolic(),
+                    Side::Lower,
+                    SymmetricOrdering::Amd,
+                    Default::default(),
+                )
+                .map_err(|e| too_large(size, &format!("{e:?}")))?,
+            ),
+        };
         let mut values = vec![0.0f64; symbolic.len_val()];
         let signs: Vec<i8> = (0..size).map(|i| if i < n { 1 } else { -1 }).collect();
         let par = Par::Seq;
@@ -500,6 +573,7 @@ impl KktFactor {
             inner,
             delta,
             condition: f64::NAN,
+            reused_symbolic: false,
         }
     }
 
@@ -541,7 +615,7 @@ impl KktFactor {
                 }
                 let par = Par::Seq;
                 let mut mem = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, par));
-                LdltRef::new(symbolic, values).solve_in_place_with_conj(
+                LdltRef::new(symbolic.as_ref(), values).solve_in_place_with_conj(
                     Conj::No,
                     col.as_mut(),
                     par,
@@ -552,7 +626,7 @@ impl KktFactor {
                 }
             }
             Inner::Lu(lu) => lu.solve_in_place_with_conj(Conj::No, col.as_mut()),
-            Inner::Llt { symbolic, values } => LltRef::new(symbolic, values)
+            Inner::Llt { symbolic, values } => LltRef::new(symbolic.as_ref(), values)
                 .solve_in_place_with_conj(
                     Conj::No,
                     col.as_mut(),
@@ -597,15 +671,14 @@ impl KktFactor {
                 condition: self.condition,
                 factorization,
                 per_coordinate,
+                reused_symbolic: self.reused_symbolic,
             },
         )
     }
 
     /// Whether H and F are, value for value, the matrix factored.
     pub(crate) fn is_for(&self, h: &SparseColMat<usize, f64>, rows: &[&[(usize, f64)]]) -> bool {
-        self.h_is(h)
-            && rows.len() == self.rows.len()
-            && rows.iter().zip(&self.rows).all(|(a, b)| same_terms(a, b))
+        self.h_is(h) && self.rows_are(rows)
     }
 
     /// Whether H is, value for value, the one factored.
@@ -722,17 +795,25 @@ pub(crate) enum LltFailure {
 }
 
 /// The sparse Cholesky factorization (AMD ordering) of the SPD matrix whose
-/// lower triangle is `lower`: symbolic part and values.
+/// lower triangle is `lower`: symbolic part and values. With `reuse` (of
+/// the same pattern) its symbolic part serves and only the numbers are
+/// factored.
 pub(crate) fn sparse_llt(
     lower: &SparseColMat<usize, f64>,
-) -> std::result::Result<(SymbolicCholesky<usize>, Vec<f64>), LltFailure> {
-    let symbolic = factorize_symbolic_cholesky(
-        lower.symbolic(),
-        Side::Lower,
-        SymmetricOrdering::Amd,
-        Default::default(),
-    )
-    .map_err(|e| LltFailure::Symbolic(format!("{e:?}")))?;
+    reuse: Option<&Arc<SymbolicCholesky<usize>>>,
+) -> std::result::Result<(Arc<SymbolicCholesky<usize>>, Vec<f64>), LltFailure> {
+    let symbolic = match reuse {
+        Some(s) => s.clone(),
+        None => Arc::new(
+            factorize_symbolic_cholesky(
+                lower.symbolic(),
+                Side::Lower,
+                SymmetricOrdering::Amd,
+                Default::default(),
+            )
+            .map_err(|e| LltFailure::Symbolic(format!("{e:?}")))?,
+        ),
+    };
     let mut values = vec![0.0f64; symbolic.len_val()];
     let par = Par::Seq;
     let mut mem =
@@ -987,7 +1068,7 @@ mod tests {
         let (h, rows, b, g) = chain(40);
         let f: Vec<&[(usize, f64)]> = rows.iter().map(|r| r.as_slice()).collect();
         let (fa, fc) = (
-            KktFactor::ldlt(&h, &f).unwrap(),
+            KktFactor::ldlt(&h, &f, None).unwrap(),
             KktFactor::lu(&h, &f).unwrap(),
         );
         let (a, c) = (fa.solve(&b, &g).unwrap(), fc.solve(&b, &g).unwrap());

@@ -28,12 +28,14 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky};
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Conj, Mat, Par};
+use std::sync::Arc;
 
 /// Groups larger than this are not eliminated (the rows then go to the
 /// KKT factorization): exact G1 across edges chains whole meshes together.
 const MAX_GROUP_ROWS: usize = 64;
 
 /// One group of rows and the unknowns they involve.
+#[derive(Clone)]
 struct Group {
     rows: Vec<usize>,
     /// The basic unknowns, one per row.
@@ -54,7 +56,7 @@ pub(crate) struct NullSpace {
     groups: Vec<Group>,
     /// Z by rows: for every unknown, (free column, coefficient).
     z_rows: Vec<Vec<(usize, f64)>>,
-    symbolic: SymbolicCholesky<usize>,
+    symbolic: Arc<SymbolicCholesky<usize>>,
     values: Vec<f64>,
     h: SparseColMat<usize, f64>,
 }
@@ -97,27 +99,29 @@ impl NullSpace {
                     .collect();
             }
         }
-        // ZᵀHZ, lower triangle.
-        let mut triplets = Vec::new();
-        for j in 0..n {
-            for (i, &hij) in h.row_idx_of_col(j).zip(h.val_of_col(j)) {
-                for &(a, za) in &z_rows[i] {
-                    for &(b, zb) in &z_rows[j] {
-                        if a >= b {
-                            triplets.push(Triplet::new(a, b, za * hij * zb));
-                        }
-                    }
-                }
-            }
-        }
-        let reduced =
-            SparseColMat::<usize, f64>::try_new_from_triplets(free, free, &triplets).ok()?;
-        let (symbolic, values) = sparse_llt(&reduced).ok()?;
+        let reduced = reduced_hessian(h, &z_rows, free)?;
+        let (symbolic, values) = sparse_llt(&reduced, None).ok()?;
         Some(Self {
             n,
             m,
             groups: built,
             z_rows,
+            symbolic,
+            values,
+            h: h.clone(),
+        })
+    }
+
+    /// The same elimination for another H of the same pattern: ZᵀHZ
+    /// formed again and factored with this one's symbolic analysis.
+    pub(crate) fn refactored(&self, h: &SparseColMat<usize, f64>) -> Option<Self> {
+        let reduced = reduced_hessian(h, &self.z_rows, self.symbolic.nrows())?;
+        let (symbolic, values) = sparse_llt(&reduced, Some(&self.symbolic)).ok()?;
+        Some(Self {
+            n: self.n,
+            m: self.m,
+            groups: self.groups.clone(),
+            z_rows: self.z_rows.clone(),
             symbolic,
             values,
             h: h.clone(),
@@ -156,7 +160,7 @@ impl NullSpace {
         }
         let par = Par::Seq;
         let mut mem = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(1, par));
-        LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(
+        LltRef::new(self.symbolic.as_ref(), &self.values).solve_in_place_with_conj(
             Conj::No,
             y.as_mut(),
             par,
@@ -326,6 +330,27 @@ fn eliminate(rows: &[&[(usize, f64)]], row_ids: Vec<usize>, vars: Vec<usize>) ->
         inv_b,
         t,
     })
+}
+
+/// ZᵀHZ (lower triangle) for Z given by its rows: unknown v = Σ z · free.
+fn reduced_hessian(
+    h: &SparseColMat<usize, f64>,
+    z_rows: &[Vec<(usize, f64)>],
+    free: usize,
+) -> Option<SparseColMat<usize, f64>> {
+    let mut triplets = Vec::new();
+    for j in 0..h.ncols() {
+        for (i, &hij) in h.row_idx_of_col(j).zip(h.val_of_col(j)) {
+            for &(a, za) in &z_rows[i] {
+                for &(b, zb) in &z_rows[j] {
+                    if a >= b {
+                        triplets.push(Triplet::new(a, b, za * hij * zb));
+                    }
+                }
+            }
+        }
+    }
+    SparseColMat::<usize, f64>::try_new_from_triplets(free, free, &triplets).ok()
 }
 
 #[cfg(test)]

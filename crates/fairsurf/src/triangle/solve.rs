@@ -112,8 +112,16 @@ impl TriFactored {
         rows: impl ExactSizeIterator<Item = &'r [(usize, f64)]>,
         user_rows: usize,
     ) -> bool {
-        self.kkt.h_is(h)
-            && user_rows == self.user_rows
+        self.kkt.h_is(h) && self.rows_match(rows, user_rows)
+    }
+
+    /// Whether every row's coefficients are those it was made for.
+    fn rows_match<'r>(
+        &self,
+        rows: impl ExactSizeIterator<Item = &'r [(usize, f64)]>,
+        user_rows: usize,
+    ) -> bool {
+        user_rows == self.user_rows
             && rows.len() == self.rows.len()
             && rows.zip(&self.rows).all(|(a, b)| same_terms(a, b))
     }
@@ -570,6 +578,32 @@ impl TriProblem {
         let reused = reuse.is_some();
         // A new factorization, and whether to keep it for later solves.
         let mut fresh: Option<(Box<KktFactor>, bool)> = None;
+        // A kept one of the same pattern and rows (a weight changed): its
+        // symbolic analysis serves, only the numbers are factored again.
+        for k in kept_factors {
+            if reuse.is_some()
+                || free.is_empty()
+                || !k.rows_match(reduced.iter().map(|(t, _)| t.as_slice()), user_rows)
+                || !k.kkt.same_pattern(&h)
+            {
+                continue;
+            }
+            let (verdicts, kept_rows) = classified_at(k.tolerance, &mut seconds);
+            let (f, g) = system(&kept_rows);
+            if !k.kkt.rows_are(&f) {
+                continue;
+            }
+            let t = Instant::now();
+            let solved = k
+                .kkt
+                .refactored(&h)
+                .and_then(|kkt| Some((kkt.solve(&b, &g).ok()?, kkt)));
+            seconds.solve += t.elapsed().as_secs_f64();
+            if let Some((sol, kkt)) = solved.filter(|(s, _)| s.info.relative_residual <= 1e-12) {
+                fresh = Some((Box::new(kkt), true));
+                reuse = Some((verdicts, k.tolerance, Some((kept_rows, sol))));
+            }
+        }
         let (verdicts, row_tolerance, sol) = match reuse {
             Some(done) => done,
             None => {
