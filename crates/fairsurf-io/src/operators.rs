@@ -268,6 +268,7 @@ pub(crate) fn newton_json(n: Option<&NewtonReport>) -> Value {
             "objective": n.energy,
             "gradient_norm": n.gradient_norm,
             "relative_gradient": n.relative_gradient,
+            "reused_orderings": n.reused_orderings,
         })
     })
 }

@@ -304,6 +304,9 @@ fn a_repellor_pushes_away_and_newton_converges() {
         assert!(nr.relative_gradient <= 1e-9, "{nr:?}");
         assert!(nr.energy <= nr.start_energy, "{nr:?}");
         assert!(r.relative_gradient <= 1e-9);
+        // Every step's KKT matrix has the first one's pattern: steps reuse
+        // an earlier one's ordering (not after an LU, which keeps its own).
+        assert!(nr.iterations < 2 || nr.reused_orderings >= 1, "{nr:?}");
         assert_eq!(r.operators[0].kind, "point_repellor");
         let d = r.operators[0].measure;
         assert!(d > last, "{s}: {d} after {last}");

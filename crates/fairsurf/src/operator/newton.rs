@@ -4,7 +4,7 @@
 //! linear constraints F x = F x₀, and Σ s/q(x) for the repellors.
 
 use super::Residual;
-use crate::solve::kkt::solve_kkt;
+use crate::solve::kkt::{solve_kkt, KktFactor};
 use crate::{Error, Result};
 use faer::sparse::{SparseColMat, Triplet};
 use std::collections::HashMap;
@@ -24,6 +24,10 @@ pub struct NewtonReport {
     pub start_energy: f64,
     /// The same at the end (never above the start).
     pub energy: f64,
+    /// Steps whose KKT matrix was factored with the symbolic analysis
+    /// (ordering) of an earlier step's: the pattern stays while the values
+    /// change, so only the first step of each kind orders it.
+    pub reused_orderings: usize,
     /// ‖∇E + Fᵀλ‖∞ at the end.
     pub gradient_norm: f64,
     /// The same, relative (≤ 1e-9 when converged).
@@ -199,6 +203,10 @@ pub(crate) fn newton(
     let mut current = start_energy;
     let zeros = vec![0.0; f.len()];
     let (mut iterations, mut convex_steps) = (0, 0);
+    // The last factorization with and without the curvature terms: the
+    // next step's matrix has its pattern, new values.
+    let mut last: [Option<KktFactor>; 2] = [None, None];
+    let mut reused_orderings = 0;
     loop {
         // Gradient and the repellors' Hessian terms at x.
         let mut grad = b.to_vec();
@@ -247,14 +255,29 @@ pub(crate) fn newton(
             r.hessian_triplets(-r.strength / (q * q), &mut curvature);
         }
         let scale = row_sums * inf(&x) + inf(b) + repel_scale;
-        let step = |with_curvature: bool| -> Result<(Vec<f64>, Vec<f64>)> {
+        let mut step = |with_curvature: bool| -> Result<(Vec<f64>, Vec<f64>)> {
             let mut t = base.clone();
             t.extend_from_slice(&rank_one);
             if with_curvature {
                 t.extend_from_slice(&curvature);
             }
             let hk = sparse(n, &t)?;
-            let (_, sol) = solve_kkt(&hk, f, &grad, &zeros)?;
+            let kept = &mut last[usize::from(with_curvature)];
+            // (An LU, or a matrix the kept ordering does not suit,
+            // is factored afresh.)
+            let again = kept.as_ref().and_then(|k| {
+                let k = k.refactored(&hk)?;
+                let sol = k.solve(&grad, &zeros).ok()?;
+                (sol.info.relative_residual <= 1e-12).then_some((k, sol))
+            });
+            let (factor, sol) = match again {
+                Some(done) => {
+                    reused_orderings += 1;
+                    done
+                }
+                None => solve_kkt(&hk, f, &grad, &zeros)?,
+            };
+            *kept = Some(factor);
             Ok((sol.x, sol.lambda))
         };
         let (mut dx, mut lambda) = match step(true) {
@@ -298,6 +321,7 @@ pub(crate) fn newton(
                     energy: current,
                     gradient_norm,
                     relative_gradient,
+                    reused_orderings,
                 },
             ));
         }
