@@ -178,7 +178,8 @@ pub enum Error {
          lower degree (the README's limits give the degrees that verify)."
     )]
     Unmet {
-        /// The patch's degree `(n, m)`.
+        /// The patches' degree: `(n, m)` for a tensor patch, `n` for
+        /// triangular ones.
         degree: String,
         /// The constraint equation missed the most.
         row: String,

@@ -72,6 +72,23 @@ pub enum Target {
     Curve(BezierCurve),
 }
 
+impl Target {
+    /// The largest coordinate (or plane offset) the target places the
+    /// surface at: part of the data's size that checks measure a result's
+    /// rounding against (0 for a direction).
+    pub(crate) fn size(&self) -> f64 {
+        let max = |pts: &[crate::Vec3]| pts.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+        match self {
+            Target::Direction(_) => 0.0,
+            Target::Point(p) | Target::Line { point: p, .. } => max(std::slice::from_ref(p)),
+            Target::Plane { normal, offset } => offset.abs() / crate::vec3::norm(*normal),
+            Target::Surface(t) => max(t.points()),
+            Target::TensorSurface(t) => max(t.points()),
+            Target::Curve(c) => max(c.points()),
+        }
+    }
+}
+
 /// An external energy operator with its strength, acting at a place `P`:
 /// [`crate::triangle::Place`] on triangular surfaces (the default),
 /// [`TensorPlace`] on tensor-product patches.

@@ -1465,14 +1465,26 @@ impl FreeRows {
     /// right-hand side): its name and the miss over that size.
     fn unmet(&self, problem: &Problem, patch: &TensorPatch) -> Option<(String, f64)> {
         let x: Vec<f64> = patch.points().iter().flatten().copied().collect();
-        let size = problem
+        // The data's size: known points, right-hand sides, operator
+        // targets, guide surfaces.
+        let max_abs = |v: &[Vec3]| v.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+        let mut size = problem
             .known
             .iter()
             .flatten()
-            .flatten()
-            .chain(self.all.iter().map(|r| &r.rhs))
-            .fold(0.0f64, |m, v| m.max(v.abs()))
-            .max(f64::MIN_POSITIVE);
+            .fold(0.0f64, |m, p| m.max(max_abs(&[*p])));
+        for r in &self.all {
+            size = size.max(r.rhs.abs());
+        }
+        for o in &problem.operators {
+            size = size.max(o.target.size());
+        }
+        for t in &problem.terms {
+            if let Some(Integrand::GuideSurface { surface, .. }) = t.integrand() {
+                size = size.max(max_abs(surface.points()));
+            }
+        }
+        let size = size.max(f64::MIN_POSITIVE);
         self.all
             .iter()
             .map(|row| {

@@ -750,6 +750,34 @@ impl TriProblem {
             .filter(|&r| verdicts[r] != Verdict::Independent)
             .map(|r| rows[r].residual(&x).abs())
             .fold(0.0f64, f64::max);
+        // The written net must meet the user's rows (but those found
+        // inconsistent) as well as it is a minimum: a miss above the
+        // check's tolerance of the data's size (fixed coordinates, the
+        // rows' right-hand sides) is refused, not reported as met.
+        let mut is_free = vec![false; coords];
+        for &i in &free {
+            is_free[i] = true;
+        }
+        let data = (0..coords)
+            .filter(|&i| !is_free[i])
+            .map(|i| x[i])
+            .chain(rows[..user_rows].iter().map(|r| r.rhs))
+            .chain(self.operators.iter().map(|o| o.target.size()))
+            .fold(0.0f64, |m, v| m.max(v.abs()))
+            .max(f64::MIN_POSITIVE);
+        let unmet = (0..user_rows)
+            .filter(|&r| !matches!(verdicts[r], Verdict::Inconsistent { .. }))
+            .map(|r| (r, rows[r].residual(&x).abs() / data))
+            .filter(|&(_, miss)| miss.is_nan() || miss > crate::check::TOLERANCE)
+            .max_by(|a, b| a.1.total_cmp(&b.1));
+        if let Some((r, miss)) = unmet {
+            return Err(Error::Unmet {
+                degree: surface.degree().to_string(),
+                row: rows[r].name.clone(),
+                miss,
+                tolerance: crate::check::TOLERANCE,
+            });
+        }
         let mut outcomes: Vec<ConstraintOutcome> = located
             .iter()
             .map(|(nc, c)| ConstraintOutcome {
