@@ -53,6 +53,7 @@ pub mod harmonic;
 pub mod operator;
 pub mod triangle;
 
+pub use analysis::SurfaceMeasures;
 pub use check::{Check, TOLERANCE as CHECK_TOLERANCE};
 pub use curve::BezierCurve;
 pub use energy::{
@@ -62,8 +63,7 @@ pub use energy::{
 pub use error::{Error, Result};
 pub use mesh::TriMesh;
 pub use solve::{
-    FactorCache, Factored, Problem, Solution, SolveOptions, SolveReport, SurfaceMeasures,
-    TermEnergy, Timings,
+    FactorCache, Factored, Problem, Solution, SolveOptions, SolveReport, TermEnergy, Timings,
 };
 pub use tensor::{SurfaceDerivatives, TensorConstraint, TensorPatch};
 pub use triangle::{TriPatch, TriSurface};

@@ -15,11 +15,28 @@ pub use folds::{largest_normal_turn, largest_tri_normal_turn, NormalTurn, TriNor
 pub use functionals::{biharmonic, dirichlet};
 pub use normals::{normal_deviation, NormalDeviation};
 
-use crate::solve::SurfaceMeasures;
 use crate::TensorPatch;
 
 /// Grid size (k) of the absolute mean curvature statistics in reports.
 pub const CURVATURE_GRID: usize = 64;
+
+/// Geometric measures of a surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceMeasures {
+    /// Area ∫∫ |R_u × R_v| by adaptive Gauss–Legendre quadrature.
+    pub area: f64,
+    /// Estimated absolute error of `area`.
+    pub area_error: f64,
+    /// Dirichlet functional D = ½ ∫∫ |R_u|² + |R_v|², exact.
+    pub dirichlet: f64,
+    /// Biharmonic (thin-plate) functional B = ½ ∫∫ |R_uu|² + 2|R_uv|² + |R_vv|², exact.
+    pub biharmonic: f64,
+    /// |H| on the 65×65 grid (Monterde & Ugail §4.4).
+    pub abs_mean_curvature: AbsMeanCurvature,
+    /// The largest turn of the unit normal between neighbouring samples of
+    /// the same grid; more than 90° is a fold, which reports note.
+    pub normal_turn: Option<NormalTurn>,
+}
 
 /// Area (with its error estimate), both functionals and |H| statistics of a
 /// patch.

@@ -46,6 +46,10 @@ pub(crate) const MAX_CORRECTIONS: usize = 6;
 /// polynomial at degree 15: net error 6.4e-4 → 1.5e-14).
 pub(crate) const GOAL: f64 = 1e-32;
 
+/// A correction may leave a constraint row's residual at this many units
+/// of its size (the rounding of the written net), or where it was if larger.
+pub(crate) const ROW_ROUNDING: f64 = 16.0 * f64::EPSILON;
+
 /// What the independent check found on the written net.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Check {

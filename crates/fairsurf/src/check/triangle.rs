@@ -285,10 +285,6 @@ impl<'a> TriEnergy<'a> {
     }
 }
 
-/// A correction may leave a row's residual at this many units of its size
-/// (the rounding of the written net), or where it was if larger.
-const ROW_ROUNDING: f64 = 16.0 * f64::EPSILON;
-
 /// What the check needs of a solved triangular problem.
 pub(crate) struct Verify<'a> {
     pub energy: TriEnergy<'a>,
@@ -416,7 +412,7 @@ impl Verify<'_> {
             let next_at = self.at(surface, &next)?;
             let next_r = self.row_residuals(&next);
             let lower = (next_at.total - at.total).to_f64() < 0.0;
-            if !lower || inf(&next_r) > inf(&r).max(ROW_ROUNDING) {
+            if !lower || inf(&next_r) > inf(&r).max(super::ROW_ROUNDING) {
                 return Ok(finish(xf, lambda, at));
             }
             lambda = lambda.iter().zip(&mu).map(|(l, m)| l - m).collect();

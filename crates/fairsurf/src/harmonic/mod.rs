@@ -25,7 +25,8 @@ pub use mask::{biharmonic_mask, biharmonic_mask_with, harmonic_mask, harmonic_ma
 pub use operator::{apply, derivative_elevated, operator_matrix, relative_residual, Operator};
 pub use surface::{biharmonic, biharmonic_with, harmonic, harmonic_with, ConstructOptions};
 
-use crate::solve::{SurfaceMeasures, Timings};
+use crate::analysis::SurfaceMeasures;
+use crate::solve::Timings;
 use crate::{TensorPatch, Vec3};
 
 /// How a surface was made from its boundary.

@@ -1,6 +1,7 @@
 //! A few factorizations kept for interactive use (the editor's drags).
 
-use super::problem::{Factored, Prepared, Problem, Solution, SolveOptions};
+use super::factored::Factored;
+use super::problem::{Prepared, Problem, Solution, SolveOptions};
 use crate::triangle::solve::Factor;
 use crate::triangle::{TriFactored, TriProblem, TriSolution};
 use crate::Result;

@@ -7,6 +7,7 @@
 
 mod cache;
 pub(crate) mod dense;
+mod factored;
 mod jacobi;
 pub(crate) mod kkt;
 pub(crate) mod lstsq;
@@ -14,7 +15,9 @@ mod nullspace;
 mod problem;
 mod report;
 mod rows;
+mod verify;
 
 pub use cache::FactorCache;
-pub use problem::{Factored, Problem, Solution, SolveOptions};
-pub use report::{SolveReport, SurfaceMeasures, TermEnergy, Timings};
+pub use factored::Factored;
+pub use problem::{Problem, Solution, SolveOptions};
+pub use report::{SolveReport, TermEnergy, Timings};

@@ -24,24 +24,6 @@ pub struct Timings {
     pub total: f64,
 }
 
-/// Geometric measures of a surface.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SurfaceMeasures {
-    /// Area ∫∫ |R_u × R_v| by adaptive Gauss–Legendre quadrature.
-    pub area: f64,
-    /// Estimated absolute error of `area`.
-    pub area_error: f64,
-    /// Dirichlet functional D = ½ ∫∫ |R_u|² + |R_v|², exact.
-    pub dirichlet: f64,
-    /// Biharmonic (thin-plate) functional B = ½ ∫∫ |R_uu|² + 2|R_uv|² + |R_vv|², exact.
-    pub biharmonic: f64,
-    /// |H| on the 65×65 grid (Monterde & Ugail §4.4).
-    pub abs_mean_curvature: crate::analysis::AbsMeanCurvature,
-    /// The largest turn of the unit normal between neighbouring samples of
-    /// the same grid; more than 90° is a fold, which reports note.
-    pub normal_turn: Option<crate::analysis::NormalTurn>,
-}
-
 /// Everything a solve knows about its answer.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SolveReport {
@@ -96,7 +78,7 @@ pub struct SolveReport {
     /// side's).
     pub reused: bool,
     /// Area and functionals of the result (`None` when analysis was off).
-    pub measures: Option<SurfaceMeasures>,
+    pub measures: Option<crate::analysis::SurfaceMeasures>,
     /// Time per stage.
     pub timings: Timings,
 }

@@ -12,7 +12,11 @@
 //! the whole system [H Fᵀ; F 0] with compensated residuals.
 
 use super::dense::{dot2_residual, residual, SpdFactor};
-use crate::{Error, Result};
+use super::problem::{Problem, SolveOptions};
+use crate::constraint::Row;
+use crate::energy::Integrand;
+use crate::vec3::Vec3;
+use crate::{budget, check, Error, Result, TensorPatch};
 use faer::Mat;
 
 /// The rows, H⁻¹Fᵀ and the Cholesky factor of S.
@@ -207,6 +211,174 @@ fn cholesky_checked(mut s: Mat<f64>) -> std::result::Result<Mat<f64>, usize> {
         }
     }
     Ok(s)
+}
+
+/// The constraints' rows on the free unknowns (the coupled layout: the
+/// free point k's coordinate c at 3k + c).
+#[derive(Debug)]
+pub(super) struct FreeRows {
+    /// Every row over all coordinates (3p + c), as prepared: for the
+    /// mismatch test and the known part of each right-hand side.
+    pub(super) all: Vec<Row>,
+    /// Per row of `all`: its terms on known coordinates, and whether a free
+    /// one enters it (else the known points alone decide it).
+    pub(super) known_terms: Vec<(Vec<(usize, f64)>, bool)>,
+    /// The rows with a free coordinate, S factored.
+    pub(super) system: Option<RowSystem>,
+}
+
+impl FreeRows {
+    pub(super) fn new(
+        all: &[Row],
+        free: &[usize],
+        factor: &SpdFactor,
+        h_ff: &Mat<f64>,
+        opts: &SolveOptions,
+    ) -> Result<Self> {
+        let mut index = std::collections::HashMap::new();
+        for (k, &p) in free.iter().enumerate() {
+            for c in 0..3 {
+                index.insert(3 * p + c, 3 * k + c);
+            }
+        }
+        let (mut reduced, mut names, mut known_terms) = (Vec::new(), Vec::new(), Vec::new());
+        for row in all {
+            let (on_free, on_known): (Vec<_>, Vec<_>) =
+                row.terms.iter().partition(|(i, _)| index.contains_key(i));
+            known_terms.push((on_known, !on_free.is_empty()));
+            if !on_free.is_empty() {
+                reduced.push(on_free.iter().map(|&(i, a)| (index[&i], a)).collect());
+                names.push(row.name.clone());
+            }
+        }
+        let system = if reduced.is_empty() {
+            None
+        } else {
+            budget::checkpoint()?;
+            Some(RowSystem::new(
+                factor,
+                h_ff,
+                reduced,
+                &names,
+                opts.max_refinement_steps,
+            )?)
+        };
+        Ok(Self {
+            all: all.to_vec(),
+            known_terms,
+            system,
+        })
+    }
+
+    /// What makes `rows` differ from these (their right-hand sides may).
+    pub(super) fn mismatch(&self, rows: &[Row]) -> Option<String> {
+        if rows.len() != self.all.len() {
+            return Some(format!(
+                "{} constraint equations instead of {}",
+                rows.len(),
+                self.all.len()
+            ));
+        }
+        let k = rows
+            .iter()
+            .zip(&self.all)
+            .position(|(a, b)| a.terms != b.terms)?;
+        Some(format!(
+            "constraint equation {} has another place or direction",
+            rows[k].name
+        ))
+    }
+
+    /// The right-hand sides c = rhs − Σ known a·x of the solved rows for
+    /// the known values `x` (coupled layout, one column), compensated.
+    /// An error when a row no free coordinate enters is not met.
+    pub(super) fn rhs(&self, x: &Mat<f64>) -> Result<Vec<f64>> {
+        let mut c = Vec::new();
+        for (row, (known, has_free)) in self.all.iter().zip(&self.known_terms) {
+            let a: Vec<f64> = known.iter().map(|&(_, a)| a).collect();
+            let xs: Vec<f64> = known.iter().map(|&(i, _)| x[(i, 0)]).collect();
+            let r = super::dense::dot2_residual(row.rhs, &a, &xs);
+            if *has_free {
+                c.push(r);
+                continue;
+            }
+            let size = row.rhs.abs() + a.iter().zip(&xs).map(|(a, x)| (a * x).abs()).sum::<f64>();
+            if r.abs() > 1e-12 * size.max(f64::MIN_POSITIVE) && r != 0.0 {
+                return Err(Error::Mismatch {
+                    what: row.name.clone(),
+                    expected: "an equation some free control point enters, or one the known \
+                               control points meet"
+                        .into(),
+                    got: format!(
+                        "one the known control points alone decide, missing it by {r:.3e}"
+                    ),
+                });
+            }
+        }
+        Ok(c)
+    }
+
+    /// The worst row the written patch misses by more than the check's
+    /// tolerance of the data's size (the largest known coordinate or
+    /// right-hand side): its name and the miss over that size.
+    pub(super) fn unmet(&self, problem: &Problem, patch: &TensorPatch) -> Option<(String, f64)> {
+        let x: Vec<f64> = patch.points().iter().flatten().copied().collect();
+        // The data's size: known points, right-hand sides, operator
+        // targets, guide surfaces.
+        let max_abs = |v: &[Vec3]| v.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+        let mut size = problem
+            .known
+            .iter()
+            .flatten()
+            .fold(0.0f64, |m, p| m.max(max_abs(&[*p])));
+        for r in &self.all {
+            size = size.max(r.rhs.abs());
+        }
+        for o in &problem.operators {
+            size = size.max(o.target.size());
+        }
+        for t in &problem.terms {
+            if let Some(Integrand::GuideSurface { surface, .. }) = t.integrand() {
+                size = size.max(max_abs(surface.points()));
+            }
+        }
+        let size = size.max(f64::MIN_POSITIVE);
+        self.all
+            .iter()
+            .map(|row| {
+                let a: Vec<f64> = row.terms.iter().map(|&(_, a)| a).collect();
+                let xs: Vec<f64> = row.terms.iter().map(|&(i, _)| x[i]).collect();
+                let miss = super::dense::dot2_residual(row.rhs, &a, &xs).abs() / size;
+                (row.name.clone(), miss)
+            })
+            .filter(|(_, miss)| miss.is_nan() || *miss > check::TOLERANCE)
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+    }
+
+    /// max over the solved rows of |c − F x| / (Σ|a x| + |c|) at the free
+    /// values `xf` (0 without rows).
+    pub(super) fn relative_residuals(&self, xf: &Mat<f64>, c: &[f64]) -> f64 {
+        let Some(system) = &self.system else {
+            return 0.0;
+        };
+        let x = xf.col_as_slice(0);
+        system
+            .rows()
+            .iter()
+            .zip(c)
+            .map(|(row, &ci)| {
+                let a: Vec<f64> = row.iter().map(|&(_, a)| a).collect();
+                let xs: Vec<f64> = row.iter().map(|&(i, _)| x[i]).collect();
+                let r = super::dense::dot2_residual(ci, &a, &xs);
+                let size = ci.abs() + a.iter().zip(&xs).map(|(a, x)| (a * x).abs()).sum::<f64>();
+                if size > 0.0 {
+                    r.abs() / size
+                } else {
+                    0.0
+                }
+            })
+            .fold(0.0, f64::max)
+    }
 }
 
 #[cfg(test)]
