@@ -123,3 +123,17 @@ fn area(bencher: divan::Bencher, n: usize) {
     let p = net(n);
     bencher.bench(|| fairsurf::analysis::area(&p));
 }
+
+/// The G1 fill of a bi-quintic hole: two rings fixed, thin plate only
+/// (4 free points), with the full report (area, functionals, |H| on the
+/// 65×65 grid, folds) or the solve and its check alone.
+#[divan::bench(args = [true, false], sample_count = 50)]
+fn hole_fill_quintic(analyse: bool) -> fairsurf::Solution {
+    let net = net(5);
+    let opts = SolveOptions::default().with_analyse(analyse);
+    Problem::new((5, 5))
+        .with_fixed_rings(&net, 2)
+        .with_term(Bend::new(1.0))
+        .solve_with(&opts)
+        .unwrap()
+}

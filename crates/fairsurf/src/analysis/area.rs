@@ -64,10 +64,10 @@ pub fn area(patch: &TensorPatch) -> Area {
             kid_values: vals,
         }
     };
-    // Start from a uniform 4×4 grid of panels, then always split the leaf
+    // Start from a uniform 2×2 grid of panels, then always split the leaf
     // with the largest error (global adaptivity: cheap on kinks along curves
     // as well as at points).
-    let k = 4;
+    let k = 2;
     let h = 1.0 / k as f64;
     let mut heap = std::collections::BinaryHeap::new();
     for p in 0..k * k {
@@ -122,14 +122,14 @@ impl Ord for Leaf {
 fn panel(patch: &TensorPatch, gl: &GaussLegendre, (u0, v0, h): (f64, f64, f64)) -> f64 {
     let us: Vec<f64> = gl.nodes.iter().map(|&s| u0 + s * h).collect();
     let vs: Vec<f64> = gl.nodes.iter().map(|&s| v0 + s * h).collect();
-    let d = patch.grid_derivatives(&us, &vs);
+    let d = patch.grid_tangents(&us, &vs);
     let q = gl.nodes.len();
     let mut total = 0.0;
     for a in 0..q {
         let row: f64 = (0..q)
             .map(|b| {
-                let x = &d[a * q + b];
-                gl.weights[b] * norm(cross(x.du, x.dv))
+                let (du, dv) = d[a * q + b];
+                gl.weights[b] * norm(cross(du, dv))
             })
             .sum();
         total += gl.weights[a] * row;

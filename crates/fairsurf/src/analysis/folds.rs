@@ -5,7 +5,7 @@
 //! fair.
 
 use super::curvature::unit_grid;
-use crate::vec3::{angle, cross, normalize};
+use crate::vec3::{angle, cross, dot, normalize, sub, Vec3};
 use crate::{SurfaceDerivatives, TensorPatch, TriSurface};
 
 /// The largest turn of the unit normal between neighbouring grid samples.
@@ -37,7 +37,10 @@ pub fn largest_normal_turn(patch: &TensorPatch, k: usize) -> Option<NormalTurn> 
 pub(crate) fn largest_normal_turn_on(d: &[SurfaceDerivatives], k: usize) -> Option<NormalTurn> {
     let ts = unit_grid(k);
     let normals: Vec<_> = d.iter().map(|d| normalize(cross(d.du, d.dv))).collect();
-    let mut best: Option<NormalTurn> = None;
+    // The largest angle between unit normals is the longest chord |n − m|
+    // (2 sin(θ/2), increasing on [0, π], and exact for small angles too):
+    // compared by chords, the angle taken once, for the winner.
+    let mut best: Option<(f64, Vec3, Vec3, (f64, f64))> = None;
     for a in 0..=k {
         for b in 0..=k {
             let Some(n) = normals[a * (k + 1) + b] else {
@@ -49,18 +52,18 @@ pub(crate) fn largest_normal_turn_on(d: &[SurfaceDerivatives], k: usize) -> Opti
                     continue;
                 }
                 if let Some(m) = normals[c * (k + 1) + d] {
-                    let turn = angle(n, m);
-                    if best.is_none_or(|t| turn > t.angle) {
-                        best = Some(NormalTurn {
-                            angle: turn,
-                            at: (ts[a], ts[b]),
-                        });
+                    let chord = dot(sub(n, m), sub(n, m));
+                    if best.is_none_or(|t| chord > t.0) {
+                        best = Some((chord, n, m, (ts[a], ts[b])));
                     }
                 }
             }
         }
     }
-    best
+    best.map(|(_, n, m, at)| NormalTurn {
+        angle: angle(n, m),
+        at,
+    })
 }
 
 /// The largest turn of the unit normal inside the patches of a triangular

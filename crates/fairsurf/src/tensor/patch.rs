@@ -153,13 +153,48 @@ impl TensorPatch {
     /// `out[a·vs.len() + b]` is at `(us[a], vs[b])`. Contracts the u-direction
     /// once per u-value, so each point costs O(m) rather than O(nm).
     pub fn grid_derivatives(&self, us: &[f64], vs: &[f64]) -> Vec<SurfaceDerivatives> {
-        let (n, m) = self.degree;
-        let bv: Vec<Vec<Vec<f64>>> = vs.iter().map(|&v| bernstein_derivatives(m, v, 2)).collect();
+        const ORDERS: [(usize, usize); 6] = [(0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2)];
         let mut out = Vec::with_capacity(us.len() * vs.len());
+        self.grid_partials(us, vs, ORDERS, |[point, du, dv, duu, duv, dvv]| {
+            out.push(SurfaceDerivatives {
+                point,
+                du,
+                dv,
+                duu,
+                duv,
+                dvv,
+            })
+        });
+        out
+    }
+
+    /// (R_u, R_v) at every (u, v) of a tensor grid, u-major as
+    /// [`TensorPatch::grid_derivatives`], without the other derivatives.
+    pub(crate) fn grid_tangents(&self, us: &[f64], vs: &[f64]) -> Vec<(Vec3, Vec3)> {
+        let mut out = Vec::with_capacity(us.len() * vs.len());
+        self.grid_partials(us, vs, [(1, 0), (0, 1)], |[du, dv]| out.push((du, dv)));
+        out
+    }
+
+    /// ∂^(r+s)R/∂u^r∂v^s for each (r, s) of `orders` at every (u, v) of a
+    /// tensor grid, u-major, handed to `emit`: q[r][j] = Σ_i dʳB_i^n(u) P_ij
+    /// once per u, then Σ_j q[r][j] dˢB_j^m(v) per point.
+    fn grid_partials<const K: usize>(
+        &self,
+        us: &[f64],
+        vs: &[f64],
+        orders: [(usize, usize); K],
+        mut emit: impl FnMut([Vec3; K]),
+    ) {
+        let (n, m) = self.degree;
+        let top = orders.iter().map(|&(r, s)| r.max(s)).max().unwrap_or(0);
+        let bv: Vec<Vec<Vec<f64>>> = vs
+            .iter()
+            .map(|&v| bernstein_derivatives(m, v, top))
+            .collect();
         for &u in us {
-            let bu = bernstein_derivatives(n, u, 2);
-            // q[r][j] = Σ_i dʳB_i^n(u) P_ij
-            let q: Vec<Vec<Vec3>> = (0..3)
+            let bu = bernstein_derivatives(n, u, top);
+            let q: Vec<Vec<Vec3>> = (0..=top)
                 .map(|r| {
                     (0..=m)
                         .map(|j| {
@@ -171,22 +206,17 @@ impl TensorPatch {
                 })
                 .collect();
             for b in &bv {
-                let c = |r: usize, s: usize| {
-                    q[r].iter()
-                        .zip(&b[s])
-                        .fold([0.0; 3], |acc, (p, &w)| add(acc, scale(*p, w)))
-                };
-                out.push(SurfaceDerivatives {
-                    point: c(0, 0),
-                    du: c(1, 0),
-                    dv: c(0, 1),
-                    duu: c(2, 0),
-                    duv: c(1, 1),
-                    dvv: c(0, 2),
-                });
+                let mut vals = [[0.0; 3]; K];
+                for (val, &(r, s)) in vals.iter_mut().zip(&orders) {
+                    for (p, &w) in q[r].iter().zip(&b[s][..=m]) {
+                        val[0] += p[0] * w;
+                        val[1] += p[1] * w;
+                        val[2] += p[2] * w;
+                    }
+                }
+                emit(vals);
             }
         }
-        out
     }
 
     /// The unit normal R_u × R_v / |R_u × R_v| at (u, v), or `None` where the
