@@ -6,8 +6,8 @@
 
 mod common;
 
+use fairsurf::basis::polygon::{fan_rule, Uv};
 use fairsurf::operator::{Operator, PatchEdge, Target, TensorOperator, TensorPlace};
-use fairsurf::triangle::region::{fan_rule, Uv};
 use fairsurf::vector::{add, dot, norm, normalize, sub};
 use fairsurf::{Bend, BezierCurve, Error, Problem, Solution, Stretch, TensorPatch, Vec3};
 

@@ -5,7 +5,7 @@
 
 mod common;
 
-use fairsurf::triangle::region::{fan_rule, Uv};
+use fairsurf::basis::polygon::{fan_rule, Uv};
 use fairsurf::triangle::{
     Continuity, DomainPoint, EdgeContinuity, InternalEnergy, Operator, Place, RegionPiece, Target,
     TriProblem, TriSolution,
@@ -57,7 +57,7 @@ fn region_integral(
 ) -> f64 {
     let patch = s.surface.patch(piece.triangle);
     let mut poly: Vec<Uv> = piece.polygon.clone();
-    if fairsurf::triangle::region::signed_area(&poly) < 0.0 {
+    if fairsurf::basis::polygon::signed_area(&poly) < 0.0 {
         poly.reverse();
     }
     fan_rule(&poly, 14)

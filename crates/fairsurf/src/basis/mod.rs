@@ -6,6 +6,7 @@
 mod bernstein;
 mod gauss;
 mod integral;
+pub mod polygon;
 
 pub use bernstein::{
     bernstein, bernstein_all, bernstein_derivatives, binomial, derivative_matrix, elevation_matrix,

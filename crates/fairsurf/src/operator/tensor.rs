@@ -10,7 +10,7 @@
 
 use super::{NodeBasis, Operator, OperatorOutcome, Residual, Tally, Target};
 use crate::basis::bernstein_derivatives;
-use crate::triangle::region::{convex, trapezoid_rule, Uv};
+use crate::basis::polygon::{convex, trapezoid_rule, Uv};
 use crate::{BezierCurve, Result, TensorPatch};
 
 /// Where an operator acts on a tensor-product patch of degree (n, m).

@@ -12,8 +12,7 @@ use crate::constraint::ConstraintSurface;
 use crate::vec3::Vec3;
 use crate::{Error, Result};
 
-/// A point (u, v) of a tensor-product patch's parameter square.
-pub type Uv = [f64; 2];
+pub use crate::basis::polygon::Uv;
 
 /// One linear constraint of a tensor-product patch (eq. 31 of Veltkamp &
 /// Wesselink, at (u, v)).

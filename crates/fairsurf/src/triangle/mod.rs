@@ -79,7 +79,6 @@ mod operator;
 mod patch;
 mod reduce;
 mod refine;
-pub mod region;
 pub(crate) mod solve;
 mod subdivide;
 mod surface;
