@@ -1,7 +1,7 @@
 //! `fairsurf analyse`: measures of surfaces as the files give them.
 
 use crate::Failure;
-use fairsurf_io::{Scene, TriScene};
+use fairsurf_io::Scene;
 use serde_json::{json, Value};
 use std::path::PathBuf;
 
@@ -19,19 +19,10 @@ pub struct Args {
 pub fn run(a: Args) -> Result<(), Failure> {
     let mut out = Vec::new();
     for path in &a.files {
-        let with_file = |e: fairsurf_io::Error| {
-            let mut f = Failure::from(e);
-            f.message = format!("{}: {}", path.display(), f.message);
-            f
-        };
-        let text = crate::input::read(path)?;
-        let (kind, measures) = if fairsurf_io::is_triangular(&text) {
-            let scene = TriScene::from_json(&text).map_err(with_file)?;
-            ("triangular", scene.analyse().map_err(with_file)?)
-        } else {
-            let scene = Scene::from_json(&text).map_err(with_file)?;
-            ("tensor", scene.analyse().map_err(with_file)?)
-        };
+        let with_file = crate::input::with_file(path);
+        let scene = Scene::from_json(&crate::input::read(path)?).map_err(&with_file)?;
+        let measures = scene.analyse().map_err(&with_file)?;
+        let kind = scene.surface_type().name();
         if a.json {
             let m: serde_json::Map<String, Value> = measures.into_iter().collect();
             out.push(json!({"file": path.display().to_string(), "kind": kind, "measures": m}));

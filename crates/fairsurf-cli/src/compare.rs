@@ -2,7 +2,7 @@
 
 use crate::Failure;
 use fairsurf::harmonic::Comparison;
-use fairsurf_io::{comparison_json, Scene};
+use fairsurf_io::comparison_json;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -15,13 +15,8 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), Failure> {
-    let with_file = |e: fairsurf_io::Error| {
-        let mut f = Failure::from(e);
-        f.message = format!("{}: {}", a.scene.display(), f.message);
-        f
-    };
-    let scene = Scene::read(&a.scene).map_err(with_file)?;
-    let c = scene.compare().map_err(with_file)?;
+    let scene = crate::input::tensor_scene(&a.scene, "compare")?;
+    let c = scene.compare().map_err(crate::input::with_file(&a.scene))?;
     if a.json {
         crate::say!(
             "{}",

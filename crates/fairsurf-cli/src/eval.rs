@@ -1,7 +1,6 @@
 //! `fairsurf eval`.
 
 use crate::Failure;
-use fairsurf_io::Scene;
 use serde_json::json;
 use std::path::PathBuf;
 
@@ -35,11 +34,10 @@ fn parse_uv(s: &str) -> Result<(f64, f64), String> {
 }
 
 pub fn run(a: Args) -> Result<(), Failure> {
-    let scene =
-        Scene::read(&a.file).map_err(|e| Failure::input(format!("{}: {e}", a.file.display())))?;
+    let scene = crate::input::tensor_scene(&a.file, "eval (at parameters u, v)")?;
     let patch = scene
         .surface_patch()
-        .map_err(|e| Failure::input(format!("{}: {e}", a.file.display())))?;
+        .map_err(crate::input::with_file(&a.file))?;
     let mut uv = a.uv.clone();
     if let Some(k) = a.grid {
         let k = k as usize;

@@ -2,7 +2,7 @@
 
 use crate::Failure;
 use fairsurf::{TensorPatch, TriSurface};
-use fairsurf_io::{is_triangular, Built, Scene, TriScene};
+use fairsurf_io::{Scene, SolvedScene, TensorScene};
 use std::path::Path;
 
 /// Prefixes an I/O-crate error with the file it is about.
@@ -48,50 +48,53 @@ pub(crate) fn read(path: &Path) -> Result<String, Failure> {
 
 /// A scene file and its surface.
 pub(crate) struct Loaded {
-    /// The tensor scene as read (None for a triangular scene).
-    pub scene: Option<Scene>,
+    /// The scene as read.
+    pub scene: Scene,
+    /// The solve, when the scene was solved here (a result file is not).
+    pub solved: Option<SolvedScene>,
     /// The surface as tensor patches: the patch of a tensor scene, or every
     /// triangular patch as an exact tensor patch with a collapsed side.
     pub patches: Vec<TensorPatch>,
     /// The triangular surface, for a triangular scene.
     pub tri: Option<TriSurface>,
-    /// The validated tensor scene, when it was solved here (a result file is not).
-    pub built: Option<Built>,
 }
 
 /// The scene in `path` and its surface: a result file (one with a
 /// `"report"`) as it is, any other scene solved.
 pub(crate) fn surface(path: &Path) -> Result<Loaded, Failure> {
-    let text = read(path)?;
-    if is_triangular(&text) {
-        let scene = TriScene::from_json(&text).map_err(with_file(path))?;
-        let tri = if scene.report.is_some() {
-            scene.surface().map_err(with_file(path))?
-        } else {
-            scene.solve().map_err(with_file(path))?.solution.surface
-        };
-        return Ok(Loaded {
-            scene: None,
-            patches: tri.tensor_patches(),
-            tri: Some(tri),
-            built: None,
-        });
-    }
-    let scene = Scene::from_json(&text).map_err(with_file(path))?;
-    if scene.report.is_some() {
-        let patch = scene.surface_patch().map_err(with_file(path))?;
-        return Ok(Loaded {
-            scene: Some(scene),
-            patches: vec![patch],
-            tri: None,
-            built: None,
-        });
-    }
-    let solved = scene.solve().map_err(with_file(path))?;
+    let scene = Scene::from_json(&read(path)?).map_err(with_file(path))?;
+    let solved = if scene.is_result() {
+        None
+    } else {
+        Some(scene.solve().map_err(with_file(path))?)
+    };
+    let tri = match (&solved, &scene) {
+        (Some(SolvedScene::Triangular(s)), _) => Some(s.surface().clone()),
+        (None, Scene::Triangular(s)) => Some(s.surface().map_err(with_file(path))?),
+        _ => None,
+    };
+    let patches = match (&solved, &tri) {
+        (_, Some(t)) => t.tensor_patches(),
+        (Some(s), None) => s.tensor_patches(),
+        (None, None) => scene.tensor_patches().map_err(with_file(path))?,
+    };
     Ok(Loaded {
-        patches: vec![solved.patch().clone()],
-        built: Some(solved.built),
-        scene: Some(scene),
-        tri: None,
+        scene,
+        solved,
+        patches,
+        tri,
     })
+}
+
+/// The tensor scene in `path`; another kind is refused naming what `what`
+/// (the command) works on.
+pub(crate) fn tensor_scene(path: &Path, what: &str) -> Result<TensorScene, Failure> {
+    match Scene::from_json(&read(path)?).map_err(with_file(path))? {
+        Scene::Tensor(s) => Ok(s),
+        other => Err(Failure::input(format!(
+            "{}: surface.type: {what} works on tensor-product scenes, this one is {}",
+            path.display(),
+            other.surface_type().name()
+        ))),
+    }
 }

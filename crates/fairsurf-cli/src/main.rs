@@ -153,7 +153,7 @@ fn run(command: Command, max_bytes: usize) -> Result<(), Failure> {
             let schema = if triangular {
                 fairsurf_io::TriScene::json_schema()
             } else {
-                fairsurf_io::Scene::json_schema()
+                fairsurf_io::TensorScene::json_schema()
             };
             say!("{}", serde_json::to_string_pretty(&schema).expect("schema"));
             Ok(())

@@ -4,7 +4,7 @@ use crate::input::{surface, with_file, Loaded};
 use crate::Failure;
 use fairsurf::energy::NormalGuide;
 use fairsurf::TensorPatch;
-use fairsurf_io::{write_atomic, Scene};
+use fairsurf_io::{write_atomic, Scene, SolvedScene};
 use fairsurf_render::{render, Arrow, ColourBy, Panel, Range, RenderOptions, View};
 use std::path::{Path, PathBuf};
 
@@ -146,15 +146,15 @@ fn title(path: &Path) -> String {
 fn panel(path: &Path, normals: bool) -> Result<Panel, Failure> {
     let Loaded {
         scene,
+        solved,
         patches,
-        built,
         tri,
     } = surface(path)?;
-    let arrows = match (normals, scene) {
-        (true, Some(scene)) => {
-            let built = match built {
-                Some(b) => b,
-                None => scene.build().map_err(with_file(path))?,
+    let arrows = match (normals, &scene, solved) {
+        (true, Scene::Tensor(scene), solved) => {
+            let built = match solved {
+                Some(SolvedScene::Tensor(s)) => s.built,
+                _ => scene.build().map_err(with_file(path))?,
             };
             built
                 .normal_field
@@ -206,7 +206,7 @@ fn field_arrows(patch: &TensorPatch, guide: &NormalGuide) -> Vec<Arrow> {
 
 /// The four surfaces of the comparison table, titled by column.
 fn compare_panels(path: &Path) -> Result<Vec<Panel>, Failure> {
-    let scene = Scene::read(path).map_err(with_file(path))?;
+    let scene = crate::input::tensor_scene(path, "render --compare")?;
     let c = scene.compare().map_err(with_file(path))?;
     Ok(c.columns()
         .iter()

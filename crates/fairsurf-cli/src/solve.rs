@@ -2,7 +2,8 @@
 
 use crate::Failure;
 use fairsurf_io::{
-    write_mesh, MeshFormat, Outcome, Scene, SolvedScene, SolvedTriScene, SurfaceMesh, TriScene,
+    write_mesh, MeshFormat, Outcome, Scene, SolvedScene, SolvedTensorScene, SolvedTriScene,
+    SurfaceMesh,
 };
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
@@ -115,56 +116,26 @@ fn result_name(scene: &Path) -> String {
 }
 
 fn solve_one(path: &Path, out: Option<&Path>, a: &Args) -> Result<String, Failure> {
-    let with_file = |e: fairsurf_io::Error| {
-        let mut f = Failure::from(e);
-        f.message = format!("{}: {}", path.display(), f.message);
-        f
-    };
-    let text = crate::input::read(path)?;
-    if fairsurf_io::is_triangular(&text) {
-        return solve_triangular(path, &text, out, a);
-    }
-    let scene = Scene::from_json(&text).map_err(with_file)?;
+    let with_file = crate::input::with_file(path);
+    let scene = Scene::from_json(&crate::input::read(path)?).map_err(&with_file)?;
     let spinner = spinner_for(&scene);
-    let solved = scene.solve().map_err(with_file);
+    let solved = scene.solve().map_err(&with_file);
     spinner.finish_and_clear();
     let solved = solved?;
     let r = a.resolution as usize;
     let written = write_outputs(
         out,
-        a.mesh.as_deref().map(|m| (m, 2 * r * r)),
+        a.mesh.as_deref().map(|m| (m, solved.mesh_triangles(r))),
         |o| solved.write(o),
-        || SurfaceMesh::from_patch(solved.patch(), r, r),
+        || solved.mesh(r),
     )?;
     if a.json {
         return Ok(serde_json::to_string_pretty(&solved.report_json()).expect("json"));
     }
-    Ok(summary(path, &solved, &written))
-}
-
-/// A triangular scene (Veltkamp & Wesselink): solve, write, summarize.
-fn solve_triangular(
-    path: &Path,
-    text: &str,
-    out: Option<&Path>,
-    a: &Args,
-) -> Result<String, Failure> {
-    let with_file = crate::input::with_file(path);
-    let scene = TriScene::from_json(text).map_err(&with_file)?;
-    let solved = scene.solve().map_err(&with_file)?;
-    let r = (a.resolution as usize).div_ceil(4).max(1);
-    let written = write_outputs(
-        out,
-        a.mesh
-            .as_deref()
-            .map(|m| (m, r * r * solved.surface().patch_count())),
-        |o| solved.write(o),
-        || SurfaceMesh::from_tri_surface(solved.surface(), r),
-    )?;
-    if a.json {
-        return Ok(serde_json::to_string_pretty(&solved.report_json()).expect("json"));
-    }
-    Ok(tri_summary(path, &solved, &written))
+    Ok(match &solved {
+        SolvedScene::Tensor(s) => summary(path, s, &written),
+        SolvedScene::Triangular(s) => tri_summary(path, s, &written),
+    })
 }
 
 /// Meshes of at least this many triangles are built and written under a
@@ -345,7 +316,10 @@ pub(crate) fn ensure_parent(file: &Path) -> Result<(), Failure> {
 
 /// A spinner on a terminal for solves that take noticeable time.
 fn spinner_for(scene: &Scene) -> ProgressBar {
-    let [n, m] = scene.tensor().degree;
+    let [n, m] = match scene {
+        Scene::Tensor(s) => s.surface.degree,
+        Scene::Triangular(_) => return ProgressBar::hidden(),
+    };
     if n.max(m) < 16 || !std::io::stderr().is_terminal() {
         return ProgressBar::hidden();
     }
@@ -381,7 +355,7 @@ fn operator_lines(
     }
 }
 
-fn summary(path: &Path, s: &SolvedScene, written: &[String]) -> String {
+fn summary(path: &Path, s: &SolvedTensorScene, written: &[String]) -> String {
     let (n, m) = s.patch().degree();
     let mut lines = Vec::new();
     let total = match &s.outcome {

@@ -225,6 +225,65 @@ fn several_scenes_go_to_a_directory() {
     assert!(o.stdout.is_empty(), "quiet");
 }
 
+/// Every command reads scenes through one entry point: an unknown
+/// `surface.type` exits 2 naming the path and the known kinds; commands
+/// made for tensor patches (eval at (u, v), compare, render --compare)
+/// refuse a triangular scene by name, before any work.
+#[test]
+fn unknown_surface_types_and_kinds_a_command_does_not_take_exit_2() {
+    let d = tmpdir("kinds");
+    let nurbs = d.join("nurbs.json");
+    std::fs::write(
+        &nurbs,
+        r#"{"surface": {"type": "nurbs", "degree": [1, 1], "control_points": [[[0,0,0],[0,1,0]],[[1,0,0],[1,1,0]]]}}"#,
+    )
+    .unwrap();
+    let out = d.join("r.json");
+    for cmd in ["solve", "analyse", "eval", "compare", "export", "render"] {
+        let mut args = vec![cmd, nurbs.to_str().unwrap()];
+        match cmd {
+            "solve" => args.extend(["-o", out.to_str().unwrap()]),
+            "eval" => args.extend(["--uv", "0,0"]),
+            "export" => args.extend(["-o", "never.step"]),
+            "render" => args.extend(["-o", "never.png"]),
+            _ => {}
+        }
+        let o = fairsurf(&args);
+        assert_eq!(o.status.code(), Some(2), "{cmd}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert!(
+            e.contains(
+                r#"surface.type: unknown surface type "nurbs": expected "tensor" or "triangular""#
+            ),
+            "{cmd}: {e}"
+        );
+        assert_eq!(e.lines().count(), 1, "{cmd}: {e}");
+    }
+    assert!(!out.exists() && !Path::new("never.step").exists() && !Path::new("never.png").exists());
+    let tri = examples().join("vw_fig1_point_normal.json");
+    let png = d.join("c.png");
+    for args in [
+        vec!["eval", tri.to_str().unwrap(), "--uv", "0,0"],
+        vec!["compare", tri.to_str().unwrap()],
+        vec![
+            "render",
+            tri.to_str().unwrap(),
+            "--compare",
+            "-o",
+            png.to_str().unwrap(),
+        ],
+    ] {
+        let o = fairsurf(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let e = stderr(&o);
+        assert!(
+            e.contains("works on tensor-product scenes, this one is triangular"),
+            "{args:?}: {e}"
+        );
+    }
+    assert!(!png.exists());
+}
+
 #[test]
 fn eval_reads_a_result_and_refuses_an_unsolved_scene() {
     let d = tmpdir("eval");

@@ -111,7 +111,7 @@ fn the_api_solves_and_describes() {
     let (status, v) = post(&s, "/api/solve", &json!({ "scene": scene }));
     assert_eq!(status, 200, "{v}");
     assert_eq!(v["kind"], "tensor");
-    let direct = fairsurf_io::Scene::from_json(&scene.to_string())
+    let direct = fairsurf_io::TensorScene::from_json(&scene.to_string())
         .unwrap()
         .solve()
         .unwrap();
@@ -210,7 +210,7 @@ fn drags_reuse_the_factorization() {
         assert!(!r.contains_key("area"), "a quick answer skips the area");
         assert_eq!(v["quick"], true);
         // The same surface as the library's fresh solve of the moved scene.
-        let direct = fairsurf_io::Scene::from_json(&scene.to_string())
+        let direct = fairsurf_io::TensorScene::from_json(&scene.to_string())
             .unwrap()
             .solve()
             .unwrap();

@@ -2,14 +2,14 @@
 //! with every control point given), without solving: what `fairsurf
 //! analyse` prints and the editor's `POST /api/analyse` answers.
 
-use crate::{Result, Scene, TriScene};
+use crate::{Result, TensorScene, TriScene};
 use fairsurf::triangle::{max_edge_normal_angle, InternalEnergy};
 use serde_json::{json, Value};
 
 /// Labelled measures, in order: a number, or a string for what is not one.
 pub type Measures = Vec<(String, Value)>;
 
-impl Scene {
+impl TensorScene {
     /// Area (adaptive Gauss–Legendre, with its error estimate), the
     /// Dirichlet and biharmonic functionals (exact), |H| on a 65×65 grid,
     /// and the degree of the surface as given; a `null` control point is

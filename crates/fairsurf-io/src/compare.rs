@@ -1,13 +1,13 @@
 //! The comparison of Monterde & Ugail §4 for a scene's boundary.
 
 use crate::result::curvature_json;
-use crate::scene::Scene;
+use crate::tensor_scene::TensorScene;
 use crate::{Error, Result};
 use fairsurf::harmonic::{compare, Comparison};
 use fairsurf::TensorPatch;
 use serde_json::{json, Map, Value};
 
-impl Scene {
+impl TensorScene {
     /// The boundary ring of the scene's surface as a net (inner points
     /// zero): every boundary point must be given.
     pub fn boundary_net(&self) -> Result<TensorPatch> {

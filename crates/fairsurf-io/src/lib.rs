@@ -16,7 +16,7 @@
 //!     [[2,0,0], [2,1,0], [2,2,0]]]},
 //!   "energy": {"stretch": 1}
 //! }"#;
-//! let scene = fairsurf_io::Scene::from_json(text).unwrap();
+//! let scene = fairsurf_io::TensorScene::from_json(text).unwrap();
 //! let solved = scene.solve().unwrap();
 //! assert!((solved.patch().point(1, 1)[0] - 1.0).abs() < 1e-14);
 //! ```
@@ -35,6 +35,7 @@ mod result;
 mod scene;
 mod step;
 mod surface_mesh;
+mod tensor_scene;
 mod tri_scene;
 mod validate;
 
@@ -46,13 +47,14 @@ pub use error::{Error, Result};
 pub use iges::write_iges;
 pub use mesh::{write_mesh, write_mesh_with, MeshFormat, MeshOptions};
 pub use operators::{EdgeSpec, OperatorKind, TensorOperatorSpec, TensorPatchSpec};
-pub use result::{construction_report_json, report_json, Outcome, SolvedScene};
-pub use scene::{
-    is_triangular, EnergySpec, GuideSurfaceSpec, Method, Net, NormalFieldSpec, NumberOrGrid,
-    SamplingSpec, Scene, SurfaceSpec, TensorSpec,
-};
+pub use result::{construction_report_json, report_json, Outcome, SolvedTensorScene};
+pub use scene::{Scene, SolvedScene, SurfaceType};
 pub use step::write_step;
 pub use surface_mesh::SurfaceMesh;
+pub use tensor_scene::{
+    EnergySpec, GuideSurfaceSpec, Method, Net, NormalFieldSpec, NumberOrGrid, SamplingSpec,
+    SurfaceSpec, TensorScene, TensorSpec,
+};
 pub use tri_scene::{
     tri_report_json, BoundaryAngleSpec, ConstraintKind, ConstraintSpec, ContinuitySpec,
     DomainPointSpec, EdgesSpec, SolvedTriScene, TriEnergySpec, TriScene, TriSurfaceSpec,

@@ -136,7 +136,7 @@ pub struct TensorOperatorSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
     /// Its strength s ≥ 0 (default 1).
-    #[serde(default = "crate::scene::one")]
+    #[serde(default = "crate::tensor_scene::one")]
     pub strength: f64,
     /// Make an attractor a repellor: s / E instead of s·E.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]

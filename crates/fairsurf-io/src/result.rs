@@ -3,20 +3,19 @@
 //! surface: free points are listed in `free_points` (or implied by
 //! `fixed_rings`) and a default guide surface is written out explicitly.
 
-use crate::scene::{GuideSurfaceSpec, Net, Scene, SurfaceKind, SurfaceSpec};
+use crate::tensor_scene::{GuideSurfaceSpec, Net, SurfaceSpec, TensorKind, TensorScene};
 use crate::validate::{Built, Plan};
-use crate::{write_atomic, Result};
+use crate::Result;
 use fairsurf::analysis::{normal_deviation, AbsMeanCurvature, NormalDeviation};
 use fairsurf::harmonic::{Construction, ConstructionReport};
 use fairsurf::{FactorCache, Solution, SolveOptions, SolveReport, SurfaceMeasures, TensorPatch};
 use serde_json::{json, Map, Value};
-use std::path::Path;
 
 /// A solved scene: what was asked, how it was read, and the answer.
 #[derive(Debug)]
-pub struct SolvedScene {
+pub struct SolvedTensorScene {
     /// The scene as given.
-    pub scene: Scene,
+    pub scene: TensorScene,
     /// The validated problem and what was assumed.
     pub built: Built,
     /// The surface and its report.
@@ -72,31 +71,39 @@ impl Outcome {
     }
 }
 
-impl SolvedScene {
+impl SolvedTensorScene {
     /// The surface.
     pub fn patch(&self) -> &TensorPatch {
         self.outcome.patch()
     }
 }
 
-impl Scene {
+impl TensorScene {
     /// Validates and solves with default options.
-    pub fn solve(&self) -> Result<SolvedScene> {
+    pub fn solve(&self) -> Result<SolvedTensorScene> {
         self.solve_with(&SolveOptions::default())
     }
 
     /// Validates and solves.
-    pub fn solve_with(&self, opts: &SolveOptions) -> Result<SolvedScene> {
+    pub fn solve_with(&self, opts: &SolveOptions) -> Result<SolvedTensorScene> {
         self.solve_using(opts, None)
     }
 
     /// Validates and solves, reusing a factorization from `cache` when one
     /// fits (and keeping this one there): for a designer dragging points.
-    pub fn solve_cached(&self, opts: &SolveOptions, cache: &FactorCache) -> Result<SolvedScene> {
+    pub fn solve_cached(
+        &self,
+        opts: &SolveOptions,
+        cache: &FactorCache,
+    ) -> Result<SolvedTensorScene> {
         self.solve_using(opts, Some(cache))
     }
 
-    fn solve_using(&self, opts: &SolveOptions, cache: Option<&FactorCache>) -> Result<SolvedScene> {
+    fn solve_using(
+        &self,
+        opts: &SolveOptions,
+        cache: Option<&FactorCache>,
+    ) -> Result<SolvedTensorScene> {
         let built = self.build()?;
         let outcome = match &built.plan {
             Plan::Minimize(problem) => Outcome::Minimized(Box::new(match cache {
@@ -124,7 +131,7 @@ impl Scene {
             .as_ref()
             .filter(|_| opts.analyse)
             .map(|s| max_distance(patch, s));
-        Ok(SolvedScene {
+        Ok(SolvedTensorScene {
             scene: self.clone(),
             built,
             outcome,
@@ -157,15 +164,15 @@ pub(crate) fn net_json(p: &TensorPatch) -> Net {
         .collect()
 }
 
-impl SolvedScene {
+impl SolvedTensorScene {
     /// The result as a scene: every control point filled, the free ones
     /// listed, the guide written out, and the report attached.
-    pub fn result_scene(&self) -> Scene {
+    pub fn result_scene(&self) -> TensorScene {
         let mut out = self.scene.clone();
         let patch = self.patch();
         let (n, m) = patch.degree();
         out.surface = SurfaceSpec {
-            kind: SurfaceKind::Tensor,
+            kind: TensorKind::Tensor,
             degree: [n, m],
             control_points: net_json(patch),
         };
@@ -233,15 +240,6 @@ impl SolvedScene {
             ));
         }
         notes
-    }
-
-    /// Writes the result file (atomically).
-    pub fn write(&self, path: &Path) -> Result<()> {
-        let v = serde_json::to_vec_pretty(&self.result_scene()).expect("a scene serializes");
-        write_atomic(path, |w| {
-            w.write_all(&v)?;
-            w.write_all(b"\n")
-        })
     }
 }
 

@@ -1,278 +1,284 @@
-//! The scene file: a JSON document describing one variational problem.
-//! Field docs here become the descriptions in `fairsurf schema`.
+//! One scene file, whatever its surface: the entry point of every front end.
+//!
+//! A scene is a JSON object whose `surface.type` says what it holds:
+//! `"tensor"` ([`TensorScene`]: one tensor-product Bézier patch, Wu & Yang,
+//! Monterde & Ugail) or `"triangular"` ([`TriScene`]: Bézier triangles over
+//! a mesh, Veltkamp & Wesselink). [`Scene::from_json`] reads the type and
+//! parses the text once into the matching struct, so that errors keep their
+//! JSON path and line; an unknown type is an error at `surface.type`.
 
-use schemars::JsonSchema;
-use serde::{Deserialize, Serialize};
+use crate::{write_atomic, TriScene};
+use crate::{Error, Measures, Result, SolvedTensorScene, SolvedTriScene, SurfaceMesh, TensorScene};
+use fairsurf::{FactorCache, SolveOptions, TensorPatch};
+use serde_json::Value;
+use std::path::Path;
 
-/// A control net as JSON: rows of points `[x, y, z]`; row i goes with u,
-/// column j with v. `null` marks a free point with no initial value (only
-/// allowed in `surface.control_points`).
-pub type Net = Vec<Vec<Option<Vec<f64>>>>;
-
-/// A fairsurf scene: the surface, which control points are fixed, and the
-/// energy to minimize (Wu & Yang 2015, E1/E2 and their sampled form).
-#[derive(Clone, Debug, Default, Serialize, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct Scene {
-    /// Free text: a title for the scene.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub name: Option<String>,
-    /// Free text: what the scene shows, where it comes from.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub description: Option<String>,
-    /// The surface and its control points.
-    pub surface: SurfaceSpec,
-    /// How to fill the surface: `"minimize"` the energy (default), or build it
-    /// from its boundary (Monterde & Ugail 2004): `"harmonic"` (Δx ≡ 0 from the
-    /// first and last rows), `"biharmonic"` (Δ²x ≡ 0 from the boundary ring),
-    /// `"harmonic_mask"` (the discrete Coons mask, boundary ring) or
-    /// `"biharmonic_mask"` (the 13-point mask, two outer rings). The
-    /// constructions use only those points; the others may be null.
-    #[serde(default, skip_serializing_if = "Method::is_minimize")]
-    pub method: Method,
-    /// With a construction method: when no surface of that kind has the given
-    /// boundary (e.g. biharmonic at some n ≠ m), return the least-squares net
-    /// and its residual instead of an error (default false).
-    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
-    pub least_squares: bool,
-    /// If k ≥ 1: the outer k rings of control points are fixed and every other
-    /// point is free, even when given (the given net is then the initial
-    /// surface). k = 1 fixes the boundary curves; k = 2 also the
-    /// cross-boundary derivatives (G1 hole filling and blending). Without it:
-    /// given points are fixed and `null` points are free.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub fixed_rings: Option<usize>,
-    /// Control points `[i, j]` that are free although given: their values are
-    /// initial values. Result files list the solved points here so that they
-    /// can be solved again.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub free_points: Option<Vec<[usize; 2]>>,
-    /// The energy: a weighted sum of stretch, bend, normal-field and
-    /// guide-surface terms (only with method `"minimize"`).
-    #[serde(default, skip_serializing_if = "EnergySpec::is_empty")]
-    pub energy: EnergySpec,
-    /// External energy operators (Veltkamp & Wesselink §5 on the tensor
-    /// patch): directors, attractors, repellors (only with method
-    /// `"minimize"`).
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub operators: Vec<crate::TensorOperatorSpec>,
-    /// Linear constraints at points (u, v) of the patch (Veltkamp &
-    /// Wesselink eq. 31): point, normal, in_plane, on_line; met exactly
-    /// (only with method `"minimize"`).
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub constraints: Vec<crate::TensorConstraintSpec>,
-    /// Written by `fairsurf solve` into result files; ignored on input.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    #[schemars(skip)]
-    pub report: Option<serde_json::Value>,
+/// The kinds of surface a scene can hold (`surface.type`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SurfaceType {
+    /// `"tensor"`: a tensor-product Bézier patch of degree (n, m).
+    Tensor,
+    /// `"triangular"`: triangular Bézier patches over a triangle mesh.
+    Triangular,
 }
 
-/// How the surface is made.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
-#[serde(rename_all = "snake_case")]
-pub enum Method {
-    /// Minimize the energy over the free control points.
-    #[default]
-    Minimize,
-    /// Harmonic Bézier surface (Theorem 1, Prop. 1).
-    Harmonic,
-    /// Biharmonic Bézier surface (Theorem 2, Prop. 2).
-    Biharmonic,
-    /// Harmonic mask (eq. 5–6).
-    HarmonicMask,
-    /// Biharmonic mask (eq. 7).
-    BiharmonicMask,
-}
+impl SurfaceType {
+    /// Every kind, in the order error messages list them.
+    pub const ALL: [SurfaceType; 2] = [SurfaceType::Tensor, SurfaceType::Triangular];
 
-impl Method {
-    /// Whether this is the default, `"minimize"`.
-    pub fn is_minimize(&self) -> bool {
-        *self == Method::Minimize
+    /// The name scenes use for it in `surface.type`.
+    pub fn name(self) -> &'static str {
+        match self {
+            SurfaceType::Tensor => "tensor",
+            SurfaceType::Triangular => "triangular",
+        }
     }
 
-    /// The library's construction, `None` for `"minimize"`.
-    pub fn construction(self) -> Option<fairsurf::harmonic::Method> {
-        use fairsurf::harmonic::Method as M;
+    fn from_name(name: &str) -> Option<SurfaceType> {
+        Self::ALL.into_iter().find(|k| k.name() == name)
+    }
+
+    /// The kind a scene text holds, read from `surface.type` without
+    /// parsing the rest; the error of [`Scene::from_json`] for an unknown
+    /// kind. A text without a readable type counts as tensor (the tensor
+    /// parser then names what is wrong).
+    pub fn of_json(text: &str) -> Result<SurfaceType> {
+        surface_type(text)
+    }
+
+    /// The JSON Schema of this kind's scene files.
+    pub fn json_schema(self) -> Value {
         match self {
-            Method::Minimize => None,
-            Method::Harmonic => Some(M::Harmonic),
-            Method::Biharmonic => Some(M::Biharmonic),
-            Method::HarmonicMask => Some(M::HarmonicMask),
-            Method::BiharmonicMask => Some(M::BiharmonicMask),
+            SurfaceType::Tensor => TensorScene::json_schema(),
+            SurfaceType::Triangular => TriScene::json_schema(),
         }
     }
 }
 
-/// The kind of surface.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
-#[serde(rename_all = "snake_case")]
-pub enum SurfaceKind {
-    /// A tensor-product Bézier patch of degree (n, m).
-    #[default]
-    Tensor,
-}
-
-/// The surface: a tensor-product Bézier patch `R(u,v) = Σ B_i^n(u) B_j^m(v) P_ij`.
-///
-/// (A plain struct with a `type` field rather than a tagged enum: serde's
-/// tagged enums buffer their content and lose the JSON path of errors inside.)
-#[derive(Clone, Debug, Default, Serialize, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct SurfaceSpec {
-    /// `"tensor"`.
-    #[serde(rename = "type")]
-    pub kind: SurfaceKind,
-    /// `[n, m]`: degree in u and in v, each 1 to 40.
-    pub degree: [usize; 2],
-    /// (n+1) rows of (m+1) points `[x, y, z]` or `null` (free, no initial value).
-    pub control_points: Net,
-}
-
-/// The tensor surface (the only kind so far).
-pub type TensorSpec = SurfaceSpec;
-
-/// The energy `E = w_s·stretch + w_b·bend + λ·normal_field + γ·guide_surface`.
-/// Without `sampling` every term is an exact integral over [0, 1]²
-/// (Wu & Yang eq. 1–2); with it every term is a sum over the sample grid
-/// (eq. 5). If neither `stretch` nor `bend` is given, `bend: 1` is used when
-/// `fixed_rings` ≥ 2 and `stretch: 1` otherwise.
-#[derive(Clone, Debug, Default, Serialize, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct EnergySpec {
-    /// Weight of the membrane energy ½∫|R_u|²+|R_v|² (E1's fairness), ≥ 0.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub stretch: Option<f64>,
-    /// Weight of the thin-plate energy ½∫|R_uu|²+2|R_uv|²+|R_vv|² (E2's fairness), ≥ 0.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub bend: Option<f64>,
-    /// The normal-field term ½λ∫(R_u·N)²+(R_v·N)².
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub normal_field: Option<NormalFieldSpec>,
-    /// The guide-surface term ½γ∫|R−S|².
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub guide_surface: Option<GuideSurfaceSpec>,
-    /// Measure every term on a sample grid instead (Wu & Yang eq. 5).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub sampling: Option<SamplingSpec>,
-}
-
-impl EnergySpec {
-    /// No term given.
-    pub fn is_empty(&self) -> bool {
-        self.stretch.is_none()
-            && self.bend.is_none()
-            && self.normal_field.is_none()
-            && self.guide_surface.is_none()
-            && self.sampling.is_none()
-    }
-}
-
-/// A guiding normal field N.
-#[derive(Clone, Debug, Serialize, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct NormalFieldSpec {
-    /// λ ≥ 0 (default 1). With `sampling.normal_weights` the two multiply.
-    #[serde(default = "one")]
-    pub weight: f64,
-    /// `[n1, m1]`: degree of the Bézier field N (any, 0 for a constant).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub degree: Option<[usize; 2]>,
-    /// (n1+1) rows of (m1+1) vectors: the control points of N. Required
-    /// unless `sampling.normal_samples` gives the normals.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub control_points: Option<Net>,
-}
-
-/// A guide surface S the result should stay close to.
-#[derive(Clone, Debug, Serialize, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct GuideSurfaceSpec {
-    /// γ ≥ 0 (default 1). With `sampling.guide_weights` the two multiply.
-    #[serde(default = "one")]
-    pub weight: f64,
-    /// `[n, m]` of S: at most the surface's degree (S is degree-elevated).
-    /// Default: the surface's degree.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub degree: Option<[usize; 2]>,
-    /// The control points of S. Default: the initial net
-    /// (`surface.control_points`, which must then have no null).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub control_points: Option<Net>,
-}
-
-/// The sample grid of Wu & Yang §4: u = ip/np, v = jp/mp.
-#[derive(Clone, Debug, Serialize, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct SamplingSpec {
-    /// `[np, mp]`, each 1 to 2000: (np+1)×(mp+1) samples.
-    pub grid: [usize; 2],
-    /// (np+1) rows of (mp+1) normals (normalized before use). Default: the
-    /// normal field's N evaluated at the samples and normalized.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub normal_samples: Option<Net>,
-    /// λ_ij: one number for all samples or (np+1) rows of (mp+1) numbers, ≥ 0.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub normal_weights: Option<NumberOrGrid>,
-    /// γ_ij: one number for all samples or (np+1) rows of (mp+1) numbers, ≥ 0.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub guide_weights: Option<NumberOrGrid>,
-}
-
-/// One number, or a grid of numbers.
-#[derive(Clone, Debug, Serialize, Deserialize, JsonSchema)]
-#[serde(untagged)]
-pub enum NumberOrGrid {
-    /// The same value everywhere.
-    Number(f64),
-    /// One value per sample, rows of columns.
-    Grid(Vec<Vec<f64>>),
-}
-
-/// The default weight and strength, 1.
-pub(crate) fn one() -> f64 {
-    1.0
+/// A scene of any kind, as read from a file.
+#[derive(Clone, Debug)]
+pub enum Scene {
+    /// `surface.type` `"tensor"`.
+    Tensor(TensorScene),
+    /// `surface.type` `"triangular"`.
+    Triangular(TriScene),
 }
 
 impl Scene {
-    /// Parses a scene; errors name the JSON path (`surface.degree[1]: invalid
-    /// type: string "a", expected usize at line 3 column 20`).
-    pub fn from_json(text: &str) -> crate::Result<Scene> {
-        parse_with_path(text)
+    /// Parses a scene of any kind. Errors name the JSON path: a malformed
+    /// value (`surface.degree[1]: invalid type: …`), or an unknown kind
+    /// (`surface.type: unknown surface type "nurbs": expected "tensor" or
+    /// "triangular"`).
+    pub fn from_json(text: &str) -> Result<Scene> {
+        match SurfaceType::of_json(text)? {
+            SurfaceType::Tensor => TensorScene::from_json(text).map(Scene::Tensor),
+            SurfaceType::Triangular => TriScene::from_json(text).map(Scene::Triangular),
+        }
     }
 
     /// Reads and parses a scene file.
-    pub fn read(path: &std::path::Path) -> crate::Result<Scene> {
-        let text = std::fs::read_to_string(path).map_err(|source| crate::Error::Read {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        Self::from_json(&text)
+    pub fn read(path: &Path) -> Result<Scene> {
+        Self::from_json(&read_text(path)?)
     }
 
-    /// The JSON Schema of scene files, generated from these types.
-    pub fn json_schema() -> serde_json::Value {
-        serde_json::to_value(schemars::schema_for!(Scene)).expect("a schema serializes")
+    /// What kind of surface the scene holds.
+    pub fn surface_type(&self) -> SurfaceType {
+        match self {
+            Scene::Tensor(_) => SurfaceType::Tensor,
+            Scene::Triangular(_) => SurfaceType::Triangular,
+        }
     }
 
-    /// The tensor part of the surface.
-    pub fn tensor(&self) -> &TensorSpec {
-        &self.surface
+    /// The scene's `name`, if it has one.
+    pub fn name(&self) -> Option<&str> {
+        match self {
+            Scene::Tensor(s) => s.name.as_deref(),
+            Scene::Triangular(s) => s.name.as_deref(),
+        }
+    }
+
+    /// Whether this is a result file (it has a `"report"`): its control
+    /// points are the solved surface.
+    pub fn is_result(&self) -> bool {
+        match self {
+            Scene::Tensor(s) => s.report.is_some(),
+            Scene::Triangular(s) => s.report.is_some(),
+        }
+    }
+
+    /// Validates and solves with default options.
+    pub fn solve(&self) -> Result<SolvedScene> {
+        self.solve_using(&SolveOptions::default(), None)
+    }
+
+    /// Validates and solves with `opts` (a triangular solve always
+    /// analyses its result: its measures are part of the solve).
+    pub fn solve_with(&self, opts: &SolveOptions) -> Result<SolvedScene> {
+        self.solve_using(opts, None)
+    }
+
+    /// Validates and solves, reusing a factorization from `cache` when one
+    /// fits (and keeping this one there): for a designer dragging points.
+    pub fn solve_cached(&self, opts: &SolveOptions, cache: &FactorCache) -> Result<SolvedScene> {
+        self.solve_using(opts, Some(cache))
+    }
+
+    fn solve_using(&self, opts: &SolveOptions, cache: Option<&FactorCache>) -> Result<SolvedScene> {
+        Ok(match (self, cache) {
+            (Scene::Tensor(s), Some(c)) => SolvedScene::Tensor(s.solve_cached(opts, c)?),
+            (Scene::Tensor(s), None) => SolvedScene::Tensor(s.solve_with(opts)?),
+            (Scene::Triangular(s), Some(c)) => SolvedScene::Triangular(s.solve_cached(c)?),
+            (Scene::Triangular(s), None) => SolvedScene::Triangular(s.solve()?),
+        })
+    }
+
+    /// Measures of the surface as the scene gives it, without solving (see
+    /// [`TensorScene::analyse`], [`TriScene::analyse`]).
+    pub fn analyse(&self) -> Result<Measures> {
+        match self {
+            Scene::Tensor(s) => s.analyse(),
+            Scene::Triangular(s) => s.analyse(),
+        }
+    }
+
+    /// The surface as the scene gives it, as tensor patches (a triangular
+    /// patch is an exact tensor patch with a collapsed side); a `null`
+    /// control point is an error naming it.
+    pub fn tensor_patches(&self) -> Result<Vec<TensorPatch>> {
+        Ok(match self {
+            Scene::Tensor(s) => vec![s.surface_patch()?],
+            Scene::Triangular(s) => s.surface()?.tensor_patches(),
+        })
+    }
+
+    /// A mesh of the surface as the scene gives it (see
+    /// [`SolvedScene::mesh`] for `resolution`).
+    pub fn mesh(&self, resolution: usize) -> Result<SurfaceMesh> {
+        Ok(match self {
+            Scene::Tensor(s) => {
+                SurfaceMesh::from_patch(&s.surface_patch()?, resolution, resolution)
+            }
+            Scene::Triangular(s) => {
+                SurfaceMesh::from_tri_surface(&s.surface()?, tri_resolution(resolution))
+            }
+        })
     }
 }
 
+/// A solved scene of any kind.
+#[derive(Debug)]
+pub enum SolvedScene {
+    /// A solved (or constructed) tensor patch.
+    Tensor(SolvedTensorScene),
+    /// A solved triangular surface.
+    Triangular(SolvedTriScene),
+}
+
+impl SolvedScene {
+    /// What kind of surface was solved.
+    pub fn surface_type(&self) -> SurfaceType {
+        match self {
+            SolvedScene::Tensor(_) => SurfaceType::Tensor,
+            SolvedScene::Triangular(_) => SurfaceType::Triangular,
+        }
+    }
+
+    /// The `"report"` object of the result file.
+    pub fn report_json(&self) -> Value {
+        match self {
+            SolvedScene::Tensor(s) => s.report_json(),
+            SolvedScene::Triangular(s) => s.report_json(),
+        }
+    }
+
+    /// The result file's content, pretty-printed JSON: the scene with every
+    /// control point and the report, in the scene's field order; solving it
+    /// again gives the same surface.
+    pub fn result_text(&self) -> String {
+        let text = match self {
+            SolvedScene::Tensor(s) => serde_json::to_string_pretty(&s.result_scene()),
+            SolvedScene::Triangular(s) => serde_json::to_string_pretty(&s.result_scene()),
+        };
+        text.expect("a scene serializes")
+    }
+
+    /// Writes the result file (atomically).
+    pub fn write(&self, path: &Path) -> Result<()> {
+        let text = self.result_text();
+        write_atomic(path, |w| {
+            w.write_all(text.as_bytes())?;
+            w.write_all(b"\n")
+        })
+    }
+
+    /// What the result's reader should know (the report's `notes`).
+    pub fn notes(&self) -> Vec<String> {
+        match self {
+            SolvedScene::Tensor(s) => s.notes(),
+            SolvedScene::Triangular(s) => s.notes(),
+        }
+    }
+
+    /// The solved surface as tensor patches (a triangular patch is an exact
+    /// tensor patch with a collapsed side): for STEP, IGES and pictures.
+    pub fn tensor_patches(&self) -> Vec<TensorPatch> {
+        match self {
+            SolvedScene::Tensor(s) => vec![s.patch().clone()],
+            SolvedScene::Triangular(s) => s.surface().tensor_patches(),
+        }
+    }
+
+    /// A triangle mesh of the solved surface. `resolution` is the quads per
+    /// parameter direction of a tensor patch; a triangular surface gets
+    /// ⌈resolution / 4⌉ subdivisions per patch edge (its patches are many
+    /// and small).
+    pub fn mesh(&self, resolution: usize) -> SurfaceMesh {
+        match self {
+            SolvedScene::Tensor(s) => SurfaceMesh::from_patch(s.patch(), resolution, resolution),
+            SolvedScene::Triangular(s) => {
+                SurfaceMesh::from_tri_surface(s.surface(), tri_resolution(resolution))
+            }
+        }
+    }
+
+    /// About how many triangles [`Self::mesh`] makes.
+    pub fn mesh_triangles(&self, resolution: usize) -> usize {
+        match self {
+            SolvedScene::Tensor(_) => 2 * resolution * resolution,
+            SolvedScene::Triangular(s) => {
+                let r = tri_resolution(resolution);
+                r * r * s.surface().patch_count()
+            }
+        }
+    }
+}
+
+/// Subdivisions per triangular patch edge for a tensor `resolution`.
+fn tri_resolution(resolution: usize) -> usize {
+    resolution.div_ceil(4).max(1)
+}
+
+/// The text of a file; an error names it.
+pub(crate) fn read_text(path: &Path) -> Result<String> {
+    std::fs::read_to_string(path).map_err(|source| Error::Read {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
 /// Parses JSON into `T`; errors name the JSON path.
-pub(crate) fn parse_with_path<T: serde::de::DeserializeOwned>(text: &str) -> crate::Result<T> {
+pub(crate) fn parse_with_path<T: serde::de::DeserializeOwned>(text: &str) -> Result<T> {
     let de = &mut serde_json::Deserializer::from_str(text);
     let value = serde_path_to_error::deserialize(&mut *de).map_err(|e| {
         let path = e.path().to_string();
-        crate::Error::scene(
+        Error::scene(
             if path == "." { String::new() } else { path },
             e.into_inner().to_string(),
         )
     })?;
     // One JSON value and nothing after it but white space.
     de.end().map_err(|e| {
-        crate::Error::scene(
+        Error::scene(
             String::new(),
             format!("more after the scene's closing brace ({e}): a file holds one scene"),
         )
@@ -280,23 +286,46 @@ pub(crate) fn parse_with_path<T: serde::de::DeserializeOwned>(text: &str) -> cra
     Ok(value)
 }
 
-/// Which kind of scene a JSON text holds: `"triangular"` when its
-/// `surface.type` says so, tensor otherwise (including when it does not
-/// parse, so that the tensor parser reports the error with its path).
+/// The kind of surface a JSON text holds, from `surface.type`, read by a
+/// pass that keeps nothing else. A text without a readable type is taken
+/// as tensor, so that the tensor parser names what is wrong with its path
+/// (a missing `type`, a number there, a missing `surface`).
 ///
 /// A text that is not valid JSON (a NaN, 1e999, a truncated file) is
 /// triangular when it says `"type": "triangular"` anywhere (no other scene
 /// field has that value), so that the triangular parser names the real
 /// problem and its path.
-pub fn is_triangular(text: &str) -> bool {
-    match serde_json::from_str::<serde_json::Value>(text) {
-        Ok(v) => v
-            .get("surface")
-            .and_then(|s| s.get("type"))
-            .and_then(|t| t.as_str())
-            .is_some_and(|t| t == "triangular"),
-        Err(_) => says_triangular(text),
+fn surface_type(text: &str) -> Result<SurfaceType> {
+    #[derive(serde::Deserialize)]
+    struct Skim {
+        surface: Option<SkimSurface>,
     }
+    #[derive(serde::Deserialize)]
+    struct SkimSurface {
+        #[serde(rename = "type")]
+        kind: Option<String>,
+    }
+    let kind = match serde_json::from_str::<Skim>(text) {
+        Ok(skim) => skim.surface.and_then(|s| s.kind),
+        Err(_) if says_triangular(text) => return Ok(SurfaceType::Triangular),
+        Err(_) => None,
+    };
+    let Some(kind) = kind else {
+        return Ok(SurfaceType::Tensor);
+    };
+    SurfaceType::from_name(&kind).ok_or_else(|| {
+        let names: Vec<String> = SurfaceType::ALL
+            .iter()
+            .map(|k| format!("{:?}", k.name()))
+            .collect();
+        Error::scene(
+            "surface.type",
+            format!(
+                "unknown surface type {kind:?}: expected {}",
+                names.join(" or ")
+            ),
+        )
+    })
 }
 
 /// Whether the text has `"type"`, a colon and `"triangular"` in a row

@@ -5,7 +5,7 @@
 //! Field docs here become the descriptions in `fairsurf schema --triangular`.
 
 use crate::operators::OperatorKind;
-use crate::{write_atomic, Error, Result};
+use crate::{Error, Result};
 use fairsurf::triangle::{
     Constraint, Continuity, CurveConstraint, DomainPoint, EdgeContinuity, InternalEnergy, Operator,
     Place, Refinement, RegionPiece, Target, TriProblem, TriReport, TriSolution,
@@ -259,7 +259,7 @@ pub struct OperatorSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
     /// Its strength s ≥ 0 (default 1).
-    #[serde(default = "crate::scene::one")]
+    #[serde(default = "crate::tensor_scene::one")]
     pub strength: f64,
     /// Make an attractor a repellor: s / E instead of s·E.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
@@ -446,11 +446,7 @@ impl TriScene {
 
     /// Reads and parses a scene file.
     pub fn read(path: &Path) -> Result<TriScene> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        Self::from_json(&text)
+        Self::from_json(&crate::scene::read_text(path)?)
     }
 
     /// The JSON Schema of triangular scene files.
@@ -758,15 +754,6 @@ impl SolvedTriScene {
         })
         .into_iter()
         .collect()
-    }
-
-    /// Writes the result file (atomically).
-    pub fn write(&self, path: &Path) -> Result<()> {
-        let v = serde_json::to_vec_pretty(&self.result_scene()).expect("a scene serializes");
-        write_atomic(path, |w| {
-            w.write_all(&v)?;
-            w.write_all(b"\n")
-        })
     }
 }
 

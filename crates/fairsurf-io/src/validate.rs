@@ -1,7 +1,7 @@
-//! From a parsed [`Scene`] to a [`Problem`]: every check that serde cannot
+//! From a parsed [`TensorScene`] to a [`Problem`]: every check that serde cannot
 //! do, each failing with the JSON path of the offending value.
 
-use crate::scene::{EnergySpec, Net, NumberOrGrid, Scene};
+use crate::tensor_scene::{EnergySpec, Net, NumberOrGrid, TensorScene};
 use crate::{Error, Result};
 use fairsurf::{
     Bend, GuideSurface, Measure, NormalField, Problem, SampleGrid, Stretch, TensorPatch, Vec3,
@@ -69,7 +69,7 @@ fn initial_patch(given: &[Option<Vec3>], (n, m): (usize, usize)) -> Option<Tenso
         .then(|| TensorPatch::new(n, m, given.iter().map(|p| p.expect("all given")).collect()))
 }
 
-impl Scene {
+impl TensorScene {
     /// Checks the scene and builds its problem.
     pub fn build(&self) -> Result<Built> {
         let t = self.tensor();

@@ -9,17 +9,19 @@
 
 mod mutate;
 
-use fairsurf_io::{Outcome, Scene, TriScene};
+use fairsurf_io::{Outcome, Scene, TensorScene};
 use mutate::{mutate, small, small_examples, Rng};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 /// Parses, validates and (when small) solves; panics only on a finding.
 /// Whether the scene was accepted (solved, or validated when not solved).
 fn exercise(text: &str, solve: bool) -> bool {
-    if fairsurf_io::is_triangular(text) {
-        let Ok(scene) = TriScene::from_json(text) else {
-            return false;
-        };
+    let scene = match Scene::from_json(text) {
+        Ok(Scene::Triangular(scene)) => scene,
+        Ok(Scene::Tensor(scene)) => return exercise_tensor(scene, text, solve),
+        Err(_) => return false,
+    };
+    {
         if !solve {
             return scene.problem().is_ok();
         }
@@ -36,11 +38,11 @@ fn exercise(text: &str, solve: bool) -> bool {
             );
             assert!(r.total.is_finite() && r.total == check.energy, "{text}");
         }
-        return true;
+        true
     }
-    let Ok(scene) = Scene::from_json(text) else {
-        return false;
-    };
+}
+
+fn exercise_tensor(scene: TensorScene, text: &str, solve: bool) -> bool {
     if !solve {
         return scene.build().is_ok();
     }

@@ -2,7 +2,7 @@
 //! example boundaries, the `method` field, and its errors.
 
 use fairsurf::harmonic::Comparison;
-use fairsurf_io::{comparison_json, Error, Outcome, Scene};
+use fairsurf_io::{comparison_json, Error, Outcome, TensorScene};
 use std::path::PathBuf;
 
 fn examples() -> PathBuf {
@@ -10,7 +10,7 @@ fn examples() -> PathBuf {
 }
 
 fn table(name: &str) -> Comparison {
-    Scene::read(&examples().join(name))
+    TensorScene::read(&examples().join(name))
         .unwrap()
         .compare()
         .unwrap()
@@ -155,7 +155,7 @@ fn scene_with(
 }
 
 fn scene_error(text: &str) -> (String, String) {
-    match Scene::from_json(text).and_then(|s| s.solve()) {
+    match TensorScene::from_json(text).and_then(|s| s.solve()) {
         Err(Error::Scene { path, message }) => (path, message),
         other => panic!(
             "expected a scene error, got {:?}",
@@ -169,12 +169,12 @@ fn construction_methods_solve_scenes_with_free_insides() {
     // Inner points may be null: the constructions do not read them.
     for method in ["harmonic", "biharmonic", "harmonic_mask"] {
         let text = scene_with(method, "", (4, 4), Some((2, 2)));
-        let s = Scene::from_json(&text).unwrap().solve().unwrap();
+        let s = TensorScene::from_json(&text).unwrap().solve().unwrap();
         let c = s.outcome.construction().unwrap();
         assert_eq!(c.report.method.name(), method);
         assert!(c.report.exact);
         // The result is a scene that builds the same surface again.
-        let again = Scene::from_json(&serde_json::to_string(&s.result_scene()).unwrap())
+        let again = TensorScene::from_json(&serde_json::to_string(&s.result_scene()).unwrap())
             .unwrap()
             .solve()
             .unwrap();
@@ -187,7 +187,7 @@ fn construction_methods_solve_scenes_with_free_insides() {
             .fold(0.0, f64::max);
         assert!(moved < 1e-12, "{method}: {moved}");
     }
-    let s = Scene::from_json(&scene_with("biharmonic_mask", "", (5, 5), Some((2, 2))))
+    let s = TensorScene::from_json(&scene_with("biharmonic_mask", "", (5, 5), Some((2, 2))))
         .unwrap()
         .solve()
         .unwrap();
@@ -244,14 +244,14 @@ fn construction_method_errors_name_the_field() {
 #[test]
 fn inconsistent_biharmonic_is_an_error_unless_least_squares_is_asked() {
     let text = scene_with("biharmonic", "", (4, 6), None);
-    match Scene::from_json(&text).unwrap().solve() {
+    match TensorScene::from_json(&text).unwrap().solve() {
         Err(Error::Solve(fairsurf::Error::Inconsistent { residual, .. })) => {
             assert!(residual > 1e-6)
         }
         other => panic!("{:?}", other.map(|s| s.patch().clone())),
     }
     let text = scene_with("biharmonic", r#", "least_squares": true"#, (4, 6), None);
-    let s = Scene::from_json(&text).unwrap().solve().unwrap();
+    let s = TensorScene::from_json(&text).unwrap().solve().unwrap();
     let rep = s.report_json();
     assert_eq!(rep["exact"], false);
     assert!(rep["residual"].as_f64().unwrap() > 1e-6);

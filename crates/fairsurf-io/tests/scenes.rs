@@ -1,7 +1,7 @@
 //! The scene format: every documented error names its JSON path; results
 //! round-trip; the bundled examples solve and show what the paper claims.
 
-use fairsurf_io::{Error, Outcome, Scene};
+use fairsurf_io::{Error, Outcome, TensorScene};
 use serde_json::{json, Value};
 
 fn base() -> Value {
@@ -16,7 +16,7 @@ fn base() -> Value {
 }
 
 fn err(v: &Value) -> (String, String) {
-    let r = Scene::from_json(&v.to_string()).and_then(|s| s.solve().map(|_| ()));
+    let r = TensorScene::from_json(&v.to_string()).and_then(|s| s.solve().map(|_| ()));
     match r {
         Err(Error::Scene { path, message }) => (path, message),
         Err(e) => (String::from("<not a scene error>"), e.to_string()),
@@ -35,7 +35,7 @@ fn examples() -> std::path::PathBuf {
 
 #[test]
 fn the_base_scene_solves() {
-    let s = Scene::from_json(&base().to_string())
+    let s = TensorScene::from_json(&base().to_string())
         .unwrap()
         .solve()
         .unwrap();
@@ -102,7 +102,10 @@ fn tensor_constraints_name_their_paths_and_round_trip() {
         let v = with_constraints(json!([
             {"type": "point", "name": "lift", "at": at, "target": [1.4, 1.6, 0.4]},
         ]));
-        Scene::from_json(&v.to_string()).unwrap().solve().unwrap()
+        TensorScene::from_json(&v.to_string())
+            .unwrap()
+            .solve()
+            .unwrap()
     };
     let (a, b) = (
         solve(json!({"uv": [0.45, 0.55]})),
@@ -116,7 +119,7 @@ fn tensor_constraints_name_their_paths_and_round_trip() {
     assert!(report["max_violation"].as_f64().unwrap() < 1e-14);
     let text = serde_json::to_string(&result).unwrap();
     assert!(text.contains("\"uv\""), "{text}");
-    let again = Scene::from_json(&text).unwrap().solve().unwrap();
+    let again = TensorScene::from_json(&text).unwrap().solve().unwrap();
     assert_eq!(again.patch().eval(0.45, 0.55), a.patch().eval(0.45, 0.55));
     let p = a.patch().eval(0.45, 0.55);
     assert!(fairsurf::vector::norm(fairsurf::vector::sub(p, [1.4, 1.6, 0.4])) < 1e-14);
@@ -255,11 +258,69 @@ fn type_errors_name_the_path() {
     assert!(msg.contains("unknown field `strech`"), "{msg}");
 }
 
+/// One entry point reads every kind: `surface.type` picks the parser, an
+/// unknown type is an error at `surface.type` listing the known ones, and
+/// errors inside either kind keep their own path (also in text that is not
+/// valid JSON, where the type is found by its words).
+#[test]
+fn the_surface_type_picks_the_parser_and_an_unknown_one_is_named() {
+    use fairsurf_io::{Scene, SurfaceType};
+    let tensor = Scene::from_json(&base().to_string()).unwrap();
+    assert_eq!(tensor.surface_type(), SurfaceType::Tensor);
+    let tri = json!({"surface": {"type": "triangular", "degree": 3,
+        "vertices": [[0,0,0],[1,0,0],[0,1,0]], "triangles": [[0,1,2]]}});
+    let scene = Scene::from_json(&tri.to_string()).unwrap();
+    assert_eq!(scene.surface_type(), SurfaceType::Triangular);
+    assert!(matches!(scene, Scene::Triangular(_)));
+    // Solving through the enum gives the kind's own answer.
+    let solved = Scene::from_json(&base().to_string())
+        .unwrap()
+        .solve()
+        .unwrap();
+    assert_eq!(solved.surface_type(), SurfaceType::Tensor);
+    let direct = TensorScene::from_json(&base().to_string())
+        .unwrap()
+        .solve()
+        .unwrap();
+    assert_eq!(solved.tensor_patches(), vec![direct.patch().clone()]);
+    assert_eq!(solved.report_json()["free_points"], 4);
+
+    let unknown = with(base(), "/surface/type", json!("nurbs"));
+    match Scene::from_json(&unknown.to_string()) {
+        Err(Error::Scene { path, message }) => {
+            assert_eq!(path, "surface.type");
+            assert_eq!(
+                message,
+                r#"unknown surface type "nurbs": expected "tensor" or "triangular""#
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+    // Not a string: the tensor parser names it.
+    let number = with(base(), "/surface/type", json!(3));
+    assert!(matches!(Scene::from_json(&number.to_string()),
+        Err(Error::Scene { path, .. }) if path == "surface.type"));
+    // A triangular field error keeps its path; so does one in invalid JSON.
+    let bad = with(tri.clone(), "/surface/degree", json!("three"));
+    assert!(matches!(Scene::from_json(&bad.to_string()),
+        Err(Error::Scene { path, .. }) if path == "surface.degree"));
+    let nan = tri.to_string().replacen("[1,0,0]", "[NaN,0,0]", 1);
+    assert!(
+        matches!(Scene::from_json(&nan),
+        Err(Error::Scene { path, .. }) if path.starts_with("surface.vertices[1]")),
+        "{:?}",
+        Scene::from_json(&nan)
+    );
+    // A missing surface is the tensor parser's missing field.
+    assert!(matches!(Scene::from_json("{}"),
+        Err(Error::Scene { message, .. }) if message.contains("missing field `surface`")));
+}
+
 #[test]
 fn infinite_numbers_are_rejected() {
     // JSON has no NaN or ∞ literal; an overflowing literal is the way to write one.
     let text = base().to_string().replacen("[3,0,0]", "[3,0,1e999]", 1);
-    let e = Scene::from_json(&text).unwrap_err();
+    let e = TensorScene::from_json(&text).unwrap_err();
     assert!(
         matches!(&e, Error::Scene { path, .. } if path.starts_with("surface.control_points[3][0]")),
         "{e}"
@@ -377,7 +438,7 @@ fn unsolvable_energy_is_a_solve_error_not_garbage() {
     let mut v = base();
     v["energy"] =
         json!({"stretch": 0, "normal_field": {"degree": [0,0], "control_points": [[[0,0,1]]]}});
-    let e = Scene::from_json(&v.to_string())
+    let e = TensorScene::from_json(&v.to_string())
         .unwrap()
         .solve()
         .unwrap_err();
@@ -390,9 +451,9 @@ fn unsolvable_energy_is_a_solve_error_not_garbage() {
 
 #[test]
 fn unreadable_file_is_a_read_error() {
-    let e = Scene::read(std::path::Path::new("/no/such/scene.json")).unwrap_err();
+    let e = TensorScene::read(std::path::Path::new("/no/such/scene.json")).unwrap_err();
     assert!(matches!(e, Error::Read { .. }));
-    let e = Scene::from_json("{\"surface\": ").unwrap_err();
+    let e = TensorScene::from_json("{\"surface\": ").unwrap_err();
     assert!(e.to_string().contains("EOF"), "{e}");
 }
 
@@ -411,10 +472,10 @@ fn results_round_trip() {
         "tensor_repellor.json",
         "tensor_constraints.json",
     ] {
-        let scene = Scene::read(&examples().join(name)).unwrap();
+        let scene = TensorScene::read(&examples().join(name)).unwrap();
         let first = scene.solve().unwrap();
         let text = serde_json::to_string(&first.result_scene()).unwrap();
-        let again = Scene::from_json(&text).unwrap().solve().unwrap();
+        let again = TensorScene::from_json(&text).unwrap().solve().unwrap();
         let d = first
             .patch()
             .points()
@@ -449,7 +510,9 @@ fn every_example_solves_to_a_true_minimizer_or_exact_construction() {
         let p = entry.unwrap().path();
         if p.extension().is_some_and(|e| e == "json") {
             let text = std::fs::read_to_string(&p).unwrap();
-            if fairsurf_io::is_triangular(&text) {
+            if fairsurf_io::SurfaceType::of_json(&text).unwrap()
+                == fairsurf_io::SurfaceType::Triangular
+            {
                 let s = fairsurf_io::TriScene::from_json(&text)
                     .unwrap()
                     .solve()
@@ -492,7 +555,7 @@ fn every_example_solves_to_a_true_minimizer_or_exact_construction() {
                 n += 1;
                 continue;
             }
-            let s = Scene::read(&p)
+            let s = TensorScene::read(&p)
                 .unwrap()
                 .solve()
                 .unwrap_or_else(|e| panic!("{}: {e}", p.display()));
@@ -525,12 +588,12 @@ fn every_example_solves_to_a_true_minimizer_or_exact_construction() {
 /// thin plate.
 #[test]
 fn fig4_normals_restore_the_ground_truth() {
-    let truth = Scene::read(&examples().join("data/wu_yang_fig4_ground_truth.json"))
+    let truth = TensorScene::read(&examples().join("data/wu_yang_fig4_ground_truth.json"))
         .unwrap()
         .surface_patch()
         .unwrap();
     let dist = |name: &str| {
-        let p = Scene::read(&examples().join(name))
+        let p = TensorScene::read(&examples().join(name))
             .unwrap()
             .solve()
             .unwrap()
@@ -557,7 +620,7 @@ fn fig4_normals_restore_the_ground_truth() {
 
 #[test]
 fn schema_describes_the_format() {
-    let s = Scene::json_schema();
+    let s = TensorScene::json_schema();
     let text = s.to_string();
     for key in [
         "surface",
@@ -643,7 +706,7 @@ fn degenerate_inputs_name_their_path() {
     // Degree [0, 0] is refused by analyse as by solve.
     let zero =
         json!({"surface": {"type": "tensor", "degree": [0, 0], "control_points": [[[0, 0, 0]]]}});
-    match Scene::from_json(&zero.to_string()).unwrap().analyse() {
+    match TensorScene::from_json(&zero.to_string()).unwrap().analyse() {
         Err(Error::Scene { path, .. }) => assert_eq!(path, "surface.degree[0]"),
         other => panic!("{other:?}"),
     }
@@ -712,7 +775,7 @@ fn folds_are_noted() {
                 "control_points": [[[1, 0, 0.2], [1, 1, 0]], [[0, 1, 0], [1, 0, -0.3]]]}}})
     };
     let notes = |lambda: f64| {
-        let s = Scene::from_json(&scene(lambda).to_string())
+        let s = TensorScene::from_json(&scene(lambda).to_string())
             .unwrap()
             .solve()
             .unwrap();

@@ -313,11 +313,8 @@ async fn list_examples(State(s): State<Arc<Server>>) -> Json<Value> {
         .map(|(file, text)| {
             let v: Value = serde_json::from_str(text).unwrap_or(Value::Null);
             let name = v["name"].as_str().unwrap_or(file);
-            let kind = if fairsurf_io::is_triangular(text) {
-                "triangular"
-            } else {
-                "tensor"
-            };
+            let kind = fairsurf_io::SurfaceType::of_json(text)
+                .map_or("tensor", fairsurf_io::SurfaceType::name);
             json!({"file": file, "name": name, "kind": kind})
         })
         .collect();

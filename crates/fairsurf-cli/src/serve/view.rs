@@ -10,8 +10,8 @@ use fairsurf::triangle::{linear_index, multi_indices};
 use fairsurf::vector::{add, dot, normalize, scale, sub};
 use fairsurf::{BezierCurve, TriSurface, Vec3};
 use fairsurf_io::{
-    is_triangular, write_iges, write_mesh, write_step, Outcome, Scene, SolvedScene, SolvedTriScene,
-    SurfaceMesh, TriScene,
+    write_iges, write_mesh, write_step, Outcome, Scene, SolvedScene, SolvedTensorScene,
+    SolvedTriScene, SurfaceMesh,
 };
 use serde_json::{json, Value};
 use std::collections::BTreeSet;
@@ -27,16 +27,12 @@ pub(crate) fn solve(
     factors: &fairsurf::FactorCache,
 ) -> ApiResult<Value> {
     let start = Instant::now();
-    let mut v = if is_triangular(text) {
-        let scene = TriScene::from_json(text)?;
-        check_size(&scene, limits)?;
-        let solved = scene.solve_cached(factors)?;
-        tri_view(&solved)
-    } else {
-        let scene = Scene::from_json(text)?;
-        let opts = fairsurf::SolveOptions::default().with_analyse(!quick);
-        let solved = scene.solve_cached(&opts, factors)?;
-        tensor_view(&solved)
+    let scene = Scene::from_json(text)?;
+    check_size(&scene, limits)?;
+    let opts = fairsurf::SolveOptions::default().with_analyse(!quick);
+    let mut v = match scene.solve_cached(&opts, factors)? {
+        SolvedScene::Tensor(s) => tensor_view(&s),
+        SolvedScene::Triangular(s) => tri_view(&s),
     };
     v["quick"] = json!(quick);
     v["seconds"] = json!(start.elapsed().as_secs_f64());
@@ -51,16 +47,15 @@ pub(crate) fn solve(
 /// the largest normal angle across interior edges.
 pub(crate) fn analyse(text: &str, limits: &Limits) -> ApiResult<Value> {
     let start = Instant::now();
-    let (kind, measures) = if is_triangular(text) {
-        let scene = TriScene::from_json(text)?;
-        check_size(&scene, limits)?;
-        ("triangular", scene.analyse()?)
-    } else {
-        ("tensor", Scene::from_json(text)?.analyse()?)
-    };
-    let table: Vec<Value> = measures.into_iter().map(|(l, v)| row(l, v)).collect();
+    let scene = Scene::from_json(text)?;
+    check_size(&scene, limits)?;
+    let table: Vec<Value> = scene
+        .analyse()?
+        .into_iter()
+        .map(|(l, v)| row(l, v))
+        .collect();
     Ok(json!({
-        "kind": kind,
+        "kind": scene.surface_type().name(),
         "table": table,
         "seconds": start.elapsed().as_secs_f64(),
     }))
@@ -68,13 +63,13 @@ pub(crate) fn analyse(text: &str, limits: &Limits) -> ApiResult<Value> {
 
 /// The four surfaces of Monterde & Ugail §4 with the scene's boundary.
 pub(crate) fn compare(text: &str, _limits: &Limits) -> ApiResult<Value> {
-    if is_triangular(text) {
+    let Scene::Tensor(scene) = Scene::from_json(text)? else {
         return Err(ApiError::new(
             StatusCode::UNPROCESSABLE_ENTITY,
             "compare is for tensor-product scenes (Monterde & Ugail's four surfaces)",
         ));
-    }
-    let c = Scene::from_json(text)?.compare()?;
+    };
+    let c = scene.compare()?;
     let rows: Vec<Value> = c
         .columns()
         .into_iter()
@@ -121,28 +116,12 @@ pub(crate) fn export(
         }
     };
     // The surface: a result file as it is, any other scene solved.
-    let (name, patches, tri, result) = if is_triangular(text) {
-        let scene = TriScene::from_json(text)?;
-        check_size(&scene, limits)?;
-        let solved = scene.solve()?;
-        let result = serde_json::to_string_pretty(&solved.result_scene()).expect("json");
-        let s = solved.solution.surface;
-        (scene.name.clone(), s.tensor_patches(), Some(s), result)
-    } else {
-        let scene = Scene::from_json(text)?;
-        let solved = scene.solve()?;
-        let result = serde_json::to_string_pretty(&solved.result_scene()).expect("json");
-        (
-            scene.name.clone(),
-            vec![solved.patch().clone()],
-            None,
-            result,
-        )
-    };
-    let stem = file_stem(name.as_deref());
-    let file = format!("{stem}.{ext}");
+    let scene = Scene::from_json(text)?;
+    check_size(&scene, limits)?;
+    let solved = scene.solve()?;
+    let file = format!("{}.{ext}", file_stem(scene.name()));
     if format == "json" {
-        return Ok((file, kind, result.into_bytes()));
+        return Ok((file, kind, solved.result_text().into_bytes()));
     }
     let dir = std::env::temp_dir().join(format!(
         "fairsurf-serve-{}-{}",
@@ -157,15 +136,9 @@ pub(crate) fn export(
     })?;
     let path = dir.join(format!("surface.{ext}"));
     let written = match format {
-        "step" => write_step(&path, &patches),
-        "iges" => write_iges(&path, &patches),
-        _ => {
-            let mesh = match &tri {
-                Some(t) => SurfaceMesh::from_tri_surface(t, 8),
-                None => SurfaceMesh::from_patch(&patches[0], 64, 64),
-            };
-            write_mesh(&path, &mesh)
-        }
+        "step" => write_step(&path, &solved.tensor_patches()),
+        "iges" => write_iges(&path, &solved.tensor_patches()),
+        _ => write_mesh(&path, &solved.mesh(MESH_RESOLUTION)),
     };
     let bytes = written.map_err(ApiError::from).and_then(|()| {
         std::fs::read(&path).map_err(|e| {
@@ -203,8 +176,16 @@ fn file_stem(name: Option<&str>) -> String {
     }
 }
 
-/// Refuses a triangular scene with more unknowns than the limit.
-fn check_size(scene: &TriScene, limits: &Limits) -> ApiResult<()> {
+/// Quads per side of an exported tensor patch (a triangular surface gets a
+/// quarter of it per patch edge, see [`fairsurf_io::SolvedScene::mesh`]).
+const MESH_RESOLUTION: usize = 64;
+
+/// Refuses a triangular scene with more unknowns than the limit (a tensor
+/// scene's size is bounded by its degree, at most 40).
+fn check_size(scene: &Scene, limits: &Limits) -> ApiResult<()> {
+    let Scene::Triangular(scene) = scene else {
+        return Ok(());
+    };
     let s = scene.surface()?;
     let unknowns = 3 * s.point_count();
     if unknowns > limits.max_unknowns {
@@ -553,7 +534,7 @@ impl<'a> Field<'a> {
     }
 }
 
-fn tensor_view(solved: &SolvedScene) -> Value {
+fn tensor_view(solved: &SolvedTensorScene) -> Value {
     let scene = &solved.scene;
     let patch = solved.patch();
     let (n, m) = patch.degree();
