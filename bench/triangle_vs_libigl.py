@@ -121,7 +121,7 @@ def main():
             for _ in range(a.repeats):
                 out, mb = peak_mb([a.binary, "solve", path, "--json"])
                 r = json.loads(out)
-                ours.append(r["seconds"]["total"])
+                ours.append(r["timings_s"]["total"])
                 our_mem.append(mb)
                 unknowns = r["unknowns"]
                 if k is None:

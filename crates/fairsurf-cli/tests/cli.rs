@@ -284,6 +284,86 @@ fn unknown_surface_types_and_kinds_a_command_does_not_take_exit_2() {
     assert!(!png.exists());
 }
 
+/// Tensor and triangular reports say the common figures under the same
+/// names with the same meaning: the energy is the sum of its terms and the
+/// operators' share, the timings' total covers its phases, the accuracy
+/// figures are numbers, and the check agrees with the energy.
+#[test]
+fn every_kind_reports_the_common_figures_under_one_name() {
+    for name in [
+        "wu_yang_fig4_l500",
+        "tensor_operators",
+        "vw_hexagon_hole",
+        "vw_fig8_operators",
+    ] {
+        let scene = examples().join(format!("{name}.json"));
+        let o = fairsurf(&["solve", scene.to_str().unwrap(), "--json"]);
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        let num = |k: &str| {
+            r[k].as_f64()
+                .unwrap_or_else(|| panic!("{name}: {k} is {}", r[k]))
+        };
+        for k in [
+            "energy",
+            "gradient_norm",
+            "relative_gradient",
+            "residual",
+            "condition_estimate",
+            "max_violation",
+        ] {
+            assert!(
+                num(k).is_finite() && num(k) >= 0.0 || k == "energy",
+                "{name}: {k}"
+            );
+        }
+        let terms: f64 = r["terms"]
+            .as_object()
+            .unwrap()
+            .values()
+            .map(|v| v.as_f64().unwrap())
+            .sum();
+        let external = r["external"].as_f64().unwrap_or(0.0);
+        let energy = num("energy");
+        assert!(
+            (terms + external - energy).abs() <= 1e-12 * energy.abs().max(1e-300),
+            "{name}: {terms} + {external} vs {energy}"
+        );
+        assert!(
+            (r["check"]["energy"].as_f64().unwrap() - energy).abs() <= 1e-12 * energy.abs(),
+            "{name}"
+        );
+        assert!(
+            r["refinement_steps"].is_u64() && r["unknowns"].as_u64().unwrap() > 0,
+            "{name}"
+        );
+        let t = r["timings_s"].as_object().unwrap();
+        let total = t["total"].as_f64().unwrap();
+        let phases: f64 = t
+            .iter()
+            .filter(|(k, _)| *k != "total")
+            .map(|(_, v)| v.as_f64().unwrap())
+            .sum();
+        assert!(
+            total > 0.0 && phases <= total * 1.01 + 1e-6,
+            "{name}: {t:?}"
+        );
+        let turn = &r["max_normal_turn_deg"];
+        assert!(
+            turn["angle"].as_f64().unwrap() < 90.0 && turn["fold"] == false,
+            "{name}: {turn}"
+        );
+        assert!(
+            r["notes"].is_array() && r["fairsurf_version"].is_string(),
+            "{name}"
+        );
+        assert!(
+            r.get("seconds").is_none(),
+            "{name}: one name for the timings"
+        );
+    }
+}
+
 #[test]
 fn eval_reads_a_result_and_refuses_an_unsolved_scene() {
     let d = tmpdir("eval");
@@ -646,7 +726,7 @@ fn triangular_scenes_solve_write_results_that_solve_again_and_export() {
             report["max_violation"].as_f64().unwrap() <= 1e-10,
             "{name}: {report}"
         );
-        assert!(report["kkt"]["relative_residual"].as_f64().unwrap() < 1e-12);
+        assert!(report["residual"].as_f64().unwrap() < 1e-12);
         assert!(std::fs::metadata(&mesh).unwrap().len() > 1000);
         // The result file solves to the same surface.
         let first: serde_json::Value =

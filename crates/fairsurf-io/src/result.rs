@@ -269,15 +269,11 @@ pub fn report_json(r: &SolveReport) -> Value {
         },
         "fairsurf_version": env!("CARGO_PKG_VERSION"),
     });
-    if !r.operators.is_empty() {
-        o["external"] = json!(r.external);
-        o["operators"] = crate::operators::outcomes_json(&r.operators);
-        o["newton"] = crate::operators::newton_json(r.newton.as_ref());
-    }
-    if !r.constraints.is_empty() {
-        o["constraints"] = crate::constraints::outcomes_json(&r.constraints);
-        o["max_violation"] = json!(r.max_violation);
-    }
+    o["external"] = json!(r.external);
+    o["operators"] = crate::operators::outcomes_json(&r.operators);
+    o["newton"] = crate::operators::newton_json(r.newton.as_ref());
+    o["constraints"] = crate::constraints::outcomes_json(&r.constraints);
+    o["max_violation"] = json!(r.max_violation);
     if let Some(c) = &r.check {
         o["check"] = check_json(c);
     }
@@ -327,12 +323,15 @@ pub fn construction_report_json(r: &ConstructionReport) -> Value {
     o
 }
 
-fn finite(x: f64) -> Value {
-    if x.is_finite() {
-        json!(x)
-    } else {
-        Value::Null
-    }
+/// A number, or `null` for NaN and ±∞ (JSON has neither).
+pub(crate) fn finite(x: f64) -> Option<f64> {
+    x.is_finite().then_some(x)
+}
+
+/// The largest turn of the normal between neighbouring samples, where, and
+/// whether it folds (above 90°): `{"angle": degrees, "at": …, "fold": …}`.
+pub(crate) fn normal_turn_json(angle: f64, at: Value, fold: bool) -> Value {
+    json!({"angle": angle.to_degrees(), "at": at, "fold": fold})
 }
 
 /// |H| statistics as JSON.
@@ -357,7 +356,7 @@ fn insert_measures(o: &mut Value, m: Option<&SurfaceMeasures>) {
     if let Some(t) = m.normal_turn {
         obj.insert(
             "max_normal_turn_deg".into(),
-            json!({"angle": t.angle.to_degrees(), "at": [t.at.0, t.at.1], "fold": t.is_fold()}),
+            normal_turn_json(t.angle, json!([t.at.0, t.at.1]), t.is_fold()),
         );
     }
 }

@@ -792,8 +792,10 @@ pub fn tri_report_json(r: &TriReport) -> Value {
             .map(|x| json!({"name": x.name, "residual": x.residual}))
             .collect()
     };
+    let kkt = r.kkt.as_ref();
     let mut o = json!({
-        "energy": {"stretch": r.stretch, "bend": r.bend, "total": r.total},
+        "energy": r.total,
+        "terms": {"stretch": r.stretch, "bend": r.bend},
         "mesh": {"patches": r.patches, "vertices": r.vertices, "control_points": r.points},
         "unknowns": r.unknowns,
         "fixed_coordinates": r.fixed_coordinates,
@@ -813,29 +815,30 @@ pub fn tri_report_json(r: &TriReport) -> Value {
         "unenforced_continuity_residual": r.unenforced_residual,
         "row_tolerance": r.row_tolerance,
         "max_edge_normal_angle_rad": r.max_edge_normal_angle.map(|(a, _)| a),
-        "max_normal_turn_deg": r.normal_turn.map(|t| t.angle.to_degrees()),
-        "max_normal_turn_at": r.normal_turn.map(|t| json!({"patch": t.patch, "bary": t.at})),
         "max_edge_normal_angle_at": r.max_edge_normal_angle.map(|(_, e)| e),
+        "max_normal_turn_deg": r.normal_turn.map(|t| crate::result::normal_turn_json(
+            t.angle, json!({"patch": t.patch, "bary": t.at}), t.is_fold())),
         "gradient_norm": r.gradient_norm,
         "relative_gradient": r.relative_gradient,
-        "kkt": r.kkt.map(|k| json!({
+        "residual": kkt.map(|k| k.relative_residual),
+        "condition_estimate": kkt.and_then(|k| crate::result::finite(k.condition)),
+        "refinement_steps": kkt.map_or(0, |k| k.refinement_steps),
+        "kkt": kkt.map(|k| json!({
             "size": k.size,
             "factorization": k.factorization.name(),
             "per_coordinate": k.per_coordinate,
             "reused_symbolic": k.reused_symbolic,
             "factor_nonzeros": k.factor_nonzeros,
             "delta": k.delta,
-            "refinement_steps": k.refinement_steps,
-            "relative_residual": k.relative_residual,
-            "condition_estimate": k.condition,
         })),
-        "seconds": {
+        "timings_s": {
             "refine": r.seconds.refine,
             "assemble": r.seconds.assemble,
             "classify": r.seconds.classify,
             "solve": r.seconds.solve,
             "total": r.seconds.total,
         },
+        "fairsurf_version": env!("CARGO_PKG_VERSION"),
     });
     if let Some(c) = &r.check {
         o["check"] = crate::result::check_json(c);

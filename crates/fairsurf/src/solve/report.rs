@@ -47,14 +47,16 @@ pub struct SolveReport {
     /// With repellors: how Newton's method went (then `gradient_norm` and
     /// `relative_gradient` are those of the total, nonlinear energy).
     pub newton: Option<crate::operator::NewtonReport>,
-    /// ‖∂E/∂x‖₂ over the free coordinates, computed from the assembled
-    /// energy in twice-working precision.
+    /// ‖∂E/∂x‖∞ over the free coordinates (of the Lagrangian ∂E/∂x + Fᵀλ
+    /// with constraints), computed in twice-working precision: the same
+    /// figure as [`crate::triangle::TriReport::gradient_norm`].
     pub gradient_norm: f64,
     /// Normwise backward error ‖g‖∞ / (‖H‖∞‖x‖∞ + ‖b‖∞) (rows of the free
     /// coordinates): how far the energy would have to be perturbed for the
     /// result to be its exact minimizer. About ε means as good as double allows.
     pub relative_gradient: f64,
-    /// ‖g‖₂ / ‖rhs‖₂ of the reduced system (0 when the right-hand side is 0).
+    /// ‖rhs − H x‖∞ / ‖rhs‖∞ of the reduced system solved (the absolute
+    /// figure when the right-hand side is 0).
     pub residual: f64,
     /// Estimated 2-norm condition number of the matrix actually factored:
     /// the equilibrated reduced system, in the basis named by `basis`.
