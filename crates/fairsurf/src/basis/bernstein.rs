@@ -48,6 +48,14 @@ pub fn bernstein(n: usize, i: usize, t: f64) -> f64 {
 /// for t ∈ [0, 1]).
 pub fn bernstein_all(n: usize, t: f64) -> Vec<f64> {
     let mut b = vec![0.0; n + 1];
+    bernstein_all_into(t, &mut b);
+    b
+}
+
+/// [`bernstein_all`] into `b`, whose length is n + 1 (no allocation).
+pub fn bernstein_all_into(t: f64, b: &mut [f64]) {
+    let n = b.len().saturating_sub(1);
+    b.fill(0.0);
     b[0] = 1.0;
     let s = 1.0 - t;
     for k in 1..=n {
@@ -58,7 +66,6 @@ pub fn bernstein_all(n: usize, t: f64) -> Vec<f64> {
             prev = cur;
         }
     }
-    b
 }
 
 /// Derivatives of all degree-n Bernstein polynomials up to `order`:
@@ -67,26 +74,30 @@ pub fn bernstein_all(n: usize, t: f64) -> Vec<f64> {
 /// Uses `dʳ B_i^n = n!/(n−r)! Σ_s (−1)^{r−s} C(r,s) B_{i−s}^{n−r}`: each order is
 /// the forward difference of the next lower degree's values.
 pub fn bernstein_derivatives(n: usize, t: f64, order: usize) -> Vec<Vec<f64>> {
-    (0..=order)
-        .map(|r| {
-            let mut out = vec![0.0; n + 1];
-            if r > n {
-                return out;
+    let mut flat = vec![0.0; (order + 1) * (n + 1)];
+    bernstein_derivatives_into(n, t, &mut flat);
+    flat.chunks(n + 1).map(<[f64]>::to_vec).collect()
+}
+
+/// [`bernstein_derivatives`] into `out` without allocating: `out` holds
+/// rows of n + 1 values, one per order r = 0, 1, … (its length over n + 1).
+pub fn bernstein_derivatives_into(n: usize, t: f64, out: &mut [f64]) {
+    for (r, row) in out.chunks_mut(n + 1).enumerate() {
+        row.fill(0.0);
+        if r > n {
+            continue;
+        }
+        // Start from B^{n−r}, then apply r times: c_i ← (k)(c_{i−1} − c_i)
+        // raising the degree k−1 → k (with c_{−1} = c_{k} = 0).
+        bernstein_all_into(t, &mut row[..=n - r]);
+        for k in n - r + 1..=n {
+            for i in (0..=k).rev() {
+                let left = if i > 0 { row[i - 1] } else { 0.0 };
+                let here = if i < k { row[i] } else { 0.0 };
+                row[i] = k as f64 * (left - here);
             }
-            // Start from B^{n−r}, then apply r times: c_i ← (k)(c_{i−1} − c_i)
-            // raising the degree k−1 → k (with c_{−1} = c_{k} = 0).
-            let low = bernstein_all(n - r, t);
-            out[..=n - r].copy_from_slice(&low);
-            for k in n - r + 1..=n {
-                for i in (0..=k).rev() {
-                    let left = if i > 0 { out[i - 1] } else { 0.0 };
-                    let here = if i < k { out[i] } else { 0.0 };
-                    out[i] = k as f64 * (left - here);
-                }
-            }
-            out
-        })
-        .collect()
+        }
+    }
 }
 
 /// The (n−r+1)×(n+1) matrix `D` taking the Bernstein coefficients of a

@@ -9,7 +9,8 @@ mod integral;
 pub mod polygon;
 
 pub use bernstein::{
-    bernstein, bernstein_all, bernstein_derivatives, binomial, derivative_matrix, elevation_matrix,
+    bernstein, bernstein_all, bernstein_all_into, bernstein_derivatives,
+    bernstein_derivatives_into, binomial, derivative_matrix, elevation_matrix,
 };
 pub use gauss::GaussLegendre;
 pub use integral::{gram_matrix, product_coefficients, product_integral, triple_product_integrals};

@@ -379,9 +379,11 @@ pub(crate) fn fairness_value(
     let ((au, av), w) = measure.unit();
     let mut total = 0.0;
     for &(pattern, c) in patterns {
+        // The pattern's product tables once for the three coordinates.
+        let form = PatternForm::new(degree, pattern, (&au, &av));
         for coord in 0..3 {
             let d = derivative_net(points, degree, pattern, coord);
-            total += c * pattern_value(degree, pattern, (&au, &av), &w, &d, &d);
+            total += c * form.value(&w, &d, &d);
         }
     }
     0.5 * weight * total

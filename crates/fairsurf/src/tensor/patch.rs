@@ -1,7 +1,7 @@
 //! Tensor-product Bézier patches
 //! `R(u, v) = Σ_{i=0}^{n} Σ_{j=0}^{m} B_i^n(u) B_j^m(v) P_ij`, (u, v) ∈ [0, 1]².
 
-use crate::basis::bernstein_derivatives;
+use crate::basis::{bernstein_derivatives, bernstein_derivatives_into};
 use crate::curve::{de_casteljau_split, elevate_points};
 use crate::vec3::{add, cross, is_finite, normalize, scale, Vec3};
 use crate::{Error, Result};
@@ -188,27 +188,30 @@ impl TensorPatch {
     ) {
         let (n, m) = self.degree;
         let top = orders.iter().map(|&(r, s)| r.max(s)).max().unwrap_or(0);
-        let bv: Vec<Vec<Vec<f64>>> = vs
-            .iter()
-            .map(|&v| bernstein_derivatives(m, v, top))
-            .collect();
+        // Flat tables, one allocation each: bv[(k, s, j)] = dˢB_j^m(v_k),
+        // bu[(r, i)] = dʳB_i^n(u), q[(r, j)] = Σ_i bu[(r, i)] P_ij.
+        let (bn, bm) = ((top + 1) * (n + 1), (top + 1) * (m + 1));
+        let mut bv = vec![0.0; vs.len() * bm];
+        for (&v, row) in vs.iter().zip(bv.chunks_mut(bm)) {
+            bernstein_derivatives_into(m, v, row);
+        }
+        let mut bu = vec![0.0; bn];
+        let mut q = vec![[0.0; 3]; bm];
         for &u in us {
-            let bu = bernstein_derivatives(n, u, top);
-            let q: Vec<Vec<Vec3>> = (0..=top)
-                .map(|r| {
-                    (0..=m)
-                        .map(|j| {
-                            (0..=n).fold([0.0; 3], |acc, i| {
-                                add(acc, scale(self.points[i * (m + 1) + j], bu[r][i]))
-                            })
-                        })
-                        .collect()
-                })
-                .collect();
-            for b in &bv {
+            bernstein_derivatives_into(n, u, &mut bu);
+            for r in 0..=top {
+                let w = &bu[r * (n + 1)..(r + 1) * (n + 1)];
+                for j in 0..=m {
+                    q[r * (m + 1) + j] = (0..=n).fold([0.0; 3], |acc, i| {
+                        add(acc, scale(self.points[i * (m + 1) + j], w[i]))
+                    });
+                }
+            }
+            for b in bv.chunks(bm) {
                 let mut vals = [[0.0; 3]; K];
                 for (val, &(r, s)) in vals.iter_mut().zip(&orders) {
-                    for (p, &w) in q[r].iter().zip(&b[s][..=m]) {
+                    let (qr, bs) = (&q[r * (m + 1)..], &b[s * (m + 1)..]);
+                    for (p, &w) in qr[..=m].iter().zip(&bs[..=m]) {
                         val[0] += p[0] * w;
                         val[1] += p[1] * w;
                         val[2] += p[2] * w;
