@@ -36,6 +36,7 @@ mod scene;
 mod step;
 mod surface_mesh;
 mod tensor_scene;
+mod tri_result;
 mod tri_scene;
 mod validate;
 
@@ -55,9 +56,9 @@ pub use tensor_scene::{
     EnergySpec, GuideSurfaceSpec, Method, Net, NormalFieldSpec, NumberOrGrid, SamplingSpec,
     SurfaceSpec, TensorScene, TensorSpec,
 };
+pub use tri_result::{tri_report_json, SolvedTriScene};
 pub use tri_scene::{
-    tri_report_json, BoundaryAngleSpec, ConstraintKind, ConstraintSpec, ContinuitySpec,
-    DomainPointSpec, EdgesSpec, SolvedTriScene, TriEnergySpec, TriScene, TriSurfaceSpec,
-    TriangularKind,
+    BoundaryAngleSpec, ConstraintKind, ConstraintSpec, ContinuitySpec, DomainPointSpec, EdgesSpec,
+    TriEnergySpec, TriScene, TriSurfaceSpec, TriangularKind,
 };
 pub use validate::{Built, Plan};

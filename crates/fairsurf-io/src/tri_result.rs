@@ -1,0 +1,257 @@
+//! Results of triangular scenes: the solved surface written back as a
+//! scene that solves again to it (the mesh refined by curve constraints,
+//! the constraints and operators moved onto it), and its report.
+
+use crate::tri_scene::{domain_point, operator, set_region};
+use crate::{
+    ConstraintKind, ConstraintSpec, DomainPointSpec, Error, OperatorKind, TriScene, TriSurfaceSpec,
+    TriangularKind,
+};
+use fairsurf::triangle::{Refinement, TriReport, TriSolution};
+use fairsurf::TriSurface;
+use serde_json::{json, Value};
+
+/// A solved triangular scene.
+#[derive(Clone, Debug)]
+pub struct SolvedTriScene {
+    /// The scene as read.
+    pub scene: TriScene,
+    /// The solution.
+    pub solution: TriSolution,
+}
+
+impl SolvedTriScene {
+    /// The solved surface.
+    pub fn surface(&self) -> &TriSurface {
+        &self.solution.surface
+    }
+
+    /// The result as a scene: the (refined) mesh with every control point,
+    /// the constraints moved onto the refined mesh (a curve becomes the
+    /// fixed control points of its chain edges, which is what it
+    /// amounts to), and the report. Solving it again gives the same surface.
+    pub fn result_scene(&self) -> TriScene {
+        let s = self.surface();
+        let mut out = self.scene.clone();
+        let vertices: Vec<[f64; 3]> = s.points()[..s.vertex_count()].to_vec();
+        out.surface = TriSurfaceSpec {
+            kind: TriangularKind::Triangular,
+            degree: s.degree(),
+            vertices,
+            triangles: s.triangles().to_vec(),
+            control_points: Some(s.points().to_vec()),
+        };
+        let refined = self
+            .scene
+            .constraints
+            .iter()
+            .any(|c| c.kind == ConstraintKind::Curve);
+        // Regions in the mesh's (x, y) become the per-patch pieces they were
+        // split into (the solved vertices have other (x, y)).
+        if let Ok(original) = self.scene.surface() {
+            for (i, o) in out.operators.iter_mut().enumerate() {
+                if let Ok(Some(pieces)) = operator(o, i).and_then(|op| {
+                    op.domain_pieces(&original)
+                        .map_err(|e| Error::scene(format!("operators[{i}]"), e.to_string()))
+                }) {
+                    set_region(o, pieces);
+                }
+            }
+        }
+        if refined {
+            let r = Refinement {
+                surface: s.clone(),
+                origin: self.solution.origin.clone(),
+            };
+            // Regions are clipped to the split patches; points move with
+            // the mesh. Edge and surface attractors are not carried over: a
+            // split edge is no longer one edge, and a split region no longer
+            // one triangle matching the attractor surface's corners.
+            let original = self.scene.surface().ok();
+            let mut kept = Vec::new();
+            for (i, mut o) in self.scene.operators.iter().cloned().enumerate() {
+                if o.edge.is_some() || o.kind == OperatorKind::SurfaceAttractor {
+                    continue;
+                }
+                if o.region.is_some() || o.domain_region.is_some() {
+                    let pieces = match (&original, operator(&o, i)) {
+                        (Some(orig), Ok(op)) => op.refined_region(orig, &r).ok().flatten(),
+                        _ => None,
+                    };
+                    let Some(pieces) = pieces else { continue };
+                    set_region(&mut o, pieces);
+                }
+                kept.push(o);
+            }
+            out.operators = kept;
+            for o in &mut out.operators {
+                if let Some(at) = o.at {
+                    o.at = r.locate(domain_point(at)).map(|p| DomainPointSpec {
+                        triangle: p.triangle,
+                        bary: p.bary,
+                    });
+                }
+            }
+            let mut constraints = Vec::new();
+            for c in &self.scene.constraints {
+                let mut c = c.clone();
+                match c.kind {
+                    ConstraintKind::Curve => continue,
+                    ConstraintKind::Fixed => {
+                        // Fixed points are stated by value: after refinement
+                        // their indices change; the boundary fix and the
+                        // curves' chains below keep the values.
+                        continue;
+                    }
+                    _ => {
+                        if let Some(at) = c.at {
+                            c.at = r.locate(domain_point(at)).map(|p| DomainPointSpec {
+                                triangle: p.triangle,
+                                bary: p.bary,
+                            });
+                        }
+                    }
+                }
+                constraints.push(c);
+            }
+            // Every point the solve held fixed keeps its value (the
+            // boundary is fixed again by `fix_boundary`).
+            let boundary = if self.scene.fix_boundary {
+                s.boundary_points()
+            } else {
+                Vec::new()
+            };
+            for (g, p) in fixed_points(&self.solution) {
+                if boundary.binary_search(&g).is_ok() {
+                    continue;
+                }
+                constraints.push(ConstraintSpec {
+                    kind: ConstraintKind::Fixed,
+                    name: Some(format!("fixed point {g}")),
+                    index: Some(g),
+                    value: Some(p),
+                    ..blank(ConstraintKind::Fixed)
+                });
+            }
+            out.constraints = constraints;
+        }
+        out.report = Some(self.report_json());
+        out
+    }
+
+    /// The `"report"` object, with the [`Self::notes`].
+    pub fn report_json(&self) -> Value {
+        let mut r = tri_report_json(&self.solution.report);
+        r["notes"] = json!(self.notes());
+        r
+    }
+
+    /// What the result's reader should know: a fold inside a patch, when
+    /// the normal turns by more than 90° between neighbouring samples.
+    pub fn notes(&self) -> Vec<String> {
+        let fold = self.solution.report.normal_turn.filter(|t| t.is_fold());
+        fold.map(|t| {
+            format!(
+                "the surface folds: its normal turns by {:.1}° between neighbouring samples \
+                 of patch {} near barycentric ({:.3}, {:.3}, {:.3}); lower the operators' \
+                 strengths or move their targets",
+                t.angle.to_degrees(),
+                t.patch,
+                t.at[0],
+                t.at[1],
+                t.at[2]
+            )
+        })
+        .into_iter()
+        .collect()
+    }
+}
+
+/// The points the solve held fixed, with their values.
+fn fixed_points(solution: &TriSolution) -> Vec<(usize, [f64; 3])> {
+    solution
+        .fixed
+        .iter()
+        .map(|&g| (g, solution.surface.points()[g]))
+        .collect()
+}
+
+fn blank(kind: ConstraintKind) -> ConstraintSpec {
+    ConstraintSpec {
+        kind,
+        name: None,
+        at: None,
+        target: None,
+        normal: None,
+        offset: None,
+        point: None,
+        direction: None,
+        index: None,
+        value: None,
+        control_points: None,
+        from: None,
+        to: None,
+        through: None,
+    }
+}
+
+/// A [`TriReport`] as JSON.
+pub fn tri_report_json(r: &TriReport) -> Value {
+    let rows = |d: &[fairsurf::triangle::DroppedRow]| -> Vec<Value> {
+        d.iter()
+            .map(|x| json!({"name": x.name, "residual": x.residual}))
+            .collect()
+    };
+    let kkt = r.kkt.as_ref();
+    let mut o = json!({
+        "energy": r.total,
+        "terms": {"stretch": r.stretch, "bend": r.bend},
+        "mesh": {"patches": r.patches, "vertices": r.vertices, "control_points": r.points},
+        "unknowns": r.unknowns,
+        "fixed_coordinates": r.fixed_coordinates,
+        "constraint_rows": {
+            "total": r.rows,
+            "independent": r.independent_rows,
+            "dependent": r.dependent_rows,
+        },
+        "dropped_continuity": rows(&r.dropped),
+        "inconsistent": rows(&r.inconsistent),
+        "constraints": crate::constraints::outcomes_json(&r.constraints),
+        "max_violation": r.max_violation,
+        "external": r.external,
+        "operators": crate::operators::outcomes_json(&r.operators),
+        "newton": crate::operators::newton_json(r.newton.as_ref()),
+        "continuity_residual": r.continuity_residual,
+        "unenforced_continuity_residual": r.unenforced_residual,
+        "row_tolerance": r.row_tolerance,
+        "max_edge_normal_angle_rad": r.max_edge_normal_angle.map(|(a, _)| a),
+        "max_edge_normal_angle_at": r.max_edge_normal_angle.map(|(_, e)| e),
+        "max_normal_turn_deg": r.normal_turn.map(|t| crate::result::normal_turn_json(
+            t.angle, json!({"patch": t.patch, "bary": t.at}), t.is_fold())),
+        "gradient_norm": r.gradient_norm,
+        "relative_gradient": r.relative_gradient,
+        "residual": kkt.map(|k| k.relative_residual),
+        "condition_estimate": kkt.and_then(|k| crate::result::finite(k.condition)),
+        "refinement_steps": kkt.map_or(0, |k| k.refinement_steps),
+        "kkt": kkt.map(|k| json!({
+            "size": k.size,
+            "factorization": k.factorization.name(),
+            "per_coordinate": k.per_coordinate,
+            "reused_symbolic": k.reused_symbolic,
+            "factor_nonzeros": k.factor_nonzeros,
+            "delta": k.delta,
+        })),
+        "timings_s": {
+            "refine": r.seconds.refine,
+            "assemble": r.seconds.assemble,
+            "classify": r.seconds.classify,
+            "solve": r.seconds.solve,
+            "total": r.seconds.total,
+        },
+        "fairsurf_version": env!("CARGO_PKG_VERSION"),
+    });
+    if let Some(c) = &r.check {
+        o["check"] = crate::result::check_json(c);
+    }
+    o
+}
