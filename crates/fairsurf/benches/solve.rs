@@ -137,3 +137,23 @@ fn hole_fill_quintic(analyse: bool) -> fairsurf::Solution {
         .solve_with(&opts)
         .unwrap()
 }
+
+/// A bicubic B-spline of c × c control points over uniform knots, two
+/// rings fixed (a wavy boundary), the thin plate: sparse Cholesky of the
+/// 3(c − 4)² unknowns and the energy's second road.
+#[divan::bench(args = [50, 100, 200], sample_count = 3)]
+fn bspline_bend(bencher: divan::Bencher, c: usize) {
+    use fairsurf::bspline::{BSplineProblem, BSplineSurface, KnotVector};
+    let k = KnotVector::uniform(3, c - 3);
+    let points = (0..c * c)
+        .map(|q| {
+            let (i, j) = ((q / c) as f64, (q % c) as f64);
+            [i, j, (0.3 * i).sin() * (0.2 * j).cos()]
+        })
+        .collect();
+    let surface = BSplineSurface::new(k.clone(), k, points).unwrap();
+    let problem = BSplineProblem::new(surface)
+        .with_fixed_rings(2)
+        .with_bend(1.0);
+    bencher.bench(|| problem.solve().unwrap());
+}

@@ -18,6 +18,13 @@ pub enum Error {
     /// A Bézier curve needs at least one control point.
     #[error("a Bézier curve needs at least one control point")]
     EmptyCurve,
+    /// A knot vector breaks a rule of clamped B-splines (see
+    /// [`crate::bspline::KnotVector::new`]).
+    #[error("knots: {why}")]
+    Knots {
+        /// Which rule, at which knot.
+        why: String,
+    },
     /// A number that must be finite is NaN or infinite.
     #[error("{what} is not finite")]
     NotFinite {

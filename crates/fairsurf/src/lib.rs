@@ -45,6 +45,7 @@ mod vec3;
 
 pub mod analysis;
 pub mod basis;
+pub mod bspline;
 pub mod budget;
 pub mod colour;
 pub mod constraint;

@@ -1,0 +1,276 @@
+//! Clamped knot vectors and their B-spline basis (de Boor; Piegl & Tiller,
+//! *The NURBS Book*, A2.1–A2.3 and A5.1).
+
+use crate::{Error, Result};
+
+/// A clamped knot vector `U = (u₀ ≤ u₁ ≤ … ≤ u_{c+p})` of degree p for c
+/// basis functions: the first and last knots repeated exactly p + 1 times,
+/// interior knots at most p times (so every basis function is continuous),
+/// nondecreasing and finite. The domain is [u_p, u_c].
+#[derive(Clone, Debug, PartialEq)]
+pub struct KnotVector {
+    degree: usize,
+    knots: Vec<f64>,
+}
+
+/// The error for a knot vector.
+fn bad(why: String) -> Error {
+    Error::Knots { why }
+}
+
+impl KnotVector {
+    /// Checks and wraps `knots` of `degree` p ≥ 1. Errors say which rule
+    /// fails and at which knot: length at least 2(p + 1), finite,
+    /// nondecreasing, end multiplicity exactly p + 1, interior multiplicity
+    /// at most p.
+    pub fn new(degree: usize, knots: Vec<f64>) -> Result<Self> {
+        let p = degree;
+        if p == 0 {
+            return Err(bad("the degree must be at least 1".into()));
+        }
+        if knots.len() < 2 * (p + 1) {
+            return Err(bad(format!(
+                "a clamped knot vector of degree {p} has at least {} knots (p + 1 at each end), got {}",
+                2 * (p + 1),
+                knots.len()
+            )));
+        }
+        if let Some(i) = knots.iter().position(|u| !u.is_finite()) {
+            return Err(bad(format!("knot {i} is not finite")));
+        }
+        if let Some(i) = (1..knots.len()).find(|&i| knots[i] < knots[i - 1]) {
+            return Err(bad(format!(
+                "knot {i} ({}) is below knot {} ({}): knots must not decrease",
+                knots[i],
+                i - 1,
+                knots[i - 1]
+            )));
+        }
+        let (first, last) = (knots[0], knots[knots.len() - 1]);
+        let start = knots.iter().take_while(|&&u| u == first).count();
+        let end = knots.iter().rev().take_while(|&&u| u == last).count();
+        if first == last {
+            return Err(bad(format!(
+                "every knot is {first}: the domain [u_p, u_c] is empty"
+            )));
+        }
+        for (what, m) in [("first", start), ("last", end)] {
+            if m != p + 1 {
+                return Err(bad(format!(
+                    "the {what} knot is repeated {m} times; a clamped knot vector of degree {p} \
+                     repeats it exactly {} times",
+                    p + 1
+                )));
+            }
+        }
+        let mut i = start;
+        while i < knots.len() - end {
+            let m = knots[i..].iter().take_while(|&&u| u == knots[i]).count();
+            if m > p {
+                return Err(bad(format!(
+                    "knot {i} ({}) is repeated {m} times; interior knots may repeat at most \
+                     {p} times (the degree) or the surface tears there",
+                    knots[i]
+                )));
+            }
+            i += m;
+        }
+        Ok(Self { degree, knots })
+    }
+
+    /// No interior knots on [0, 1]: the Bernstein basis of degree p.
+    pub fn bezier(degree: usize) -> Self {
+        let mut knots = vec![0.0; degree + 1];
+        knots.extend(std::iter::repeat_n(1.0, degree + 1));
+        Self { degree, knots }
+    }
+
+    /// `spans` equal spans on [0, 1], interior knots simple.
+    pub fn uniform(degree: usize, spans: usize) -> Self {
+        let spans = spans.max(1);
+        let mut knots = vec![0.0; degree + 1];
+        knots.extend((1..spans).map(|k| k as f64 / spans as f64));
+        knots.extend(std::iter::repeat_n(1.0, degree + 1));
+        Self { degree, knots }
+    }
+
+    /// The degree p.
+    pub fn degree(&self) -> usize {
+        self.degree
+    }
+
+    /// The knots.
+    pub fn knots(&self) -> &[f64] {
+        &self.knots
+    }
+
+    /// The number of basis functions (control points in this direction).
+    pub fn count(&self) -> usize {
+        self.knots.len() - self.degree - 1
+    }
+
+    /// The domain [u_p, u_c].
+    pub fn domain(&self) -> (f64, f64) {
+        (self.knots[self.degree], self.knots[self.count()])
+    }
+
+    /// The span k (p ≤ k < c) with u_k ≤ t < u_{k+1}; t is clamped to the
+    /// domain and its right end belongs to the last span (A2.1).
+    pub fn span(&self, t: f64) -> usize {
+        let (p, c) = (self.degree, self.count());
+        let (a, b) = self.domain();
+        if t >= b {
+            return c - 1;
+        }
+        let t = t.max(a);
+        // The last k in [p, c) with u_k ≤ t.
+        p + self.knots[p + 1..c].partition_point(|&u| u <= t)
+    }
+
+    /// The spans with nonzero length, in order: (k, u_k, u_{k+1}).
+    pub fn spans(&self) -> Vec<(usize, f64, f64)> {
+        (self.degree..self.count())
+            .filter(|&k| self.knots[k] < self.knots[k + 1])
+            .map(|k| (k, self.knots[k], self.knots[k + 1]))
+            .collect()
+    }
+
+    /// How many times `t` occurs among the knots.
+    pub fn multiplicity(&self, t: f64) -> usize {
+        self.knots.iter().filter(|&&u| u == t).count()
+    }
+
+    /// `out[r][j]` = the r-th derivative of N_{k−p+j} at t, for r ≤ `order`
+    /// and j = 0..=p, in span k (A2.3; derivatives above p are 0).
+    pub fn basis_derivatives(&self, k: usize, t: f64, order: usize) -> Vec<Vec<f64>> {
+        let p = self.degree;
+        let u = &self.knots;
+        // ndu[j][r]: basis functions (upper triangle) and knot differences.
+        let mut ndu = vec![vec![0.0; p + 1]; p + 1];
+        let (mut left, mut right) = (vec![0.0; p + 1], vec![0.0; p + 1]);
+        ndu[0][0] = 1.0;
+        for j in 1..=p {
+            left[j] = t - u[k + 1 - j];
+            right[j] = u[k + j] - t;
+            let mut saved = 0.0;
+            for r in 0..j {
+                ndu[j][r] = right[r + 1] + left[j - r];
+                let temp = ndu[r][j - 1] / ndu[j][r];
+                ndu[r][j] = saved + right[r + 1] * temp;
+                saved = left[j - r] * temp;
+            }
+            ndu[j][j] = saved;
+        }
+        let mut ders = vec![vec![0.0; p + 1]; order + 1];
+        for j in 0..=p {
+            ders[0][j] = ndu[j][p];
+        }
+        let mut a = [vec![0.0; p + 1], vec![0.0; p + 1]];
+        for r in 0..=p {
+            let (mut s1, mut s2) = (0, 1);
+            a[0][0] = 1.0;
+            for kk in 1..=order.min(p) {
+                let mut d = 0.0;
+                let rk = r as isize - kk as isize;
+                let pk = p - kk;
+                if r >= kk {
+                    a[s2][0] = a[s1][0] / ndu[pk + 1][r - kk];
+                    d = a[s2][0] * ndu[r - kk][pk];
+                }
+                let j1 = if rk >= -1 { 1 } else { (-rk) as usize };
+                let j2 = if r <= pk + 1 { kk - 1 } else { p - r };
+                for j in j1..=j2 {
+                    let idx = (rk + j as isize) as usize;
+                    a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][idx];
+                    d += a[s2][j] * ndu[idx][pk];
+                }
+                if r <= pk {
+                    a[s2][kk] = -a[s1][kk - 1] / ndu[pk + 1][r];
+                    d += a[s2][kk] * ndu[r][pk];
+                }
+                ders[kk][r] = d;
+                std::mem::swap(&mut s1, &mut s2);
+            }
+        }
+        let mut factor = p as f64;
+        for (kk, row) in ders.iter_mut().enumerate().skip(1) {
+            if kk > p {
+                row.fill(0.0);
+                continue;
+            }
+            for x in row.iter_mut() {
+                *x *= factor;
+            }
+            factor *= (p - kk) as f64;
+        }
+        ders
+    }
+
+    /// Inserts `t` once (Boehm; A5.1): the new knot vector and the new
+    /// coefficients, `dim` numbers per coefficient in `coefficients` (the
+    /// same spline, exactly up to rounding). Refused outside the open
+    /// domain or where `t` already has multiplicity p.
+    pub fn insert(
+        &self,
+        t: f64,
+        coefficients: &[f64],
+        dim: usize,
+    ) -> Result<(KnotVector, Vec<f64>)> {
+        let p = self.degree;
+        let (a, b) = self.domain();
+        if !(t > a && t < b) {
+            return Err(bad(format!(
+                "cannot insert {t}: knots are inserted inside the domain ({a}, {b})"
+            )));
+        }
+        let s = self.multiplicity(t);
+        if s >= p {
+            return Err(bad(format!(
+                "cannot insert {t}: it is already a knot of multiplicity {s}, the most a \
+                 degree-{p} spline keeps continuous"
+            )));
+        }
+        let k = self.span(t);
+        let u = &self.knots;
+        let c = self.count();
+        let mut out = Vec::with_capacity((c + 1) * dim);
+        for i in 0..=c {
+            let row = |i: usize| &coefficients[i * dim..(i + 1) * dim];
+            if i + p <= k {
+                out.extend_from_slice(row(i));
+            } else if i > k - s {
+                out.extend_from_slice(row(i - 1));
+            } else {
+                let alpha = (t - u[i]) / (u[i + p] - u[i]);
+                let (pi, pm) = (row(i), row(i - 1));
+                out.extend((0..dim).map(|d| alpha * pi[d] + (1.0 - alpha) * pm[d]));
+            }
+        }
+        let mut knots = u.clone();
+        knots.insert(k + 1, t);
+        Ok((KnotVector { degree: p, knots }, out))
+    }
+
+    /// The interior knots each raised to multiplicity p: the knot vector of
+    /// the Bézier pieces, and the matrix E (rows: Bézier coefficients
+    /// p·s + j of span s, columns: B-spline coefficients) with
+    /// bézier = E · coefficients.
+    pub(crate) fn extraction(&self) -> (KnotVector, Vec<Vec<f64>>) {
+        let c = self.count();
+        // The identity as c coefficients of dimension c, refined.
+        let mut coeffs: Vec<f64> = (0..c * c)
+            .map(|k| if k / c == k % c { 1.0 } else { 0.0 })
+            .collect();
+        let mut kv = self.clone();
+        let interior: Vec<f64> = self.spans().iter().skip(1).map(|&(_, a, _)| a).collect();
+        for t in interior {
+            while kv.multiplicity(t) < self.degree {
+                let (k2, c2) = kv.insert(t, &coeffs, c).expect("an interior knot below p");
+                kv = k2;
+                coeffs = c2;
+            }
+        }
+        let rows = coeffs.chunks(c).map(<[f64]>::to_vec).collect();
+        (kv, rows)
+    }
+}

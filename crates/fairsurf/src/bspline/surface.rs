@@ -1,0 +1,224 @@
+//! Tensor-product B-spline surfaces `R(u, v) = Σ N_i^p(u) N_j^q(v) P_ij`:
+//! evaluation and derivatives (de Boor), knot insertion, and the Bézier
+//! patches they consist of.
+
+use super::KnotVector;
+use crate::vec3::{is_finite, Vec3};
+use crate::{Error, Result, SurfaceDerivatives, TensorPatch};
+
+/// A tensor-product B-spline surface: clamped knot vectors in u and v and
+/// a net of `count_u × count_v` control points, row i with u (as
+/// [`TensorPatch`]). A Bézier patch is the case without interior knots.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BSplineSurface {
+    u: KnotVector,
+    v: KnotVector,
+    points: Vec<Vec3>,
+}
+
+/// One Bézier piece of a B-spline surface: its parameter rectangle and the
+/// patch over it (in local parameters s = (u − u0)/(u1 − u0), t likewise).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BezierPiece {
+    /// [u0, u1].
+    pub u: (f64, f64),
+    /// [v0, v1].
+    pub v: (f64, f64),
+    /// The patch over the rectangle.
+    pub patch: TensorPatch,
+}
+
+impl BSplineSurface {
+    /// The surface with knot vectors `u`, `v` and `points` (row-major,
+    /// `u.count() × v.count()`); errors name a wrong count or a point that
+    /// is not finite.
+    pub fn new(u: KnotVector, v: KnotVector, points: Vec<Vec3>) -> Result<Self> {
+        let (cu, cv) = (u.count(), v.count());
+        if points.len() != cu * cv {
+            return Err(Error::Mismatch {
+                what: "B-spline control points".into(),
+                expected: format!("{cu} × {cv} = {} (the knot vectors' counts)", cu * cv),
+                got: points.len().to_string(),
+            });
+        }
+        if let Some(k) = points.iter().position(|p| !is_finite(*p)) {
+            return Err(Error::NotFinite {
+                what: format!("control point ({}, {})", k / cv, k % cv),
+            });
+        }
+        Ok(Self { u, v, points })
+    }
+
+    /// The Bézier patch as a B-spline without interior knots.
+    pub fn from_bezier(patch: &TensorPatch) -> Self {
+        let (n, m) = patch.degree();
+        Self {
+            u: KnotVector::bezier(n),
+            v: KnotVector::bezier(m),
+            points: patch.points().to_vec(),
+        }
+    }
+
+    /// The knot vectors (u, v).
+    pub fn knots(&self) -> (&KnotVector, &KnotVector) {
+        (&self.u, &self.v)
+    }
+
+    /// The degrees (p, q).
+    pub fn degree(&self) -> (usize, usize) {
+        (self.u.degree(), self.v.degree())
+    }
+
+    /// Control points in u and in v.
+    pub fn counts(&self) -> (usize, usize) {
+        (self.u.count(), self.v.count())
+    }
+
+    /// The control points, row-major.
+    pub fn points(&self) -> &[Vec3] {
+        &self.points
+    }
+
+    /// P_ij.
+    pub fn point(&self, i: usize, j: usize) -> Vec3 {
+        self.points[i * self.v.count() + j]
+    }
+
+    /// The same surface with other control points (same count).
+    pub(crate) fn with_points(&self, points: Vec<Vec3>) -> Self {
+        debug_assert_eq!(points.len(), self.points.len());
+        Self {
+            points,
+            ..self.clone()
+        }
+    }
+
+    /// R(u, v).
+    pub fn eval(&self, u: f64, v: f64) -> Vec3 {
+        self.partials(u, v, 0)[0][0]
+    }
+
+    /// R and its first and second partial derivatives at (u, v).
+    pub fn derivatives(&self, u: f64, v: f64) -> SurfaceDerivatives {
+        let d = self.partials(u, v, 2);
+        SurfaceDerivatives {
+            point: d[0][0],
+            du: d[1][0],
+            dv: d[0][1],
+            duu: d[2][0],
+            duv: d[1][1],
+            dvv: d[0][2],
+        }
+    }
+
+    /// The unit normal R_u × R_v / |R_u × R_v|, `None` where not regular.
+    pub fn normal(&self, u: f64, v: f64) -> Option<Vec3> {
+        self.derivatives(u, v).normal()
+    }
+
+    /// `out[r][s]` = ∂^(r+s)R/∂u^r∂v^s for r + s ≤ `order` (A3.6).
+    fn partials(&self, u: f64, v: f64, order: usize) -> Vec<Vec<Vec3>> {
+        let (p, q) = self.degree();
+        let (ku, kv) = (self.u.span(u), self.v.span(v));
+        let nu = self.u.basis_derivatives(ku, u, order);
+        let nv = self.v.basis_derivatives(kv, v, order);
+        let cv = self.v.count();
+        let mut out = vec![vec![[0.0; 3]; order + 1]; order + 1];
+        for (r, nur) in nu.iter().enumerate() {
+            // temp[j] = Σ_i N_i^(r)(u) P_{ku−p+i, kv−q+j}
+            let temp: Vec<Vec3> = (0..=q)
+                .map(|j| {
+                    (0..=p).fold([0.0; 3], |acc, i| {
+                        let pt = self.points[(ku - p + i) * cv + kv - q + j];
+                        let w = nur[i];
+                        [acc[0] + w * pt[0], acc[1] + w * pt[1], acc[2] + w * pt[2]]
+                    })
+                })
+                .collect();
+            for (s, nvs) in nv.iter().enumerate().take(order + 1 - r) {
+                out[r][s] = temp.iter().zip(nvs).fold([0.0; 3], |acc, (t, &w)| {
+                    [acc[0] + w * t[0], acc[1] + w * t[1], acc[2] + w * t[2]]
+                });
+            }
+        }
+        out
+    }
+
+    /// The same surface with `t` inserted into the u-knots (one more row
+    /// of control points).
+    pub fn insert_knot_u(&self, t: f64) -> Result<Self> {
+        let (cu, cv) = self.counts();
+        // Columns as coefficients of dimension 3·cv (row i is coefficient i).
+        let flat: Vec<f64> = self.points.iter().flatten().copied().collect();
+        let (u, out) = self.u.insert(t, &flat, 3 * cv)?;
+        debug_assert_eq!(out.len(), (cu + 1) * cv * 3);
+        Ok(Self {
+            u,
+            v: self.v.clone(),
+            points: out.chunks(3).map(|c| [c[0], c[1], c[2]]).collect(),
+        })
+    }
+
+    /// The same surface with `t` inserted into the v-knots.
+    pub fn insert_knot_v(&self, t: f64) -> Result<Self> {
+        Ok(self.transposed().insert_knot_u(t)?.transposed())
+    }
+
+    /// u and v exchanged.
+    pub fn transposed(&self) -> Self {
+        let (cu, cv) = self.counts();
+        Self {
+            u: self.v.clone(),
+            v: self.u.clone(),
+            points: (0..cv)
+                .flat_map(|j| (0..cu).map(move |i| (i, j)))
+                .map(|(i, j)| self.points[i * cv + j])
+                .collect(),
+        }
+    }
+
+    /// The same surface with every knot of `us` inserted in u and of `vs`
+    /// in v (knot refinement).
+    pub fn refined(&self, us: &[f64], vs: &[f64]) -> Result<Self> {
+        let mut s = self.clone();
+        for &t in us {
+            s = s.insert_knot_u(t)?;
+        }
+        for &t in vs {
+            s = s.insert_knot_v(t)?;
+        }
+        Ok(s)
+    }
+
+    /// The Bézier patches the surface consists of, span by span, u-major
+    /// (interior knots raised to multiplicity p, resp. q).
+    pub fn bezier_pieces(&self) -> Vec<BezierPiece> {
+        let (p, q) = self.degree();
+        let (eu, ev) = (self.u.extraction().1, self.v.extraction().1);
+        let (su, sv) = (self.u.spans(), self.v.spans());
+        let mut out = Vec::with_capacity(su.len() * sv.len());
+        for (a, &(ku, u0, u1)) in su.iter().enumerate() {
+            for (b, &(kv, v0, v1)) in sv.iter().enumerate() {
+                // Span (ku, kv)'s pieces depend on P_kl, ku − p ≤ k ≤ ku,
+                // kv − q ≤ l ≤ kv only.
+                let patch = TensorPatch::from_fn(p, q, |i, j| {
+                    let (ru, rv) = (&eu[a * p + i], &ev[b * q + j]);
+                    let mut acc = [0.0; 3];
+                    for k in ku - p..=ku {
+                        for l in kv - q..=kv {
+                            let (pt, w) = (self.point(k, l), ru[k] * rv[l]);
+                            acc = [acc[0] + w * pt[0], acc[1] + w * pt[1], acc[2] + w * pt[2]];
+                        }
+                    }
+                    acc
+                });
+                out.push(BezierPiece {
+                    u: (u0, u1),
+                    v: (v0, v1),
+                    patch,
+                });
+            }
+        }
+        out
+    }
+}

@@ -1,0 +1,346 @@
+//! Facts about B-spline surfaces: the knot rules name what breaks them;
+//! the basis sums to one and its derivatives are the difference quotients'
+//! limits; knot insertion and the Bézier pieces leave the surface as it
+//! is; the energies equal the Bézier pieces' closed forms; two fixed rings
+//! of a biharmonic polynomial give that polynomial back at any knots;
+//! refinement never raises the minimum.
+
+use super::energy::{energy_by_pieces, energy_by_quadrature, patterns};
+use super::*;
+use crate::{Error, TensorPatch, Vec3};
+
+fn knots(p: usize, k: &[f64]) -> KnotVector {
+    KnotVector::new(p, k.to_vec()).unwrap()
+}
+
+/// Nonuniform cubic knots with a double interior knot, and quadratic ones.
+fn uneven() -> (KnotVector, KnotVector) {
+    (
+        knots(3, &[0., 0., 0., 0., 0.2, 0.5, 0.5, 0.9, 1., 1., 1., 1.]),
+        knots(3, &[0., 0., 0., 0., 0.35, 0.6, 1., 1., 1., 1.]),
+    )
+}
+
+/// A pseudo-random number in [−1, 1).
+fn noise(k: usize) -> f64 {
+    let x = (k as f64 * 12.9898 + 78.233).sin() * 43758.5453;
+    2.0 * (x - x.floor()) - 1.0
+}
+
+fn wavy(u: KnotVector, v: KnotVector) -> BSplineSurface {
+    let (cu, cv) = (u.count(), v.count());
+    let points = (0..cu * cv)
+        .map(|k| {
+            let (i, j) = (k / cv, k % cv);
+            [
+                i as f64 + 0.2 * noise(3 * k),
+                j as f64 + 0.2 * noise(3 * k + 1),
+                noise(3 * k + 2),
+            ]
+        })
+        .collect();
+    BSplineSurface::new(u, v, points).unwrap()
+}
+
+fn dist(a: Vec3, b: Vec3) -> f64 {
+    (0..3).map(|c| (a[c] - b[c]).abs()).fold(0.0, f64::max)
+}
+
+fn grid() -> impl Iterator<Item = (f64, f64)> {
+    (0..=12).flat_map(|i| (0..=12).map(move |j| (i as f64 / 12.0, j as f64 / 12.0)))
+}
+
+#[test]
+fn knot_rules_name_what_breaks_them() {
+    let why = |p: usize, k: &[f64]| match KnotVector::new(p, k.to_vec()) {
+        Err(Error::Knots { why }) => why,
+        other => panic!("{other:?}"),
+    };
+    assert!(why(0, &[0., 1.]).contains("at least 1"));
+    assert!(why(3, &[0., 0., 0., 1., 1., 1.]).contains("at least 8 knots"));
+    assert!(why(2, &[0., 0., 0., f64::NAN, 1., 1., 1.]).contains("knot 3 is not finite"));
+    assert!(
+        why(2, &[0., 0., 0., 0.7, 0.3, 1., 1., 1.]).contains("knot 4 (0.3) is below knot 3 (0.7)")
+    );
+    assert!(why(2, &[0., 0., 0.5, 1., 1., 1.]).contains("first knot is repeated 2 times"));
+    assert!(why(2, &[0., 0., 0., 0., 1., 1., 1.]).contains("first knot is repeated 4 times"));
+    assert!(why(2, &[0., 0., 0., 0.5, 1., 1.]).contains("last knot is repeated 2 times"));
+    assert!(why(2, &[0., 0., 0., 0.5, 0.5, 0.5, 1., 1., 1.])
+        .contains("knot 3 (0.5) is repeated 3 times"));
+    assert!(why(1, &[2., 2., 2., 2.]).contains("empty"));
+    // At the limits: interior multiplicity p is allowed.
+    assert_eq!(knots(2, &[0., 0., 0., 0.5, 0.5, 1., 1., 1.]).count(), 5);
+    let s = BSplineSurface::new(
+        KnotVector::bezier(2),
+        KnotVector::bezier(2),
+        vec![[0.0; 3]; 8],
+    );
+    assert!(matches!(s, Err(Error::Mismatch { .. })), "{s:?}");
+}
+
+#[test]
+fn the_basis_sums_to_one_and_its_derivatives_are_limits_of_differences() {
+    let (u, _) = uneven();
+    let h = 1e-6;
+    for k in 0..=40 {
+        let t = k as f64 / 40.0;
+        let span = u.span(t);
+        let d = u.basis_derivatives(span, t, 3);
+        assert!((d[0].iter().sum::<f64>() - 1.0).abs() < 1e-15, "t = {t}");
+        assert!(d[0].iter().all(|&b| b >= 0.0));
+        assert!(d[1].iter().sum::<f64>().abs() < 1e-12 && d[2].iter().sum::<f64>().abs() < 1e-10);
+        // Central differences inside a span (the basis is a polynomial there).
+        let (a, b) = (u.knots()[span], u.knots()[span + 1]);
+        if t - h > a && t + h < b {
+            let (lo, hi) = (
+                u.basis_derivatives(span, t - h, 2),
+                u.basis_derivatives(span, t + h, 2),
+            );
+            for r in 0..2 {
+                for j in 0..=3 {
+                    let fd = (hi[r][j] - lo[r][j]) / (2.0 * h);
+                    assert!(
+                        (fd - d[r + 1][j]).abs() < 1e-6 * (1.0 + d[r + 1][j].abs()),
+                        "r {r} j {j} t {t}"
+                    );
+                }
+            }
+        }
+    }
+    // No interior knots: the Bernstein polynomials.
+    let b = KnotVector::bezier(4);
+    let d = b.basis_derivatives(b.span(0.3), 0.3, 0);
+    let bern = crate::basis::bernstein_all(4, 0.3);
+    assert!(d[0].iter().zip(&bern).all(|(x, y)| (x - y).abs() < 1e-16));
+}
+
+#[test]
+fn a_bezier_patch_is_a_bspline_without_interior_knots() {
+    let p = TensorPatch::from_fn(3, 2, |i, j| [i as f64, j as f64, noise(7 * i + j)]);
+    let s = BSplineSurface::from_bezier(&p);
+    for (u, v) in grid() {
+        assert!(dist(s.eval(u, v), p.eval(u, v)) < 1e-14);
+        let (a, b) = (s.derivatives(u, v), p.derivatives(u, v));
+        for (x, y) in [
+            (a.du, b.du),
+            (a.dv, b.dv),
+            (a.duu, b.duu),
+            (a.duv, b.duv),
+            (a.dvv, b.dvv),
+        ] {
+            assert!(dist(x, y) < 1e-12, "({u}, {v})");
+        }
+    }
+    // Its energies are the tensor patch's closed forms.
+    let (d, b) = (
+        crate::analysis::dirichlet(&p),
+        crate::analysis::biharmonic(&p),
+    );
+    assert!((s.dirichlet() - d).abs() < 1e-13 * d && (s.biharmonic() - b).abs() < 1e-13 * b);
+}
+
+#[test]
+fn knot_insertion_and_bezier_pieces_leave_the_surface_as_it_is() {
+    let (u, v) = uneven();
+    let s = wavy(u, v);
+    let r = s
+        .refined(&[0.1, 0.5, 0.77, 0.77], &[0.35, 0.5, 0.99])
+        .unwrap();
+    assert_eq!(r.counts(), (s.counts().0 + 4, s.counts().1 + 3));
+    let size = 10.0;
+    for (a, b) in grid() {
+        assert!(
+            dist(s.eval(a, b), r.eval(a, b)) < 1e-14 * size,
+            "({a}, {b})"
+        );
+        let (x, y) = (s.derivatives(a, b), r.derivatives(a, b));
+        assert!(dist(x.du, y.du) < 1e-12 * size && dist(x.duv, y.duv) < 1e-10 * size);
+    }
+    // Refused: outside the open domain, and beyond multiplicity p.
+    assert!(matches!(s.insert_knot_u(1.0), Err(Error::Knots { .. })));
+    assert!(
+        matches!(r.insert_knot_u(0.5), Err(Error::Knots { why }) if why.contains("multiplicity 3"))
+    );
+    // Every Bézier piece is the surface over its rectangle.
+    let pieces = s.bezier_pieces();
+    assert_eq!(pieces.len(), 4 * 3);
+    for piece in &pieces {
+        let (hu, hv) = (piece.u.1 - piece.u.0, piece.v.1 - piece.v.0);
+        for (a, b) in grid() {
+            let q = piece.patch.eval(a, b);
+            assert!(dist(q, s.eval(piece.u.0 + a * hu, piece.v.0 + b * hv)) < 1e-13 * size);
+        }
+    }
+}
+
+#[test]
+fn energies_equal_the_bezier_pieces_closed_forms() {
+    let (u, v) = uneven();
+    let s = wavy(u, v);
+    for (ws, wb) in [(1.0, 0.0), (0.0, 1.0), (0.3, 2.5)] {
+        let pats = patterns(ws, wb);
+        let gauss = energy_by_quadrature(&s.bezier_pieces(), s.degree(), &pats);
+        let pieces = energy_by_pieces(&s.bezier_pieces(), s.degree(), &pats);
+        assert!(
+            (gauss - pieces).abs() < 1e-12 * gauss,
+            "{ws} {wb}: {gauss} vs {pieces}"
+        );
+    }
+    // The same on a refined net of the same surface.
+    let r = s.refined(&[0.6], &[0.1, 0.8]).unwrap();
+    assert!((r.biharmonic() - s.biharmonic()).abs() < 1e-11 * s.biharmonic());
+    assert!((r.dirichlet() - s.dirichlet()).abs() < 1e-12 * s.dirichlet());
+}
+
+/// The B-spline coefficients of Σ c_ab u^a v^b by blossoming: the
+/// coefficient i of t^a is e_a(t_{i+1}, …, t_{i+p}) / C(p, a).
+fn blossomed(u: &KnotVector, v: &KnotVector, f: &[[f64; 4]; 4]) -> Vec<f64> {
+    let beta = |k: &KnotVector| -> Vec<[f64; 4]> {
+        let p = k.degree();
+        (0..k.count())
+            .map(|i| {
+                let ts = &k.knots()[i + 1..=i + p];
+                let mut e = [1.0, 0.0, 0.0, 0.0];
+                for &t in ts {
+                    for a in (1..4).rev() {
+                        e[a] += t * e[a - 1];
+                    }
+                }
+                std::array::from_fn(|a| e[a] / crate::basis::binomial(p, a))
+            })
+            .collect()
+    };
+    let (bu, bv) = (beta(u), beta(v));
+    let mut out = Vec::new();
+    for i in 0..u.count() {
+        for j in 0..v.count() {
+            out.push(
+                (0..4)
+                    .flat_map(|a| (0..4).map(move |b| (a, b)))
+                    .map(|(a, b)| f[a][b] * bu[i][a] * bv[j][b])
+                    .sum(),
+            );
+        }
+    }
+    out
+}
+
+#[test]
+fn two_fixed_rings_of_a_biharmonic_polynomial_give_it_back_at_any_knots() {
+    // z = u³ − 3uv² + u²v + 2v³ + uv + u³v: Δ²z = 0, bidegree (3, 3).
+    let mut z = [[0.0; 4]; 4];
+    z[3][0] = 1.0;
+    z[1][2] = -3.0;
+    z[2][1] = 1.0;
+    z[0][3] = 2.0;
+    z[1][1] = 1.0;
+    z[3][1] = 1.0;
+    let (mut x, mut y) = ([[0.0; 4]; 4], [[0.0; 4]; 4]);
+    x[1][0] = 1.0;
+    y[0][1] = 1.0;
+    for (u, v) in [
+        uneven(),
+        (KnotVector::uniform(3, 7), KnotVector::uniform(3, 5)),
+    ] {
+        let (bx, by, bz) = (
+            blossomed(&u, &v, &x),
+            blossomed(&u, &v, &y),
+            blossomed(&u, &v, &z),
+        );
+        let exact: Vec<Vec3> = (0..bx.len()).map(|k| [bx[k], by[k], bz[k]]).collect();
+        let cv = v.count();
+        let truth = BSplineSurface::new(u.clone(), v.clone(), exact.clone()).unwrap();
+        for (a, b) in grid() {
+            let p = truth.eval(a, b);
+            let want =
+                a * a * a - 3.0 * a * b * b + a * a * b + 2.0 * b * b * b + a * b + a * a * a * b;
+            assert!(dist(p, [a, b, want]) < 1e-14, "blossoming at ({a}, {b})");
+        }
+        // Interior points scrambled; two rings kept.
+        let start: Vec<Vec3> = exact
+            .iter()
+            .enumerate()
+            .map(|(k, p)| {
+                let (i, j) = (k / cv, k % cv);
+                let inside = i >= 2 && j >= 2 && i + 2 < u.count() && j + 2 < cv;
+                if inside {
+                    [noise(k), noise(k + 1), 5.0 * noise(k + 2)]
+                } else {
+                    *p
+                }
+            })
+            .collect();
+        let sol = BSplineProblem::new(BSplineSurface::new(u, v, start).unwrap())
+            .with_fixed_rings(2)
+            .with_bend(1.0)
+            .solve()
+            .unwrap();
+        let worst = sol
+            .surface
+            .points()
+            .iter()
+            .zip(&exact)
+            .map(|(a, b)| dist(*a, *b))
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-10, "net off by {worst:e}");
+        let r = &sol.report;
+        assert!(
+            r.relative_gradient < 1e-14 && r.energy_error < 1e-12,
+            "{r:?}"
+        );
+        assert!((r.energy - truth.biharmonic()).abs() < 1e-10 * r.energy);
+    }
+}
+
+#[test]
+fn refinement_never_raises_the_minimum_and_lowers_it_for_a_general_boundary() {
+    let s = wavy(KnotVector::uniform(3, 3), KnotVector::uniform(3, 3));
+    let coarse = BSplineProblem::new(s)
+        .with_fixed_rings(2)
+        .with_bend(1.0)
+        .solve()
+        .unwrap();
+    let refined_start = coarse
+        .surface
+        .refined(&[0.25, 0.5, 0.75], &[0.2, 0.6])
+        .unwrap();
+    // The coarse minimizer is feasible on the finer space: the fixed rings
+    // are its own.
+    assert!(
+        (refined_start.biharmonic() - coarse.report.energy).abs() < 1e-11 * coarse.report.energy
+    );
+    let fine = BSplineProblem::new(refined_start)
+        .with_fixed_rings(2)
+        .with_bend(1.0)
+        .solve()
+        .unwrap();
+    let (e0, e1) = (coarse.report.energy, fine.report.energy);
+    assert!(e1 < e0 * (1.0 - 1e-6), "coarse {e0}, refined {e1}");
+    // Minimal under perturbation of any free point.
+    let cv = fine.surface.counts().1;
+    for k in [2 * cv + 2, 3 * cv + 4] {
+        let mut pts = fine.surface.points().to_vec();
+        pts[k][2] += 1e-4;
+        assert!(fine.surface.with_points(pts).biharmonic() > e1);
+    }
+}
+
+#[test]
+fn solves_refuse_what_they_cannot_do() {
+    let s = wavy(KnotVector::uniform(2, 2), KnotVector::uniform(2, 2));
+    assert!(matches!(
+        BSplineProblem::new(s.clone()).with_bend(1.0).solve(),
+        Err(Error::NoFreePoints { .. })
+    ));
+    assert!(matches!(
+        BSplineProblem::new(s.clone()).with_fixed_rings(1).solve(),
+        Err(Error::NoEnergy)
+    ));
+    assert!(matches!(
+        BSplineProblem::new(s)
+            .with_fixed_rings(1)
+            .with_bend(-1.0)
+            .solve(),
+        Err(Error::NegativeWeight { .. })
+    ));
+}
