@@ -398,7 +398,32 @@ def editor_degree10():
     })
 
 
+def bspline_hole():
+    """A bicubic B-spline of 14 x 14 control points over uneven knots: two rings
+    of a wavy sheet kept, the 10 x 10 inside free (null), the thin plate."""
+    p, c = 3, 14
+    inner = [0.08, 0.16, 0.25, 0.33, 0.42, 0.5, 0.58, 0.67, 0.75, 0.84, 0.92]
+    knots = [0.0] * (p + 1) + inner[: c - p - 1] + [1.0] * (p + 1)
+    # Greville abscissae place the net over the sheet.
+    grev = [sum(knots[i + 1:i + p + 1]) / p for i in range(c)]
+    wave = lambda x, y: 0.2 * math.sin(2.5 * math.pi * x) * math.cos(1.5 * math.pi * y) + 0.3 * x * y
+    net = [[[r(2 * grev[i]), r(2 * grev[j]), r(wave(grev[i], grev[j]))]
+            if min(i, j, c - 1 - i, c - 1 - j) < 2 else None
+            for j in range(c)] for i in range(c)]
+    write("bspline_hole.json", {
+        "name": "Bicubic B-spline hole, 14 x 14 control points, thin plate",
+        "description": "Two rings of a wavy sheet fixed (position and tangent plane along the "
+                       "boundary), the 100 inner control points free: Wu & Yang's E2 over "
+                       "11 x 11 knot spans.",
+        "surface": {"type": "bspline", "degree": [p, p], "knots": [knots, knots],
+                    "control_points": net},
+        "fixed_rings": 2,
+        "energy": {"bend": 1},
+    })
+
+
 if __name__ == "__main__":
+    bspline_hole()
     editor_degree10()
     tensor_operators()
     monterde_ugail()

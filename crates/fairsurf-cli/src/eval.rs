@@ -8,7 +8,8 @@ use std::path::PathBuf;
 pub struct Args {
     /// A result file (or any scene whose control points are all given).
     file: PathBuf,
-    /// A parameter pair u,v in [0, 1]; repeat for more points.
+    /// A parameter pair u,v in [0, 1] (a B-spline surface's knot domain
+    /// mapped onto [0, 1]²); repeat for more points.
     #[arg(long = "uv", value_parser = parse_uv)]
     uv: Vec<(f64, f64)>,
     /// Evaluate on a (k+1)×(k+1) uniform grid instead.
@@ -34,10 +35,29 @@ fn parse_uv(s: &str) -> Result<(f64, f64), String> {
 }
 
 pub fn run(a: Args) -> Result<(), Failure> {
-    let scene = crate::input::tensor_scene(&a.file, "eval (at parameters u, v)")?;
-    let patch = scene
-        .surface_patch()
-        .map_err(crate::input::with_file(&a.file))?;
+    let with_file = crate::input::with_file(&a.file);
+    let scene = fairsurf_io::Scene::from_json(&crate::input::read(&a.file)?).map_err(&with_file)?;
+    // Derivatives at (u, v), in [0, 1]² (a B-spline surface's domain is
+    // mapped onto it).
+    let at: Box<dyn Fn(f64, f64) -> fairsurf::SurfaceDerivatives> = match &scene {
+        fairsurf_io::Scene::Tensor(s) => {
+            let patch = s.surface_patch().map_err(&with_file)?;
+            Box::new(move |u, v| patch.derivatives(u, v))
+        }
+        fairsurf_io::Scene::BSpline(s) => {
+            let surface = s.surface().map_err(&with_file)?;
+            let ((u0, u1), (v0, v1)) = (surface.knots().0.domain(), surface.knots().1.domain());
+            Box::new(move |u, v| surface.derivatives(u0 + u * (u1 - u0), v0 + v * (v1 - v0)))
+        }
+        other => {
+            return Err(Failure::input(format!(
+                "{}: surface.type: eval works on tensor-product surfaces (tensor, bspline); \
+                 this one is {}",
+                a.file.display(),
+                other.surface_type().name()
+            )))
+        }
+    };
     let mut uv = a.uv.clone();
     if let Some(k) = a.grid {
         let k = k as usize;
@@ -50,7 +70,10 @@ pub fn run(a: Args) -> Result<(), Failure> {
     }
     let out: Vec<_> = uv
         .iter()
-        .map(|&(u, v)| json!({"u": u, "v": v, "point": patch.eval(u, v), "normal": patch.normal(u, v)}))
+        .map(|&(u, v)| {
+            let d = at(u, v);
+            json!({"u": u, "v": v, "point": d.point, "normal": d.normal()})
+        })
         .collect();
     crate::say!("{}", serde_json::to_string_pretty(&out).expect("json"));
     Ok(())

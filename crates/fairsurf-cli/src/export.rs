@@ -84,7 +84,13 @@ pub fn run(a: Args) -> Result<(), Failure> {
                 Format::Step => write_step(&a.output, &patches)?,
                 _ => write_iges(&a.output, &patches)?,
             }
-            if loaded.tri.is_some() {
+            if let fairsurf_io::Scene::BSpline(_) = loaded.scene {
+                crate::say!(
+                    "{}: a degree {n}×{m} B-spline surface as its {} Bézier pieces, one B-spline face each",
+                    a.output.display(),
+                    patches.len()
+                );
+            } else if loaded.tri.is_some() {
                 crate::say!(
                     "{}: {} triangular patches of degree {n} as B-spline faces of degree {n}×{m} (one side collapsed)",
                     a.output.display(),

@@ -64,11 +64,14 @@ enum Command {
     /// server, which kills it at its timeout).
     #[command(hide = true)]
     ServeWorker,
-    /// Print the JSON Schema of scene files (tensor, or with --triangular
-    /// the triangular-surface scenes).
+    /// Print the JSON Schema of scene files of one surface type (tensor by
+    /// default; --type triangular or bspline).
     Schema {
-        /// The schema of triangular-surface scenes.
-        #[arg(long)]
+        /// The surface type: tensor, triangular or bspline.
+        #[arg(long = "type", default_value = "tensor", value_parser = ["tensor", "triangular", "bspline"])]
+        kind: String,
+        /// The same as --type triangular.
+        #[arg(long, conflicts_with = "kind")]
         triangular: bool,
     },
 }
@@ -149,12 +152,17 @@ fn run(command: Command, max_bytes: usize) -> Result<(), Failure> {
         Command::Serve(a) => serve::run(a, max_bytes),
         Command::ServeWorker => serve::run_worker(),
         Command::Render(a) => render::run(a),
-        Command::Schema { triangular } => {
-            let schema = if triangular {
-                fairsurf_io::TriScene::json_schema()
+        Command::Schema { kind, triangular } => {
+            let kind = if triangular {
+                "triangular"
             } else {
-                fairsurf_io::TensorScene::json_schema()
+                kind.as_str()
             };
+            let schema = fairsurf_io::SurfaceType::ALL
+                .into_iter()
+                .find(|t| t.name() == kind)
+                .expect("clap checked the name")
+                .json_schema();
             say!("{}", serde_json::to_string_pretty(&schema).expect("schema"));
             Ok(())
         }

@@ -135,6 +135,7 @@ fn solve_one(path: &Path, out: Option<&Path>, a: &Args) -> Result<String, Failur
     Ok(match &solved {
         SolvedScene::Tensor(s) => summary(path, s, &written),
         SolvedScene::Triangular(s) => tri_summary(path, s, &written),
+        SolvedScene::BSpline(s) => bspline_summary(path, s, &written),
     })
 }
 
@@ -283,13 +284,61 @@ fn tri_summary(path: &Path, s: &SolvedTriScene, written: &[String]) -> String {
             k.factorization.name(), k.relative_residual, k.condition, k.refinement_steps
         ));
     }
-    let wrote = if written.is_empty() {
-        String::new()
-    } else {
-        format!(" → wrote {}", written.join(", "))
-    };
-    lines.push(format!("  solved in {:.3} s{wrote}", r.seconds.total));
+    lines.push(solved_line(r.seconds.total, written));
     lines.join("\n")
+}
+
+fn bspline_summary(path: &Path, s: &fairsurf_io::SolvedBSplineScene, written: &[String]) -> String {
+    let r = &s.solution.report;
+    let surface = s.surface();
+    let ((p, q), (cu, cv)) = (surface.degree(), surface.counts());
+    let (su, sv) = (
+        surface.knots().0.spans().len(),
+        surface.knots().1.spans().len(),
+    );
+    let mut lines = vec![
+        format!(
+            "{}: B-spline, degree {p}×{q}, {su}×{sv} spans, {cu}×{cv} control points, {} free ({} unknowns)",
+            path.display(),
+            r.free_points,
+            r.unknowns
+        ),
+        format!(
+            "  energy {:.10e} = stretch {:.10e} + bend {:.10e}",
+            r.energy, r.stretch, r.bend
+        ),
+        format!(
+            "  checked on the written net: Gauss quadrature span by span gives {:.10e} \
+             (relative difference {:.1e}, tolerance {:.0e})",
+            r.check_energy,
+            r.energy_error,
+            fairsurf::bspline::ENERGY_TOLERANCE
+        ),
+    ];
+    if let Some(t) = s.normal_turn {
+        lines.push(format!(
+            "  largest normal turn between neighbouring samples {:.2}°",
+            t.angle.to_degrees()
+        ));
+    }
+    for note in &s.notes() {
+        lines.push(format!("  note: {note}"));
+    }
+    lines.push(format!(
+        "  gradient {:.2e} (relative {:.2e})  residual {:.2e}  Cholesky factor {} nonzeros",
+        r.gradient_norm, r.relative_gradient, r.residual, r.factor_nonzeros
+    ));
+    lines.push(solved_line(r.timings.total, written));
+    lines.join("\n")
+}
+
+/// The summary's last line: the solve's time and what was written.
+fn solved_line(seconds: f64, written: &[String]) -> String {
+    if written.is_empty() {
+        format!("  solved in {seconds:.3} s")
+    } else {
+        format!("  solved in {seconds:.3} s → wrote {}", written.join(", "))
+    }
 }
 
 /// The summary's line for the independent check of the written net.
@@ -318,7 +367,7 @@ pub(crate) fn ensure_parent(file: &Path) -> Result<(), Failure> {
 fn spinner_for(scene: &Scene) -> ProgressBar {
     let [n, m] = match scene {
         Scene::Tensor(s) => s.surface.degree,
-        Scene::Triangular(_) => return ProgressBar::hidden(),
+        Scene::Triangular(_) | Scene::BSpline(_) => return ProgressBar::hidden(),
     };
     if n.max(m) < 16 || !std::io::stderr().is_terminal() {
         return ProgressBar::hidden();
@@ -452,12 +501,7 @@ fn summary(path: &Path, s: &SolvedTensorScene, written: &[String]) -> String {
     for note in &s.notes() {
         lines.push(format!("  note: {note}"));
     }
-    let wrote = if written.is_empty() {
-        String::new()
-    } else {
-        format!(" → wrote {}", written.join(", "))
-    };
-    lines.push(format!("  solved in {total:.3} s{wrote}"));
+    lines.push(solved_line(total, written));
     lines.join("\n")
 }
 

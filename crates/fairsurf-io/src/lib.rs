@@ -23,6 +23,7 @@
 
 mod analysis;
 mod atomic;
+mod bspline_scene;
 mod cad;
 mod compare;
 mod constraints;
@@ -42,6 +43,9 @@ mod validate;
 
 pub use analysis::Measures;
 pub use atomic::{remove_temporaries, write_atomic, Batch};
+pub use bspline_scene::{
+    BSplineEnergySpec, BSplineKind, BSplineScene, BSplineSpec, SolvedBSplineScene,
+};
 pub use compare::comparison_json;
 pub use constraints::{TensorConstraintSpec, UvSpec};
 pub use error::{Error, Result};

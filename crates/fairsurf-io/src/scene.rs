@@ -2,12 +2,14 @@
 //!
 //! A scene is a JSON object whose `surface.type` says what it holds:
 //! `"tensor"` ([`TensorScene`]: one tensor-product Bézier patch, Wu & Yang,
-//! Monterde & Ugail) or `"triangular"` ([`TriScene`]: Bézier triangles over
-//! a mesh, Veltkamp & Wesselink). [`Scene::from_json`] reads the type and
+//! Monterde & Ugail), `"triangular"` ([`TriScene`]: Bézier triangles over
+//! a mesh, Veltkamp & Wesselink) or `"bspline"` ([`BSplineScene`]: a
+//! tensor-product B-spline surface). [`Scene::from_json`] reads the type and
 //! parses the text once into the matching struct, so that errors keep their
 //! JSON path and line; an unknown type is an error at `surface.type`.
 
 use crate::{write_atomic, TriScene};
+use crate::{BSplineScene, SolvedBSplineScene};
 use crate::{Error, Measures, Result, SolvedTensorScene, SolvedTriScene, SurfaceMesh, TensorScene};
 use fairsurf::{FactorCache, SolveOptions, TensorPatch};
 use serde_json::Value;
@@ -20,17 +22,24 @@ pub enum SurfaceType {
     Tensor,
     /// `"triangular"`: triangular Bézier patches over a triangle mesh.
     Triangular,
+    /// `"bspline"`: a tensor-product B-spline surface.
+    BSpline,
 }
 
 impl SurfaceType {
     /// Every kind, in the order error messages list them.
-    pub const ALL: [SurfaceType; 2] = [SurfaceType::Tensor, SurfaceType::Triangular];
+    pub const ALL: [SurfaceType; 3] = [
+        SurfaceType::Tensor,
+        SurfaceType::Triangular,
+        SurfaceType::BSpline,
+    ];
 
     /// The name scenes use for it in `surface.type`.
     pub fn name(self) -> &'static str {
         match self {
             SurfaceType::Tensor => "tensor",
             SurfaceType::Triangular => "triangular",
+            SurfaceType::BSpline => "bspline",
         }
     }
 
@@ -51,6 +60,7 @@ impl SurfaceType {
         match self {
             SurfaceType::Tensor => TensorScene::json_schema(),
             SurfaceType::Triangular => TriScene::json_schema(),
+            SurfaceType::BSpline => BSplineScene::json_schema(),
         }
     }
 }
@@ -62,6 +72,8 @@ pub enum Scene {
     Tensor(TensorScene),
     /// `surface.type` `"triangular"`.
     Triangular(TriScene),
+    /// `surface.type` `"bspline"`.
+    BSpline(BSplineScene),
 }
 
 impl Scene {
@@ -73,6 +85,7 @@ impl Scene {
         match SurfaceType::of_json(text)? {
             SurfaceType::Tensor => TensorScene::from_json(text).map(Scene::Tensor),
             SurfaceType::Triangular => TriScene::from_json(text).map(Scene::Triangular),
+            SurfaceType::BSpline => BSplineScene::from_json(text).map(Scene::BSpline),
         }
     }
 
@@ -86,6 +99,7 @@ impl Scene {
         match self {
             Scene::Tensor(_) => SurfaceType::Tensor,
             Scene::Triangular(_) => SurfaceType::Triangular,
+            Scene::BSpline(_) => SurfaceType::BSpline,
         }
     }
 
@@ -94,6 +108,7 @@ impl Scene {
         match self {
             Scene::Tensor(s) => s.name.as_deref(),
             Scene::Triangular(s) => s.name.as_deref(),
+            Scene::BSpline(s) => s.name.as_deref(),
         }
     }
 
@@ -103,6 +118,7 @@ impl Scene {
         match self {
             Scene::Tensor(s) => s.report.is_some(),
             Scene::Triangular(s) => s.report.is_some(),
+            Scene::BSpline(s) => s.report.is_some(),
         }
     }
 
@@ -129,6 +145,7 @@ impl Scene {
             (Scene::Tensor(s), None) => SolvedScene::Tensor(s.solve_with(opts)?),
             (Scene::Triangular(s), Some(c)) => SolvedScene::Triangular(s.solve_cached(c)?),
             (Scene::Triangular(s), None) => SolvedScene::Triangular(s.solve()?),
+            (Scene::BSpline(s), _) => SolvedScene::BSpline(s.solve()?),
         })
     }
 
@@ -138,6 +155,7 @@ impl Scene {
         match self {
             Scene::Tensor(s) => s.analyse(),
             Scene::Triangular(s) => s.analyse(),
+            Scene::BSpline(s) => s.analyse(),
         }
     }
 
@@ -148,6 +166,7 @@ impl Scene {
         Ok(match self {
             Scene::Tensor(s) => vec![s.surface_patch()?],
             Scene::Triangular(s) => s.surface()?.tensor_patches(),
+            Scene::BSpline(s) => pieces(&s.surface()?),
         })
     }
 
@@ -161,6 +180,7 @@ impl Scene {
             Scene::Triangular(s) => {
                 SurfaceMesh::from_tri_surface(&s.surface()?, tri_resolution(resolution))
             }
+            Scene::BSpline(s) => SurfaceMesh::from_bspline(&s.surface()?, resolution, resolution),
         })
     }
 }
@@ -172,6 +192,8 @@ pub enum SolvedScene {
     Tensor(SolvedTensorScene),
     /// A solved triangular surface.
     Triangular(SolvedTriScene),
+    /// A solved B-spline surface.
+    BSpline(SolvedBSplineScene),
 }
 
 impl SolvedScene {
@@ -180,6 +202,7 @@ impl SolvedScene {
         match self {
             SolvedScene::Tensor(_) => SurfaceType::Tensor,
             SolvedScene::Triangular(_) => SurfaceType::Triangular,
+            SolvedScene::BSpline(_) => SurfaceType::BSpline,
         }
     }
 
@@ -188,6 +211,7 @@ impl SolvedScene {
         match self {
             SolvedScene::Tensor(s) => s.report_json(),
             SolvedScene::Triangular(s) => s.report_json(),
+            SolvedScene::BSpline(s) => s.report_json(),
         }
     }
 
@@ -198,6 +222,7 @@ impl SolvedScene {
         let text = match self {
             SolvedScene::Tensor(s) => serde_json::to_string_pretty(&s.result_scene()),
             SolvedScene::Triangular(s) => serde_json::to_string_pretty(&s.result_scene()),
+            SolvedScene::BSpline(s) => serde_json::to_string_pretty(&s.result_scene()),
         };
         text.expect("a scene serializes")
     }
@@ -216,15 +241,18 @@ impl SolvedScene {
         match self {
             SolvedScene::Tensor(s) => s.notes(),
             SolvedScene::Triangular(s) => s.notes(),
+            SolvedScene::BSpline(s) => s.notes(),
         }
     }
 
     /// The solved surface as tensor patches (a triangular patch is an exact
-    /// tensor patch with a collapsed side): for STEP, IGES and pictures.
+    /// tensor patch with a collapsed side, a B-spline surface its Bézier
+    /// pieces): for STEP, IGES and pictures.
     pub fn tensor_patches(&self) -> Vec<TensorPatch> {
         match self {
             SolvedScene::Tensor(s) => vec![s.patch().clone()],
             SolvedScene::Triangular(s) => s.surface().tensor_patches(),
+            SolvedScene::BSpline(s) => pieces(s.surface()),
         }
     }
 
@@ -238,19 +266,27 @@ impl SolvedScene {
             SolvedScene::Triangular(s) => {
                 SurfaceMesh::from_tri_surface(s.surface(), tri_resolution(resolution))
             }
+            SolvedScene::BSpline(s) => {
+                SurfaceMesh::from_bspline(s.surface(), resolution, resolution)
+            }
         }
     }
 
     /// About how many triangles [`Self::mesh`] makes.
     pub fn mesh_triangles(&self, resolution: usize) -> usize {
         match self {
-            SolvedScene::Tensor(_) => 2 * resolution * resolution,
+            SolvedScene::Tensor(_) | SolvedScene::BSpline(_) => 2 * resolution * resolution,
             SolvedScene::Triangular(s) => {
                 let r = tri_resolution(resolution);
                 r * r * s.surface().patch_count()
             }
         }
     }
+}
+
+/// A B-spline surface's Bézier pieces as patches.
+fn pieces(s: &fairsurf::bspline::BSplineSurface) -> Vec<TensorPatch> {
+    s.bezier_pieces().into_iter().map(|p| p.patch).collect()
 }
 
 /// Subdivisions per triangular patch edge for a tensor `resolution`.
@@ -322,7 +358,11 @@ fn surface_type(text: &str) -> Result<SurfaceType> {
             "surface.type",
             format!(
                 "unknown surface type {kind:?}: expected {}",
-                names.join(" or ")
+                match names.split_last() {
+                    Some((last, rest)) if !rest.is_empty() =>
+                        format!("{} or {last}", rest.join(", ")),
+                    _ => names.join(""),
+                }
             ),
         )
     })

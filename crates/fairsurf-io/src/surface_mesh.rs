@@ -45,6 +45,13 @@ impl SurfaceMesh {
         Self { mesh, curvature }
     }
 
+    /// A B-spline surface on a (ru+1)×(rv+1) grid of its domain
+    /// ([`TriMesh::from_bspline`]), with the curvature at every vertex.
+    pub fn from_bspline(surface: &fairsurf::bspline::BSplineSurface, ru: usize, rv: usize) -> Self {
+        let (mesh, curvature) = TriMesh::from_bspline(surface, ru, rv);
+        Self { mesh, curvature }
+    }
+
     /// Any mesh of `patch` (its `uvs` are parameters of `patch`), with the
     /// curvature of `patch` evaluated at each vertex's (u, v).
     pub fn on_patch(patch: &TensorPatch, mesh: TriMesh) -> Self {

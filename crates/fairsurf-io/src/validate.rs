@@ -224,58 +224,13 @@ impl TensorScene {
     }
 
     fn free_mask(&self, given: &[Option<Vec3>], (n, m): (usize, usize)) -> Result<Vec<bool>> {
-        let at = |k: usize| (k / (m + 1), k % (m + 1));
-        let mut free: Vec<bool> = given.iter().map(Option::is_none).collect();
-        if let Some(k) = self.fixed_rings {
-            if k == 0 {
-                return Err(Error::scene(
-                    "fixed_rings",
-                    "expected k ≥ 1 (omit fixed_rings to fix exactly the given points)",
-                ));
-            }
-            if self.free_points.is_some() {
-                return Err(Error::scene(
-                    "free_points",
-                    "cannot be combined with fixed_rings",
-                ));
-            }
-            if n < 2 * k || m < 2 * k {
-                return Err(Error::scene(
-                    "fixed_rings",
-                    format!(
-                        "{k} fixed ring(s) leave no free control point at degree [{n}, {m}]: both degrees must be at least {}",
-                        2 * k
-                    ),
-                ));
-            }
-            for (q, f) in free.iter_mut().enumerate() {
-                let (i, j) = at(q);
-                let ring = i.min(j).min(n - i).min(m - j);
-                *f = ring >= k;
-                if !*f && given[q].is_none() {
-                    return Err(Error::scene(
-                        format!("surface.control_points[{i}][{j}]"),
-                        format!("is null but lies in the {k} fixed ring(s); give its value"),
-                    ));
-                }
-            }
-        }
-        for (q, &[i, j]) in self.free_points.iter().flatten().enumerate() {
-            if i > n || j > m {
-                return Err(Error::scene(
-                    format!("free_points[{q}]"),
-                    format!("[{i}, {j}] is outside the degree [{n}, {m}] net"),
-                ));
-            }
-            free[i * (m + 1) + j] = true;
-        }
-        if !free.contains(&true) {
-            return Err(Error::scene(
-                "surface.control_points",
-                "no free control point: mark free points with null, list them in free_points, or set fixed_rings",
-            ));
-        }
-        Ok(free)
+        free_mask(
+            self.fixed_rings,
+            self.free_points.as_deref(),
+            given,
+            (n + 1, m + 1),
+            &format!("degree [{n}, {m}]: both degrees must be at least"),
+        )
     }
 
     fn add_terms(&self, pb: &mut Problem, built: &mut Built, given: &[Option<Vec3>]) -> Result<()> {
@@ -630,4 +585,69 @@ fn parse_weights(
             Ok(Some(out))
         }
     }
+}
+
+/// Which points of a `rows × cols` net are free: the outer `fixed_rings`
+/// fixed and the rest free, or the null ones and `free_points`. Errors
+/// name the path; `shape` ends the message for too many rings ("degree
+/// [n, m]: both degrees must be at least" and 2k follows).
+pub(crate) fn free_mask(
+    fixed_rings: Option<usize>,
+    free_points: Option<&[[usize; 2]]>,
+    given: &[Option<Vec3>],
+    (rows, cols): (usize, usize),
+    shape: &str,
+) -> Result<Vec<bool>> {
+    let at = |k: usize| (k / cols, k % cols);
+    let mut free: Vec<bool> = given.iter().map(Option::is_none).collect();
+    if let Some(k) = fixed_rings {
+        if k == 0 {
+            return Err(Error::scene(
+                "fixed_rings",
+                "expected k ≥ 1 (omit fixed_rings to fix exactly the given points)",
+            ));
+        }
+        if free_points.is_some() {
+            return Err(Error::scene(
+                "free_points",
+                "cannot be combined with fixed_rings",
+            ));
+        }
+        if rows <= 2 * k || cols <= 2 * k {
+            return Err(Error::scene(
+                "fixed_rings",
+                format!(
+                    "{k} fixed ring(s) leave no free control point at {shape} {}",
+                    2 * k
+                ),
+            ));
+        }
+        for (q, f) in free.iter_mut().enumerate() {
+            let (i, j) = at(q);
+            let ring = i.min(j).min(rows - 1 - i).min(cols - 1 - j);
+            *f = ring >= k;
+            if !*f && given[q].is_none() {
+                return Err(Error::scene(
+                    format!("surface.control_points[{i}][{j}]"),
+                    format!("is null but lies in the {k} fixed ring(s); give its value"),
+                ));
+            }
+        }
+    }
+    for (q, &[i, j]) in free_points.into_iter().flatten().enumerate() {
+        if i >= rows || j >= cols {
+            return Err(Error::scene(
+                format!("free_points[{q}]"),
+                format!("[{i}, {j}] is outside the {rows} × {cols} net"),
+            ));
+        }
+        free[i * cols + j] = true;
+    }
+    if !free.contains(&true) {
+        return Err(Error::scene(
+            "surface.control_points",
+            "no free control point: mark free points with null, list them in free_points, or set fixed_rings",
+        ));
+    }
+    Ok(free)
 }

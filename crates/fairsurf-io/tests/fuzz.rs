@@ -19,6 +19,20 @@ fn exercise(text: &str, solve: bool) -> bool {
     let scene = match Scene::from_json(text) {
         Ok(Scene::Triangular(scene)) => scene,
         Ok(Scene::Tensor(scene)) => return exercise_tensor(scene, text, solve),
+        Ok(Scene::BSpline(scene)) => {
+            if !solve {
+                return scene.problem().is_ok();
+            }
+            let Ok(solved) = scene.solve() else {
+                return false;
+            };
+            let r = &solved.solution.report;
+            assert!(
+                r.energy.is_finite() && r.energy_error <= 1e-10,
+                "{r:?}\n{text}"
+            );
+            return true;
+        }
         Err(_) => return false,
     };
     {

@@ -291,7 +291,7 @@ fn the_surface_type_picks_the_parser_and_an_unknown_one_is_named() {
             assert_eq!(path, "surface.type");
             assert_eq!(
                 message,
-                r#"unknown surface type "nurbs": expected "tensor" or "triangular""#
+                r#"unknown surface type "nurbs": expected "tensor", "triangular" or "bspline""#
             );
         }
         other => panic!("{other:?}"),
@@ -314,6 +314,103 @@ fn the_surface_type_picks_the_parser_and_an_unknown_one_is_named() {
     // A missing surface is the tensor parser's missing field.
     assert!(matches!(Scene::from_json("{}"),
         Err(Error::Scene { message, .. }) if message.contains("missing field `surface`")));
+}
+
+/// B-spline scenes: every documented error names its JSON path; the
+/// result file solves again to the same net; the default energy follows
+/// the tensor rule (bend with two fixed rings).
+#[test]
+fn bspline_scenes_name_their_paths_and_round_trip() {
+    use fairsurf_io::{BSplineScene, Scene};
+    let text = std::fs::read_to_string(examples().join("bspline_hole.json")).unwrap();
+    let base: Value = serde_json::from_str(&text).unwrap();
+    let fails =
+        |v: &Value| match Scene::from_json(&v.to_string()).and_then(|s| s.solve().map(|_| ())) {
+            Err(Error::Scene { path, message }) => (path, message),
+            other => panic!("expected a scene error, got {other:?}"),
+        };
+    let cases: Vec<(&str, Value, &str, &str)> = vec![
+        (
+            "/surface/degree/0",
+            json!(0),
+            "surface.degree[0]",
+            "must be 1 to 15",
+        ),
+        (
+            "/surface/degree/1",
+            json!(16),
+            "surface.degree[1]",
+            "add knots",
+        ),
+        (
+            "/surface/knots/1/5",
+            json!(0.01),
+            "surface.knots[1]",
+            "knot 5 (0.01) is below knot 4",
+        ),
+        (
+            "/surface/knots/0/4",
+            json!(0.0),
+            "surface.knots[0]",
+            "first knot is repeated 5 times",
+        ),
+        (
+            "/surface/control_points/13",
+            json!(null),
+            "surface.control_points",
+            "expected 14 rows, got 13",
+        ),
+        (
+            "/surface/control_points/0/0",
+            json!(null),
+            "surface.control_points[0][0]",
+            "fixed ring",
+        ),
+        (
+            "/fixed_rings",
+            json!(7),
+            "fixed_rings",
+            "both counts must be above 14",
+        ),
+        ("/energy", json!({"bend": -1}), "energy.bend", "weight ≥ 0"),
+        (
+            "/energy",
+            json!({"normal_field": {}}),
+            "energy.normal_field",
+            "unknown field",
+        ),
+    ];
+    for (ptr, value, path, msg) in cases {
+        let mut v = base.clone();
+        if ptr == "/surface/control_points/13" {
+            v["surface"]["control_points"].as_array_mut().unwrap().pop();
+        } else {
+            *v.pointer_mut(ptr).unwrap() = value;
+        }
+        let (p, m) = fails(&v);
+        assert!(p == path && m.contains(msg), "{ptr}: {p}: {m}");
+    }
+    // Solved, written, solved again: the same net.
+    let solved = BSplineScene::from_json(&text).unwrap().solve().unwrap();
+    assert!(solved.solution.report.bend > 0.0 && solved.solution.report.stretch == 0.0);
+    let result = serde_json::to_string(&solved.result_scene()).unwrap();
+    let again = BSplineScene::from_json(&result).unwrap().solve().unwrap();
+    assert_eq!(again.surface().points(), solved.surface().points());
+    // Without fixed_rings the result lists its free points.
+    let mut v = base.clone();
+    v.as_object_mut().unwrap().remove("fixed_rings");
+    v.as_object_mut().unwrap().remove("energy");
+    let s = BSplineScene::from_json(&v.to_string())
+        .unwrap()
+        .solve()
+        .unwrap();
+    let r = s.result_scene();
+    assert_eq!(r.free_points.as_ref().map(Vec::len), Some(100));
+    let r = &s.solution.report;
+    assert!(
+        r.stretch > 0.0 && r.bend == 0.0,
+        "stretch is the default without two rings: {r:?}"
+    );
 }
 
 #[test]
@@ -510,9 +607,22 @@ fn every_example_solves_to_a_true_minimizer_or_exact_construction() {
         let p = entry.unwrap().path();
         if p.extension().is_some_and(|e| e == "json") {
             let text = std::fs::read_to_string(&p).unwrap();
-            if fairsurf_io::SurfaceType::of_json(&text).unwrap()
-                == fairsurf_io::SurfaceType::Triangular
-            {
+            let kind = fairsurf_io::SurfaceType::of_json(&text).unwrap();
+            if kind == fairsurf_io::SurfaceType::BSpline {
+                let s = fairsurf_io::BSplineScene::from_json(&text)
+                    .unwrap()
+                    .solve()
+                    .unwrap();
+                let r = &s.solution.report;
+                assert!(
+                    r.relative_gradient < 1e-14 && r.energy_error < 1e-12,
+                    "{}: {r:?}",
+                    p.display()
+                );
+                n += 1;
+                continue;
+            }
+            if kind == fairsurf_io::SurfaceType::Triangular {
                 let s = fairsurf_io::TriScene::from_json(&text)
                     .unwrap()
                     .solve()

@@ -35,7 +35,9 @@ impl TriMesh {
     /// the adjacent mesh faces.
     pub fn from_patch(patch: &TensorPatch, ru: usize, rv: usize) -> Self {
         let (us, vs) = uniform(ru, rv);
-        Self::from_grid(patch, &us, &vs, &patch.grid_derivatives(&us, &vs))
+        Self::from_grid(&us, &vs, &patch.grid_derivatives(&us, &vs), |u, v| {
+            patch.normal(inside(u), inside(v))
+        })
     }
 
     /// [`TriMesh::from_patch`] together with the curvature at every vertex
@@ -48,11 +50,41 @@ impl TriMesh {
         let (us, vs) = uniform(ru, rv);
         let grid = patch.grid_derivatives(&us, &vs);
         let curvature = grid.iter().map(curvature_from).collect();
-        (Self::from_grid(patch, &us, &vs, &grid), curvature)
+        let normal = |u, v| patch.normal(inside(u), inside(v));
+        (Self::from_grid(&us, &vs, &grid, normal), curvature)
+    }
+
+    /// A B-spline surface sampled on a (ru+1)×(rv+1) uniform grid of its
+    /// domain (`uvs` in the knots' parameters), with the curvature at every
+    /// vertex.
+    pub fn from_bspline(
+        surface: &crate::bspline::BSplineSurface,
+        ru: usize,
+        rv: usize,
+    ) -> (Self, Vec<Option<Curvature>>) {
+        let (ru, rv) = (ru.max(1), rv.max(1));
+        let (uvs, grid) = surface.grid_derivatives(ru, rv);
+        let curvature = grid.iter().map(curvature_from).collect();
+        let us: Vec<f64> = (0..=ru).map(|i| uvs[i * (rv + 1)][0]).collect();
+        let vs: Vec<f64> = (0..=rv).map(|j| uvs[j][1]).collect();
+        let ((a, b), (c, d)) = (surface.knots().0.domain(), surface.knots().1.domain());
+        let toward = |t: f64, lo: f64, hi: f64| {
+            let h = 1e-7 * (hi - lo);
+            (t + if t < 0.5 * (lo + hi) { h } else { -h }).clamp(lo, hi)
+        };
+        let normal = |u, v| surface.normal(toward(u, a, b), toward(v, c, d));
+        (Self::from_grid(&us, &vs, &grid, normal), curvature)
     }
 
     /// The mesh of the derivative grid `grid` over `us` × `vs` (row-major).
-    fn from_grid(patch: &TensorPatch, us: &[f64], vs: &[f64], grid: &[SurfaceDerivatives]) -> Self {
+    /// `fallback(u, v)` gives the normal where the derivatives do not (a
+    /// collapsed edge): a tiny step inside the domain.
+    fn from_grid(
+        us: &[f64],
+        vs: &[f64],
+        grid: &[SurfaceDerivatives],
+        fallback: impl Fn(f64, f64) -> Option<Vec3>,
+    ) -> Self {
         let (ru, rv) = (us.len() - 1, vs.len() - 1);
         let mut positions = Vec::with_capacity(grid.len());
         let mut normals = Vec::with_capacity(grid.len());
@@ -62,8 +94,7 @@ impl TriMesh {
                 let d = grid[i * (rv + 1) + j];
                 positions.push(d.point);
                 uvs.push([u, v]);
-                let inside = |t: f64| (t + if t < 0.5 { 1e-7 } else { -1e-7 }).clamp(0.0, 1.0);
-                let n = d.normal().or_else(|| patch.normal(inside(u), inside(v)));
+                let n = d.normal().or_else(|| fallback(u, v));
                 normals.push(n.unwrap_or([f64::NAN; 3]));
             }
         }
@@ -106,6 +137,11 @@ impl TriMesh {
             }
         }
     }
+}
+
+/// A parameter in [0, 1] moved 1e-7 toward the middle.
+fn inside(t: f64) -> f64 {
+    (t + if t < 0.5 { 1e-7 } else { -1e-7 }).clamp(0.0, 1.0)
 }
 
 #[cfg(test)]

@@ -33,6 +33,13 @@ pub(crate) fn solve(
     let mut v = match scene.solve_cached(&opts, factors)? {
         SolvedScene::Tensor(s) => tensor_view(&s),
         SolvedScene::Triangular(s) => tri_view(&s),
+        SolvedScene::BSpline(_) => {
+            return Err(ApiError::new(
+                StatusCode::UNPROCESSABLE_ENTITY,
+                "the editor does not show B-spline surfaces yet: solve them with `fairsurf \
+                 solve`, export them with `fairsurf export`",
+            ))
+        }
     };
     v["quick"] = json!(quick);
     v["seconds"] = json!(start.elapsed().as_secs_f64());

@@ -54,6 +54,8 @@ pub struct BSplineReport {
     pub gradient_norm: f64,
     /// That over ‖H‖∞‖x‖∞ + ‖b‖∞.
     pub relative_gradient: f64,
+    /// ‖b − Hx‖∞ / ‖b‖∞ (the absolute figure when b = 0).
+    pub residual: f64,
     /// Nonzeros of the Cholesky factor.
     pub factor_nonzeros: usize,
     /// Seconds by phase (`analyse` is the check's second road).
@@ -92,6 +94,24 @@ impl BSplineProblem {
             }
         }
         self
+    }
+
+    /// Which control points are free (row-major, one flag per point).
+    pub fn with_free(mut self, free: Vec<bool>) -> Result<Self> {
+        if free.len() != self.free.len() {
+            return Err(Error::Mismatch {
+                what: "free flags of the B-spline net".into(),
+                expected: self.free.len().to_string(),
+                got: free.len().to_string(),
+            });
+        }
+        self.free = free;
+        Ok(self)
+    }
+
+    /// The free flags (row-major).
+    pub fn free(&self) -> &[bool] {
+        &self.free
     }
 
     /// The membrane energy with weight `w` ≥ 0.
@@ -229,6 +249,11 @@ impl BSplineProblem {
         };
         let t3 = Instant::now();
         let (pieces, degree) = (surface.bezier_pieces(), surface.degree());
+        let residual = if inf(&b) > 0.0 {
+            gradient_norm / inf(&b)
+        } else {
+            gradient_norm
+        };
         let part = |pats: Vec<(f64, usize, usize)>| energy_by_pieces(&pieces, degree, &pats);
         let (stretch, bend) = (
             part(patterns(self.stretch, 0.0)),
@@ -261,6 +286,7 @@ impl BSplineProblem {
                 unknowns: 3 * nf,
                 gradient_norm,
                 relative_gradient,
+                residual,
                 factor_nonzeros: values.len(),
                 timings: Timings {
                     assemble,

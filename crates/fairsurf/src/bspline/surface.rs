@@ -222,3 +222,54 @@ impl BSplineSurface {
         out
     }
 }
+
+impl BSplineSurface {
+    /// The area: the sum of the Bézier pieces' areas (adaptive
+    /// Gauss–Legendre, [`crate::analysis::area`]; area does not depend on
+    /// the parameterization).
+    pub fn area(&self) -> f64 {
+        self.bezier_pieces()
+            .iter()
+            .map(|p| crate::analysis::area(&p.patch).value)
+            .sum()
+    }
+
+    /// The largest turn of the unit normal between neighbouring samples of
+    /// a 5 × 5 grid on every Bézier piece, with `at` in the surface's
+    /// parameters (see [`crate::analysis::largest_normal_turn`]).
+    pub fn largest_normal_turn(&self) -> Option<crate::analysis::NormalTurn> {
+        self.bezier_pieces()
+            .iter()
+            .filter_map(|p| {
+                crate::analysis::largest_normal_turn(&p.patch, 4).map(|t| {
+                    let (s, r) = t.at;
+                    crate::analysis::NormalTurn {
+                        angle: t.angle,
+                        at: (p.u.0 + s * (p.u.1 - p.u.0), p.v.0 + r * (p.v.1 - p.v.0)),
+                    }
+                })
+            })
+            .max_by(|a, b| a.angle.total_cmp(&b.angle))
+    }
+
+    /// Derivatives on a (ru + 1) × (rv + 1) uniform grid of the domain,
+    /// u-major, with the parameters.
+    pub fn grid_derivatives(
+        &self,
+        ru: usize,
+        rv: usize,
+    ) -> (Vec<[f64; 2]>, Vec<SurfaceDerivatives>) {
+        let ((a, b), (c, d)) = (self.u.domain(), self.v.domain());
+        let mut uvs = Vec::with_capacity((ru + 1) * (rv + 1));
+        let mut out = Vec::with_capacity((ru + 1) * (rv + 1));
+        for i in 0..=ru {
+            let u = a + (b - a) * i as f64 / ru as f64;
+            for j in 0..=rv {
+                let v = c + (d - c) * j as f64 / rv as f64;
+                uvs.push([u, v]);
+                out.push(self.derivatives(u, v));
+            }
+        }
+        (uvs, out)
+    }
+}

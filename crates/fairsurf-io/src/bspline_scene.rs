@@ -1,0 +1,328 @@
+//! Scene files of B-spline surfaces (`"surface": {"type": "bspline"}`):
+//! clamped knot vectors, a net with `null` for free points, fixed rings or
+//! free points as in tensor scenes, the membrane and thin-plate energies.
+//!
+//! Field docs here become the descriptions in `fairsurf schema --type bspline`.
+
+use crate::tensor_scene::Net;
+use crate::validate::{free_mask, parse_net};
+use crate::{Error, Result};
+use fairsurf::bspline::{BSplineProblem, BSplineSolution, BSplineSurface, KnotVector};
+use fairsurf::Vec3;
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+use serde_json::{json, Value};
+
+/// A B-spline scene: minimize stretch·membrane + bend·thin plate (Wu &
+/// Yang eq. 1–2, exact over the knot domain) over the free control points.
+#[derive(Clone, Debug, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BSplineScene {
+    /// Free text: a title.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// Free text: what the scene shows.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub description: Option<String>,
+    /// The surface.
+    pub surface: BSplineSpec,
+    /// If k ≥ 1: the outer k rings of control points are fixed and every
+    /// other point is free (k = 2: position and tangent plane along the
+    /// boundary). Without it: given points are fixed, `null` ones free.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fixed_rings: Option<usize>,
+    /// Control points `[i, j]` that are free although given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub free_points: Option<Vec<[usize; 2]>>,
+    /// The energy weights; without either, `bend: 1` when `fixed_rings` ≥ 2
+    /// and `stretch: 1` otherwise.
+    #[serde(default)]
+    pub energy: BSplineEnergySpec,
+    /// Written by `fairsurf solve` into result files; ignored on input.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(skip)]
+    pub report: Option<Value>,
+}
+
+/// Only `"bspline"` here.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum BSplineKind {
+    /// A tensor-product B-spline surface.
+    #[default]
+    Bspline,
+}
+
+/// `R(u, v) = Σ N_i^p(u) N_j^q(v) P_ij` over clamped knot vectors.
+#[derive(Clone, Debug, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BSplineSpec {
+    /// `"bspline"`.
+    #[serde(rename = "type")]
+    pub kind: BSplineKind,
+    /// `[p, q]`: degree in u and in v, each 1 to 15.
+    pub degree: [usize; 2],
+    /// `[U, V]`: full clamped knot vectors, nondecreasing, the first and
+    /// last knot p + 1 (q + 1) times, interior knots at most p (q) times;
+    /// U has (rows + p + 1) knots, V (columns + q + 1).
+    pub knots: [Vec<f64>; 2],
+    /// Rows (one per u-basis function) of points `[x, y, z]` or `null`.
+    pub control_points: Net,
+}
+
+/// stretch·½∫∫|R_u|²+|R_v|² + bend·½∫∫|R_uu|²+2|R_uv|²+|R_vv|².
+#[derive(Clone, Debug, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BSplineEnergySpec {
+    /// Weight of the membrane energy, ≥ 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stretch: Option<f64>,
+    /// Weight of the thin-plate energy, ≥ 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bend: Option<f64>,
+}
+
+/// The highest degree a B-spline scene takes: beyond it use more spans.
+const MAX_DEGREE: usize = 15;
+
+/// A solved B-spline scene.
+#[derive(Clone, Debug)]
+pub struct SolvedBSplineScene {
+    /// The scene as read.
+    pub scene: BSplineScene,
+    /// Which points were free (row-major).
+    pub free: Vec<bool>,
+    /// The surface and its report.
+    pub solution: BSplineSolution,
+    /// The largest turn of the normal between neighbouring samples, where.
+    pub normal_turn: Option<fairsurf::analysis::NormalTurn>,
+}
+
+impl BSplineScene {
+    /// Parses a scene; errors name the JSON path.
+    pub fn from_json(text: &str) -> Result<BSplineScene> {
+        crate::scene::parse_with_path(text)
+    }
+
+    /// The JSON Schema of B-spline scene files.
+    pub fn json_schema() -> Value {
+        serde_json::to_value(schemars::schema_for!(BSplineScene)).expect("a schema serializes")
+    }
+
+    /// The knot vectors; errors name `surface.degree[k]` or `surface.knots[k]`.
+    fn knot_vectors(&self) -> Result<(KnotVector, KnotVector)> {
+        let s = &self.surface;
+        let one = |k: usize| -> Result<KnotVector> {
+            let p = s.degree[k];
+            if !(1..=MAX_DEGREE).contains(&p) {
+                return Err(Error::scene(
+                    format!("surface.degree[{k}]"),
+                    format!("must be 1 to {MAX_DEGREE}, got {p} (for more freedom, add knots)"),
+                ));
+            }
+            KnotVector::new(p, s.knots[k].clone())
+                .map_err(|e| Error::scene(format!("surface.knots[{k}]"), e.to_string()))
+        };
+        Ok((one(0)?, one(1)?))
+    }
+
+    /// The net as given (`None` for null), checked against the knots.
+    fn given(&self) -> Result<(KnotVector, KnotVector, Vec<Option<Vec3>>)> {
+        let (u, v) = self.knot_vectors()?;
+        let (cu, cv) = (u.count(), v.count());
+        let given = parse_net(
+            &self.surface.control_points,
+            "surface.control_points",
+            (cu - 1, cv - 1),
+            true,
+        )
+        .map_err(|e| match e {
+            Error::Scene { path, message } => Error::Scene {
+                path,
+                message: format!("{message} (the knots give {cu} × {cv} control points)"),
+            },
+            e => e,
+        })?;
+        Ok((u, v, given))
+    }
+
+    /// The surface as given (a result file's), every point required.
+    pub fn surface(&self) -> Result<BSplineSurface> {
+        let (u, v, given) = self.given()?;
+        let cv = v.count();
+        let points = given
+            .iter()
+            .enumerate()
+            .map(|(k, p)| {
+                p.ok_or_else(|| {
+                    Error::scene(
+                        format!("surface.control_points[{}][{}]", k / cv, k % cv),
+                        "is null: there is no surface to measure until it is solved",
+                    )
+                })
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Ok(BSplineSurface::new(u, v, points)?)
+    }
+
+    /// The problem the scene describes; errors name the field.
+    pub fn problem(&self) -> Result<BSplineProblem> {
+        let (u, v, given) = self.given()?;
+        let (cu, cv) = (u.count(), v.count());
+        let free = free_mask(
+            self.fixed_rings,
+            self.free_points.as_deref(),
+            &given,
+            (cu, cv),
+            &format!("{cu} × {cv} control points: both counts must be above"),
+        )?;
+        // Free points without a value start anywhere: the energy is quadratic.
+        let points = given.iter().map(|p| p.unwrap_or([0.0; 3])).collect();
+        let surface = BSplineSurface::new(u, v, points)?;
+        let e = &self.energy;
+        let (stretch, bend) = match (e.stretch, e.bend) {
+            (None, None) if self.fixed_rings.unwrap_or(0) >= 2 => (0.0, 1.0),
+            (None, None) => (1.0, 0.0),
+            (s, b) => (s.unwrap_or(0.0), b.unwrap_or(0.0)),
+        };
+        for (path, w) in [("energy.stretch", stretch), ("energy.bend", bend)] {
+            if !(w.is_finite() && w >= 0.0) {
+                return Err(Error::scene(
+                    path,
+                    format!("expected a weight ≥ 0, got {w}"),
+                ));
+            }
+        }
+        if stretch == 0.0 && bend == 0.0 {
+            return Err(Error::scene(
+                "energy",
+                "every weight is 0: nothing to minimize",
+            ));
+        }
+        Ok(BSplineProblem::new(surface)
+            .with_free(free)?
+            .with_stretch(stretch)
+            .with_bend(bend))
+    }
+
+    /// Validates and solves.
+    pub fn solve(&self) -> Result<SolvedBSplineScene> {
+        let problem = self.problem()?;
+        let solution = problem.solve()?;
+        let normal_turn = solution.surface.largest_normal_turn();
+        Ok(SolvedBSplineScene {
+            scene: self.clone(),
+            free: problem.free().to_vec(),
+            solution,
+            normal_turn,
+        })
+    }
+
+    /// Area (the Bézier pieces' adaptive Gauss–Legendre), the Dirichlet and
+    /// biharmonic functionals (exact), spans and control points of the
+    /// surface as given.
+    pub fn analyse(&self) -> Result<crate::Measures> {
+        let s = self.surface()?;
+        let (cu, cv) = s.counts();
+        let (su, sv) = (s.knots().0.spans().len(), s.knots().1.spans().len());
+        Ok(vec![
+            ("area".into(), json!(s.area())),
+            ("Dirichlet".into(), json!(s.dirichlet())),
+            ("biharmonic".into(), json!(s.biharmonic())),
+            (
+                "degree".into(),
+                json!(format!("{} × {}", s.degree().0, s.degree().1)),
+            ),
+            ("spans".into(), json!(format!("{su} × {sv}"))),
+            ("control points".into(), json!(format!("{cu} × {cv}"))),
+        ])
+    }
+}
+
+impl SolvedBSplineScene {
+    /// The solved surface.
+    pub fn surface(&self) -> &BSplineSurface {
+        &self.solution.surface
+    }
+
+    /// The result as a scene: every control point filled, the free ones
+    /// listed (unless `fixed_rings` says which), and the report.
+    pub fn result_scene(&self) -> BSplineScene {
+        let mut out = self.scene.clone();
+        let s = self.surface();
+        let cv = s.counts().1;
+        out.surface.control_points = s
+            .points()
+            .chunks(cv)
+            .map(|row| row.iter().map(|p| Some(p.to_vec())).collect())
+            .collect();
+        if out.fixed_rings.is_none() {
+            out.free_points = Some(
+                self.free
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, &f)| f)
+                    .map(|(k, _)| [k / cv, k % cv])
+                    .collect(),
+            );
+        }
+        out.report = Some(self.report_json());
+        out
+    }
+
+    /// What the result's reader should know: a fold.
+    pub fn notes(&self) -> Vec<String> {
+        self.normal_turn
+            .filter(|t| t.is_fold())
+            .map(|t| {
+                format!(
+                    "the surface folds: its normal turns by {:.1}° between neighbouring samples \
+                     near (u, v) = ({:.3}, {:.3})",
+                    t.angle.to_degrees(),
+                    t.at.0,
+                    t.at.1
+                )
+            })
+            .into_iter()
+            .collect()
+    }
+
+    /// The `"report"` object (the vocabulary of every kind's report).
+    pub fn report_json(&self) -> Value {
+        let r = &self.solution.report;
+        let s = self.surface();
+        let (su, sv) = (s.knots().0.spans().len(), s.knots().1.spans().len());
+        let t = &r.timings;
+        json!({
+            "energy": r.energy,
+            "terms": {"stretch": r.stretch, "bend": r.bend},
+            "gradient_norm": r.gradient_norm,
+            "relative_gradient": r.relative_gradient,
+            "residual": r.residual,
+            "condition_estimate": Value::Null,
+            "refinement_steps": 1,
+            "unknowns": r.unknowns,
+            "free_points": r.free_points,
+            "spans": [su, sv],
+            "factor_nonzeros": r.factor_nonzeros,
+            "check": {
+                "energy": r.check_energy,
+                "energy_error": r.energy_error,
+                "tolerance": fairsurf::bspline::ENERGY_TOLERANCE,
+            },
+            "constraints": [],
+            "max_violation": 0.0,
+            "external": 0.0,
+            "operators": [],
+            "newton": Value::Null,
+            "max_normal_turn_deg": self.normal_turn.map(|t| crate::result::normal_turn_json(
+                t.angle, json!([t.at.0, t.at.1]), t.is_fold())),
+            "timings_s": {
+                "assemble": t.assemble, "factor": t.factor, "solve": t.solve,
+                "analyse": t.analyse, "total": t.total,
+            },
+            "notes": self.notes(),
+            "fairsurf_version": env!("CARGO_PKG_VERSION"),
+        })
+    }
+}
