@@ -1,7 +1,10 @@
 //! `fairsurf export`: a solved surface as a mesh or as the exact surface for CAD.
 
 use crate::Failure;
-use fairsurf_io::{write_iges, write_mesh_with, write_step, MeshFormat, MeshOptions, SurfaceMesh};
+use fairsurf_io::{
+    write_iges_surfaces, write_mesh_with, write_step_surfaces, CadSurface, MeshFormat, MeshOptions,
+    SurfaceMesh,
+};
 use fairsurf_render::Range;
 use std::path::PathBuf;
 
@@ -80,15 +83,19 @@ pub fn run(a: Args) -> Result<(), Failure> {
                      Open CASCADE-based readers (FreeCAD, gmsh, CadQuery) accept; they drop such surfaces"
                 );
             }
+            let cad: Vec<CadSurface> = match &loaded.bspline {
+                Some(b) => vec![b.into()],
+                None => patches.iter().map(Into::into).collect(),
+            };
             match format {
-                Format::Step => write_step(&a.output, &patches)?,
-                _ => write_iges(&a.output, &patches)?,
+                Format::Step => write_step_surfaces(&a.output, &cad)?,
+                _ => write_iges_surfaces(&a.output, &cad)?,
             }
-            if let fairsurf_io::Scene::BSpline(_) = loaded.scene {
+            if let Some(b) = &loaded.bspline {
+                let (cu, cv) = b.counts();
                 crate::say!(
-                    "{}: a degree {n}×{m} B-spline surface as its {} Bézier pieces, one B-spline face each",
+                    "{}: a degree {n}×{m} B-spline surface of {cu}×{cv} control points as one B-spline face with its knots",
                     a.output.display(),
-                    patches.len()
                 );
             } else if loaded.tri.is_some() {
                 crate::say!(
@@ -105,9 +112,10 @@ pub fn run(a: Args) -> Result<(), Failure> {
         }
         Format::Mesh => {
             let r = a.resolution as usize;
-            let mesh = match &loaded.tri {
-                Some(t) => SurfaceMesh::from_tri_surface(t, r),
-                None => SurfaceMesh::from_patch(&patches[0], r, r),
+            let mesh = match (&loaded.tri, &loaded.bspline) {
+                (Some(t), _) => SurfaceMesh::from_tri_surface(t, r),
+                (None, Some(b)) => SurfaceMesh::from_bspline(b, r, r),
+                (None, None) => SurfaceMesh::from_patch(&patches[0], r, r),
             };
             let options = MeshOptions {
                 colour_range: range,

@@ -1,6 +1,7 @@
 //! Reading the surface a command works on.
 
 use crate::Failure;
+use fairsurf::bspline::BSplineSurface;
 use fairsurf::{TensorPatch, TriSurface};
 use fairsurf_io::{Scene, SolvedScene, TensorScene};
 use std::path::Path;
@@ -57,6 +58,8 @@ pub(crate) struct Loaded {
     pub patches: Vec<TensorPatch>,
     /// The triangular surface, for a triangular scene.
     pub tri: Option<TriSurface>,
+    /// The B-spline surface, for a B-spline scene.
+    pub bspline: Option<BSplineSurface>,
 }
 
 /// The scene in `path` and its surface: a result file (one with a
@@ -73,6 +76,11 @@ pub(crate) fn surface(path: &Path) -> Result<Loaded, Failure> {
         (None, Scene::Triangular(s)) => Some(s.surface().map_err(with_file(path))?),
         _ => None,
     };
+    let bspline = match (&solved, &scene) {
+        (Some(SolvedScene::BSpline(s)), _) => Some(s.surface().clone()),
+        (None, Scene::BSpline(s)) => Some(s.surface().map_err(with_file(path))?),
+        _ => None,
+    };
     let patches = match (&solved, &tri) {
         (_, Some(t)) => t.tensor_patches(),
         (Some(s), None) => s.tensor_patches(),
@@ -83,6 +91,7 @@ pub(crate) fn surface(path: &Path) -> Result<Loaded, Failure> {
         solved,
         patches,
         tri,
+        bspline,
     })
 }
 

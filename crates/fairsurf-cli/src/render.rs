@@ -149,6 +149,7 @@ fn panel(path: &Path, normals: bool) -> Result<Panel, Failure> {
         solved,
         patches,
         tri,
+        ..
     } = surface(path)?;
     let arrows = match (normals, &scene, solved) {
         (true, Scene::Tensor(scene), solved) => {

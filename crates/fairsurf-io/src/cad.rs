@@ -2,15 +2,93 @@
 //! they write a real number, and the time stamp in their headers.
 
 use crate::{write_atomic, Error, Result};
-use fairsurf::TensorPatch;
+use fairsurf::bspline::BSplineSurface;
+use fairsurf::{TensorPatch, Vec3};
 use std::path::Path;
 
-/// Checks the patches, builds the file's text from its name and the
-/// patches, and writes it atomically.
+/// A surface as the CAD writers hold it: a polynomial B-spline with
+/// clamped knots (a Bézier patch of degree (n, m) is the one with knots
+/// 0ⁿ⁺¹ 1ⁿ⁺¹ × 0ᵐ⁺¹ 1ᵐ⁺¹), control points row-major with the u index i
+/// first, as in [`TensorPatch`] and [`BSplineSurface`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct CadSurface {
+    /// (p, q).
+    pub degree: (usize, usize),
+    /// The full knot vectors in u and v.
+    pub knots: [Vec<f64>; 2],
+    /// Control points in u and in v.
+    pub counts: (usize, usize),
+    /// The control points, row-major.
+    pub points: Vec<Vec3>,
+}
+
+impl From<&TensorPatch> for CadSurface {
+    fn from(p: &TensorPatch) -> Self {
+        let (n, m) = p.degree();
+        let clamped = |d: usize| {
+            (0..2 * (d + 1))
+                .map(|k| if k <= d { 0.0 } else { 1.0 })
+                .collect()
+        };
+        Self {
+            degree: (n, m),
+            knots: [clamped(n), clamped(m)],
+            counts: (n + 1, m + 1),
+            points: p.points().to_vec(),
+        }
+    }
+}
+
+impl From<&BSplineSurface> for CadSurface {
+    fn from(s: &BSplineSurface) -> Self {
+        let (u, v) = s.knots();
+        Self {
+            degree: s.degree(),
+            knots: [u.knots().to_vec(), v.knots().to_vec()],
+            counts: s.counts(),
+            points: s.points().to_vec(),
+        }
+    }
+}
+
+impl CadSurface {
+    /// P_ij.
+    pub fn point(&self, i: usize, j: usize) -> Vec3 {
+        self.points[i * self.counts.1 + j]
+    }
+
+    /// The distinct knots of direction `k` (0 = u) and their multiplicities.
+    pub(crate) fn distinct_knots(&self, k: usize) -> (Vec<f64>, Vec<usize>) {
+        let (mut values, mut mults) = (Vec::new(), Vec::<usize>::new());
+        for &t in &self.knots[k] {
+            match values.last() {
+                Some(&last) if last == t => *mults.last_mut().expect("one per value") += 1,
+                _ => {
+                    values.push(t);
+                    mults.push(1);
+                }
+            }
+        }
+        (values, mults)
+    }
+
+    /// The parameter domain of direction `k`: [t_p, t_c].
+    pub(crate) fn domain(&self, k: usize) -> (f64, f64) {
+        let (p, c) = if k == 0 {
+            (self.degree.0, self.counts.0)
+        } else {
+            (self.degree.1, self.counts.1)
+        };
+        (self.knots[k][p], self.knots[k][c])
+    }
+}
+
+/// Checks the surfaces, builds the file's text from its name and the
+/// surfaces, and writes it atomically.
 pub(crate) fn write_cad_text(
     path: &Path,
-    patches: &[TensorPatch],
-    text: fn(&str, &[TensorPatch]) -> String,
+    patches: &[CadSurface],
+    text: fn(&str, &[CadSurface]) -> String,
 ) -> Result<()> {
     check_patches(path, patches)?;
     let name = path
@@ -22,7 +100,7 @@ pub(crate) fn write_cad_text(
 }
 
 /// A B-spline needs degree ≥ 1 and a shell needs a face: refuses anything else.
-pub(crate) fn check_patches(path: &Path, patches: &[TensorPatch]) -> Result<()> {
+pub(crate) fn check_patches(path: &Path, patches: &[CadSurface]) -> Result<()> {
     let refuse = |message: String| {
         Err(Error::Export {
             path: path.to_path_buf(),
@@ -34,9 +112,9 @@ pub(crate) fn check_patches(path: &Path, patches: &[TensorPatch]) -> Result<()> 
     }
     if let Some(k) = patches
         .iter()
-        .position(|p| p.degree().0 == 0 || p.degree().1 == 0)
+        .position(|p| p.degree.0 == 0 || p.degree.1 == 0)
     {
-        let (n, m) = patches[k].degree();
+        let (n, m) = patches[k].degree;
         return refuse(format!(
             "patch {k} has degree ({n}, {m}); a B-spline surface needs degree ≥ 1 in u and v"
         ));

@@ -2,7 +2,7 @@
 //! Directory Entry, Parameter Data and Terminate sections; each patch one
 //! entity 128 (rational B-spline surface, §4.24).
 
-use crate::cad::{real, utc_now, write_cad_text};
+use crate::cad::{real, utc_now, write_cad_text, CadSurface};
 use crate::Result;
 use fairsurf::TensorPatch;
 use std::path::Path;
@@ -39,11 +39,19 @@ use std::path::Path;
 /// # std::fs::remove_dir_all(&dir).unwrap();
 /// ```
 pub fn write_iges(path: &Path, patches: &[TensorPatch]) -> Result<()> {
-    write_cad_text(path, patches, iges_text)
+    let surfaces: Vec<CadSurface> = patches.iter().map(CadSurface::from).collect();
+    write_iges_surfaces(path, &surfaces)
+}
+
+/// Writes B-spline surfaces as [`write_iges`] does: each one entity 128
+/// with K1 = rows − 1, K2 = columns − 1, its degrees, its full knot vectors
+/// and its parameter domain.
+pub fn write_iges_surfaces(path: &Path, surfaces: &[CadSurface]) -> Result<()> {
+    write_cad_text(path, surfaces, iges_text)
 }
 
 /// The whole file.
-fn iges_text(file_name: &str, patches: &[TensorPatch]) -> String {
+fn iges_text(file_name: &str, patches: &[CadSurface]) -> String {
     let mut out = String::new();
     let start = [
         "fairsurf: tensor-product Bezier patches as IGES entity 128",
@@ -146,12 +154,12 @@ fn hollerith(s: &str) -> String {
 }
 
 /// The 26 global parameters of IGES 5.3 §2.2.4.3.
-fn global_section(file_name: &str, patches: &[TensorPatch]) -> Vec<String> {
+fn global_section(file_name: &str, patches: &[CadSurface]) -> Vec<String> {
     let [y, mo, d, h, mi, s] = utc_now();
     let stamp = hollerith(&format!("{y:04}{mo:02}{d:02}.{h:02}{mi:02}{s:02}"));
     let extent = patches
         .iter()
-        .flat_map(|p| p.points().iter().flatten())
+        .flat_map(|p| p.points.iter().flatten())
         .fold(0.0f64, |a, c| a.max(c.abs()));
     let me = format!("fairsurf {}", env!("CARGO_PKG_VERSION"));
     let params = vec![
@@ -186,21 +194,21 @@ fn global_section(file_name: &str, patches: &[TensorPatch]) -> Vec<String> {
 }
 
 /// Entity 128's parameters (§4.24), with delimiters.
-fn surface_128(patch: &TensorPatch) -> Vec<String> {
-    let (n, m) = patch.degree();
+fn surface_128(s: &CadSurface) -> Vec<String> {
+    let ((n, m), (cu, cv)) = (s.degree, s.counts);
     let ints = |v: &[usize]| v.iter().map(|k| k.to_string()).collect::<Vec<_>>();
     // K1, K2, M1, M2, PROP1..PROP5 (not closed, polynomial, not periodic).
-    let mut p = ints(&[128, n, m, n, m, 0, 0, 1, 0, 0]);
-    let knots = |d: usize| (0..2 * (d + 1)).map(move |k| real(if k <= d { 0.0 } else { 1.0 }));
-    p.extend(knots(n));
-    p.extend(knots(m));
-    p.extend((0..(n + 1) * (m + 1)).map(|_| real(1.0)));
-    for j in 0..=m {
-        for i in 0..=n {
-            p.extend(patch.point(i, j).map(real));
+    let mut p = ints(&[128, cu - 1, cv - 1, n, m, 0, 0, 1, 0, 0]);
+    p.extend(s.knots[0].iter().map(|&t| real(t)));
+    p.extend(s.knots[1].iter().map(|&t| real(t)));
+    p.extend((0..cu * cv).map(|_| real(1.0)));
+    for j in 0..cv {
+        for i in 0..cu {
+            p.extend(s.point(i, j).map(real));
         }
     }
-    p.extend([0.0, 1.0, 0.0, 1.0].map(real));
+    let ((u0, u1), (v0, v1)) = (s.domain(0), s.domain(1));
+    p.extend([u0, u1, v0, v1].map(real));
     delimited(p)
 }
 
@@ -212,7 +220,7 @@ mod tests {
     fn sections_are_80_columns_and_the_terminate_line_counts_them() {
         let a = TensorPatch::from_fn(3, 4, |i, j| [i as f64 / 3.0, j as f64 / 4.0, 0.1]);
         let b = TensorPatch::from_fn(1, 2, |i, j| [1.0 + i as f64, j as f64 / 3.0, -0.7]);
-        let text = iges_text("two.igs", &[a, b]);
+        let text = iges_text("two.igs", &[(&a).into(), (&b).into()]);
         let lines: Vec<&str> = text.lines().collect();
         assert!(lines.iter().all(|l| l.len() == 80 && l.is_ascii()));
         let count = |c: char| lines.iter().filter(|l| l.as_bytes()[72] == c as u8).count();
@@ -254,7 +262,7 @@ mod tests {
     #[test]
     fn parameters_of_a_bilinear_patch_are_in_iges_order() {
         let patch = TensorPatch::from_fn(1, 1, |i, j| [i as f64, j as f64, (10 * i + j) as f64]);
-        let p = surface_128(&patch).concat();
+        let p = surface_128(&(&patch).into()).concat();
         assert_eq!(
             p,
             "128,1,1,1,1,0,0,1,0,0,0.0,0.0,1.0,1.0,0.0,0.0,1.0,1.0,1.0,1.0,1.0,1.0,\

@@ -46,15 +46,16 @@ pub use atomic::{remove_temporaries, write_atomic, Batch};
 pub use bspline_scene::{
     BSplineEnergySpec, BSplineKind, BSplineScene, BSplineSpec, SolvedBSplineScene,
 };
+pub use cad::CadSurface;
 pub use compare::comparison_json;
 pub use constraints::{TensorConstraintSpec, UvSpec};
 pub use error::{Error, Result};
-pub use iges::write_iges;
+pub use iges::{write_iges, write_iges_surfaces};
 pub use mesh::{write_mesh, write_mesh_with, MeshFormat, MeshOptions};
 pub use operators::{EdgeSpec, OperatorKind, TensorOperatorSpec, TensorPatchSpec};
 pub use result::{construction_report_json, report_json, Outcome, SolvedTensorScene};
 pub use scene::{Scene, SolvedScene, SurfaceType};
-pub use step::write_step;
+pub use step::{write_step, write_step_surfaces};
 pub use surface_mesh::SurfaceMesh;
 pub use tensor_scene::{
     EnergySpec, GuideSurfaceSpec, Method, Net, NormalFieldSpec, NumberOrGrid, SamplingSpec,

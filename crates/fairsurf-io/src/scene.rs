@@ -256,6 +256,16 @@ impl SolvedScene {
         }
     }
 
+    /// The solved surface as the CAD writers take it: the tensor patch, a
+    /// B-spline surface whole (one face with its knots), a triangular
+    /// surface's patches as tensor patches with a collapsed side.
+    pub fn cad_surfaces(&self) -> Vec<crate::CadSurface> {
+        match self {
+            SolvedScene::BSpline(s) => vec![s.surface().into()],
+            other => other.tensor_patches().iter().map(Into::into).collect(),
+        }
+    }
+
     /// A triangle mesh of the solved surface. `resolution` is the quads per
     /// parameter direction of a tensor patch; a triangular surface gets
     /// ⌈resolution / 4⌉ subdivisions per patch edge (its patches are many

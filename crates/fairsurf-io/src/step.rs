@@ -2,7 +2,7 @@
 //! each patch an ADVANCED_FACE on a B_SPLINE_SURFACE_WITH_KNOTS, the faces
 //! an OPEN_SHELL of a SHELL_BASED_SURFACE_MODEL.
 
-use crate::cad::{real, utc_now, write_cad_text};
+use crate::cad::{real, utc_now, write_cad_text, CadSurface};
 use crate::Result;
 use fairsurf::{TensorPatch, Vec3};
 use std::collections::HashMap;
@@ -49,11 +49,21 @@ use std::path::Path;
 /// # std::fs::remove_dir_all(&dir).unwrap();
 /// ```
 pub fn write_step(path: &Path, patches: &[TensorPatch]) -> Result<()> {
-    write_cad_text(path, patches, step_text)
+    let surfaces: Vec<CadSurface> = patches.iter().map(CadSurface::from).collect();
+    write_step_surfaces(path, &surfaces)
+}
+
+/// Writes B-spline surfaces (a B-spline scene's surface as one face, or
+/// Bézier patches) as [`write_step`] does: each one
+/// `B_SPLINE_SURFACE_WITH_KNOTS` with its knots and multiplicities, bounded
+/// by its four boundary curves (`B_SPLINE_CURVE_WITH_KNOTS` with the same
+/// knots).
+pub fn write_step_surfaces(path: &Path, surfaces: &[CadSurface]) -> Result<()> {
+    write_cad_text(path, surfaces, step_text)
 }
 
 /// The whole file.
-fn step_text(file_name: &str, patches: &[TensorPatch]) -> String {
+fn step_text(file_name: &str, patches: &[CadSurface]) -> String {
     let mut d = Data::default();
     let context = d.header_entities();
     let faces: Vec<usize> = patches.iter().map(|p| d.face(p)).collect();
@@ -77,7 +87,7 @@ fn step_text(file_name: &str, patches: &[TensorPatch]) -> String {
     let _ = write!(
         out,
         "ISO-10303-21;\nHEADER;\n\
-         FILE_DESCRIPTION(('fairsurf: Bezier patches as B-spline surfaces'),'2;1');\n\
+         FILE_DESCRIPTION(('fairsurf: B-spline surfaces'),'2;1');\n\
          FILE_NAME('{}','{y:04}-{mo:02}-{day:02}T{h:02}:{mi:02}:{s:02}',(''),(''),\
          'fairsurf {version}','fairsurf {version}','');\n\
          FILE_SCHEMA(('AUTOMOTIVE_DESIGN {{ 1 0 10303 214 1 1 1 1 }}'));\nENDSEC;\nDATA;\n",
@@ -179,47 +189,51 @@ impl Data {
         }
     }
 
-    /// The ADVANCED_FACE of one patch (with its surface, edges and vertices).
-    fn face(&mut self, patch: &TensorPatch) -> usize {
-        let (n, m) = patch.degree();
-        let points: Vec<usize> = patch
-            .points()
+    /// The ADVANCED_FACE of one surface (with its surface, edges and vertices).
+    fn face(&mut self, s: &CadSurface) -> usize {
+        let ((n, m), (cu, cv)) = (s.degree, s.counts);
+        let points: Vec<usize> = s
+            .points
             .iter()
             .map(|&p| self.add(format!("CARTESIAN_POINT('',{})", coords(p))))
             .collect();
-        let id = |i: usize, j: usize| points[patch.index(i, j)];
-        let rows: Vec<String> = (0..=n)
-            .map(|i| format!("({})", refs(&(0..=m).map(|j| id(i, j)).collect::<Vec<_>>())))
+        let id = |i: usize, j: usize| points[i * cv + j];
+        let rows: Vec<String> = (0..cu)
+            .map(|i| format!("({})", refs(&(0..cv).map(|j| id(i, j)).collect::<Vec<_>>())))
             .collect();
+        let (ku, mu) = s.distinct_knots(0);
+        let (kv, mv) = s.distinct_knots(1);
         let surface = self.add(format!(
             "B_SPLINE_SURFACE_WITH_KNOTS('',{n},{m},({}),.UNSPECIFIED.,.F.,.F.,.F.,\
-             ({},{}),({},{}),(0.,1.),(0.,1.),.UNSPECIFIED.)",
+             ({}),({}),({}),({}),.UNSPECIFIED.)",
             rows.join(","),
-            n + 1,
-            n + 1,
-            m + 1,
-            m + 1
+            ints(&mu),
+            ints(&mv),
+            reals(&ku),
+            reals(&kv)
         ));
         // Counter-clockwise in (u, v): v = 0 and u = 1 along their parameter,
-        // v = 1 and u = 0 against it. Each side: (i, j) in parameter order.
-        let sides: [(Vec<(usize, usize)>, bool); 4] = [
-            ((0..=n).map(|i| (i, 0)).collect(), true),
-            ((0..=m).map(|j| (n, j)).collect(), true),
-            ((0..=n).map(|i| (i, m)).collect(), false),
-            ((0..=m).map(|j| (0, j)).collect(), false),
+        // v = 1 and u = 0 against it. Each side: (i, j) in parameter order,
+        // with the knots of its direction.
+        let (u_curve, v_curve) = ((n, &ku, &mu), (m, &kv, &mv));
+        let sides: [(Vec<(usize, usize)>, bool, _); 4] = [
+            ((0..cu).map(|i| (i, 0)).collect(), true, u_curve),
+            ((0..cv).map(|j| (cu - 1, j)).collect(), true, v_curve),
+            ((0..cu).map(|i| (i, cv - 1)).collect(), false, u_curve),
+            ((0..cv).map(|j| (0, j)).collect(), false, v_curve),
         ];
         let mut oriented = Vec::new();
-        for (side, forward) in &sides {
-            let pts: Vec<Vec3> = side.iter().map(|&(i, j)| patch.point(i, j)).collect();
+        for (side, forward, knots) in &sides {
+            let pts: Vec<Vec3> = side.iter().map(|&(i, j)| s.point(i, j)).collect();
             let ids: Vec<usize> = side.iter().map(|&(i, j)| id(i, j)).collect();
-            if let Some((edge, same)) = self.edge(&pts, &ids) {
+            if let Some((edge, same)) = self.edge(&pts, &ids, *knots) {
                 let sense = if same == *forward { ".T." } else { ".F." };
                 oriented.push(self.add(format!("ORIENTED_EDGE('',*,*,#{edge},{sense})")));
             }
         }
         let bound = if oriented.is_empty() {
             // Every side collapsed: the whole boundary is one point.
-            let v = self.vertex(patch.point(0, 0), id(0, 0));
+            let v = self.vertex(s.point(0, 0), id(0, 0));
             self.add(format!("VERTEX_LOOP('',#{v})"))
         } else {
             self.add(format!("EDGE_LOOP('',({}))", refs(&oriented)))
@@ -229,29 +243,41 @@ impl Data {
     }
 
     /// The EDGE_CURVE along the control polygon `pts` (CARTESIAN_POINTs
-    /// `ids`) and whether it runs the same way, or `None` if the polygon is
-    /// a single point (a collapsed boundary).
-    fn edge(&mut self, pts: &[Vec3], ids: &[usize]) -> Option<(usize, bool)> {
+    /// `ids`) of degree d with distinct knots and multiplicities, and
+    /// whether it runs the same way, or `None` if the polygon is a single
+    /// point (a collapsed boundary). Curves are shared when their points
+    /// and knots agree (reversed: points reversed and knots mirrored).
+    fn edge(
+        &mut self,
+        pts: &[Vec3],
+        ids: &[usize],
+        (d, knots, mults): (usize, &Vec<f64>, &Vec<usize>),
+    ) -> Option<(usize, bool)> {
         if pts.iter().all(|&p| bits(p) == bits(pts[0])) {
             return None;
         }
-        let key: Vec<[u64; 3]> = pts.iter().map(|&p| bits(p)).collect();
+        let (a, b) = (knots[0], knots[knots.len() - 1]);
+        let mut key: Vec<[u64; 3]> = pts.iter().map(|&p| bits(p)).collect();
+        key.extend(knots.iter().map(|&t| bits([t - a, 0.0, 0.0])));
+        key.extend(mults.iter().map(|&k| [k as u64, 0, 0]));
         if let Some(&e) = self.edges.get(&key) {
             return Some((e, true));
         }
-        let reversed: Vec<[u64; 3]> = key.iter().rev().copied().collect();
+        let mut reversed: Vec<[u64; 3]> = pts.iter().rev().map(|&p| bits(p)).collect();
+        reversed.extend(knots.iter().rev().map(|&t| bits([b - t, 0.0, 0.0])));
+        reversed.extend(mults.iter().rev().map(|&k| [k as u64, 0, 0]));
         if let Some(&e) = self.edges.get(&reversed) {
             return Some((e, false));
         }
-        let d = pts.len() - 1;
         let curve = self.add(format!(
-            "B_SPLINE_CURVE_WITH_KNOTS('',{d},({}),.UNSPECIFIED.,.F.,.F.,({},{}),(0.,1.),.UNSPECIFIED.)",
+            "B_SPLINE_CURVE_WITH_KNOTS('',{d},({}),.UNSPECIFIED.,.F.,.F.,({}),({}),.UNSPECIFIED.)",
             refs(ids),
-            d + 1,
-            d + 1
+            ints(mults),
+            reals(knots)
         ));
+        let last = pts.len() - 1;
         let start = self.vertex(pts[0], ids[0]);
-        let end = self.vertex(pts[d], ids[d]);
+        let end = self.vertex(pts[last], ids[last]);
         let e = self.add(format!("EDGE_CURVE('',#{start},#{end},#{curve},.T.)"));
         self.edges.insert(key, e);
         Some((e, true))
@@ -269,6 +295,17 @@ impl Data {
     }
 }
 
+fn ints(v: &[usize]) -> String {
+    v.iter()
+        .map(|k| k.to_string())
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+fn reals(v: &[f64]) -> String {
+    v.iter().map(|&t| real(t)).collect::<Vec<_>>().join(",")
+}
+
 fn coords(p: Vec3) -> String {
     format!("({},{},{})", real(p[0]), real(p[1]), real(p[2]))
 }
@@ -284,13 +321,13 @@ mod tests {
     #[test]
     fn a_patch_is_one_face_with_four_edges() {
         let p = TensorPatch::from_fn(3, 4, |i, j| [i as f64, j as f64, 0.1 * (i * j) as f64]);
-        let t = step_text("x.step", &[p]);
+        let t = step_text("x.step", &[(&p).into()]);
         assert_eq!(count(&t, "ADVANCED_FACE"), 1);
         assert_eq!(count(&t, "EDGE_CURVE"), 4);
         assert_eq!(count(&t, "VERTEX_POINT"), 4);
         assert_eq!(count(&t, "ORIENTED_EDGE"), 4);
         assert_eq!(count(&t, "CARTESIAN_POINT"), 20 + 1);
-        assert!(t.contains(",(4,4),(5,5),(0.,1.),(0.,1.),.UNSPECIFIED.)"));
+        assert!(t.contains(",(4,4),(5,5),(0.0,1.0),(0.0,1.0),.UNSPECIFIED.)"));
     }
 
     #[test]
@@ -303,13 +340,13 @@ mod tests {
                 [i as f64, j as f64 - 1.0, 0.0]
             }
         });
-        let t = step_text("x.step", &[p]);
+        let t = step_text("x.step", &[(&p).into()]);
         assert_eq!(count(&t, "EDGE_CURVE"), 3);
         assert_eq!(count(&t, "VERTEX_POINT"), 3);
         // Two patches meeting along u = 1 of the first / u = 0 of the second.
         let a = TensorPatch::from_fn(2, 2, |i, j| [i as f64, j as f64, (i * j) as f64]);
         let b = TensorPatch::from_fn(2, 2, |i, j| [2.0 + i as f64, j as f64, (2 * j) as f64]);
-        let t = step_text("x.step", &[a, b]);
+        let t = step_text("x.step", &[(&a).into(), (&b).into()]);
         assert_eq!(count(&t, "ADVANCED_FACE"), 2);
         assert_eq!(count(&t, "EDGE_CURVE"), 7);
         assert_eq!(count(&t, "VERTEX_POINT"), 6);

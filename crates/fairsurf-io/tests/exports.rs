@@ -288,6 +288,67 @@ fn step_and_iges_surfaces_evaluate_to_ours_in_open_cascade() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A B-spline surface (uneven knots, a double knot, degrees 3 × 2, a
+/// domain other than [0, 1]² in v) written whole as one face: Open CASCADE
+/// reads one B-spline surface over the same domain that evaluates to ours
+/// at every sample (parameters as they are), with four boundary curves, and
+/// meshes it.
+#[test]
+fn bspline_surfaces_read_back_whole_in_open_cascade() {
+    use fairsurf::bspline::{BSplineSurface, KnotVector};
+    use fairsurf_io::{write_iges_surfaces, write_step_surfaces, CadSurface};
+    let Some(py) = reader() else { return };
+    let dir = out_dir("bspline");
+    let u = KnotVector::new(3, vec![0., 0., 0., 0., 0.2, 0.5, 0.5, 0.9, 1., 1., 1., 1.]).unwrap();
+    let v = KnotVector::new(2, vec![2., 2., 2., 2.35, 2.6, 3., 3., 3.]).unwrap();
+    let (cu, cv) = (u.count(), v.count());
+    let points = (0..cu * cv)
+        .map(|k| {
+            let (i, j) = ((k / cv) as f64, (k % cv) as f64);
+            [i, j + 0.1 * i * i, 0.3 * (1.3 * i).sin() * (0.7 * j).cos()]
+        })
+        .collect();
+    let surface = BSplineSurface::new(u, v, points).unwrap();
+    let uvs: Vec<(f64, f64)> = TS
+        .iter()
+        .flat_map(|&a| TS.iter().map(move |&b| (a, 2.0 + b)))
+        .collect();
+    let cad: Vec<CadSurface> = vec![(&surface).into()];
+    for ext in ["step", "igs"] {
+        let file = dir.join(format!("bspline.{ext}"));
+        match ext {
+            "step" => write_step_surfaces(&file, &cad).unwrap(),
+            _ => write_iges_surfaces(&file, &cad).unwrap(),
+        }
+        let r = readback(&py, &file, &uvs);
+        let surfaces = r["surfaces"].as_array().unwrap();
+        assert_eq!(surfaces.len(), 1, "{ext}: {r}");
+        let s = &surfaces[0];
+        assert_eq!(s["type"], "BSpline surface", "{ext}: {r}");
+        let b = [f64s(&s["bounds"][0]), f64s(&s["bounds"][1])].concat();
+        let off = [b[0], b[1] - 1.0, b[2] - 2.0, b[3] - 3.0]
+            .iter()
+            .fold(0.0f64, |m, x| m.max(x.abs()));
+        assert!(off < 1e-12, "{ext}: bounds {b:?}");
+        let theirs = vec3s(&s["values"]);
+        let worst = uvs
+            .iter()
+            .zip(&theirs)
+            .map(|(&(a, c), &t)| dist(surface.eval(a, c), t))
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-12, "{ext}: {worst:e} away");
+        assert!(
+            s["triangles"].as_u64().unwrap_or(0) > 0,
+            "{ext}: not meshed"
+        );
+        if ext == "step" {
+            assert_eq!(s["boundary_curves"], 4, "{r}");
+        }
+        println!("bspline.{ext}: one B-spline surface, max |gmsh − ours| = {worst:.1e}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn a_collapsed_side_reads_back_as_one_surface() {
     let Some(py) = reader() else { return };

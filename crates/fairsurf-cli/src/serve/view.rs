@@ -10,8 +10,8 @@ use fairsurf::triangle::{linear_index, multi_indices};
 use fairsurf::vector::{add, dot, normalize, scale, sub};
 use fairsurf::{BezierCurve, TriSurface, Vec3};
 use fairsurf_io::{
-    write_iges, write_mesh, write_step, Outcome, Scene, SolvedScene, SolvedTensorScene,
-    SolvedTriScene, SurfaceMesh,
+    write_iges_surfaces, write_mesh, write_step_surfaces, Outcome, Scene, SolvedScene,
+    SolvedTensorScene, SolvedTriScene, SurfaceMesh,
 };
 use serde_json::{json, Value};
 use std::collections::BTreeSet;
@@ -143,8 +143,8 @@ pub(crate) fn export(
     })?;
     let path = dir.join(format!("surface.{ext}"));
     let written = match format {
-        "step" => write_step(&path, &solved.tensor_patches()),
-        "iges" => write_iges(&path, &solved.tensor_patches()),
+        "step" => write_step_surfaces(&path, &solved.cad_surfaces()),
+        "iges" => write_iges_surfaces(&path, &solved.cad_surfaces()),
         _ => write_mesh(&path, &solved.mesh(MESH_RESOLUTION)),
     };
     let bytes = written.map_err(ApiError::from).and_then(|()| {
