@@ -304,8 +304,20 @@ fn bspline_summary(path: &Path, s: &fairsurf_io::SolvedBSplineScene, written: &[
             r.unknowns
         ),
         format!(
-            "  energy {:.10e} = stretch {:.10e} + bend {:.10e}",
-            r.energy, r.stretch, r.bend
+            "  energy {:.10e} = stretch {:.10e} + bend {:.10e}{}{}",
+            r.energy,
+            r.stretch,
+            r.bend,
+            if r.normal_field > 0.0 {
+                format!(" + normal_field {:.10e}", r.normal_field)
+            } else {
+                String::new()
+            },
+            if r.guide_surface > 0.0 {
+                format!(" + guide_surface {:.10e}", r.guide_surface)
+            } else {
+                String::new()
+            }
         ),
         format!(
             "  checked on the written net: Gauss quadrature span by span gives {:.10e} \

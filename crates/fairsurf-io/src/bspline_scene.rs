@@ -5,7 +5,7 @@
 //! Field docs here become the descriptions in `fairsurf schema --type bspline`.
 
 use crate::tensor_scene::Net;
-use crate::validate::{free_mask, parse_net};
+use crate::validate::{check_weight, free_mask, normal_field_patch, parse_net};
 use crate::{Error, Result};
 use fairsurf::bspline::{BSplineProblem, BSplineSolution, BSplineSurface, KnotVector};
 use fairsurf::Vec3;
@@ -70,7 +70,9 @@ pub struct BSplineSpec {
     pub control_points: Net,
 }
 
-/// stretch·½∫∫|R_u|²+|R_v|² + bend·½∫∫|R_uu|²+2|R_uv|²+|R_vv|².
+/// The energy over the knot domain (Wu & Yang eq. 1–2, exact):
+/// stretch·½∫∫|R_u|²+|R_v|² plus bend·½∫∫|R_uu|²+2|R_uv|²+|R_vv|² plus
+/// λ·½∫∫(R_u·N)²+(R_v·N)² plus γ·½∫∫|R−S|².
 #[derive(Clone, Debug, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BSplineEnergySpec {
@@ -80,6 +82,26 @@ pub struct BSplineEnergySpec {
     /// Weight of the thin-plate energy, ≥ 0.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bend: Option<f64>,
+    /// The normal-field term: a Bézier field N over the knot domain mapped
+    /// onto [0, 1]² (`control_points` required; as in tensor scenes).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub normal_field: Option<crate::NormalFieldSpec>,
+    /// The guide-surface term: S on the same knots.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub guide_surface: Option<BSplineGuideSpec>,
+}
+
+/// A guide surface S on the surface's knots.
+#[derive(Clone, Debug, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BSplineGuideSpec {
+    /// γ ≥ 0 (default 1).
+    #[serde(default = "crate::tensor_scene::one")]
+    pub weight: f64,
+    /// The control points of S (as many as the surface's). Default: the
+    /// initial net (`surface.control_points`, which must then have no null).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub control_points: Option<Net>,
 }
 
 /// The highest degree a B-spline scene takes: beyond it use more spans.
@@ -199,10 +221,49 @@ impl BSplineScene {
                 "every weight is 0: nothing to minimize",
             ));
         }
-        Ok(BSplineProblem::new(surface)
+        let mut problem = BSplineProblem::new(surface)
             .with_free(free)?
             .with_stretch(stretch)
-            .with_bend(bend))
+            .with_bend(bend);
+        if let Some(f) = &e.normal_field {
+            check_weight("energy.normal_field.weight", f.weight)?;
+            let net = f.control_points.as_ref().ok_or_else(|| {
+                Error::scene(
+                    "energy.normal_field.control_points",
+                    "required: the Bézier field N over the knot domain",
+                )
+            })?;
+            problem = problem.with_normal_field(f.weight, normal_field_patch(net, f.degree)?);
+        }
+        if let Some(g) = &e.guide_surface {
+            check_weight("energy.guide_surface.weight", g.weight)?;
+            let points = match &g.control_points {
+                Some(net) => parse_net(
+                    net,
+                    "energy.guide_surface.control_points",
+                    (cu - 1, cv - 1),
+                    false,
+                )?
+                .into_iter()
+                .map(|p| p.expect("no null"))
+                .collect(),
+                None => given
+                    .iter()
+                    .enumerate()
+                    .map(|(k, p)| {
+                        p.ok_or_else(|| {
+                            Error::scene(
+                                format!("surface.control_points[{}][{}]", k / cv, k % cv),
+                                "is null, but energy.guide_surface has no control_points and \
+                                 defaults to the initial net: give this point or the guide's net",
+                            )
+                        })
+                    })
+                    .collect::<Result<Vec<_>>>()?,
+            };
+            problem = problem.with_guide_surface(g.weight, Some(points))?;
+        }
+        Ok(problem)
     }
 
     /// Validates and solves.
@@ -293,9 +354,18 @@ impl SolvedBSplineScene {
         let s = self.surface();
         let (su, sv) = (s.knots().0.spans().len(), s.knots().1.spans().len());
         let t = &r.timings;
+        let mut terms = serde_json::Map::new();
+        terms.insert("stretch".into(), json!(r.stretch));
+        terms.insert("bend".into(), json!(r.bend));
+        if self.scene.energy.normal_field.is_some() {
+            terms.insert("normal_field".into(), json!(r.normal_field));
+        }
+        if self.scene.energy.guide_surface.is_some() {
+            terms.insert("guide_surface".into(), json!(r.guide_surface));
+        }
         json!({
             "energy": r.energy,
-            "terms": {"stretch": r.stretch, "bend": r.bend},
+            "terms": terms,
             "gradient_norm": r.gradient_norm,
             "relative_gradient": r.relative_gradient,
             "residual": r.residual,
@@ -303,6 +373,7 @@ impl SolvedBSplineScene {
             "refinement_steps": 1,
             "unknowns": r.unknowns,
             "free_points": r.free_points,
+            "coupled": r.coupled,
             "spans": [su, sv],
             "factor_nonzeros": r.factor_nonzeros,
             "check": {

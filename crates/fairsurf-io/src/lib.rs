@@ -44,7 +44,7 @@ mod validate;
 pub use analysis::Measures;
 pub use atomic::{remove_temporaries, write_atomic, Batch};
 pub use bspline_scene::{
-    BSplineEnergySpec, BSplineKind, BSplineScene, BSplineSpec, SolvedBSplineScene,
+    BSplineEnergySpec, BSplineGuideSpec, BSplineKind, BSplineScene, BSplineSpec, SolvedBSplineScene,
 };
 pub use cad::CadSurface;
 pub use compare::comparison_json;

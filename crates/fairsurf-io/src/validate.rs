@@ -295,17 +295,7 @@ impl TensorScene {
             Some(f) => {
                 check_weight("energy.normal_field.weight", f.weight)?;
                 match &f.control_points {
-                    Some(cp) => {
-                        let patch = parse_patch(cp, f.degree, "energy.normal_field")?;
-                        if patch.points().iter().flatten().all(|&x| x == 0.0) {
-                            return Err(Error::scene(
-                                "energy.normal_field.control_points",
-                                "the field is zero everywhere and gives no direction: \
-                                 give the normals N to follow",
-                            ));
-                        }
-                        Some((f.weight, Some(patch)))
-                    }
+                    Some(cp) => Some((f.weight, Some(normal_field_patch(cp, f.degree)?))),
                     None if sampling.is_some_and(|s| s.normal_samples.is_some()) => Some((f.weight, None)),
                     None => {
                         return Err(Error::scene(
@@ -442,7 +432,7 @@ impl TensorScene {
     }
 }
 
-fn check_weight(path: &str, w: f64) -> Result<()> {
+pub(crate) fn check_weight(path: &str, w: f64) -> Result<()> {
     if !w.is_finite() {
         return Err(Error::scene(
             path,
@@ -516,6 +506,19 @@ pub(crate) fn parse_net(
 }
 
 /// A complete net whose degree is given or read off its shape.
+/// The Bézier field N of `energy.normal_field`; a field that is zero
+/// everywhere is an error (it gives no direction).
+pub(crate) fn normal_field_patch(net: &Net, degree: Option<[usize; 2]>) -> Result<TensorPatch> {
+    let patch = parse_patch(net, degree, "energy.normal_field")?;
+    if patch.points().iter().flatten().all(|&x| x == 0.0) {
+        return Err(Error::scene(
+            "energy.normal_field.control_points",
+            "the field is zero everywhere and gives no direction: give the normals N to follow",
+        ));
+    }
+    Ok(patch)
+}
+
 fn parse_patch(net: &Net, degree: Option<[usize; 2]>, path: &str) -> Result<TensorPatch> {
     let cp = format!("{path}.control_points");
     let [n, m] = match degree {

@@ -376,8 +376,26 @@ fn bspline_scenes_name_their_paths_and_round_trip() {
         (
             "/energy",
             json!({"normal_field": {}}),
-            "energy.normal_field",
-            "unknown field",
+            "energy.normal_field.control_points",
+            "required",
+        ),
+        (
+            "/energy",
+            json!({"normal_field": {"control_points": [[[0, 0, 0]]]}}),
+            "energy.normal_field.control_points",
+            "zero everywhere",
+        ),
+        (
+            "/energy",
+            json!({"guide_surface": {"weight": 1}}),
+            "surface.control_points[2][2]",
+            "defaults to the initial net",
+        ),
+        (
+            "/energy",
+            json!({"guide_surface": {"control_points": [[[0, 0, 0]]]}}),
+            "energy.guide_surface.control_points",
+            "expected 14 rows",
         ),
     ];
     for (ptr, value, path, msg) in cases {
@@ -390,6 +408,22 @@ fn bspline_scenes_name_their_paths_and_round_trip() {
         let (p, m) = fails(&v);
         assert!(p == path && m.contains(msg), "{ptr}: {p}: {m}");
     }
+    // A normal field and a guide surface: solved (x, y, z together),
+    // confirmed by both roads, reported term by term.
+    let mut v = base.clone();
+    v["energy"] = json!({"bend": 1, "normal_field": {"weight": 20, "degree": [1, 1],
+        "control_points": [[[0.1, 0, 1], [0.1, 0.1, 1]], [[-0.1, 0, 1], [0, -0.1, 1]]]}});
+    let guided = Scene::from_json(&v.to_string()).unwrap().solve().unwrap();
+    let report = guided.report_json();
+    assert_eq!(report["coupled"], true, "{report}");
+    assert!(
+        report["terms"]["normal_field"].as_f64().unwrap() > 0.0,
+        "{report}"
+    );
+    assert!(
+        report["check"]["energy_error"].as_f64().unwrap() < 1e-12,
+        "{report}"
+    );
     // Solved, written, solved again: the same net.
     let solved = BSplineScene::from_json(&text).unwrap().solve().unwrap();
     assert!(solved.solution.report.bend > 0.0 && solved.solution.report.stretch == 0.0);

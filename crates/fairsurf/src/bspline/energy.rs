@@ -50,6 +50,11 @@ impl Gram1d {
         }
     }
 
+    /// The number of basis functions.
+    pub(crate) fn count(&self) -> usize {
+        self.count
+    }
+
     /// M_r[i][k].
     pub(crate) fn at(&self, r: usize, i: usize, k: usize) -> f64 {
         self.m[r][i * self.count + k]

@@ -33,6 +33,7 @@
 //! ```
 
 mod energy;
+mod guidance;
 mod knots;
 mod solve;
 mod surface;

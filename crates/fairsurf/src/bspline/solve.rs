@@ -1,15 +1,20 @@
 //! Minimizing a B-spline surface's energy over its free control points:
-//! the Hessian Σ c · M_r^u ⊗ M_s^v restricted to the free points (one
-//! sparse matrix for x, y and z), the fixed points moved to the right-hand
-//! side, sparse Cholesky with AMD ordering, one step of iterative
-//! refinement, and the energy on the written net by two roads: the Bézier
-//! pieces' closed forms and Gauss quadrature span by span.
+//! the Hessian Σ c · M_r^u ⊗ M_s^v (+ γ M_0^u ⊗ M_0^v for a guide surface)
+//! restricted to the free points — one sparse matrix for x, y and z, or,
+//! with a normal field (which couples them), the interleaved 3n system with
+//! the field's 3 × 3 blocks added — the fixed points moved to the
+//! right-hand side, sparse Cholesky with AMD ordering, one step of
+//! iterative refinement, and the energy on the written net by two roads:
+//! closed forms (Bernstein products on the Bézier pieces, Gram matrices)
+//! or Gauss quadrature from de Boor derivatives, against Gauss quadrature
+//! on the pieces with more nodes.
 
 use super::energy::{energy_by_pieces, energy_by_quadrature, patterns, Gram1d};
+use super::guidance::{guide_value, guide_value_by_pieces, NormalTerm};
 use super::BSplineSurface;
 use crate::energy::check_weight;
 use crate::solve::kkt::{sparse_llt, LltFailure};
-use crate::{Error, Result, Timings, Vec3};
+use crate::{Error, Result, TensorPatch, Timings, Vec3};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::cholesky::LltRef;
 use faer::sparse::{SparseColMat, Triplet};
@@ -20,15 +25,17 @@ use std::time::Instant;
 /// written net.
 pub const ENERGY_TOLERANCE: f64 = 1e-10;
 
-/// A B-spline surface to fair: which control points are free, and the
-/// weights of the membrane and thin-plate energies (Wu & Yang's E1/E2
-/// without guidance).
+/// A B-spline surface to fair: which control points are free, and Wu &
+/// Yang's E1/E2 terms: membrane, thin plate, normal field, guide surface.
 #[derive(Clone, Debug)]
 pub struct BSplineProblem {
     surface: BSplineSurface,
     free: Vec<bool>,
     stretch: f64,
     bend: f64,
+    normal: Option<NormalTerm>,
+    /// γ and the guide's net on the same knots.
+    guide: Option<(f64, Vec<Vec3>)>,
 }
 
 /// What a B-spline solve reports; the figures mean what they mean in
@@ -41,6 +48,12 @@ pub struct BSplineReport {
     pub stretch: f64,
     /// The thin-plate part (weight included).
     pub bend: f64,
+    /// The normal-field part (λ included; 0 without one).
+    pub normal_field: f64,
+    /// The guide-surface part (γ included; 0 without one).
+    pub guide_surface: f64,
+    /// Whether x, y and z were solved together (a normal field couples them).
+    pub coupled: bool,
     /// The energy recomputed on the written net by Gauss quadrature of the
     /// integrand span by span (`energy` comes from the pieces' closed forms).
     pub check_energy: f64,
@@ -80,6 +93,8 @@ impl BSplineProblem {
             free: vec![false; n],
             stretch: 0.0,
             bend: 0.0,
+            normal: None,
+            guide: None,
         }
     }
 
@@ -126,14 +141,41 @@ impl BSplineProblem {
         self
     }
 
+    /// The normal-field term ½λ∫∫ (R_u·N)² + (R_v·N)² with λ = `weight` ≥ 0
+    /// and N the Bézier field `field` over the knot domain mapped onto
+    /// [0, 1]² (Wu & Yang eq. 1–2; N as given, not normalized).
+    pub fn with_normal_field(mut self, weight: f64, field: TensorPatch) -> Self {
+        self.normal = Some(NormalTerm { weight, field });
+        self
+    }
+
+    /// The guide term ½γ∫∫ |R − S|² with γ = `weight` ≥ 0 and S the net
+    /// `guide` on the same knots (`None`: the initial net).
+    pub fn with_guide_surface(mut self, weight: f64, guide: Option<Vec<Vec3>>) -> Result<Self> {
+        let s = guide.unwrap_or_else(|| self.surface.points().to_vec());
+        if s.len() != self.free.len() {
+            return Err(Error::Mismatch {
+                what: "guide surface control points (the same knots as the surface)".into(),
+                expected: self.free.len().to_string(),
+                got: s.len().to_string(),
+            });
+        }
+        self.guide = Some((weight, s));
+        Ok(self)
+    }
+
     /// Minimizes; refuses no free point, no energy, a negative weight, a
     /// singular system, and an answer whose energy the second road does
     /// not confirm.
     pub fn solve(&self) -> Result<BSplineSolution> {
         check_weight("stretch weight", self.stretch)?;
         check_weight("bend weight", self.bend)?;
+        let lambda = self.normal.as_ref().map_or(0.0, |n| n.weight);
+        let gamma = self.guide.as_ref().map_or(0.0, |g| g.0);
+        check_weight("normal field weight", lambda)?;
+        check_weight("guide surface weight", gamma)?;
         let pats = patterns(self.stretch, self.bend);
-        if pats.is_empty() {
+        if pats.is_empty() && lambda == 0.0 && gamma == 0.0 {
             return Err(Error::NoEnergy);
         }
         let free: Vec<usize> = (0..self.free.len()).filter(|&k| self.free[k]).collect();
@@ -146,50 +188,16 @@ impl BSplineProblem {
         let t0 = Instant::now();
         let (ku, kv) = self.surface.knots();
         let (gu, gv) = (Gram1d::new(ku), Gram1d::new(kv));
-        let cv = kv.count();
-        let mut slot = vec![usize::MAX; self.free.len()];
-        for (s, &k) in free.iter().enumerate() {
-            slot[k] = s;
-        }
-        let x0 = self.surface.points();
-        // H[(i,j),(i2,j2)] = Σ c M_r^u[i][i2] M_s^v[j][j2]; lower triangle of
-        // the free block, and b = −H_fk x_k.
-        let nf = free.len();
-        let mut triplets = Vec::new();
-        let mut b = Mat::<f64>::zeros(nf, 3);
-        let mut h_inf = vec![0.0f64; nf];
-        for (row, &k) in free.iter().enumerate() {
-            let (i, j) = (k / cv, k % cv);
-            for i2 in gu.band(i) {
-                for j2 in gv.band(j) {
-                    let h: f64 = pats
-                        .iter()
-                        .map(|&(c, r, s)| c * gu.at(r, i, i2) * gv.at(s, j, j2))
-                        .sum();
-                    if h == 0.0 {
-                        continue;
-                    }
-                    let k2 = i2 * cv + j2;
-                    h_inf[row] += h.abs();
-                    match slot[k2] {
-                        usize::MAX => {
-                            for c in 0..3 {
-                                b[(row, c)] -= h * x0[k2][c];
-                            }
-                        }
-                        col if col <= row => triplets.push(Triplet::new(row, col, h)),
-                        _ => {}
-                    }
-                }
-            }
-        }
-        let lower = SparseColMat::try_new_from_triplets(nf, nf, &triplets)
-            .expect("the triplets index the free block");
+        let normal = self.normal.as_ref().filter(|n| n.weight > 0.0);
+        let sys = self.assemble(&free, &gu, &gv, &pats, normal);
         let assemble = t0.elapsed().as_secs_f64();
+
         let t1 = Instant::now();
+        let lower = SparseColMat::try_new_from_triplets(sys.dim, sys.dim, &sys.lower)
+            .expect("the triplets index the free block");
         let (symbolic, values) = sparse_llt(&lower, None).map_err(|e| match e {
             LltFailure::NotPositive => Error::NotPositiveDefinite {
-                unknowns: 3 * nf,
+                unknowns: 3 * free.len(),
                 pivot: 0,
                 hint: "the energy does not determine the free control points: add bend or \
                        stretch, or fix more points"
@@ -198,69 +206,71 @@ impl BSplineProblem {
             LltFailure::Symbolic(why) => Error::Mismatch {
                 what: "B-spline system".into(),
                 expected: "a size that fits in memory".into(),
-                got: format!("{nf} free points ({why})"),
+                got: format!("{} free points ({why})", free.len()),
             },
         })?;
         let factor = t1.elapsed().as_secs_f64();
+
         let t2 = Instant::now();
         let llt = LltRef::new(symbolic.as_ref(), &values);
         let par = Par::Seq;
-        let mut mem = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(3, par));
+        let cols = sys.b.ncols();
+        let mut mem = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(cols, par));
         let mut solve = |rhs: &mut Mat<f64>| {
             llt.solve_in_place_with_conj(Conj::No, rhs.as_mut(), par, MemStack::new(&mut mem));
         };
-        let mut x = b.clone();
+        let mut x = sys.b.clone();
         solve(&mut x);
         // One step of iterative refinement: x += H⁻¹(b − Hx).
-        let residual = |x: &Mat<f64>| {
-            let mut r = b.clone();
-            for (row, col, h) in triplets.iter().map(|t| (t.row, t.col, t.val)) {
-                for c in 0..3 {
-                    r[(row, c)] -= h * x[(col, c)];
-                    if row != col {
-                        r[(col, c)] -= h * x[(row, c)];
-                    }
-                }
-            }
-            r
-        };
-        let mut d = residual(&x);
+        let mut d = sys.residual(&x);
         solve(&mut d);
         x += &d;
-        let r = residual(&x);
+        let r = sys.residual(&x);
         let solve_s = t2.elapsed().as_secs_f64();
 
-        let mut points: Vec<Vec3> = x0.to_vec();
+        let mut points: Vec<Vec3> = self.surface.points().to_vec();
         for (row, &k) in free.iter().enumerate() {
-            points[k] = [x[(row, 0)], x[(row, 1)], x[(row, 2)]];
+            points[k] = if normal.is_some() {
+                [x[(3 * row, 0)], x[(3 * row + 1, 0)], x[(3 * row + 2, 0)]]
+            } else {
+                [x[(row, 0)], x[(row, 1)], x[(row, 2)]]
+            };
         }
         let surface = self.surface.with_points(points);
-        let inf = |m: &Mat<f64>| {
-            (0..m.nrows())
-                .flat_map(|i| (0..3).map(move |c| (i, c)))
-                .fold(0.0f64, |a, (i, c)| a.max(m[(i, c)].abs()))
-        };
         let gradient_norm = inf(&r);
-        let denom = h_inf.iter().fold(0.0f64, |a, &v| a.max(v)) * inf(&x) + inf(&b);
+        let denom = sys.h_inf * inf(&x) + inf(&sys.b);
         let relative_gradient = if denom > 0.0 {
             gradient_norm / denom
         } else {
             gradient_norm
         };
-        let t3 = Instant::now();
-        let (pieces, degree) = (surface.bezier_pieces(), surface.degree());
-        let residual = if inf(&b) > 0.0 {
-            gradient_norm / inf(&b)
+        let residual = if inf(&sys.b) > 0.0 {
+            gradient_norm / inf(&sys.b)
         } else {
             gradient_norm
         };
+
+        let t3 = Instant::now();
+        let (pieces, degree) = (surface.bezier_pieces(), surface.degree());
         let part = |pats: Vec<(f64, usize, usize)>| energy_by_pieces(&pieces, degree, &pats);
         let (stretch, bend) = (
             part(patterns(self.stretch, 0.0)),
             part(patterns(0.0, self.bend)),
         );
-        let total = stretch + bend;
-        let check_energy = energy_by_quadrature(&pieces, degree, &pats);
+        let normal_field = normal.map_or(0.0, |n| n.value(&surface));
+        let guide_surface = self
+            .guide
+            .as_ref()
+            .map_or(0.0, |(g, s)| guide_value(&gu, &gv, *g, surface.points(), s));
+        let total = stretch + bend + normal_field + guide_surface;
+        let mut check_energy = energy_by_quadrature(&pieces, degree, &pats);
+        if let Some(n) = normal {
+            check_energy += n.value_by_pieces(&surface, &pieces);
+        }
+        if let Some((g, s)) = &self.guide {
+            let guide = self.surface.with_points(s.clone()).bezier_pieces();
+            check_energy += guide_value_by_pieces(&pieces, &guide, degree, *g);
+        }
         let analyse = t3.elapsed().as_secs_f64();
         let energy_error = (total - check_energy).abs() / total.abs().max(f64::MIN_POSITIVE);
         // A zero energy (a reproduced linear surface) is confirmed when the
@@ -280,10 +290,13 @@ impl BSplineProblem {
                 energy: total,
                 stretch,
                 bend,
+                normal_field,
+                guide_surface,
+                coupled: normal.is_some(),
                 check_energy,
                 energy_error,
-                free_points: nf,
-                unknowns: 3 * nf,
+                free_points: free.len(),
+                unknowns: 3 * free.len(),
                 gradient_norm,
                 relative_gradient,
                 residual,
@@ -298,4 +311,178 @@ impl BSplineProblem {
             },
         })
     }
+
+    /// The problem's energy at the net of `surface` (same knots): the sum
+    /// of its terms as the report computes them.
+    pub fn energy_at(&self, surface: &BSplineSurface) -> f64 {
+        let (ku, kv) = surface.knots();
+        let (pieces, degree) = (surface.bezier_pieces(), surface.degree());
+        let mut e = energy_by_pieces(&pieces, degree, &patterns(self.stretch, self.bend));
+        if let Some(n) = &self.normal {
+            e += n.value(surface);
+        }
+        if let Some((g, s)) = &self.guide {
+            e += guide_value(&Gram1d::new(ku), &Gram1d::new(kv), *g, surface.points(), s);
+        }
+        e
+    }
+
+    /// The free block's lower triangle and right-hand side: one matrix for
+    /// x, y and z (three columns) without a normal field, else the
+    /// interleaved coupled system (unknown 3·slot + c, one column).
+    fn assemble(
+        &self,
+        free: &[usize],
+        gu: &Gram1d,
+        gv: &Gram1d,
+        pats: &[(f64, usize, usize)],
+        normal: Option<&NormalTerm>,
+    ) -> System {
+        let coupled = normal.is_some();
+        let cv = gv.count();
+        let mut slot = vec![usize::MAX; self.free.len()];
+        for (s, &k) in free.iter().enumerate() {
+            slot[k] = s;
+        }
+        let x0 = self.surface.points();
+        let gamma = self.guide.as_ref().map_or(0.0, |g| g.0);
+        let nf = free.len();
+        let (dim, cols) = if coupled { (3 * nf, 1) } else { (nf, 3) };
+        let mut sys = System {
+            dim,
+            lower: Vec::new(),
+            b: Mat::zeros(dim, cols),
+            h_inf: 0.0,
+        };
+        let mut row_sums = vec![0.0f64; dim];
+        // (global row, coordinate) → the system's row and column.
+        let at = |s: usize, c: usize| if coupled { (3 * s + c, 0) } else { (s, c) };
+        let mut add = |sys: &mut System, k: usize, c: usize, l: usize, d: usize, h: f64| {
+            let (row, rc) = at(slot[k], c);
+            row_sums[row] += h.abs();
+            match slot[l] {
+                usize::MAX => sys.b[(row, rc)] -= h * x0[l][d],
+                sl => {
+                    let (col, _) = at(sl, d);
+                    if col <= row {
+                        sys.lower.push(Triplet::new(row, col, h));
+                    }
+                }
+            }
+        };
+        for &k in free {
+            let (i, j) = (k / cv, k % cv);
+            for i2 in gu.band(i) {
+                for j2 in gv.band(j) {
+                    let (mu, mv) = (gu.at(0, i, i2), gv.at(0, j, j2));
+                    let h: f64 = pats
+                        .iter()
+                        .map(|&(c, r, s)| c * gu.at(r, i, i2) * gv.at(s, j, j2))
+                        .sum::<f64>()
+                        + gamma * mu * mv;
+                    let l = i2 * cv + j2;
+                    if h != 0.0 {
+                        for c in 0..3 {
+                            if coupled || c == 0 {
+                                add(&mut sys, k, c, l, c, h);
+                            }
+                        }
+                        if !coupled && slot[l] == usize::MAX {
+                            // Columns y and z of a fixed neighbour (x went above).
+                            let (row, _) = at(slot[k], 0);
+                            for c in 1..3 {
+                                sys.b[(row, c)] -= h * x0[l][c];
+                            }
+                        }
+                    }
+                    // The guide's linear term: + γ M s.
+                    if let Some((g, s)) = &self.guide {
+                        for c in 0..3 {
+                            let (row, rc) = at(slot[k], c);
+                            sys.b[(row, rc)] += g * mu * mv * s[l][c];
+                        }
+                    }
+                }
+            }
+        }
+        if let Some(n) = normal {
+            let (p, q) = self.surface.degree();
+            for ((su, sv), nodes) in n.spans(&self.surface) {
+                // Local blocks: Σ_nodes w (du_a du_b + dv_a dv_b) N Nᵀ.
+                let size = (p + 1) * (q + 1);
+                let mut blocks = vec![[[0.0f64; 3]; 3]; size * size];
+                for node in &nodes {
+                    let nn = |c: usize, d: usize| node.weight * node.n[c] * node.n[d];
+                    for a in 0..size {
+                        for b in 0..size {
+                            let g = node.du[a] * node.du[b] + node.dv[a] * node.dv[b];
+                            if g == 0.0 {
+                                continue;
+                            }
+                            let blk = &mut blocks[a * size + b];
+                            for (c, row) in blk.iter_mut().enumerate() {
+                                for (d, e) in row.iter_mut().enumerate() {
+                                    *e += g * nn(c, d);
+                                }
+                            }
+                        }
+                    }
+                }
+                let global = |a: usize| (su - p + a / (q + 1)) * cv + sv - q + a % (q + 1);
+                for a in 0..size {
+                    let k = global(a);
+                    if slot[k] == usize::MAX {
+                        continue;
+                    }
+                    for b in 0..size {
+                        let l = global(b);
+                        for c in 0..3 {
+                            for d in 0..3 {
+                                let h = blocks[a * size + b][c][d];
+                                if h != 0.0 {
+                                    add(&mut sys, k, c, l, d, h);
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        sys.h_inf = row_sums.iter().fold(0.0, |m, &v| m.max(v));
+        sys
+    }
+}
+
+/// The assembled free block.
+struct System {
+    dim: usize,
+    /// Lower triangle (duplicates are summed).
+    lower: Vec<Triplet<usize, usize, f64>>,
+    /// Right-hand side, one column per coordinate or one.
+    b: Mat<f64>,
+    /// ‖H‖∞ of the free block.
+    h_inf: f64,
+}
+
+impl System {
+    /// b − H x, from the lower triangle.
+    fn residual(&self, x: &Mat<f64>) -> Mat<f64> {
+        let mut r = self.b.clone();
+        for t in &self.lower {
+            for c in 0..x.ncols() {
+                r[(t.row, c)] -= t.val * x[(t.col, c)];
+                if t.row != t.col {
+                    r[(t.col, c)] -= t.val * x[(t.row, c)];
+                }
+            }
+        }
+        r
+    }
+}
+
+/// max |m_ij|.
+fn inf(m: &Mat<f64>) -> f64 {
+    (0..m.nrows())
+        .flat_map(|i| (0..m.ncols()).map(move |c| (i, c)))
+        .fold(0.0f64, |a, (i, c)| a.max(m[(i, c)].abs()))
 }

@@ -344,3 +344,86 @@ fn solves_refuse_what_they_cannot_do() {
         Err(Error::NegativeWeight { .. })
     ));
 }
+
+/// With no interior knots a B-spline problem is the tensor problem: the
+/// membrane, a normal field (λ = 10, a tilted 2 × 2 field, coupling x, y
+/// and z) and the initial net as guide (γ = 3) give the tensor solver's net
+/// (an independent implementation: dense, Bernstein closed forms).
+#[test]
+fn without_interior_knots_the_guided_problem_is_the_tensor_problem() {
+    use crate::{GuideSurface, NormalField, Problem, Stretch};
+    let net = TensorPatch::from_fn(5, 4, |i, j| {
+        [i as f64 / 5.0, j as f64 / 4.0, 0.3 * noise(11 * i + j)]
+    });
+    let field = TensorPatch::from_fn(2, 2, |i, j| [0.2 * i as f64 - 0.2, 0.1 * j as f64, 1.0]);
+    let tensor = Problem::new((5, 4))
+        .with_fixed_rings(&net, 1)
+        .with_term(Stretch::new(1.0))
+        .with_term(NormalField::new(10.0, field.clone()))
+        .with_term(GuideSurface::new(3.0, net.clone()))
+        .solve()
+        .unwrap();
+    let ours = BSplineProblem::new(BSplineSurface::from_bezier(&net))
+        .with_fixed_rings(1)
+        .with_stretch(1.0)
+        .with_normal_field(10.0, field)
+        .with_guide_surface(3.0, None)
+        .unwrap()
+        .solve()
+        .unwrap();
+    let worst = ours
+        .surface
+        .points()
+        .iter()
+        .zip(tensor.patch.points())
+        .map(|(a, b)| dist(*a, *b))
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-12, "nets differ by {worst:e}");
+    let r = &ours.report;
+    assert!(
+        r.coupled && r.normal_field > 0.0 && r.guide_surface > 0.0,
+        "{r:?}"
+    );
+    assert!(
+        (r.energy - tensor.report.energy).abs() < 1e-12 * r.energy,
+        "{} vs {}",
+        r.energy,
+        tensor.report.energy
+    );
+    assert!(
+        r.energy_error < 1e-12 && r.relative_gradient < 1e-14,
+        "{r:?}"
+    );
+}
+
+/// On uneven knots the guided thin plate is a minimum: the energy (by the
+/// report's roads) rises when any free coordinate moves either way.
+#[test]
+fn the_guided_thin_plate_is_minimal_under_perturbation() {
+    let (u, v) = uneven();
+    let s = wavy(u, v);
+    let field = TensorPatch::from_fn(1, 1, |i, j| [0.3 * i as f64, -0.2 * j as f64, 1.0]);
+    let problem = BSplineProblem::new(s)
+        .with_fixed_rings(2)
+        .with_bend(1.0)
+        .with_normal_field(50.0, field)
+        .with_guide_surface(0.5, None)
+        .unwrap();
+    let sol = problem.solve().unwrap();
+    let e0 = sol.report.energy;
+    assert!(sol.report.energy_error < 1e-12, "{:?}", sol.report);
+    let cv = sol.surface.counts().1;
+    for (k, c) in [(2 * cv + 2, 0), (3 * cv + 3, 1), (4 * cv + 2, 2)] {
+        for step in [1e-4, -1e-4] {
+            let e = energy_of(&problem, &sol.surface, k, c, step);
+            assert!(e > e0, "moving ({k}, {c}) by {step} lowers {e0} to {e}");
+        }
+    }
+}
+
+/// The energy of the problem's terms at the solution with one coordinate moved.
+fn energy_of(problem: &BSplineProblem, at: &BSplineSurface, k: usize, c: usize, step: f64) -> f64 {
+    let mut pts = at.points().to_vec();
+    pts[k][c] += step;
+    problem.energy_at(&at.with_points(pts))
+}
