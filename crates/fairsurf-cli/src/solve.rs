@@ -303,22 +303,21 @@ fn bspline_summary(path: &Path, s: &fairsurf_io::SolvedBSplineScene, written: &[
             r.free_points,
             r.unknowns
         ),
-        format!(
-            "  energy {:.10e} = stretch {:.10e} + bend {:.10e}{}{}",
-            r.energy,
-            r.stretch,
-            r.bend,
-            if r.normal_field > 0.0 {
-                format!(" + normal_field {:.10e}", r.normal_field)
-            } else {
-                String::new()
-            },
-            if r.guide_surface > 0.0 {
-                format!(" + guide_surface {:.10e}", r.guide_surface)
-            } else {
-                String::new()
+        {
+            let mut terms = vec![
+                format!("stretch {:.10e}", r.stretch),
+                format!("bend {:.10e}", r.bend),
+            ];
+            for (name, v) in [
+                ("normal_field", r.normal_field),
+                ("guide_surface", r.guide_surface),
+            ] {
+                if v > 0.0 {
+                    terms.push(format!("{name} {v:.10e}"));
+                }
             }
-        ),
+            format!("  energy {:.10e} = {}", r.energy, terms.join(" + "))
+        },
         format!(
             "  checked on the written net: Gauss quadrature span by span gives {:.10e} \
              (relative difference {:.1e}, tolerance {:.0e})",

@@ -172,18 +172,11 @@ impl BSplineScene {
     pub fn surface(&self) -> Result<BSplineSurface> {
         let (u, v, given) = self.given()?;
         let cv = v.count();
-        let points = given
-            .iter()
-            .enumerate()
-            .map(|(k, p)| {
-                p.ok_or_else(|| {
-                    Error::scene(
-                        format!("surface.control_points[{}][{}]", k / cv, k % cv),
-                        "is null: there is no surface to measure until it is solved",
-                    )
-                })
-            })
-            .collect::<Result<Vec<_>>>()?;
+        let points = every_point(
+            &given,
+            cv,
+            "is null: there is no surface to measure until it is solved",
+        )?;
         Ok(BSplineSurface::new(u, v, points)?)
     }
 
@@ -247,19 +240,12 @@ impl BSplineScene {
                 .into_iter()
                 .map(|p| p.expect("no null"))
                 .collect(),
-                None => given
-                    .iter()
-                    .enumerate()
-                    .map(|(k, p)| {
-                        p.ok_or_else(|| {
-                            Error::scene(
-                                format!("surface.control_points[{}][{}]", k / cv, k % cv),
-                                "is null, but energy.guide_surface has no control_points and \
-                                 defaults to the initial net: give this point or the guide's net",
-                            )
-                        })
-                    })
-                    .collect::<Result<Vec<_>>>()?,
+                None => every_point(
+                    &given,
+                    cv,
+                    "is null, but energy.guide_surface has no control_points and defaults to \
+                     the initial net: give this point or the guide's net",
+                )?,
             };
             problem = problem.with_guide_surface(g.weight, Some(points))?;
         }
@@ -298,6 +284,22 @@ impl BSplineScene {
             ("control points".into(), json!(format!("{cu} × {cv}"))),
         ])
     }
+}
+
+/// Every point of the net, or an error naming the first null one and `why`.
+fn every_point(given: &[Option<Vec3>], cv: usize, why: &str) -> Result<Vec<Vec3>> {
+    given
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            p.ok_or_else(|| {
+                Error::scene(
+                    format!("surface.control_points[{}][{}]", k / cv, k % cv),
+                    why,
+                )
+            })
+        })
+        .collect()
 }
 
 impl SolvedBSplineScene {
