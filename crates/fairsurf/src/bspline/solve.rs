@@ -406,41 +406,67 @@ impl BSplineProblem {
             }
         }
         if let Some(n) = normal {
+            // The field's 3 × 3 blocks, summed span by span into a band
+            // store (one per free point and neighbour offset) and then
+            // emitted once: adding every span's blocks as triplets made
+            // 5 M of them at 50 × 50.
             let (p, q) = self.surface.degree();
+            let (wu, wv) = (2 * p + 1, 2 * q + 1);
+            let mut band = vec![0.0f64; nf * wu * wv * 9];
+            let size = (p + 1) * (q + 1);
+            let m = 3 * size;
             for ((su, sv), nodes) in n.spans(&self.surface) {
-                // Local blocks: Σ_nodes w (du_a du_b + dv_a dv_b) N Nᵀ.
-                let size = (p + 1) * (q + 1);
-                let mut blocks = vec![[[0.0f64; 3]; 3]; size * size];
+                // Local Σ_nodes w (Y Yᵀ + Z Zᵀ), Y = ∂_u B ⊗ N, Z = ∂_v B ⊗ N.
+                let mut local = vec![0.0f64; m * m];
+                let (mut y, mut z) = (vec![0.0; m], vec![0.0; m]);
                 for node in &nodes {
-                    let nn = |c: usize, d: usize| node.weight * node.n[c] * node.n[d];
                     for a in 0..size {
-                        for b in 0..size {
-                            let g = node.du[a] * node.du[b] + node.dv[a] * node.dv[b];
-                            if g == 0.0 {
-                                continue;
-                            }
-                            let blk = &mut blocks[a * size + b];
-                            for (c, row) in blk.iter_mut().enumerate() {
-                                for (d, e) in row.iter_mut().enumerate() {
-                                    *e += g * nn(c, d);
-                                }
+                        for c in 0..3 {
+                            y[3 * a + c] = node.du[a] * node.n[c];
+                            z[3 * a + c] = node.dv[a] * node.n[c];
+                        }
+                    }
+                    for (r, row) in local.chunks_mut(m).enumerate() {
+                        let (yr, zr) = (node.weight * y[r], node.weight * z[r]);
+                        for ((e, &ys), &zs) in row.iter_mut().zip(&y).zip(&z) {
+                            *e += yr * ys + zr * zs;
+                        }
+                    }
+                }
+                let (i0, j0) = (su - p, sv - q);
+                for a in 0..size {
+                    let (ia, ja) = (i0 + a / (q + 1), j0 + a % (q + 1));
+                    let sk = slot[ia * cv + ja];
+                    if sk == usize::MAX {
+                        continue;
+                    }
+                    for b in 0..size {
+                        let (ib, jb) = (i0 + b / (q + 1), j0 + b % (q + 1));
+                        let off = (ib + p - ia) * wv + (jb + q - ja);
+                        let blk = &mut band[(sk * wu * wv + off) * 9..][..9];
+                        for c in 0..3 {
+                            for d in 0..3 {
+                                blk[3 * c + d] += local[(3 * a + c) * m + 3 * b + d];
                             }
                         }
                     }
                 }
-                let global = |a: usize| (su - p + a / (q + 1)) * cv + sv - q + a % (q + 1);
-                for a in 0..size {
-                    let k = global(a);
-                    if slot[k] == usize::MAX {
-                        continue;
-                    }
-                    for b in 0..size {
-                        let l = global(b);
+            }
+            for (sk, &k) in free.iter().enumerate() {
+                let (i, j) = (k / cv, k % cv);
+                for di in 0..wu {
+                    for dj in 0..wv {
+                        let (Some(i2), Some(j2)) =
+                            ((i + di).checked_sub(p), (j + dj).checked_sub(q))
+                        else {
+                            continue;
+                        };
+                        let blk = &band[(sk * wu * wv + di * wv + dj) * 9..][..9];
                         for c in 0..3 {
                             for d in 0..3 {
-                                let h = blocks[a * size + b][c][d];
+                                let h = blk[3 * c + d];
                                 if h != 0.0 {
-                                    add(&mut sys, k, c, l, d, h);
+                                    add(&mut sys, k, c, i2 * cv + j2, d, h);
                                 }
                             }
                         }
