@@ -38,10 +38,74 @@ pub struct BSplineScene {
     /// and `stretch: 1` otherwise.
     #[serde(default)]
     pub energy: BSplineEnergySpec,
+    /// Knots to insert before solving (exact refinement: the surface as
+    /// given is unchanged, it gains freedom); needs `fixed_rings`. Result
+    /// files hold the refined knots and net instead.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub refine: Option<RefineSpec>,
     /// Written by `fairsurf solve` into result files; ignored on input.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(skip)]
     pub report: Option<Value>,
+}
+
+/// Knot refinement: knots inserted in u and in v, and/or every span split.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct RefineSpec {
+    /// Knots to insert in u, inside the domain (a knot may be repeated up
+    /// to multiplicity p).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub u: Vec<f64>,
+    /// Knots to insert in v.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub v: Vec<f64>,
+    /// `[a, b]`: split every span into a equal parts in u and b in v (1 to 16),
+    /// after inserting `u` and `v`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub split: Option<[usize; 2]>,
+}
+
+/// The surface with the refinement's knots inserted; errors name
+/// `refine.u[i]`, `refine.v[i]` or `refine.split[k]`.
+fn refined(surface: &BSplineSurface, r: &RefineSpec) -> Result<BSplineSurface> {
+    let mut s = surface.clone();
+    for (k, (name, knots)) in [("u", &r.u), ("v", &r.v)].into_iter().enumerate() {
+        for (i, &t) in knots.iter().enumerate() {
+            let next = if k == 0 {
+                s.insert_knot_u(t)
+            } else {
+                s.insert_knot_v(t)
+            };
+            s = next.map_err(|e| Error::scene(format!("refine.{name}[{i}]"), e.to_string()))?;
+        }
+    }
+    if let Some(split) = r.split {
+        for (k, &parts) in split.iter().enumerate() {
+            if !(1..=16).contains(&parts) {
+                return Err(Error::scene(
+                    format!("refine.split[{k}]"),
+                    format!("expected 1 to 16 parts per span, got {parts}"),
+                ));
+            }
+            let knots = if k == 0 { s.knots().0 } else { s.knots().1 };
+            let inner: Vec<f64> = knots
+                .spans()
+                .iter()
+                .flat_map(|&(_, a, b)| {
+                    (1..parts).map(move |m| a + (b - a) * m as f64 / parts as f64)
+                })
+                .collect();
+            for t in inner {
+                s = if k == 0 {
+                    s.insert_knot_u(t)?
+                } else {
+                    s.insert_knot_v(t)?
+                };
+            }
+        }
+    }
+    Ok(s)
 }
 
 /// Only `"bspline"` here.
@@ -118,6 +182,9 @@ pub struct SolvedBSplineScene {
     pub solution: BSplineSolution,
     /// The largest turn of the normal between neighbouring samples, where.
     pub normal_turn: Option<fairsurf::analysis::NormalTurn>,
+    /// The guide surface's net as solved (on the solved knots; empty
+    /// without one).
+    pub guide_points: Vec<Vec3>,
 }
 
 impl BSplineScene {
@@ -183,7 +250,24 @@ impl BSplineScene {
     /// The problem the scene describes; errors name the field.
     pub fn problem(&self) -> Result<BSplineProblem> {
         let (u, v, given) = self.given()?;
-        let (cu, cv) = (u.count(), v.count());
+        // Free points without a value start anywhere: the energy is quadratic.
+        let points = given.iter().map(|p| p.unwrap_or([0.0; 3])).collect();
+        let mut surface = BSplineSurface::new(u, v, points)?;
+        let mut given = given;
+        if let Some(r) = &self.refine {
+            // Knot insertion mixes neighbouring points of a row; the outer
+            // rings of the refined net come from the given rings alone, so
+            // `fixed_rings` says which refined points are free.
+            if self.fixed_rings.is_none() {
+                return Err(Error::scene(
+                    "refine",
+                    "needs fixed_rings: the refined net's free points follow from the rings",
+                ));
+            }
+            surface = refined(&surface, r)?;
+            given = surface.points().iter().map(|&p| Some(p)).collect();
+        }
+        let (cu, cv) = surface.counts();
         let free = free_mask(
             self.fixed_rings,
             self.free_points.as_deref(),
@@ -191,29 +275,14 @@ impl BSplineScene {
             (cu, cv),
             &format!("{cu} × {cv} control points: both counts must be above"),
         )?;
-        // Free points without a value start anywhere: the energy is quadratic.
-        let points = given.iter().map(|p| p.unwrap_or([0.0; 3])).collect();
-        let surface = BSplineSurface::new(u, v, points)?;
         let e = &self.energy;
         let (stretch, bend) = match (e.stretch, e.bend) {
             (None, None) if self.fixed_rings.unwrap_or(0) >= 2 => (0.0, 1.0),
             (None, None) => (1.0, 0.0),
             (s, b) => (s.unwrap_or(0.0), b.unwrap_or(0.0)),
         };
-        for (path, w) in [("energy.stretch", stretch), ("energy.bend", bend)] {
-            if !(w.is_finite() && w >= 0.0) {
-                return Err(Error::scene(
-                    path,
-                    format!("expected a weight ≥ 0, got {w}"),
-                ));
-            }
-        }
-        if stretch == 0.0 && bend == 0.0 {
-            return Err(Error::scene(
-                "energy",
-                "every weight is 0: nothing to minimize",
-            ));
-        }
+        check_weight("energy.stretch", stretch)?;
+        check_weight("energy.bend", bend)?;
         let mut problem = BSplineProblem::new(surface)
             .with_free(free)?
             .with_stretch(stretch)
@@ -231,15 +300,25 @@ impl BSplineScene {
         if let Some(g) = &e.guide_surface {
             check_weight("energy.guide_surface.weight", g.weight)?;
             let points = match &g.control_points {
-                Some(net) => parse_net(
-                    net,
-                    "energy.guide_surface.control_points",
-                    (cu - 1, cv - 1),
-                    false,
-                )?
-                .into_iter()
-                .map(|p| p.expect("no null"))
-                .collect(),
+                Some(net) => {
+                    let (u, v, _) = self.given()?;
+                    let (gu, gv) = (u.count(), v.count());
+                    let pts: Vec<Vec3> = parse_net(
+                        net,
+                        "energy.guide_surface.control_points",
+                        (gu - 1, gv - 1),
+                        false,
+                    )?
+                    .into_iter()
+                    .map(|p| p.expect("no null"))
+                    .collect();
+                    match &self.refine {
+                        Some(r) => refined(&BSplineSurface::new(u, v, pts)?, r)?
+                            .points()
+                            .to_vec(),
+                        None => pts,
+                    }
+                }
                 None => every_point(
                     &given,
                     cv,
@@ -259,6 +338,7 @@ impl BSplineScene {
         let normal_turn = solution.surface.largest_normal_turn();
         Ok(SolvedBSplineScene {
             scene: self.clone(),
+            guide_points: problem.guide().map(|g| g.1.to_vec()).unwrap_or_default(),
             free: problem.free().to_vec(),
             solution,
             normal_turn,
@@ -314,6 +394,20 @@ impl SolvedBSplineScene {
         let mut out = self.scene.clone();
         let s = self.surface();
         let cv = s.counts().1;
+        // A refined solve's result holds the refined knots and net.
+        out.refine = None;
+        out.surface.knots = [s.knots().0.knots().to_vec(), s.knots().1.knots().to_vec()];
+        if let Some(g) = out.energy.guide_surface.as_mut() {
+            if self.scene.refine.is_some() || g.control_points.is_none() {
+                // The guide as solved: on the (refined) knots.
+                g.control_points = Some(
+                    self.guide_points
+                        .chunks(cv)
+                        .map(|row| row.iter().map(|p| Some(p.to_vec())).collect())
+                        .collect(),
+                );
+            }
+        }
         out.surface.control_points = s
             .points()
             .chunks(cv)

@@ -447,6 +447,74 @@ fn bspline_scenes_name_their_paths_and_round_trip() {
     );
 }
 
+/// `refine` inserts knots before solving: the given surface is unchanged
+/// (exact refinement), the minimum does not rise and here falls, the result
+/// file holds the refined knots and net (no `refine`) and solves again to
+/// the same net; errors name `refine.u[i]` and `refine.split[k]`.
+#[test]
+fn refined_bspline_scenes_lower_the_minimum_and_write_the_refined_net() {
+    use fairsurf_io::BSplineScene;
+    let text = std::fs::read_to_string(examples().join("bspline_hole.json")).unwrap();
+    let base: Value = serde_json::from_str(&text).unwrap();
+    let coarse = BSplineScene::from_json(&text).unwrap().solve().unwrap();
+    let mut v = base.clone();
+    v["refine"] = json!({"u": [0.3], "split": [2, 2]});
+    let fine = BSplineScene::from_json(&v.to_string())
+        .unwrap()
+        .solve()
+        .unwrap();
+    let (c, f) = (coarse.surface().counts(), fine.surface().counts());
+    // 11 spans + one knot, then every span halved: 24 spans, 27 points.
+    assert_eq!((c, f), ((14, 14), (27, 25)));
+    let (e0, e1) = (coarse.solution.report.energy, fine.solution.report.energy);
+    assert!(e1 < e0 * (1.0 - 1e-4), "coarse {e0}, refined {e1}");
+    // The refined boundary data are the given ones: the two nets agree on
+    // the boundary curve and its cross derivative.
+    for k in 0..=20 {
+        let t = k as f64 / 20.0;
+        let (a, b) = (
+            coarse.surface().derivatives(t, 0.0),
+            fine.surface().derivatives(t, 0.0),
+        );
+        let d = (0..3)
+            .map(|i| (a.point[i] - b.point[i]).abs() + (a.dv[i] - b.dv[i]).abs())
+            .fold(0.0, f64::max);
+        assert!(d < 1e-12, "boundary at u = {t}: {d:e}");
+    }
+    let result = fine.result_scene();
+    assert!(result.refine.is_none() && result.surface.knots[0].len() == 27 + 4);
+    let again = BSplineScene::from_json(&serde_json::to_string(&result).unwrap())
+        .unwrap()
+        .solve()
+        .unwrap();
+    assert_eq!(again.surface().points(), fine.surface().points());
+    for (refine, path, msg) in [
+        (json!({"u": [1.5]}), "refine.u[0]", "inside the domain"),
+        (
+            json!({"v": [0.5, 0.5, 0.5]}),
+            "refine.v[2]",
+            "multiplicity 3",
+        ),
+        (json!({"split": [0, 2]}), "refine.split[0]", "1 to 16"),
+    ] {
+        let mut v = base.clone();
+        v["refine"] = refine;
+        match BSplineScene::from_json(&v.to_string()).unwrap().solve() {
+            Err(Error::Scene { path: p, message }) => {
+                assert!(p == path && message.contains(msg), "{p}: {message}")
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+    let mut v = base.clone();
+    v.as_object_mut().unwrap().remove("fixed_rings");
+    v["refine"] = json!({"split": [2, 2]});
+    assert!(
+        matches!(BSplineScene::from_json(&v.to_string()).unwrap().solve(),
+        Err(Error::Scene { path, .. }) if path == "refine")
+    );
+}
+
 #[test]
 fn infinite_numbers_are_rejected() {
     // JSON has no NaN or ∞ literal; an overflowing literal is the way to write one.

@@ -129,6 +129,11 @@ impl BSplineProblem {
         &self.free
     }
 
+    /// γ and the guide's net, when there is a guide term.
+    pub fn guide(&self) -> Option<(f64, &[Vec3])> {
+        self.guide.as_ref().map(|(g, s)| (*g, s.as_slice()))
+    }
+
     /// The membrane energy with weight `w` ≥ 0.
     pub fn with_stretch(mut self, w: f64) -> Self {
         self.stretch = w;
