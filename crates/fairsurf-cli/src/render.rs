@@ -149,7 +149,7 @@ fn panel(path: &Path, normals: bool) -> Result<Panel, Failure> {
         solved,
         patches,
         tri,
-        ..
+        bspline,
     } = surface(path)?;
     let arrows = match (normals, &scene, solved) {
         (true, Scene::Tensor(scene), solved) => {
@@ -175,6 +175,7 @@ fn panel(path: &Path, normals: bool) -> Result<Panel, Failure> {
         triangles,
         title: Some(title(path)),
         arrows,
+        bspline,
     })
 }
 

@@ -12,6 +12,8 @@ pub(crate) type Rgb = [u8; 3];
 pub(crate) const INK: Rgb = [30, 30, 34];
 pub(crate) const NET: Rgb = [200, 40, 40];
 pub(crate) const BOUNDARY: Rgb = [20, 20, 24];
+/// Knot lines of a B-spline surface: the borders of its polynomial pieces.
+pub(crate) const KNOT: Rgb = [70, 70, 80];
 pub(crate) const ARROW: Rgb = [20, 90, 200];
 
 fn paint(c: Rgb, alpha: u8) -> Paint<'static> {

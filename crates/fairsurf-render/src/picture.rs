@@ -1,10 +1,11 @@
 //! Panels in, picture out: layout, colouring, rasterization and overlays.
 
 use crate::camera::Camera;
-use crate::overlay::{self, Size, ARROW, BOUNDARY, INK, NET};
+use crate::overlay::{self, Size, ARROW, BOUNDARY, INK, KNOT, NET};
 use crate::raster::{rasterize, Layer, Soup, Stripes};
 use crate::{ColourBy, Error, Range, RenderOptions, Result};
 use fairsurf::analysis::Curvature;
+use fairsurf::bspline::BSplineSurface;
 use fairsurf::colour::ColourMap;
 use fairsurf::vector::{add, norm, normalize, scale, sub};
 use fairsurf::{TensorPatch, TriMesh, TriPatch, Vec3};
@@ -34,6 +35,10 @@ pub struct Panel {
     pub title: Option<String>,
     /// Arrows drawn when [`RenderOptions::arrows`] is on.
     pub arrows: Vec<Arrow>,
+    /// A B-spline surface whose Bézier pieces are `patches`: its knot lines
+    /// are drawn (thin), and its own control net and outer boundary stand
+    /// for the pieces' when those are asked for.
+    pub bspline: Option<BSplineSurface>,
 }
 
 impl Panel {
@@ -44,6 +49,19 @@ impl Panel {
             ..Panel::default()
         }
     }
+    /// A panel of a B-spline surface: its Bézier pieces, knot lines drawn.
+    pub fn bspline(surface: BSplineSurface) -> Self {
+        Panel {
+            patches: surface
+                .bezier_pieces()
+                .into_iter()
+                .map(|p| p.patch)
+                .collect(),
+            bspline: Some(surface),
+            ..Panel::default()
+        }
+    }
+
     /// A panel of triangular patches, e.g. `surface.patches().collect()`.
     pub fn triangular(patches: Vec<TriPatch>) -> Self {
         Panel {
@@ -420,7 +438,60 @@ fn draw_overlays(
         let (x, y, _) = cam.project(p);
         (origin.0 + x as f32, origin.1 + y as f32)
     };
-    if opts.control_net {
+    let grid_line = |pm: &mut Pixmap, pts: &[Vec3], colour, width| {
+        depth_polyline(pm, pts, cam, layer, origin, colour, width)
+    };
+    if let Some(b) = &panel.bspline {
+        // Knot lines: the surface along every interior knot, both ways.
+        let ((u0, u1), (v0, v1)) = (b.knots().0.domain(), b.knots().1.domain());
+        let k = 2 * opts.resolution;
+        for (dir, knots) in [(0, b.knots().0), (1, b.knots().1)] {
+            for &(_, t, _) in knots.spans().iter().skip(1) {
+                let pts: Vec<Vec3> = (0..=k)
+                    .map(|s| {
+                        let w = s as f64 / k as f64;
+                        match dir {
+                            0 => b.eval(t, v0 + w * (v1 - v0)),
+                            _ => b.eval(u0 + w * (u1 - u0), t),
+                        }
+                    })
+                    .collect();
+                grid_line(pm, &pts, KNOT, 0.9);
+            }
+        }
+        if opts.control_net {
+            let (cu, cv) = b.counts();
+            for i in 0..cu {
+                for j in 0..cv {
+                    if j + 1 < cv {
+                        let pts: Vec<Vec3> =
+                            segment(b.point(i, j), b.point(i, j + 1), 16).collect();
+                        grid_line(pm, &pts, NET, 1.2);
+                    }
+                    if i + 1 < cu {
+                        let pts: Vec<Vec3> =
+                            segment(b.point(i, j), b.point(i + 1, j), 16).collect();
+                        grid_line(pm, &pts, NET, 1.2);
+                    }
+                    overlay::dot(pm, px(b.point(i, j)), 2.6, NET);
+                }
+            }
+        }
+        if opts.boundary {
+            let k = 4 * opts.resolution;
+            let at = |w: f64, side: usize| match side {
+                0 => b.eval(u0 + w * (u1 - u0), v0),
+                1 => b.eval(u1, v0 + w * (v1 - v0)),
+                2 => b.eval(u1 - w * (u1 - u0), v1),
+                _ => b.eval(u0, v1 - w * (v1 - v0)),
+            };
+            for side in 0..4 {
+                let pts: Vec<Vec3> = (0..=k).map(|s| at(s as f64 / k as f64, side)).collect();
+                grid_line(pm, &pts, BOUNDARY, 2.0);
+            }
+        }
+    }
+    if opts.control_net && panel.bspline.is_none() {
         for patch in &panel.patches {
             let (n, m) = patch.degree();
             let mut line = |a: Vec3, b: Vec3| {
@@ -466,7 +537,7 @@ fn draw_overlays(
             }
         }
     }
-    if opts.boundary {
+    if opts.boundary && panel.bspline.is_none() {
         let k = 4 * opts.resolution;
         for patch in &panel.patches {
             let edges: [fn(f64) -> (f64, f64); 4] = [

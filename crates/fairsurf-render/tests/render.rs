@@ -37,6 +37,52 @@ fn plain(w: u32, h: u32) -> RenderOptions {
     }
 }
 
+/// A B-spline panel draws its knot lines: a flat sheet of 3 × 2 spans in
+/// top view, plain shading, has dark pixels along the 2 + 1 interior knot
+/// lines (and the same surface without interior knots has none); the
+/// shading is the same surface either way.
+#[test]
+fn bspline_panels_draw_their_knot_lines() {
+    use fairsurf::bspline::{BSplineSurface, KnotVector};
+    let sheet = |u: KnotVector, v: KnotVector| {
+        let (cu, cv) = (u.count(), v.count());
+        // Greville abscissae: a flat, evenly parameterized sheet.
+        let g = |k: &KnotVector, i: usize| {
+            let p = k.degree();
+            k.knots()[i + 1..=i + p].iter().sum::<f64>() / p as f64
+        };
+        let points = (0..cu * cv)
+            .map(|q| [g(&u, q / cv), g(&v, q % cv), 0.0])
+            .collect();
+        BSplineSurface::new(u, v, points).unwrap()
+    };
+    let opts = RenderOptions {
+        view: View::TOP,
+        ..plain(200, 200)
+    };
+    let draw = |s: BSplineSurface| render(&[Panel::bspline(s)], &opts).unwrap().rgba;
+    let with = draw(sheet(KnotVector::uniform(3, 3), KnotVector::uniform(3, 2)));
+    let without = draw(sheet(KnotVector::bezier(3), KnotVector::bezier(3)));
+    // Pixels where the lines darken the shading by more than 30 levels.
+    let darker = with
+        .chunks(4)
+        .zip(without.chunks(4))
+        .filter(|(a, b)| (b[0] as i32 - a[0] as i32) > 30)
+        .count();
+    let lighter = with
+        .chunks(4)
+        .zip(without.chunks(4))
+        .filter(|(a, b)| (a[0] as i32 - b[0] as i32) > 30)
+        .count();
+    // Three lines across a ~180-pixel square, a pixel or two wide each; the
+    // rest of the picture is about the same (the pieces' tessellation
+    // differs from the whole patch's along a few edges).
+    assert!(
+        darker > 300 && 5 * lighter < darker,
+        "{darker} darker, {lighter} lighter"
+    );
+}
+
 #[test]
 fn picture_has_the_asked_size_and_is_opaque() {
     let pic = render(
