@@ -316,12 +316,8 @@ fn every_kind_reports_the_common_figures_under_one_name() {
                 "{name}: {k}"
             );
         }
-        // A condition estimate, or null where none is made (B-splines so far).
         let cond = &r["condition_estimate"];
-        assert!(
-            cond.as_f64().is_some_and(|c| c >= 1.0) || (cond.is_null() && name == "bspline_hole"),
-            "{name}: {cond}"
-        );
+        assert!(cond.as_f64().is_some_and(|c| c >= 1.0), "{name}: {cond}");
         let terms: f64 = r["terms"]
             .as_object()
             .unwrap()

@@ -465,7 +465,7 @@ impl SolvedBSplineScene {
             "gradient_norm": r.gradient_norm,
             "relative_gradient": r.relative_gradient,
             "residual": r.residual,
-            "condition_estimate": Value::Null,
+            "condition_estimate": crate::result::finite(r.condition_estimate),
             "refinement_steps": 1,
             "unknowns": r.unknowns,
             "free_points": r.free_points,

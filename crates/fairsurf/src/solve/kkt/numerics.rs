@@ -187,7 +187,7 @@ pub(super) fn finish(n: usize, mut z: Vec<f64>, info: KktInfo) -> Result<KktSolu
 }
 
 /// Hager's (1984) estimate of ‖A⁻¹‖₁ for a symmetric A, given its solve.
-pub(super) fn hager(size: usize, mut solve: impl FnMut(&[f64]) -> Vec<f64>) -> f64 {
+pub(crate) fn hager(size: usize, mut solve: impl FnMut(&[f64]) -> Vec<f64>) -> f64 {
     let mut x = vec![1.0 / size as f64; size];
     let mut estimate = 0.0;
     for _ in 0..5 {
