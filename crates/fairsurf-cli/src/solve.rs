@@ -30,6 +30,24 @@ pub struct Args {
     /// Print nothing on success.
     #[arg(short, long)]
     quiet: bool,
+    /// B-spline scenes: split every knot span into A parts in u and B in v
+    /// before solving (exact refinement, as the scene's "refine": {"split":
+    /// [A, B]}; the result file holds the refined knots and net).
+    #[arg(long, value_name = "A,B", value_parser = parse_split)]
+    refine: Option<[usize; 2]>,
+}
+
+fn parse_split(s: &str) -> Result<[usize; 2], String> {
+    let (a, b) = s
+        .split_once(',')
+        .ok_or_else(|| format!("expected A,B (two whole numbers), got {s:?}"))?;
+    let num = |x: &str| -> Result<usize, String> {
+        match x.trim().parse::<usize>() {
+            Ok(k) if (1..=16).contains(&k) => Ok(k),
+            _ => Err(format!("expected a whole number from 1 to 16, got {x:?}")),
+        }
+    };
+    Ok([num(a)?, num(b)?])
 }
 
 pub fn run(a: Args) -> Result<(), Failure> {
@@ -117,7 +135,17 @@ fn result_name(scene: &Path) -> String {
 
 fn solve_one(path: &Path, out: Option<&Path>, a: &Args) -> Result<String, Failure> {
     let with_file = crate::input::with_file(path);
-    let scene = Scene::from_json(&crate::input::read(path)?).map_err(&with_file)?;
+    let mut scene = Scene::from_json(&crate::input::read(path)?).map_err(&with_file)?;
+    if let Some(split) = a.refine {
+        let Scene::BSpline(b) = &mut scene else {
+            return Err(Failure::input(format!(
+                "{}: --refine splits the knot spans of B-spline scenes; this one is {}",
+                path.display(),
+                scene.surface_type().name()
+            )));
+        };
+        b.refine.get_or_insert_with(Default::default).split = Some(split);
+    }
     let spinner = spinner_for(&scene);
     let solved = scene.solve().map_err(&with_file);
     spinner.finish_and_clear();

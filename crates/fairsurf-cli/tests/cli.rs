@@ -365,6 +365,59 @@ fn every_kind_reports_the_common_figures_under_one_name() {
     }
 }
 
+/// `solve --refine A,B` splits a B-spline scene's spans before solving:
+/// more unknowns, a lower thin-plate minimum, the refined knots in the
+/// result; other kinds and bad counts exit 2 before any work.
+#[test]
+fn solve_refine_splits_bspline_spans() {
+    let d = tmpdir("refine");
+    let scene = examples().join("bspline_hole.json");
+    let report = |extra: &[&str]| -> serde_json::Value {
+        let mut args = vec!["solve", scene.to_str().unwrap(), "--json"];
+        args.extend(extra);
+        let o = fairsurf(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        serde_json::from_slice(&o.stdout).unwrap()
+    };
+    let (coarse, fine) = (report(&[]), report(&["--refine", "2,3"]));
+    assert_eq!(coarse["spans"], serde_json::json!([11, 11]));
+    assert_eq!(fine["spans"], serde_json::json!([22, 33]));
+    assert!(
+        fine["energy"].as_f64() < coarse["energy"].as_f64(),
+        "{fine}"
+    );
+    let out = d.join("r.json");
+    let o = fairsurf(&[
+        "solve",
+        scene.to_str().unwrap(),
+        "--refine",
+        "2,2",
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(
+        r["surface"]["knots"][0].as_array().unwrap().len(),
+        22 + 3 + 4
+    );
+    assert!(r.get("refine").is_none());
+    let tensor = examples().join("quickstart.json");
+    let o = fairsurf(&["solve", tensor.to_str().unwrap(), "--refine", "2,2"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o)
+            .contains("--refine splits the knot spans of B-spline scenes; this one is tensor"),
+        "{}",
+        stderr(&o)
+    );
+    let o = fairsurf(&["solve", scene.to_str().unwrap(), "--refine", "0,2"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("from 1 to 16"), "{}", stderr(&o));
+}
+
 #[test]
 fn eval_reads_a_result_and_refuses_an_unsolved_scene() {
     let d = tmpdir("eval");
