@@ -480,7 +480,7 @@ function renderSceneInfo() {
 function renderKind(kind) {
   const badge = $('kind');
   badge.hidden = !kind;
-  badge.textContent = kind === 'triangular' ? 'triangular' : kind === 'tensor' ? 'tensor' : String(kind || '');
+  badge.textContent = kind === 'bspline' ? 'B-spline' : String(kind || '');
 }
 
 /**
@@ -862,7 +862,7 @@ async function loadExampleList() {
   // Group by kind; the server's order is kept inside each group.
   const groups = new Map();
   for (const ex of examples) {
-    const kind = ex.kind === 'triangular' ? 'Triangular' : 'Tensor product';
+    const kind = { triangular: 'Triangular', bspline: 'B-spline' }[ex.kind] ?? 'Tensor product';
     if (!groups.has(kind)) groups.set(kind, []);
     groups.get(kind).push(ex);
   }

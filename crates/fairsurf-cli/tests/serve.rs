@@ -190,6 +190,49 @@ fn rows(v: &Value) -> std::collections::HashMap<String, Value> {
         .collect()
 }
 
+/// A B-spline scene in the editor: listed as "bspline", solved to the
+/// command line's energy, its held ring points as handles where the scene
+/// has them (also when the scene refines its knots before solving: the
+/// handles stay the scene's own points), its own net, a mesh over the knot
+/// domain, and a drag of a handle changes the surface.
+#[test]
+fn bspline_scenes_in_the_editor() {
+    let s = start(&[]);
+    let (_, _, body) = request(&s, "GET", "/api/examples", b"");
+    let list: Value = serde_json::from_slice(&body).unwrap();
+    assert!(list["examples"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|e| e["file"] == "bspline_hole.json" && e["kind"] == "bspline"));
+    let mut scene = example("bspline_hole.json");
+    let (status, v) = post(&s, "/api/solve", &json!({ "scene": scene }));
+    assert_eq!(status, 200, "{v}");
+    assert_eq!(v["kind"], "bspline");
+    let direct = fairsurf_io::BSplineScene::from_json(&scene.to_string())
+        .unwrap()
+        .solve()
+        .unwrap();
+    let energy = direct.solution.report.energy;
+    assert!((rows(&v)["energy"].as_f64().unwrap() - energy).abs() <= 1e-12 * energy);
+    let handles = check_handles(&scene, &v);
+    assert_eq!(handles["point"].len(), 14 * 14 - 10 * 10);
+    assert_eq!(v["net"]["points"].as_array().unwrap().len(), 14 * 14);
+    let n = v["mesh"]["positions"].as_array().unwrap().len();
+    assert_eq!(n, 3 * 49 * 49);
+    // Refined before solving: a finer net, the same handles.
+    scene["refine"] = json!({"split": [2, 2]});
+    let (status, fine) = post(&s, "/api/solve", &json!({ "scene": scene }));
+    assert_eq!(status, 200, "{fine}");
+    assert_eq!(fine["net"]["points"].as_array().unwrap().len(), 25 * 25);
+    assert_eq!(check_handles(&scene, &fine)["point"].len(), 96);
+    // Dragging a ring point moves the surface.
+    scene["surface"]["control_points"][0][5][2] = json!(0.8);
+    let (status, moved) = post(&s, "/api/solve", &json!({ "scene": scene, "quick": true }));
+    assert_eq!(status, 200, "{moved}");
+    assert_ne!(moved["mesh"]["positions"], fine["mesh"]["positions"]);
+}
+
 /// A drag: quick solves of a moved boundary point reuse the kept
 /// factorization and give the library's fresh solution; the full solve on
 /// letting go adds the analysis; a weight change factors anew.

@@ -306,20 +306,16 @@ async fn asset(uri: axum::http::Uri) -> Response {
         .into_response()
 }
 
-/// The examples the editor can show (B-spline scenes are not drawn yet).
 async fn list_examples(State(s): State<Arc<Server>>) -> Json<Value> {
     use fairsurf_io::SurfaceType;
     let list: Vec<Value> = s
         .examples
         .iter()
-        .filter_map(|(file, text)| {
+        .map(|(file, text)| {
             let kind = SurfaceType::of_json(text).unwrap_or(SurfaceType::Tensor);
-            if kind == SurfaceType::BSpline {
-                return None;
-            }
             let v: Value = serde_json::from_str(text).unwrap_or(Value::Null);
             let name = v["name"].as_str().unwrap_or(file);
-            Some(json!({"file": file, "name": name, "kind": kind.name()}))
+            json!({"file": file, "name": name, "kind": kind.name()})
         })
         .collect();
     Json(json!({ "examples": list }))

@@ -10,8 +10,8 @@ use fairsurf::triangle::{linear_index, multi_indices};
 use fairsurf::vector::{add, dot, normalize, scale, sub};
 use fairsurf::{BezierCurve, TriSurface, Vec3};
 use fairsurf_io::{
-    write_iges_surfaces, write_mesh, write_step_surfaces, Outcome, Scene, SolvedScene,
-    SolvedTensorScene, SolvedTriScene, SurfaceMesh,
+    write_iges_surfaces, write_mesh, write_step_surfaces, Outcome, Scene, SolvedBSplineScene,
+    SolvedScene, SolvedTensorScene, SolvedTriScene, SurfaceMesh,
 };
 use serde_json::{json, Value};
 use std::collections::BTreeSet;
@@ -33,13 +33,7 @@ pub(crate) fn solve(
     let mut v = match scene.solve_cached(&opts, factors)? {
         SolvedScene::Tensor(s) => tensor_view(&s),
         SolvedScene::Triangular(s) => tri_view(&s),
-        SolvedScene::BSpline(_) => {
-            return Err(ApiError::new(
-                StatusCode::UNPROCESSABLE_ENTITY,
-                "the editor does not show B-spline surfaces yet: solve them with `fairsurf \
-                 solve`, export them with `fairsurf export`",
-            ))
-        }
+        SolvedScene::BSpline(s) => bspline_view(&s),
     };
     v["quick"] = json!(quick);
     v["seconds"] = json!(start.elapsed().as_secs_f64());
@@ -213,6 +207,102 @@ fn check_size(scene: &Scene, limits: &Limits) -> ApiResult<()> {
 
 fn row(label: impl Into<String>, value: impl Into<Value>) -> Value {
     json!({"label": label.into(), "value": value.into()})
+}
+
+/// What the page draws and edits (`editor/API.md`, `POST /api/solve`),
+/// the same fields for every kind of surface.
+#[derive(serde::Serialize)]
+struct View<'a> {
+    /// "tensor", "triangular" or "bspline".
+    kind: &'static str,
+    /// Rows `{label, value}`.
+    table: Vec<Value>,
+    /// The result file's content.
+    result: Value,
+    /// Positions, indices, colours by mean curvature and their legend.
+    mesh: Value,
+    /// The control net.
+    net: Net<'a>,
+    /// Boundary curves as polylines.
+    boundary: Vec<Vec<Vec3>>,
+    /// Arrows of the guiding normals (`{at, dir}`).
+    normals: Vec<Value>,
+    /// Operator markers.
+    operators: Vec<Value>,
+    /// Draggable handles (JSON pointers into the scene).
+    handles: Vec<Value>,
+    /// Weight sliders (JSON pointers into the scene).
+    sliders: Vec<Value>,
+    /// The construction method's select (tensor scenes), else null.
+    methods: Option<Value>,
+}
+
+/// Control points and the index pairs of the net's edges.
+#[derive(serde::Serialize)]
+struct Net<'a> {
+    points: &'a [Vec3],
+    edges: Vec<[usize; 2]>,
+}
+
+impl View<'_> {
+    fn json(&self) -> Value {
+        serde_json::to_value(self).expect("a view serializes")
+    }
+}
+
+/// The edges of a rows × cols grid net, row-major.
+fn grid_edges(rows: usize, cols: usize) -> Vec<[usize; 2]> {
+    let mut edges = Vec::new();
+    for i in 0..rows {
+        for j in 0..cols {
+            let k = i * cols + j;
+            if j + 1 < cols {
+                edges.push([k, k + 1]);
+            }
+            if i + 1 < rows {
+                edges.push([k, k + cols]);
+            }
+        }
+    }
+    edges
+}
+
+/// Sliders for the energy's weights: stretch and bend (with the default
+/// rule: bend 1 with two fixed rings, else stretch 1, when neither is
+/// given), λ and γ when the scene has those terms.
+fn weight_sliders(
+    (stretch, bend, rings): (Option<f64>, Option<f64>, Option<usize>),
+    lambda: Option<f64>,
+    gamma: Option<f64>,
+) -> Vec<Value> {
+    let none = stretch.is_none() && bend.is_none();
+    let default_bend = none && rings >= Some(2);
+    let w = |given: Option<f64>, default: bool| given.unwrap_or(if default { 1.0 } else { 0.0 });
+    let mut out = vec![
+        slider(
+            "/energy/stretch".into(),
+            "stretch (membrane)".into(),
+            w(stretch, none && !default_bend),
+            1e-4,
+            1e3,
+        ),
+        slider(
+            "/energy/bend".into(),
+            "bend (thin plate)".into(),
+            w(bend, default_bend),
+            1e-4,
+            1e3,
+        ),
+    ];
+    if let Some(l) = lambda {
+        let p = "/energy/normal_field/weight".into();
+        out.push(slider(p, "λ normal field".into(), l, 1e-3, 1e4));
+    }
+    if let Some(g) = gamma {
+        let p = "/energy/guide_surface/weight".into();
+        out.push(slider(p, "γ guide surface".into(), g, 1e-3, 1e4));
+    }
+    out
 }
 
 fn slider(pointer: String, label: String, value: f64, min: f64, max: f64) -> Value {
@@ -541,6 +631,97 @@ impl<'a> Field<'a> {
     }
 }
 
+/// The view of a B-spline surface: its mesh over the knot domain, its own
+/// control net and boundary, the held control points as handles (the
+/// scene's own points, also when it is refined before solving), sliders
+/// for the energy weights and the report's table.
+fn bspline_view(solved: &SolvedBSplineScene) -> Value {
+    let scene = &solved.scene;
+    let s = solved.surface();
+    let (cu, cv) = s.counts();
+    let ((u0, u1), (v0, v1)) = (s.knots().0.domain(), s.knots().1.domain());
+    let side = |f: &dyn Fn(f64) -> (f64, f64)| -> Vec<Vec3> {
+        (0..=64)
+            .map(|k| {
+                let (u, v) = f(k as f64 / 64.0);
+                s.eval(u, v)
+            })
+            .collect()
+    };
+    let boundary = vec![
+        side(&|t| (u0, v0 + t * (v1 - v0))),
+        side(&|t| (u0 + t * (u1 - u0), v1)),
+        side(&|t| (u1, v1 - t * (v1 - v0))),
+        side(&|t| (u1 - t * (u1 - u0), v0)),
+    ];
+    // Handles: the scene's given points that are held. With "refine" the
+    // solved net is finer; the held points are then the scene's rings.
+    let rows = &scene.surface.control_points;
+    let held = |i: usize, j: usize| match (scene.fixed_rings, &scene.refine) {
+        (Some(k), _) => {
+            let (r, c) = (rows.len(), rows.first().map_or(0, Vec::len));
+            i.min(j).min(r - 1 - i).min(c - 1 - j) < k
+        }
+        (None, _) => !solved.free.get(i * cv + j).copied().unwrap_or(true),
+    };
+    let mut handles = Vec::new();
+    for (i, row) in rows.iter().enumerate() {
+        for (j, p) in row.iter().enumerate() {
+            if let (Some(p), true) = (p, held(i, j)) {
+                handles.push(json!({
+                    "pointer": format!("/surface/control_points/{i}/{j}"),
+                    "position": p,
+                    "label": format!("P({i},{j})"),
+                    "kind": "control_point",
+                }));
+            }
+        }
+    }
+    let e = &scene.energy;
+    let sliders = weight_sliders(
+        (e.stretch, e.bend, scene.fixed_rings),
+        e.normal_field.as_ref().map(|f| f.weight),
+        e.guide_surface.as_ref().map(|g| g.weight),
+    );
+    let r = &solved.solution.report;
+    let mut table = vec![row("energy", r.energy)];
+    for (name, v, given) in [
+        ("stretch", r.stretch, true),
+        ("bend", r.bend, true),
+        ("normal field", r.normal_field, e.normal_field.is_some()),
+        ("guide surface", r.guide_surface, e.guide_surface.is_some()),
+    ] {
+        if given {
+            table.push(row(name, v));
+        }
+    }
+    table.push(row("checked: energy difference (relative)", r.energy_error));
+    table.push(row("gradient (relative)", r.relative_gradient));
+    table.push(row("residual", r.residual));
+    table.push(row("condition estimate", r.condition_estimate));
+    table.push(row("unknowns", r.unknowns as f64));
+    let (su, sv) = (s.knots().0.spans().len(), s.knots().1.spans().len());
+    table.push(row("spans", format!("{su} × {sv}")));
+    table.push(row("solve (ms)", 1e3 * r.timings.total));
+    View {
+        kind: "bspline",
+        table,
+        result: json!(solved.result_scene()),
+        mesh: mesh_json(&SurfaceMesh::from_bspline(s, 48, 48)),
+        net: Net {
+            points: s.points(),
+            edges: grid_edges(cu, cv),
+        },
+        boundary,
+        normals: Vec::new(),
+        operators: Vec::new(),
+        handles,
+        sliders,
+        methods: None,
+    }
+    .json()
+}
+
 fn tensor_view(solved: &SolvedTensorScene) -> Value {
     let scene = &solved.scene;
     let patch = solved.patch();
@@ -548,18 +729,6 @@ fn tensor_view(solved: &SolvedTensorScene) -> Value {
     let size = size_of(patch.points());
     let scene_json = serde_json::to_value(scene).expect("json");
 
-    let mut edges = Vec::new();
-    for i in 0..=n {
-        for j in 0..=m {
-            let k = i * (m + 1) + j;
-            if j < m {
-                edges.push([k, k + 1]);
-            }
-            if i < n {
-                edges.push([k, k + m + 1]);
-            }
-        }
-    }
     let boundary: Vec<Vec<Vec3>> = [
         (0..=m).map(|j| patch.point(0, j)).collect::<Vec<_>>(),
         (0..=n).map(|i| patch.point(i, m)).collect(),
@@ -613,44 +782,11 @@ fn tensor_view(solved: &SolvedTensorScene) -> Value {
     match &solved.outcome {
         Outcome::Minimized(sol) => {
             let e = &scene.energy;
-            let default_bend =
-                e.stretch.is_none() && e.bend.is_none() && scene.fixed_rings >= Some(2);
-            let default_stretch = e.stretch.is_none() && e.bend.is_none() && !default_bend;
-            let w = |given: Option<f64>, default: bool| {
-                given.unwrap_or(if default { 1.0 } else { 0.0 })
-            };
-            sliders.push(slider(
-                "/energy/stretch".into(),
-                "stretch (membrane)".into(),
-                w(e.stretch, default_stretch),
-                1e-4,
-                1e3,
-            ));
-            sliders.push(slider(
-                "/energy/bend".into(),
-                "bend (thin plate)".into(),
-                w(e.bend, default_bend),
-                1e-4,
-                1e3,
-            ));
-            if let Some(nf) = &e.normal_field {
-                sliders.push(slider(
-                    "/energy/normal_field/weight".into(),
-                    "λ normal field".into(),
-                    nf.weight,
-                    1e-3,
-                    1e4,
-                ));
-            }
-            if let Some(g) = &e.guide_surface {
-                sliders.push(slider(
-                    "/energy/guide_surface/weight".into(),
-                    "γ guide surface".into(),
-                    g.weight,
-                    1e-3,
-                    1e4,
-                ));
-            }
+            sliders = weight_sliders(
+                (e.stretch, e.bend, scene.fixed_rings),
+                e.normal_field.as_ref().map(|f| f.weight),
+                e.guide_surface.as_ref().map(|g| g.weight),
+            );
             let r = &sol.report;
             table.push(row("energy", r.energy));
             for t in &r.terms {
@@ -701,23 +837,27 @@ fn tensor_view(solved: &SolvedTensorScene) -> Value {
             measure_rows(&mut table, r.measures.as_ref());
         }
     }
-    json!({
-        "kind": "tensor",
-        "table": table,
-        "result": solved.result_scene(),
-        "mesh": mesh_json(&SurfaceMesh::from_patch(patch, 48, 48)),
-        "net": {"points": patch.points(), "edges": edges},
-        "boundary": boundary,
-        "normals": normals,
-        "operators": operators,
-        "handles": handles,
-        "sliders": sliders,
-        "methods": {
+    View {
+        kind: "tensor",
+        table,
+        result: json!(solved.result_scene()),
+        mesh: mesh_json(&SurfaceMesh::from_patch(patch, 48, 48)),
+        net: Net {
+            points: patch.points(),
+            edges: grid_edges(n + 1, m + 1),
+        },
+        boundary,
+        normals,
+        operators,
+        handles,
+        sliders,
+        methods: Some(json!({
             "pointer": "/method",
             "value": scene_json.get("method").and_then(Value::as_str).unwrap_or("minimize"),
             "options": ["minimize", "harmonic", "biharmonic", "harmonic_mask", "biharmonic_mask"],
-        },
-    })
+        })),
+    }
+    .json()
 }
 
 /// The control net of a triangular surface as line segments.
@@ -885,17 +1025,21 @@ fn tri_view(solved: &SolvedTriScene) -> Value {
         ),
         row("solve (ms)", 1e3 * r.seconds.total),
     ]);
-    json!({
-        "kind": "triangular",
-        "table": table,
-        "result": solved.result_scene(),
-        "mesh": mesh_json(&SurfaceMesh::from_tri_surface(s, resolution)),
-        "net": {"points": s.points(), "edges": tri_net_edges(s)},
-        "boundary": boundary,
-        "normals": normals,
-        "operators": operators,
-        "handles": handles,
-        "sliders": sliders,
-        "methods": null,
-    })
+    View {
+        kind: "triangular",
+        table,
+        result: json!(solved.result_scene()),
+        mesh: mesh_json(&SurfaceMesh::from_tri_surface(s, resolution)),
+        net: Net {
+            points: s.points(),
+            edges: tri_net_edges(s),
+        },
+        boundary,
+        normals,
+        operators,
+        handles,
+        sliders,
+        methods: None,
+    }
+    .json()
 }
