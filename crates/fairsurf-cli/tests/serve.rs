@@ -1005,6 +1005,7 @@ fn stops_using_the_cpu(scene: &Value) {
             "never idle"
         );
     };
+    eprintln!("whole solve {full_seconds:.2} s, idle {idle_at:.2} s after the request");
     assert!(
         idle_at < 0.6 * full_seconds,
         "idle {idle_at:.2} s after the request; the whole solve takes {full_seconds:.2} s"

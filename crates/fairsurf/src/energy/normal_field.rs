@@ -263,6 +263,8 @@ impl EnergyTerm for NormalField {
         let np = space.len();
         let mut h = Mat::<f64>::zeros(3 * np, 3 * np);
         for ((a, b), w) in pairs().zip(&tables) {
+            // Six dense forms: a cancelled solve stops between them.
+            crate::budget::checkpoint()?;
             let q = form(space, &[((1, 0), 1.0), ((0, 1), 1.0)], (&au, &av), w);
             for qq in 0..np {
                 for p in 0..np {

@@ -460,8 +460,8 @@ impl Factored {
                         tolerance: check.tolerance,
                         hint: "A Bernstein net of this degree cannot hold this minimizer to that \
                                accuracy: use a lower degree (the README's limits give the degrees \
-                               that verify); B-spline surfaces are planned for more freedom at \
-                               low degree."
+                               that verify), or a B-spline surface (\"type\": \"bspline\"), \
+                               which gains freedom by more spans at low degree."
                             .into(),
                     })
                 }
