@@ -37,27 +37,15 @@ fn parse_uv(s: &str) -> Result<(f64, f64), String> {
 pub fn run(a: Args) -> Result<(), Failure> {
     let with_file = crate::input::with_file(&a.file);
     let scene = fairsurf_io::Scene::from_json(&crate::input::read(&a.file)?).map_err(&with_file)?;
-    // Derivatives at (u, v), in [0, 1]² (a B-spline surface's domain is
-    // mapped onto it).
-    let at: Box<dyn Fn(f64, f64) -> fairsurf::SurfaceDerivatives> = match &scene {
-        fairsurf_io::Scene::Tensor(s) => {
-            let patch = s.surface_patch().map_err(&with_file)?;
-            Box::new(move |u, v| patch.derivatives(u, v))
-        }
-        fairsurf_io::Scene::BSpline(s) => {
-            let surface = s.surface().map_err(&with_file)?;
-            let ((u0, u1), (v0, v1)) = (surface.knots().0.domain(), surface.knots().1.domain());
-            Box::new(move |u, v| surface.derivatives(u0 + u * (u1 - u0), v0 + v * (v1 - v0)))
-        }
-        other => {
-            return Err(Failure::input(format!(
-                "{}: surface.type: eval works on tensor-product surfaces (tensor, bspline); \
-                 this one is {}",
-                a.file.display(),
-                other.surface_type().name()
-            )))
-        }
-    };
+    let surface = scene.surface().map_err(&with_file)?;
+    if surface.derivatives(0.0, 0.0).is_none() {
+        return Err(Failure::input(format!(
+            "{}: surface.type: eval works on tensor-product surfaces (tensor, bspline); this one \
+             is {}",
+            a.file.display(),
+            surface.surface_type().name()
+        )));
+    }
     let mut uv = a.uv.clone();
     if let Some(k) = a.grid {
         let k = k as usize;
@@ -71,7 +59,7 @@ pub fn run(a: Args) -> Result<(), Failure> {
     let out: Vec<_> = uv
         .iter()
         .map(|&(u, v)| {
-            let d = at(u, v);
+            let d = surface.derivatives(u, v).expect("a tensor-product surface");
             json!({"u": u, "v": v, "point": d.point, "normal": d.normal()})
         })
         .collect();

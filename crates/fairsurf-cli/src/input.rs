@@ -1,9 +1,7 @@
 //! Reading the surface a command works on.
 
 use crate::Failure;
-use fairsurf::bspline::BSplineSurface;
-use fairsurf::{TensorPatch, TriSurface};
-use fairsurf_io::{Scene, SolvedScene, TensorScene};
+use fairsurf_io::{Scene, SolvedScene, Surface, TensorScene};
 use std::path::Path;
 
 /// Prefixes an I/O-crate error with the file it is about.
@@ -53,45 +51,25 @@ pub(crate) struct Loaded {
     pub scene: Scene,
     /// The solve, when the scene was solved here (a result file is not).
     pub solved: Option<SolvedScene>,
-    /// The surface as tensor patches: the patch of a tensor scene, or every
-    /// triangular patch as an exact tensor patch with a collapsed side.
-    pub patches: Vec<TensorPatch>,
-    /// The triangular surface, for a triangular scene.
-    pub tri: Option<TriSurface>,
-    /// The B-spline surface, for a B-spline scene.
-    pub bspline: Option<BSplineSurface>,
+    /// The surface: the solved one, or a result file's as it is.
+    pub surface: Surface,
 }
 
 /// The scene in `path` and its surface: a result file (one with a
 /// `"report"`) as it is, any other scene solved.
 pub(crate) fn surface(path: &Path) -> Result<Loaded, Failure> {
     let scene = Scene::from_json(&read(path)?).map_err(with_file(path))?;
-    let solved = if scene.is_result() {
-        None
+    let (solved, surface) = if scene.is_result() {
+        (None, scene.surface().map_err(with_file(path))?)
     } else {
-        Some(scene.solve().map_err(with_file(path))?)
-    };
-    let tri = match (&solved, &scene) {
-        (Some(SolvedScene::Triangular(s)), _) => Some(s.surface().clone()),
-        (None, Scene::Triangular(s)) => Some(s.surface().map_err(with_file(path))?),
-        _ => None,
-    };
-    let bspline = match (&solved, &scene) {
-        (Some(SolvedScene::BSpline(s)), _) => Some(s.surface().clone()),
-        (None, Scene::BSpline(s)) => Some(s.surface().map_err(with_file(path))?),
-        _ => None,
-    };
-    let patches = match (&solved, &tri) {
-        (_, Some(t)) => t.tensor_patches(),
-        (Some(s), None) => s.tensor_patches(),
-        (None, None) => scene.tensor_patches().map_err(with_file(path))?,
+        let solved = scene.solve().map_err(with_file(path))?;
+        let surface = solved.surface();
+        (Some(solved), surface)
     };
     Ok(Loaded {
         scene,
         solved,
-        patches,
-        tri,
-        bspline,
+        surface,
     })
 }
 

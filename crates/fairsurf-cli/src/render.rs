@@ -4,7 +4,7 @@ use crate::input::{surface, with_file, Loaded};
 use crate::Failure;
 use fairsurf::energy::NormalGuide;
 use fairsurf::TensorPatch;
-use fairsurf_io::{write_atomic, Scene, SolvedScene};
+use fairsurf_io::{write_atomic, Scene, SolvedScene, Surface};
 use fairsurf_render::{render, Arrow, ColourBy, Panel, Range, RenderOptions, View};
 use std::path::{Path, PathBuf};
 
@@ -147,10 +147,9 @@ fn panel(path: &Path, normals: bool) -> Result<Panel, Failure> {
     let Loaded {
         scene,
         solved,
-        patches,
-        tri,
-        bspline,
+        surface,
     } = surface(path)?;
+    let patches = surface.tensor_patches();
     let arrows = match (normals, &scene, solved) {
         (true, Scene::Tensor(scene), solved) => {
             let built = match solved {
@@ -166,9 +165,10 @@ fn panel(path: &Path, normals: bool) -> Result<Panel, Failure> {
     };
     // Triangular surfaces are drawn over their own triangles (their tensor
     // form's collapsed sides would spoil the curvature colours).
-    let (patches, triangles) = match tri {
-        Some(t) => (vec![], t.patches().collect()),
-        None => (patches, vec![]),
+    let (patches, triangles, bspline) = match surface {
+        Surface::Triangular(t) => (vec![], t.patches().collect(), None),
+        Surface::BSpline(b) => (patches, vec![], Some(b)),
+        Surface::Tensor(_) => (patches, vec![], None),
     };
     Ok(Panel {
         patches,

@@ -35,6 +35,7 @@ mod operators;
 mod result;
 mod scene;
 mod step;
+mod surface;
 mod surface_mesh;
 mod tensor_scene;
 mod tri_result;
@@ -56,6 +57,7 @@ pub use operators::{EdgeSpec, OperatorKind, TensorOperatorSpec, TensorPatchSpec}
 pub use result::{construction_report_json, report_json, Outcome, SolvedTensorScene};
 pub use scene::{Scene, SolvedScene, SurfaceType};
 pub use step::{write_step, write_step_surfaces};
+pub use surface::{Exported, Surface, OCC_MAX_DEGREE};
 pub use surface_mesh::SurfaceMesh;
 pub use tensor_scene::{
     EnergySpec, GuideSurfaceSpec, Method, Net, NormalFieldSpec, NumberOrGrid, SamplingSpec,

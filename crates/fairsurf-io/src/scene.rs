@@ -8,7 +8,7 @@
 //! parses the text once into the matching struct, so that errors keep their
 //! JSON path and line; an unknown type is an error at `surface.type`.
 
-use crate::{write_atomic, TriScene};
+use crate::{write_atomic, Surface, TriScene};
 use crate::{BSplineScene, SolvedBSplineScene};
 use crate::{Error, Measures, Result, SolvedTensorScene, SolvedTriScene, SurfaceMesh, TensorScene};
 use fairsurf::{FactorCache, SolveOptions, TensorPatch};
@@ -159,29 +159,25 @@ impl Scene {
         }
     }
 
-    /// The surface as the scene gives it, as tensor patches (a triangular
-    /// patch is an exact tensor patch with a collapsed side); a `null`
-    /// control point is an error naming it.
-    pub fn tensor_patches(&self) -> Result<Vec<TensorPatch>> {
+    /// The surface as the scene gives it; a `null` control point is an
+    /// error naming it.
+    pub fn surface(&self) -> Result<Surface> {
         Ok(match self {
-            Scene::Tensor(s) => vec![s.surface_patch()?],
-            Scene::Triangular(s) => s.surface()?.tensor_patches(),
-            Scene::BSpline(s) => pieces(&s.surface()?),
+            Scene::Tensor(s) => Surface::Tensor(s.surface_patch()?),
+            Scene::Triangular(s) => Surface::Triangular(s.surface()?),
+            Scene::BSpline(s) => Surface::BSpline(s.surface()?),
         })
     }
 
-    /// A mesh of the surface as the scene gives it (see
-    /// [`SolvedScene::mesh`] for `resolution`).
+    /// The surface as the scene gives it, as tensor patches
+    /// ([`Surface::tensor_patches`]).
+    pub fn tensor_patches(&self) -> Result<Vec<TensorPatch>> {
+        Ok(self.surface()?.tensor_patches())
+    }
+
+    /// A mesh of the surface as the scene gives it ([`Surface::mesh`]).
     pub fn mesh(&self, resolution: usize) -> Result<SurfaceMesh> {
-        Ok(match self {
-            Scene::Tensor(s) => {
-                SurfaceMesh::from_patch(&s.surface_patch()?, resolution, resolution)
-            }
-            Scene::Triangular(s) => {
-                SurfaceMesh::from_tri_surface(&s.surface()?, tri_resolution(resolution))
-            }
-            Scene::BSpline(s) => SurfaceMesh::from_bspline(&s.surface()?, resolution, resolution),
-        })
+        Ok(self.surface()?.mesh(resolution))
     }
 }
 
@@ -245,63 +241,36 @@ impl SolvedScene {
         }
     }
 
-    /// The solved surface as tensor patches (a triangular patch is an exact
-    /// tensor patch with a collapsed side, a B-spline surface its Bézier
-    /// pieces): for STEP, IGES and pictures.
+    /// The solved surface (a copy).
+    pub fn surface(&self) -> Surface {
+        match self {
+            SolvedScene::Tensor(s) => Surface::Tensor(s.patch().clone()),
+            SolvedScene::Triangular(s) => Surface::Triangular(s.surface().clone()),
+            SolvedScene::BSpline(s) => Surface::BSpline(s.surface().clone()),
+        }
+    }
+
+    /// The solved surface as tensor patches ([`Surface::tensor_patches`]):
+    /// for STEP, IGES and pictures.
     pub fn tensor_patches(&self) -> Vec<TensorPatch> {
-        match self {
-            SolvedScene::Tensor(s) => vec![s.patch().clone()],
-            SolvedScene::Triangular(s) => s.surface().tensor_patches(),
-            SolvedScene::BSpline(s) => pieces(s.surface()),
-        }
+        self.surface().tensor_patches()
     }
 
-    /// The solved surface as the CAD writers take it: the tensor patch, a
-    /// B-spline surface whole (one face with its knots), a triangular
-    /// surface's patches as tensor patches with a collapsed side.
+    /// The solved surface as the CAD writers take it
+    /// ([`Surface::cad_surfaces`]).
     pub fn cad_surfaces(&self) -> Vec<crate::CadSurface> {
-        match self {
-            SolvedScene::BSpline(s) => vec![s.surface().into()],
-            other => other.tensor_patches().iter().map(Into::into).collect(),
-        }
+        self.surface().cad_surfaces()
     }
 
-    /// A triangle mesh of the solved surface. `resolution` is the quads per
-    /// parameter direction of a tensor patch; a triangular surface gets
-    /// ⌈resolution / 4⌉ subdivisions per patch edge (its patches are many
-    /// and small).
+    /// A triangle mesh of the solved surface ([`Surface::mesh`]).
     pub fn mesh(&self, resolution: usize) -> SurfaceMesh {
-        match self {
-            SolvedScene::Tensor(s) => SurfaceMesh::from_patch(s.patch(), resolution, resolution),
-            SolvedScene::Triangular(s) => {
-                SurfaceMesh::from_tri_surface(s.surface(), tri_resolution(resolution))
-            }
-            SolvedScene::BSpline(s) => {
-                SurfaceMesh::from_bspline(s.surface(), resolution, resolution)
-            }
-        }
+        self.surface().mesh(resolution)
     }
 
     /// About how many triangles [`Self::mesh`] makes.
     pub fn mesh_triangles(&self, resolution: usize) -> usize {
-        match self {
-            SolvedScene::Tensor(_) | SolvedScene::BSpline(_) => 2 * resolution * resolution,
-            SolvedScene::Triangular(s) => {
-                let r = tri_resolution(resolution);
-                r * r * s.surface().patch_count()
-            }
-        }
+        self.surface().mesh_triangles(resolution)
     }
-}
-
-/// A B-spline surface's Bézier pieces as patches.
-fn pieces(s: &fairsurf::bspline::BSplineSurface) -> Vec<TensorPatch> {
-    s.bezier_pieces().into_iter().map(|p| p.patch).collect()
-}
-
-/// Subdivisions per triangular patch edge for a tensor `resolution`.
-fn tri_resolution(resolution: usize) -> usize {
-    resolution.div_ceil(4).max(1)
 }
 
 /// The text of a file; an error names it.
