@@ -1,0 +1,314 @@
+"""fairsurf: fair surfaces by energy minimization, from Python.
+
+The Rust library does the work; this module hands it scenes and gives back
+numpy arrays. A scene is what ``fairsurf solve`` reads: a path to a JSON
+file, the JSON text, or a dict (numpy arrays inside are fine; in a control
+net, a point of three NaNs is a free point, as ``null`` is in the file).
+
+>>> import fairsurf
+>>> r = fairsurf.solve("examples/wu_yang_fig4_l500.json")   # doctest: +SKIP
+>>> r.control_points.shape                                   # doctest: +SKIP
+(6, 6, 3)
+>>> r.report["energy"]                                       # doctest: +SKIP
+
+Every solve, evaluation, mesh, export and picture releases the GIL, so
+Python threads overlap; :func:`solve_many` spreads scenes over threads.
+Errors are exceptions: :class:`SceneError` (a ``ValueError`` whose ``path``
+names the JSON path), :class:`SolveError` and :class:`UnverifiedError` for
+refusals, ``OSError`` for files.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import warnings
+from pathlib import Path
+from typing import Any, Dict, List, Mapping, NamedTuple, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _fairsurf
+from ._errors import ExportError, FairsurfError, SceneError, SolveError, UnverifiedError
+
+__all__ = [
+    "solve",
+    "solve_many",
+    "load",
+    "analyse",
+    "schema",
+    "Result",
+    "Surface",
+    "Mesh",
+    "Curvatures",
+    "FairsurfError",
+    "SceneError",
+    "SolveError",
+    "UnverifiedError",
+    "ExportError",
+    "SceneLike",
+]
+
+__version__: str = _fairsurf.__version__
+
+#: What the functions take as a scene: a path, JSON text or a dict.
+SceneLike = Union[str, "os.PathLike[str]", Mapping[str, Any]]
+
+
+def _plain(x: Any) -> Any:
+    """numpy values as JSON values; a point of three NaNs as null."""
+    if isinstance(x, np.ndarray):
+        if x.dtype.kind == "f" and x.ndim >= 1 and x.shape[-1] == 3:
+            return [_plain(row) for row in x] if x.ndim > 1 else _point(x)
+        return x.tolist()
+    if isinstance(x, np.generic):
+        return x.item()
+    if isinstance(x, Mapping):
+        return {k: _plain(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_plain(v) for v in x]
+    return x
+
+
+def _point(p: np.ndarray) -> Optional[List[float]]:
+    values = [float(c) for c in p]
+    if all(math.isnan(c) for c in values):
+        return None
+    return values
+
+
+def _scene_text(scene: SceneLike) -> str:
+    """The JSON text of a scene given as a path, text or dict."""
+    if isinstance(scene, Mapping):
+        try:
+            return json.dumps(_plain(scene), allow_nan=False)
+        except (TypeError, ValueError) as e:
+            err = SceneError(f"scene: cannot be written as JSON: {e}")
+            err.path = ""
+            raise err from None
+    if isinstance(scene, os.PathLike):
+        return Path(scene).read_text(encoding="utf-8")
+    if isinstance(scene, str):
+        if scene.lstrip().startswith("{"):
+            return scene
+        return Path(scene).read_text(encoding="utf-8")
+    raise TypeError(
+        f"a scene is a path, JSON text or a dict, not {type(scene).__name__}"
+    )
+
+
+class Curvatures(NamedTuple):
+    """Curvatures at parameter points (arrays of the parameters' shape; NaN
+    where the surface is singular)."""
+
+    gaussian: np.ndarray
+    mean: np.ndarray
+    k1: np.ndarray
+    k2: np.ndarray
+
+
+class Mesh(NamedTuple):
+    """A triangle mesh of a surface with the curvature at every vertex."""
+
+    vertices: np.ndarray
+    """(V, 3) float64 positions."""
+    faces: np.ndarray
+    """(F, 3) uint32 vertex indices, counter-clockwise about the normal."""
+    normals: np.ndarray
+    """(V, 3) float64 unit normals."""
+    uvs: np.ndarray
+    """(V, 2) float64 parameters of each vertex."""
+    mean_curvature: np.ndarray
+    """(V,) float64 mean curvature H (NaN where singular)."""
+    gaussian_curvature: np.ndarray
+    """(V,) float64 Gaussian curvature K (NaN where singular)."""
+
+
+def _parameters(u: Any, v: Any) -> Tuple[Tuple[int, ...], np.ndarray, np.ndarray]:
+    ub, vb = np.broadcast_arrays(np.asarray(u, dtype=np.float64), np.asarray(v, dtype=np.float64))
+    return ub.shape, np.ascontiguousarray(ub.ravel()), np.ascontiguousarray(vb.ravel())
+
+
+class Surface:
+    """A surface of any kind: tensor (one Bézier patch), triangular (Bézier
+    triangles over a mesh) or bspline."""
+
+    def __init__(self, native: Any) -> None:
+        self._native = native
+
+    def __repr__(self) -> str:
+        n, m = self.degree
+        return f"<fairsurf.Surface {self.surface_type} degree {n}×{m}>"
+
+    @property
+    def surface_type(self) -> str:
+        """``"tensor"``, ``"triangular"`` or ``"bspline"``."""
+        return self._native.surface_type
+
+    @property
+    def degree(self) -> Tuple[int, int]:
+        """(n, m); (n, n) for a triangular surface."""
+        return self._native.degree
+
+    @property
+    def control_points(self) -> np.ndarray:
+        """(n+1, m+1, 3) for a tensor patch, (count_u, count_v, 3) for a
+        B-spline surface, (N, 3) for a triangular surface (see
+        :attr:`patch_indices`). float64, C order."""
+        return self._native.control_points
+
+    @property
+    def knots(self) -> Optional[Tuple[np.ndarray, np.ndarray]]:
+        """The full knot vectors (U, V) of a B-spline surface, else None."""
+        return self._native.knots
+
+    @property
+    def patch_indices(self) -> Optional[np.ndarray]:
+        """For a triangular surface, each patch's indices into
+        :attr:`control_points`, shape (patches, (n+1)(n+2)/2), uint64."""
+        return self._native.patch_indices
+
+    def derivatives(self, u: Any, v: Any) -> Dict[str, np.ndarray]:
+        """Points, first and second derivatives, normals and curvatures at
+        (u, v) ∈ [0, 1]² (broadcast; a B-spline surface's knot domain is
+        mapped onto [0, 1]²). Keys: points, du, dv, duu, duv, dvv, normals
+        (shape + (3,)); gaussian, mean, k1, k2 (shape)."""
+        shape, uf, vf = _parameters(u, v)
+        out = self._native._evaluate(uf, vf)
+        return {
+            k: a.reshape(shape + ((3,) if a.ndim == 2 else ())) for k, a in out.items()
+        }
+
+    def evaluate(self, u: Any, v: Any) -> np.ndarray:
+        """Points R(u, v), shape broadcast(u, v) + (3,)."""
+        return self.derivatives(u, v)["points"]
+
+    def normals(self, u: Any, v: Any) -> np.ndarray:
+        """Unit normals R_u × R_v / |R_u × R_v| (NaN where singular)."""
+        return self.derivatives(u, v)["normals"]
+
+    def curvatures(self, u: Any, v: Any) -> Curvatures:
+        """Gaussian, mean and principal curvatures (κ₁ ≥ κ₂)."""
+        d = self.derivatives(u, v)
+        return Curvatures(d["gaussian"], d["mean"], d["k1"], d["k2"])
+
+    def mesh(self, resolution: int = 64) -> Mesh:
+        """A triangle mesh: ``resolution`` quads per direction of a tensor or
+        B-spline surface, ⌈resolution/4⌉ subdivisions per triangular patch."""
+        return Mesh(**self._native._mesh(resolution))
+
+    def export(
+        self,
+        path: Union[str, "os.PathLike[str]"],
+        resolution: int = 64,
+        colour_range: Optional[Tuple[float, float]] = None,
+    ) -> str:
+        """Writes the surface in the format the extension names: .step/.stp
+        (AP214 B-spline faces), .igs/.iges (entity 128), .obj, .ply (with
+        curvature), .stl, .glb/.gltf (|H| colours in ``colour_range``).
+        Returns what was written; warns (``UserWarning``) about a degree that
+        Open CASCADE-based readers drop."""
+        summary, warning = self._native.export(os.fspath(path), resolution, colour_range)
+        if warning:
+            warnings.warn(warning, stacklevel=2)
+        return summary
+
+    def render(
+        self,
+        path: Union[str, "os.PathLike[str]", None] = None,
+        **options: Any,
+    ) -> bytes:
+        """A PNG picture as ``fairsurf render`` draws it (options: width,
+        height, colour, range, view, net, boundary, zebra, isophotes,
+        resolution, colour_bar). Returns the PNG bytes; also writes them to
+        ``path`` when given."""
+        png: bytes = self._native.render(**options)
+        if path is not None:
+            Path(path).write_bytes(png)
+        return png
+
+
+class Result(Surface):
+    """A solved scene: the surface (every :class:`Surface` method), its
+    report and the result file."""
+
+    def __init__(self, native: Any) -> None:
+        super().__init__(native.surface)
+        self._solved = native
+        self._report: Optional[Dict[str, Any]] = None
+
+    def __repr__(self) -> str:
+        n, m = self.degree
+        energy = self.report.get("energy")
+        return f"<fairsurf.Result {self.surface_type} degree {n}×{m} energy {energy}>"
+
+    @property
+    def surface(self) -> Surface:
+        """The solved surface alone."""
+        return Surface(self._native)
+
+    @property
+    def report(self) -> Dict[str, Any]:
+        """The report, as in the result file: energy and its terms,
+        gradient_norm, residual, check, timings_s, measures, notes…"""
+        if self._report is None:
+            self._report = json.loads(self._solved.report_json())
+        return self._report
+
+    def to_json(self) -> str:
+        """The result file's text (it solves again to the same surface)."""
+        return self._solved.to_json()
+
+    def write(self, path: Union[str, "os.PathLike[str]"]) -> None:
+        """Writes the result file (atomically)."""
+        self._solved.write(os.fspath(path))
+
+
+def solve(scene: SceneLike, max_memory_gb: float = 8.0) -> Result:
+    """Validates and solves a scene (see the module docs for what a scene
+    may be). Raises :class:`SceneError` naming the JSON path of a bad value,
+    :class:`SolveError` / :class:`UnverifiedError` when the solver refuses
+    (also when the solve's estimated memory exceeds ``max_memory_gb``)."""
+    return Result(_fairsurf.solve(_scene_text(scene), max_memory_gb))
+
+
+def solve_many(
+    scenes: Sequence[SceneLike],
+    threads: Optional[int] = None,
+    return_exceptions: bool = False,
+    max_memory_gb: float = 8.0,
+) -> List[Any]:
+    """Solves many scenes on ``threads`` threads (default: the CPU count),
+    in order. An error raises the first scene's exception, unless
+    ``return_exceptions``: then its place in the list holds it. Each solve
+    has its own memory budget of ``max_memory_gb``."""
+    texts = [_scene_text(s) for s in scenes]
+    n = threads if threads is not None else (os.cpu_count() or 1)
+    out = _fairsurf.solve_many(texts, n, max_memory_gb)
+    results: List[Any] = []
+    for r in out:
+        if isinstance(r, BaseException):
+            if not return_exceptions:
+                raise r
+            results.append(r)
+        else:
+            results.append(Result(r))
+    return results
+
+
+def load(scene: SceneLike) -> Surface:
+    """The surface a scene gives as it is, without solving: a result file,
+    or a scene whose control points are all given."""
+    return Surface(_fairsurf.load(_scene_text(scene)))
+
+
+def analyse(scene: SceneLike) -> Dict[str, Any]:
+    """Measures of the surface a scene gives (area, functionals, curvature,
+    normal turn…), as ``fairsurf analyse --json`` prints them."""
+    return json.loads(_fairsurf.analyse(_scene_text(scene)))
+
+
+def schema(kind: str = "tensor") -> Dict[str, Any]:
+    """The JSON Schema of scenes of a kind: tensor, triangular or bspline."""
+    return json.loads(_fairsurf.schema(kind))

@@ -1,0 +1,507 @@
+//! `fairsurf._fairsurf`: the native half of the Python module `fairsurf`.
+//!
+//! It wraps the Rust library and nothing else: scenes go in as JSON text
+//! (the Python half turns paths and dicts into text), results come out as
+//! numpy arrays and JSON text, errors as the exceptions of
+//! `fairsurf/_errors.py` (a scene error carries its JSON path). Every solve,
+//! evaluation, mesh, export and picture runs with the GIL released, so
+//! Python threads overlap.
+
+use fairsurf_io::{Error as IoError, MeshOptions, Scene, SolvedScene, Surface, SurfaceType};
+use fairsurf_render::{render, ColourBy, Panel, Range, RenderOptions, View};
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyBytes;
+use std::path::PathBuf;
+
+/// Raises `fairsurf._errors.<class>(message)` with the given attributes.
+fn raise(py: Python<'_>, class: &str, message: String, attrs: &[(&str, &str)]) -> PyErr {
+    let made = (|| -> PyResult<PyErr> {
+        let cls = py.import("fairsurf._errors")?.getattr(class)?;
+        let err = cls.call1((message.clone(),))?;
+        for (k, v) in attrs {
+            err.setattr(*k, *v)?;
+        }
+        Ok(PyErr::from_value(err))
+    })();
+    made.unwrap_or_else(|e| e)
+}
+
+/// The Python exception of an I/O-crate error: `SceneError` (with `.path`),
+/// `OSError` for files, `ExportError`, `UnverifiedError` and `SolveError`.
+fn to_py(py: Python<'_>, e: IoError) -> PyErr {
+    let message = e.to_string();
+    match &e {
+        IoError::Scene { path, .. } => raise(py, "SceneError", message, &[("path", path)]),
+        IoError::Read { source, .. } | IoError::Write { source, .. } => {
+            let err = std::io::Error::new(source.kind(), message);
+            PyErr::from(err)
+        }
+        IoError::Export { .. } => raise(py, "ExportError", message, &[]),
+        IoError::Solve(fairsurf::Error::Unverified { .. } | fairsurf::Error::Unmet { .. }) => {
+            raise(py, "UnverifiedError", message, &[])
+        }
+        IoError::Solve(_) => raise(py, "SolveError", message, &[]),
+        _ => raise(py, "FairsurfError", message, &[]),
+    }
+}
+
+/// A flat `Vec<f64>` of points as a numpy array of shape `shape` + (3,)
+/// (the vector is handed over, not copied again).
+fn points_array<'py>(
+    py: Python<'py>,
+    points: &[[f64; 3]],
+    shape: &[usize],
+) -> PyResult<Bound<'py, PyAny>> {
+    let flat: Vec<f64> = points.iter().flatten().copied().collect();
+    let mut dims = shape.to_vec();
+    dims.push(3);
+    Ok(PyArray1::from_vec(py, flat).reshape(dims)?.into_any())
+}
+
+/// The knot vectors U, V as numpy arrays.
+type KnotArrays<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
+
+/// A surface of any kind: what a result holds, or a scene whose control
+/// points are all given.
+#[pyclass(module = "fairsurf._fairsurf", frozen, name = "Surface")]
+struct PySurface {
+    surface: Surface,
+}
+
+#[pymethods]
+impl PySurface {
+    /// "tensor", "triangular" or "bspline".
+    #[getter]
+    fn surface_type(&self) -> &'static str {
+        self.surface.surface_type().name()
+    }
+
+    /// The control points: (n+1, m+1, 3) for a tensor patch, (count_u,
+    /// count_v, 3) for a B-spline surface, (N, 3) for a triangular surface
+    /// (its patches index them: `patch_indices`).
+    #[getter]
+    fn control_points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        match &self.surface {
+            Surface::Tensor(p) => {
+                let (n, m) = p.degree();
+                points_array(py, p.points(), &[n + 1, m + 1])
+            }
+            Surface::BSpline(s) => {
+                let (cu, cv) = s.counts();
+                points_array(py, s.points(), &[cu, cv])
+            }
+            Surface::Triangular(t) => points_array(py, t.points(), &[t.points().len()]),
+        }
+    }
+
+    /// The degree: (n, m) of a tensor or B-spline surface, (n, n) of a
+    /// triangular one.
+    #[getter]
+    fn degree(&self) -> (usize, usize) {
+        match &self.surface {
+            Surface::Tensor(p) => p.degree(),
+            Surface::BSpline(s) => s.degree(),
+            Surface::Triangular(t) => (t.degree(), t.degree()),
+        }
+    }
+
+    /// The knot vectors (U, V) of a B-spline surface, `None` otherwise.
+    #[getter]
+    fn knots<'py>(&self, py: Python<'py>) -> Option<KnotArrays<'py>> {
+        match &self.surface {
+            Surface::BSpline(s) => {
+                let (u, v) = s.knots();
+                Some((
+                    PyArray1::from_slice(py, u.knots()),
+                    PyArray1::from_slice(py, v.knots()),
+                ))
+            }
+            _ => None,
+        }
+    }
+
+    /// For a triangular surface: each patch's control-point indices into
+    /// `control_points`, shape (patches, (n+1)(n+2)/2), in the order
+    /// (i, j, k) with i descending, then j descending; `None` otherwise.
+    #[getter]
+    fn patch_indices<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        let Surface::Triangular(t) = &self.surface else {
+            return Ok(None);
+        };
+        let per = t.patch_indices(0).len();
+        let flat: Vec<u64> = (0..t.patch_count())
+            .flat_map(|k| t.patch_indices(k).iter().map(|&g| g as u64))
+            .collect();
+        Ok(Some(
+            PyArray1::from_vec(py, flat)
+                .reshape([t.patch_count(), per])?
+                .into_any(),
+        ))
+    }
+
+    /// Point, first and second derivatives, normal and curvatures at the
+    /// parameters (u[i], v[i]) ∈ [0, 1]²: a dict of arrays (points, du,
+    /// dv, duu, duv, dvv, normals: (N, 3); gaussian, mean, k1, k2: (N,);
+    /// NaN where the surface is singular).
+    fn _evaluate<'py>(
+        &self,
+        py: Python<'py>,
+        u: PyReadonlyArray1<'py, f64>,
+        v: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+        let us = u.as_slice()?.to_vec();
+        let vs = v.as_slice()?.to_vec();
+        if us.len() != vs.len() {
+            return Err(PyValueError::new_err(format!(
+                "u and v differ in length ({} and {})",
+                us.len(),
+                vs.len()
+            )));
+        }
+        for (name, t) in [("u", &us), ("v", &vs)] {
+            if let Some(i) = t.iter().position(|x| !(0.0..=1.0).contains(x)) {
+                return Err(PyValueError::new_err(format!(
+                    "{name}[{i}] = {}: parameters lie in [0, 1]",
+                    t[i]
+                )));
+            }
+        }
+        if self.surface.derivatives(0.0, 0.0).is_none() {
+            return Err(PyValueError::new_err(format!(
+                "evaluate works on tensor-product surfaces (tensor, bspline); this one is {}",
+                self.surface.surface_type().name()
+            )));
+        }
+        let surface = &self.surface;
+        let (d, curv) = py.detach(|| {
+            let d: Vec<_> = us
+                .iter()
+                .zip(&vs)
+                .map(|(&u, &v)| surface.derivatives(u, v).expect("a tensor-product surface"))
+                .collect();
+            let curv: Vec<_> = d.iter().map(fairsurf::analysis::curvature_from).collect();
+            (d, curv)
+        });
+        let out = pyo3::types::PyDict::new(py);
+        let n = d.len();
+        let column = |f: &dyn Fn(&fairsurf::SurfaceDerivatives) -> [f64; 3]| -> Vec<[f64; 3]> {
+            d.iter().map(f).collect()
+        };
+        out.set_item("points", points_array(py, &column(&|x| x.point), &[n])?)?;
+        out.set_item("du", points_array(py, &column(&|x| x.du), &[n])?)?;
+        out.set_item("dv", points_array(py, &column(&|x| x.dv), &[n])?)?;
+        out.set_item("duu", points_array(py, &column(&|x| x.duu), &[n])?)?;
+        out.set_item("duv", points_array(py, &column(&|x| x.duv), &[n])?)?;
+        out.set_item("dvv", points_array(py, &column(&|x| x.dvv), &[n])?)?;
+        let normals = column(&|x| x.normal().unwrap_or([f64::NAN; 3]));
+        out.set_item("normals", points_array(py, &normals, &[n])?)?;
+        let scalar = |f: &dyn Fn(&fairsurf::analysis::Curvature) -> f64| {
+            let v: Vec<f64> = curv
+                .iter()
+                .map(|c| c.as_ref().map_or(f64::NAN, f))
+                .collect();
+            PyArray1::from_vec(py, v)
+        };
+        out.set_item("gaussian", scalar(&|c| c.gaussian))?;
+        out.set_item("mean", scalar(&|c| c.mean))?;
+        out.set_item("k1", scalar(&|c| c.principal.0))?;
+        out.set_item("k2", scalar(&|c| c.principal.1))?;
+        Ok(out)
+    }
+
+    /// A triangle mesh: a dict of vertices (V, 3), faces (F, 3) uint32,
+    /// normals (V, 3), uvs (V, 2), mean and gaussian curvature (V,) (NaN
+    /// where singular). `resolution` quads per direction of a tensor or
+    /// B-spline surface, ⌈resolution/4⌉ subdivisions per triangular patch.
+    fn _mesh<'py>(
+        &self,
+        py: Python<'py>,
+        resolution: usize,
+    ) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+        check_resolution(resolution)?;
+        let surface = &self.surface;
+        let mesh = py.detach(|| surface.mesh(resolution));
+        let t = mesh.mesh();
+        let out = pyo3::types::PyDict::new(py);
+        let nv = t.positions.len();
+        out.set_item("vertices", points_array(py, &t.positions, &[nv])?)?;
+        out.set_item("normals", points_array(py, &t.normals, &[nv])?)?;
+        let uvs: Vec<f64> = t.uvs.iter().flatten().copied().collect();
+        out.set_item("uvs", PyArray1::from_vec(py, uvs).reshape([nv, 2])?)?;
+        let faces: Vec<u32> = t.triangles.iter().flatten().copied().collect();
+        let nf = t.triangles.len();
+        out.set_item("faces", PyArray1::from_vec(py, faces).reshape([nf, 3])?)?;
+        let c = mesh.curvature();
+        let mean: Vec<f64> = c.iter().map(|c| c.map_or(f64::NAN, |c| c.mean)).collect();
+        let gauss: Vec<f64> = c
+            .iter()
+            .map(|c| c.map_or(f64::NAN, |c| c.gaussian))
+            .collect();
+        out.set_item("mean_curvature", PyArray1::from_vec(py, mean))?;
+        out.set_item("gaussian_curvature", PyArray1::from_vec(py, gauss))?;
+        Ok(out)
+    }
+
+    /// Writes the surface to `path` in the format its extension names
+    /// (.step/.stp, .igs/.iges, .obj, .ply, .stl, .glb, .gltf); returns
+    /// (summary, warning or None). Nothing is written on an error.
+    #[pyo3(signature = (path, resolution = 64, colour_range = None))]
+    fn export(
+        &self,
+        py: Python<'_>,
+        path: PathBuf,
+        resolution: usize,
+        colour_range: Option<(f64, f64)>,
+    ) -> PyResult<(String, Option<String>)> {
+        check_resolution(resolution)?;
+        let options = MeshOptions {
+            colour_range: colour_range.map(|(lo, hi)| [lo, hi]),
+        };
+        let surface = &self.surface;
+        let done = py
+            .detach(|| surface.export(&path, resolution, &options))
+            .map_err(|e| to_py(py, e))?;
+        Ok((done.summary, done.warning))
+    }
+
+    /// A PNG picture (bytes) as `fairsurf render` draws it: colour by
+    /// "abs-mean", "mean", "gaussian" or "none"; range "auto" or "lo,hi";
+    /// view "iso", "top", "front", "side" or "azimuth,elevation".
+    #[pyo3(signature = (width = 1200, height = 900, colour = "abs-mean", range = "auto",
+        view = "iso", net = false, boundary = true, zebra = None, isophotes = None,
+        resolution = 64, colour_bar = true))]
+    fn render<'py>(
+        &self,
+        py: Python<'py>,
+        width: u32,
+        height: u32,
+        colour: &str,
+        range: &str,
+        view: &str,
+        net: bool,
+        boundary: bool,
+        zebra: Option<u32>,
+        isophotes: Option<u32>,
+        resolution: usize,
+        colour_bar: bool,
+    ) -> PyResult<Bound<'py, PyBytes>> {
+        let bad = |e: fairsurf_render::Error| PyValueError::new_err(e.to_string());
+        let opts = RenderOptions {
+            width,
+            height,
+            colour: ColourBy::parse(colour).map_err(bad)?,
+            range: Range::parse(range).map_err(bad)?,
+            view: View::parse(view).map_err(bad)?,
+            control_net: net,
+            boundary,
+            zebra,
+            isophotes,
+            resolution,
+            colour_bar,
+            ..RenderOptions::default()
+        };
+        opts.validate().map_err(bad)?;
+        let panel = match &self.surface {
+            Surface::Tensor(p) => Panel::new(p.clone()),
+            Surface::BSpline(s) => Panel::bspline(s.clone()),
+            Surface::Triangular(t) => Panel::triangular(t.patches().collect()),
+        };
+        let png = py.detach(|| -> Result<Vec<u8>, fairsurf_render::Error> {
+            let picture = render(&[panel], &opts)?;
+            let mut bytes = Vec::new();
+            picture.encode_png(&mut bytes)?;
+            Ok(bytes)
+        });
+        Ok(PyBytes::new(py, &png.map_err(bad)?))
+    }
+}
+
+/// Mesh resolutions of `fairsurf export`: 1 to 4096.
+fn check_resolution(r: usize) -> PyResult<()> {
+    if !(1..=4096).contains(&r) {
+        return Err(PyValueError::new_err(format!(
+            "resolution {r}: expected 1 to 4096 quads per direction"
+        )));
+    }
+    Ok(())
+}
+
+/// A solved scene: the surface, the report and the result file.
+#[pyclass(module = "fairsurf._fairsurf", frozen, name = "Solved")]
+struct PySolved {
+    solved: SolvedScene,
+}
+
+#[pymethods]
+impl PySolved {
+    /// The solved surface.
+    #[getter]
+    fn surface(&self) -> PySurface {
+        PySurface {
+            surface: self.solved.surface(),
+        }
+    }
+
+    /// The report as JSON text (the result file's "report").
+    fn report_json(&self) -> String {
+        self.solved.report_json().to_string()
+    }
+
+    /// The result file's text: the scene with every control point and the
+    /// report; solving it again gives the same surface.
+    fn to_json(&self) -> String {
+        self.solved.result_text()
+    }
+
+    /// Writes the result file (atomically: nothing is left on an error).
+    fn write(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        self.solved.write(&path).map_err(|e| to_py(py, e))
+    }
+}
+
+/// The memory budget of a solve: `max_memory_gb` GB (the command line's
+/// --max-memory-gb; default 8).
+fn budget(max_memory_gb: f64) -> PyResult<fairsurf::budget::Budget> {
+    if !(max_memory_gb > 0.0 && max_memory_gb <= 1e6) {
+        return Err(PyValueError::new_err(format!(
+            "max_memory_gb {max_memory_gb}: expected a positive number of GB"
+        )));
+    }
+    Ok(fairsurf::budget::Budget {
+        max_bytes: (max_memory_gb * 1e9) as usize,
+        cancel: None,
+    })
+}
+
+/// Parses and solves one scene (JSON text) within the memory budget.
+fn solve_text(text: &str, budget: &fairsurf::budget::Budget) -> fairsurf_io::Result<SolvedScene> {
+    fairsurf::budget::with_budget(budget.clone(), || {
+        Scene::from_json(text).and_then(|s| s.solve())
+    })
+}
+
+/// Parses and solves one scene (JSON text), the GIL released.
+#[pyfunction]
+#[pyo3(signature = (text, max_memory_gb = 8.0))]
+fn solve(py: Python<'_>, text: String, max_memory_gb: f64) -> PyResult<PySolved> {
+    let b = budget(max_memory_gb)?;
+    py.detach(|| solve_text(&text, &b))
+        .map(|solved| PySolved { solved })
+        .map_err(|e| to_py(py, e))
+}
+
+/// Solves many scenes on `threads` threads (the GIL released); each entry
+/// of the answer is a `Solved` or the exception its scene raised.
+#[pyfunction]
+#[pyo3(signature = (texts, threads, max_memory_gb = 8.0))]
+fn solve_many(
+    py: Python<'_>,
+    texts: Vec<String>,
+    threads: usize,
+    max_memory_gb: f64,
+) -> PyResult<Vec<Py<PyAny>>> {
+    let b = budget(max_memory_gb)?;
+    if threads == 0 {
+        return Err(PyValueError::new_err("threads: expected at least 1"));
+    }
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let slots: Vec<std::sync::Mutex<Option<fairsurf_io::Result<SolvedScene>>>> =
+        texts.iter().map(|_| std::sync::Mutex::new(None)).collect();
+    py.detach(|| {
+        std::thread::scope(|s| {
+            for _ in 0..threads.min(texts.len()) {
+                s.spawn(|| loop {
+                    let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    let Some(text) = texts.get(k) else { break };
+                    let r = solve_text(text, &b);
+                    *slots[k].lock().expect("a solve thread panicked") = Some(r);
+                });
+            }
+        })
+    });
+    slots
+        .into_iter()
+        .map(|slot| {
+            let r = slot
+                .into_inner()
+                .expect("a solve thread panicked")
+                .expect("every scene solved");
+            Ok(match r {
+                Ok(solved) => Py::new(py, PySolved { solved })?.into_any(),
+                Err(e) => to_py(py, e).into_value(py).into_any(),
+            })
+        })
+        .collect()
+}
+
+/// The surface a scene gives (every control point given, e.g. a result
+/// file), without solving.
+#[pyfunction]
+fn load(py: Python<'_>, text: String) -> PyResult<PySurface> {
+    py.detach(|| Scene::from_json(&text).and_then(|s| s.surface()))
+        .map(|surface| PySurface { surface })
+        .map_err(|e| to_py(py, e))
+}
+
+/// Measures of the surface a scene gives, as JSON text: an object of
+/// label → value, as `fairsurf analyse --json` prints them.
+#[pyfunction]
+fn analyse(py: Python<'_>, text: String) -> PyResult<String> {
+    let measures = py
+        .detach(|| Scene::from_json(&text).and_then(|s| s.analyse()))
+        .map_err(|e| to_py(py, e))?;
+    let map: serde_json::Map<String, serde_json::Value> = measures.into_iter().collect();
+    Ok(serde_json::Value::Object(map).to_string())
+}
+
+/// The JSON Schema of a scene kind ("tensor", "triangular", "bspline"), as
+/// JSON text.
+#[pyfunction]
+fn schema(py: Python<'_>, kind: &str) -> PyResult<String> {
+    let t = SurfaceType::ALL
+        .into_iter()
+        .find(|t| t.name() == kind)
+        .ok_or_else(|| {
+            let names: Vec<_> = SurfaceType::ALL.iter().map(|t| t.name()).collect();
+            raise(
+                py,
+                "SceneError",
+                format!("unknown surface type {kind:?}: expected one of {names:?}"),
+                &[("path", "surface.type")],
+            )
+        })?;
+    Ok(t.json_schema().to_string())
+}
+
+/// Seconds of `repeats` parses and solves of one scene timed inside Rust
+/// (the library's own cost, to measure what the Python call adds).
+#[pyfunction]
+fn _time_solve(py: Python<'_>, text: String, repeats: usize) -> PyResult<Vec<f64>> {
+    let b = budget(8.0)?;
+    py.detach(|| {
+        (0..repeats)
+            .map(|_| {
+                let t = std::time::Instant::now();
+                solve_text(&text, &b).map(|_| t.elapsed().as_secs_f64())
+            })
+            .collect::<fairsurf_io::Result<Vec<f64>>>()
+    })
+    .map_err(|e| to_py(py, e))
+}
+
+/// The native module.
+#[pymodule]
+fn _fairsurf(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PySurface>()?;
+    m.add_class::<PySolved>()?;
+    m.add_function(wrap_pyfunction!(solve, m)?)?;
+    m.add_function(wrap_pyfunction!(solve_many, m)?)?;
+    m.add_function(wrap_pyfunction!(load, m)?)?;
+    m.add_function(wrap_pyfunction!(analyse, m)?)?;
+    m.add_function(wrap_pyfunction!(schema, m)?)?;
+    m.add_function(wrap_pyfunction!(_time_solve, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

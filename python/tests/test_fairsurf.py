@@ -1,0 +1,304 @@
+"""Facts about the Python module: it gives what the command line gives, in
+arrays of the documented shapes; every error is the documented exception;
+the GIL is released while Rust works."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import struct
+import subprocess
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import fairsurf
+
+ROOT = Path(__file__).resolve().parents[2]
+EXAMPLES = ROOT / "examples"
+TENSOR = EXAMPLES / "wu_yang_fig4_l500.json"
+TRIANGULAR = EXAMPLES / "vw_pentagon_hole.json"
+BSPLINE = EXAMPLES / "bspline_hole_guided.json"
+
+
+@pytest.fixture(scope="session")
+def cli() -> Path:
+    """The command line, built from this checkout."""
+    subprocess.run(
+        ["cargo", "build", "-q", "-p", "fairsurf-cli"], cwd=ROOT, check=True
+    )
+    return ROOT / "target" / "debug" / "fairsurf"
+
+
+def cli_result(cli: Path, scene: Path, tmp_path: Path) -> dict:
+    out = tmp_path / (scene.stem + ".result.json")
+    subprocess.run([str(cli), "solve", str(scene), "-o", str(out)], check=True,
+                   capture_output=True)
+    return json.loads(out.read_text())
+
+
+def nets(scene: dict) -> np.ndarray:
+    """A result file's control points as an array (None nowhere)."""
+    return np.array(scene["surface"]["control_points"], dtype=np.float64)
+
+
+@pytest.mark.parametrize("scene", [TENSOR, TRIANGULAR, BSPLINE], ids=lambda p: p.stem)
+def test_results_equal_the_command_lines(cli: Path, scene: Path, tmp_path: Path) -> None:
+    """The same scene solved here and by `fairsurf solve`: the same control
+    points to the last bit, the same energy, and the result file's text
+    solves again to the same surface."""
+    theirs = cli_result(cli, scene, tmp_path)
+    ours = fairsurf.solve(scene)
+    np.testing.assert_array_equal(
+        ours.control_points.reshape(-1, 3), nets(theirs).reshape(-1, 3)
+    )
+    assert ours.report["energy"] == theirs["report"]["energy"]
+    check = ours.report["check"]
+    assert check["energy_error"] <= check["tolerance"]
+    mine = json.loads(ours.to_json())
+    assert mine["surface"] == theirs["surface"]
+    again = fairsurf.load(ours.to_json())
+    np.testing.assert_array_equal(again.control_points, ours.control_points)
+
+
+def test_scenes_come_as_paths_text_or_dicts_with_numpy_arrays() -> None:
+    """A dict with a numpy control net whose free points are NaN solves to
+    the file's answer, as do its path (str and Path) and its text."""
+    text = TENSOR.read_text()
+    data = json.loads(text)
+    net = np.array(
+        [[[math.nan] * 3 if p is None else p for p in row]
+         for row in data["surface"]["control_points"]],
+        dtype=np.float64,
+    )
+    data["surface"]["control_points"] = net
+    data["surface"]["degree"] = np.array(data["surface"]["degree"], dtype=np.int64)
+    expected = fairsurf.solve(TENSOR).control_points
+    for scene in (str(TENSOR), text, data):
+        np.testing.assert_array_equal(fairsurf.solve(scene).control_points, expected)
+
+
+def test_arrays_have_the_documented_shapes_and_dtypes() -> None:
+    t = fairsurf.solve(TENSOR)
+    n, m = t.degree
+    assert t.surface_type == "tensor"
+    assert t.control_points.shape == (n + 1, m + 1, 3)
+    assert t.control_points.dtype == np.float64 and t.control_points.flags.c_contiguous
+    assert t.knots is None and t.patch_indices is None
+
+    b = fairsurf.solve(BSPLINE)
+    scene = json.loads(BSPLINE.read_text())["surface"]
+    u, v = b.knots
+    np.testing.assert_array_equal(u, scene["knots"][0])
+    np.testing.assert_array_equal(v, scene["knots"][1])
+    p, q = b.degree
+    assert b.control_points.shape == (len(u) - p - 1, len(v) - q - 1, 3)
+
+    tri = fairsurf.solve(TRIANGULAR)
+    deg = tri.degree[0]
+    idx = tri.patch_indices
+    assert idx.shape == (len(json.loads(TRIANGULAR.read_text())["surface"]["triangles"]),
+                         (deg + 1) * (deg + 2) // 2)
+    assert tri.control_points.shape == (idx.max() + 1, 3)
+
+    mesh = t.mesh(8)
+    assert mesh.vertices.shape == (81, 3) and mesh.faces.shape == (128, 3)
+    assert mesh.faces.dtype == np.uint32 and mesh.faces.max() == 80
+    assert mesh.normals.shape == (81, 3) and mesh.uvs.shape == (81, 2)
+    assert mesh.mean_curvature.shape == (81,) and mesh.gaussian_curvature.shape == (81,)
+    np.testing.assert_allclose(np.linalg.norm(mesh.normals, axis=1), 1.0, atol=1e-12)
+
+
+def test_evaluation_broadcasts_and_matches_the_mesh() -> None:
+    """evaluate(u, v) broadcasts like numpy; its points are the mesh's
+    vertices at the same parameters; normals are unit and orthogonal to the
+    derivatives; a B-spline's corners are its corner control points."""
+    r = fairsurf.solve(TENSOR)
+    us = np.linspace(0, 1, 5)
+    vs = np.linspace(0, 1, 3)
+    pts = r.evaluate(us[:, None], vs[None, :])
+    assert pts.shape == (5, 3, 3)
+    mesh = r.mesh(4)
+    k = {tuple(np.round(uv, 12)): i for i, uv in enumerate(mesh.uvs)}
+    for i, u in enumerate(us):
+        for j, v in enumerate(vs[[0, 2]]):
+            np.testing.assert_allclose(pts[i, 2 * j], mesh.vertices[k[(u, v)]], atol=1e-14)
+    d = r.derivatives(0.3, 0.7)
+    assert d["points"].shape == (3,) and d["mean"].shape == ()
+    assert abs(np.linalg.norm(d["normals"]) - 1) < 1e-14
+    assert abs(d["normals"] @ d["du"]) < 1e-12 and abs(d["normals"] @ d["dv"]) < 1e-12
+    c = r.curvatures(0.3, 0.7)
+    assert abs(c.k1 + c.k2 - 2 * c.mean) < 1e-12 and abs(c.k1 * c.k2 - c.gaussian) < 1e-9
+
+    b = fairsurf.solve(BSPLINE)
+    corners = b.evaluate([0, 0, 1, 1], [0, 1, 0, 1])
+    cp = b.control_points
+    np.testing.assert_allclose(corners, [cp[0, 0], cp[0, -1], cp[-1, 0], cp[-1, -1]], atol=1e-14)
+
+
+def test_errors_are_exceptions_that_name_the_json_path(tmp_path: Path) -> None:
+    data = json.loads(TENSOR.read_text())
+    data["surface"]["degree"] = [7, "seven"]
+    with pytest.raises(fairsurf.SceneError) as e:
+        fairsurf.solve(data)
+    assert e.value.path == "surface.degree[1]" and str(e.value).startswith("surface.degree[1]:")
+    assert isinstance(e.value, ValueError) and isinstance(e.value, fairsurf.FairsurfError)
+
+    with pytest.raises(fairsurf.SceneError) as e:
+        fairsurf.solve({"surface": {"type": "nurbs"}})
+    assert e.value.path == "surface.type" and "nurbs" in str(e.value)
+
+    with pytest.raises(fairsurf.SceneError) as e:
+        fairsurf.solve('{"surface": ')
+    assert e.value.path == "surface" and "EOF" in str(e.value)
+
+    with pytest.raises(fairsurf.SceneError):
+        fairsurf.solve({"surface": {"type": "tensor", "degree": [1, 1]}, "x": float("nan")})
+
+    with pytest.raises(FileNotFoundError):
+        fairsurf.solve(tmp_path / "missing.json")
+    with pytest.raises(TypeError):
+        fairsurf.solve(42)  # type: ignore[arg-type]
+
+    with pytest.raises(fairsurf.SolveError, match="would need about"):
+        fairsurf.solve(TENSOR, max_memory_gb=1e-9)
+    with pytest.raises(ValueError, match="max_memory_gb"):
+        fairsurf.solve(TENSOR, max_memory_gb=-1)
+
+    free = {"surface": {"type": "tensor", "degree": [1, 1],
+                        "control_points": [[[0, 0, 0], None], [[1, 0, 0], [1, 1, 0]]]}}
+    with pytest.raises(fairsurf.SceneError) as e:
+        fairsurf.load(free)
+    assert e.value.path == "surface.control_points[0][1]", e.value
+
+    with pytest.raises(fairsurf.SceneError) as e:
+        fairsurf.schema("nurbs")
+    assert e.value.path == "surface.type"
+
+
+def test_evaluation_errors() -> None:
+    r = fairsurf.solve(TENSOR)
+    with pytest.raises(ValueError, match=r"u\[1\] = 1.5"):
+        r.evaluate([0.5, 1.5], 0.5)
+    with pytest.raises(ValueError, match=r"v\[0\] = NaN"):
+        r.evaluate(0.5, math.nan)
+    tri = fairsurf.solve(TRIANGULAR)
+    with pytest.raises(ValueError, match="tensor-product surfaces"):
+        tri.evaluate(0.5, 0.5)
+    with pytest.raises(ValueError, match="resolution 0"):
+        r.mesh(0)
+    with pytest.raises(ValueError, match="colour"):
+        r.render(colour="purple")
+
+
+def test_files_are_written_whole_or_not_at_all(tmp_path: Path) -> None:
+    r = fairsurf.solve(BSPLINE)
+    out = tmp_path / "r.json"
+    r.write(out)
+    again = fairsurf.solve(out)  # a result file solves again to the same net
+    np.testing.assert_allclose(again.control_points, r.control_points, atol=1e-12)
+    with pytest.raises(OSError):
+        r.write(tmp_path / "no" / "such" / "dir" / "r.json")
+    assert not (tmp_path / "no").exists()
+
+    with pytest.raises(fairsurf.ExportError, match=".step"):
+        r.export(tmp_path / "r.xyz")
+    assert not (tmp_path / "r.xyz").exists()
+
+    summary = r.export(tmp_path / "r.step")
+    assert "B-spline face with its knots" in summary
+    assert (tmp_path / "r.step").read_text().count("B_SPLINE_SURFACE_WITH_KNOTS") == 1
+
+    obj = tmp_path / "r.obj"
+    r.export(obj, resolution=6)
+    lines = obj.read_text().splitlines()
+    vertices = np.array([[float(x) for x in ln.split()[1:]] for ln in lines if ln.startswith("v ")])
+    mesh = r.mesh(6)
+    np.testing.assert_allclose(vertices, mesh.vertices, rtol=1e-9, atol=1e-12)
+    assert sum(ln.startswith("f ") for ln in lines) == len(mesh.faces)
+
+
+def test_pictures_are_png_of_the_asked_size(tmp_path: Path) -> None:
+    png = fairsurf.solve(TRIANGULAR).render(tmp_path / "t.png", width=320, height=200, zebra=12)
+    assert png[:8] == b"\x89PNG\r\n\x1a\n" and png[12:16] == b"IHDR"
+    assert struct.unpack(">II", png[16:24]) == (320, 200)
+    assert (tmp_path / "t.png").read_bytes() == png
+
+
+def test_analyse_and_schema() -> None:
+    r = fairsurf.solve(TENSOR)
+    m = fairsurf.analyse(r.to_json())
+    assert abs(m["area"] - r.report["area"]) <= 1e-9 * r.report["area"]
+    s = fairsurf.schema("bspline")
+    assert s["type"] == "object" and "surface" in s["properties"]
+
+
+def test_solve_many_equals_one_by_one_and_reports_errors_in_place() -> None:
+    scenes = [TENSOR, BSPLINE, {"surface": {"type": "nurbs"}}, TRIANGULAR]
+    with pytest.raises(fairsurf.SceneError):
+        fairsurf.solve_many(scenes, threads=2)
+    out = fairsurf.solve_many(scenes, threads=2, return_exceptions=True)
+    assert isinstance(out[2], fairsurf.SceneError) and out[2].path == "surface.type"
+    for scene, r in zip([TENSOR, BSPLINE, None, TRIANGULAR], out):
+        if scene is not None:
+            np.testing.assert_array_equal(r.control_points, fairsurf.solve(scene).control_points)
+
+
+def heavy_scene(n: int) -> dict:
+    """A degree-n tensor patch, boundary fixed, stretch and a normal field."""
+    net = [[[i / n, j / n, 0.3 * math.sin(3 * i / n) * math.cos(2 * j / n)]
+            if i in (0, n) or j in (0, n) else None for j in range(n + 1)]
+           for i in range(n + 1)]
+    field = {"weight": 10, "degree": [1, 1],
+             "control_points": [[[0, 0, 1], [0.1, 0, 1]], [[0, 0.2, 1], [0.1, 0.1, 1]]]}
+    return {"surface": {"type": "tensor", "degree": [n, n], "control_points": net},
+            "energy": {"stretch": 1, "normal_field": field}}
+
+
+def test_the_gil_is_released_while_solving() -> None:
+    """While one thread solves, another runs Python code: the longest pause
+    of a loop in the main thread is a small part of the solve's time (a
+    solve holding the GIL would pause it for the whole solve)."""
+    scene = json.dumps(heavy_scene(18))
+    took = []
+
+    def work() -> None:
+        t = time.perf_counter()
+        fairsurf.solve(scene)
+        took.append(time.perf_counter() - t)
+
+    th = threading.Thread(target=work)
+    th.start()
+    last = time.perf_counter()
+    longest = 0.0
+    ticks = 0
+    while th.is_alive():
+        now = time.perf_counter()
+        longest = max(longest, now - last)
+        last = now
+        ticks += 1
+    th.join()
+    assert took[0] > 0.05, f"the solve took only {took[0]:.3f} s: too short to tell"
+    assert longest < 0.25 * took[0], f"paused {longest:.3f} s of a {took[0]:.3f} s solve"
+    assert ticks > 100
+
+
+def test_the_python_call_adds_little_to_a_degree_10_solve() -> None:
+    """The same parse and solve, timed in Rust and called from Python,
+    alternating: Python's median is within 10% of Rust's."""
+    from fairsurf import _fairsurf
+
+    text = (EXAMPLES / "editor_degree10.json").read_text()
+    rust, python = [], []
+    for _ in range(15):
+        rust += _fairsurf._time_solve(text, 1)
+        t = time.perf_counter()
+        fairsurf.solve(text).control_points
+        python.append(time.perf_counter() - t)
+    ratio = float(np.median(python) / np.median(rust))
+    print(f"degree 10: Rust {np.median(rust) * 1e3:.2f} ms, Python {np.median(python) * 1e3:.2f} ms")
+    assert ratio < 1.10, f"the Python call takes {ratio:.2f}× the library's time"
