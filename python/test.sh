@@ -1,15 +1,17 @@
 #!/usr/bin/env bash
 # The Python module's tests: builds the module into a virtualenv
-# (target/py-venv, reused) and runs pytest and the tour example.
+# (target/py-venv, reused, with Open CASCADE from cadquery-ocp) and runs
+# pytest and the tour example.
 #   bash python/test.sh
 # FAIRSURF_PY_PROFILE=release builds it as `pip install ./python` does; the
 # default (dev) reuses the workspace's dev build, as CI does after cargo test.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 venv=target/py-venv
-if ! "$venv/bin/python" -c "import maturin, numpy, pytest" >/dev/null 2>&1; then
+# cadquery-ocp: Open CASCADE for fairsurf.occ and its tests.
+if ! "$venv/bin/python" -c "import maturin, numpy, pytest, OCP" >/dev/null 2>&1; then
   python3 -m venv "$venv"
-  "$venv/bin/pip" install --quiet --disable-pip-version-check maturin numpy pytest
+  "$venv/bin/pip" install --quiet --disable-pip-version-check maturin numpy pytest cadquery-ocp
 fi
 profile=${FAIRSURF_PY_PROFILE:-dev}
 PATH="$PWD/$venv/bin:$PATH" MATURIN_PEP517_ARGS="--profile $profile" \

@@ -1,0 +1,138 @@
+"""Open CASCADE in and out: fairsurf surfaces as ``Geom_BSplineSurface`` and
+``TopoDS_Face``, and B-spline or Bézier faces back as fairsurf surfaces.
+
+Needs OCP (``pip install cadquery-ocp``, the bindings CadQuery and build123d
+use; written against OCP 8 / OCCT 8); importing this module without it
+raises ``ImportError``.
+
+>>> from fairsurf import occ                       # doctest: +SKIP
+>>> face = occ.to_face(fairsurf.solve("examples/bspline_hole.json"))  # doctest: +SKIP
+
+The conversions are exact: poles are the control points, knots and
+multiplicities the knot vectors (a Bézier patch is a B-spline on [0, 1] with
+end multiplicities n + 1), so OCC evaluates the same surface.
+"""
+
+from __future__ import annotations
+
+from typing import List, Tuple
+
+import numpy as np
+from OCP.BRep import BRep_Tool
+from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+from OCP.Geom import Geom_BezierSurface, Geom_BSplineSurface
+from OCP.collections import Array1_double, Array1_int, Array2_gp_Pnt
+from OCP.gp import gp_Pnt
+from OCP.TopAbs import TopAbs_FACE
+from OCP.TopExp import TopExp_Explorer
+from OCP.TopoDS import TopoDS, TopoDS_Face, TopoDS_Shape
+
+from . import Surface, load
+
+__all__ = ["to_geom", "to_face", "from_face", "from_geom", "faces"]
+
+
+def _distinct(knots: np.ndarray) -> Tuple[List[float], List[int]]:
+    """A full knot vector as distinct values and multiplicities."""
+    values: List[float] = []
+    mults: List[int] = []
+    for k in knots.tolist():
+        if values and k == values[-1]:
+            mults[-1] += 1
+        else:
+            values.append(k)
+            mults.append(1)
+    return values, mults
+
+
+def _reals(xs: List[float]) -> Array1_double:
+    a = Array1_double(1, len(xs))
+    for i, x in enumerate(xs, 1):
+        a.SetValue(i, float(x))
+    return a
+
+
+def _ints(xs: List[int]) -> Array1_int:
+    a = Array1_int(1, len(xs))
+    for i, x in enumerate(xs, 1):
+        a.SetValue(i, int(x))
+    return a
+
+
+def to_geom(surface: Surface) -> Geom_BSplineSurface:
+    """The surface as a non-rational ``Geom_BSplineSurface``: a tensor patch
+    on [0, 1]², a B-spline surface on its own knots. A triangular surface has
+    one face per patch and is refused (``ValueError``)."""
+    if surface.surface_type == "triangular":
+        raise ValueError(
+            "a triangular surface is many patches; write it with export('….step') "
+            "and read that, or use one patch's tensor form"
+        )
+    cp = surface.control_points
+    p, q = surface.degree
+    if surface.knots is None:
+        (u, um), (v, vm) = ([0.0, 1.0], [p + 1] * 2), ([0.0, 1.0], [q + 1] * 2)
+    else:
+        (u, um), (v, vm) = (_distinct(k) for k in surface.knots)
+    nu, nv = cp.shape[:2]
+    poles = Array2_gp_Pnt(1, nu, 1, nv)
+    for i in range(nu):
+        for j in range(nv):
+            x, y, z = cp[i, j].tolist()
+            poles.SetValue(i + 1, j + 1, gp_Pnt(x, y, z))
+    return Geom_BSplineSurface(poles, _reals(u), _reals(v), _ints(um), _ints(vm), p, q)
+
+
+def to_face(surface: Surface, tolerance: float = 1e-7) -> TopoDS_Face:
+    """The surface as a ``TopoDS_Face`` bounded by its parameter domain."""
+    return BRepBuilderAPI_MakeFace(to_geom(surface), tolerance).Face()
+
+
+def from_geom(geom: object) -> Surface:
+    """A ``Geom_BSplineSurface`` or ``Geom_BezierSurface`` as a fairsurf
+    surface (``"bspline"`` or ``"tensor"``), exactly. Rational, periodic and
+    other surfaces are refused with ``ValueError`` naming what they are."""
+    if isinstance(geom, Geom_BezierSurface):
+        if geom.IsURational() or geom.IsVRational():
+            raise ValueError("a rational Bézier surface: fairsurf surfaces are polynomial")
+        net = [[_xyz(geom.Pole(i, j)) for j in range(1, geom.NbVPoles() + 1)]
+               for i in range(1, geom.NbUPoles() + 1)]
+        return load({"surface": {"type": "tensor", "degree": [geom.UDegree(), geom.VDegree()],
+                                 "control_points": net}})
+    if not isinstance(geom, Geom_BSplineSurface):
+        raise ValueError(
+            f"a {type(geom).__name__}: only B-spline and Bézier surfaces convert exactly"
+        )
+    if geom.IsURational() or geom.IsVRational():
+        raise ValueError("a rational B-spline (NURBS) surface: fairsurf surfaces are polynomial")
+    if geom.IsUPeriodic() or geom.IsVPeriodic():
+        raise ValueError("a periodic B-spline surface: fairsurf takes clamped knot vectors")
+
+    def full(n: int, value, mult) -> List[float]:
+        return [value(i) for i in range(1, n + 1) for _ in range(mult(i))]
+
+    u = full(geom.NbUKnots(), geom.UKnot, geom.UMultiplicity)
+    v = full(geom.NbVKnots(), geom.VKnot, geom.VMultiplicity)
+    net = [[_xyz(geom.Pole(i, j)) for j in range(1, geom.NbVPoles() + 1)]
+           for i in range(1, geom.NbUPoles() + 1)]
+    return load({"surface": {"type": "bspline", "degree": [geom.UDegree(), geom.VDegree()],
+                             "knots": [u, v], "control_points": net}})
+
+
+def from_face(face: TopoDS_Face) -> Surface:
+    """The underlying surface of a face (its trimming is not kept)."""
+    return from_geom(BRep_Tool.Surface_s(face))
+
+
+def faces(shape: TopoDS_Shape) -> List[TopoDS_Face]:
+    """The faces of a shape, in the order Open CASCADE explores them."""
+    out = []
+    ex = TopExp_Explorer(shape, TopAbs_FACE)
+    while ex.More():
+        out.append(TopoDS.Face(ex.Current()))
+        ex.Next()
+    return out
+
+
+def _xyz(p: gp_Pnt) -> List[float]:
+    return [p.X(), p.Y(), p.Z()]
