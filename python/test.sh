@@ -8,10 +8,12 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 venv=target/py-venv
-# cadquery-ocp: Open CASCADE for fairsurf.occ and its tests.
-if ! "$venv/bin/python" -c "import maturin, numpy, pytest, OCP" >/dev/null 2>&1; then
+# cadquery-ocp: Open CASCADE for fairsurf.occ and its tests; dask.distributed
+# for the cluster test and example.
+if ! "$venv/bin/python" -c "import maturin, numpy, pytest, OCP, distributed" >/dev/null 2>&1; then
   python3 -m venv "$venv"
-  "$venv/bin/pip" install --quiet --disable-pip-version-check maturin numpy pytest cadquery-ocp
+  "$venv/bin/pip" install --quiet --disable-pip-version-check maturin numpy pytest \
+    cadquery-ocp "dask[distributed]"
 fi
 profile=${FAIRSURF_PY_PROFILE:-dev}
 PATH="$PWD/$venv/bin:$PATH" MATURIN_PEP517_ARGS="--profile $profile" \
@@ -19,3 +21,4 @@ PATH="$PWD/$venv/bin:$PATH" MATURIN_PEP517_ARGS="--profile $profile" \
   --force-reinstall --no-deps ./python
 "$venv/bin/python" -m pytest -q python/tests
 "$venv/bin/python" python/examples/tour.py "target/py-tour"
+"$venv/bin/python" python/examples/dask_sweep.py

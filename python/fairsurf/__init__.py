@@ -37,6 +37,7 @@ __all__ = [
     "solve_many",
     "load",
     "analyse",
+    "compare",
     "schema",
     "Result",
     "Surface",
@@ -231,12 +232,21 @@ class Surface:
 
 class Result(Surface):
     """A solved scene: the surface (every :class:`Surface` method), its
-    report and the result file."""
+    report and the result file. Results pickle (as their result file's
+    text), so they cross process boundaries: multiprocessing, Dask, Ray."""
 
-    def __init__(self, native: Any) -> None:
-        super().__init__(native.surface)
-        self._solved = native
+    def __init__(self, surface: Any, result_text: str, report_json: str) -> None:
+        super().__init__(surface)
+        self._text = result_text
+        self._report_json = report_json
         self._report: Optional[Dict[str, Any]] = None
+
+    @classmethod
+    def _of(cls, solved: Any) -> "Result":
+        return cls(solved.surface, solved.to_json(), solved.report_json())
+
+    def __reduce__(self) -> Any:
+        return (_result_from_text, (self._text, self._report_json))
 
     def __repr__(self) -> str:
         n, m = self.degree
@@ -253,16 +263,22 @@ class Result(Surface):
         """The report, as in the result file: energy and its terms,
         gradient_norm, residual, check, timings_s, measures, notes…"""
         if self._report is None:
-            self._report = json.loads(self._solved.report_json())
+            self._report = json.loads(self._report_json)
         return self._report
 
     def to_json(self) -> str:
         """The result file's text (it solves again to the same surface)."""
-        return self._solved.to_json()
+        return self._text
 
     def write(self, path: Union[str, "os.PathLike[str]"]) -> None:
-        """Writes the result file (atomically)."""
-        self._solved.write(os.fspath(path))
+        """Writes the result file (atomically: nothing is left on an error)."""
+        _fairsurf.write_text(os.fspath(path), self._text)
+
+
+def _result_from_text(text: str, report_json: str) -> Result:
+    """A result again from its result file's text (unpickling): the surface
+    read back exactly (floats are written to round-trip)."""
+    return Result(_fairsurf.load(text), text, report_json)
 
 
 def solve(scene: SceneLike, max_memory_gb: float = 8.0) -> Result:
@@ -270,7 +286,7 @@ def solve(scene: SceneLike, max_memory_gb: float = 8.0) -> Result:
     may be). Raises :class:`SceneError` naming the JSON path of a bad value,
     :class:`SolveError` / :class:`UnverifiedError` when the solver refuses
     (also when the solve's estimated memory exceeds ``max_memory_gb``)."""
-    return Result(_fairsurf.solve(_scene_text(scene), max_memory_gb))
+    return Result._of(_fairsurf.solve(_scene_text(scene), max_memory_gb))
 
 
 def solve_many(
@@ -293,7 +309,7 @@ def solve_many(
                 raise r
             results.append(r)
         else:
-            results.append(Result(r))
+            results.append(Result._of(r))
     return results
 
 
@@ -307,6 +323,13 @@ def analyse(scene: SceneLike) -> Dict[str, Any]:
     """Measures of the surface a scene gives (area, functionals, curvature,
     normal turn…), as ``fairsurf analyse --json`` prints them."""
     return json.loads(_fairsurf.analyse(_scene_text(scene)))
+
+
+def compare(scene: SceneLike) -> Dict[str, Any]:
+    """Monterde & Ugail's comparison for a tensor scene's boundary: the
+    harmonic and biharmonic surfaces and the two masks with their area,
+    functionals and curvature (``fairsurf compare --json``)."""
+    return json.loads(_fairsurf.compare(_scene_text(scene)))
 
 
 def schema(kind: str = "tensor") -> Dict[str, Any]:

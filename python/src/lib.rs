@@ -361,6 +361,39 @@ impl PySolved {
     }
 }
 
+/// Writes `text` to `path` atomically (a result file kept as text, e.g. a
+/// result that crossed a process boundary).
+#[pyfunction]
+fn write_text(py: Python<'_>, path: PathBuf, text: String) -> PyResult<()> {
+    py.detach(|| {
+        fairsurf_io::write_atomic(&path, |w| {
+            w.write_all(text.as_bytes())?;
+            w.write_all(b"\n")
+        })
+    })
+    .map_err(|e| to_py(py, e))
+}
+
+/// Monterde & Ugail's comparison of a tensor scene's boundary (harmonic,
+/// biharmonic, the two masks), as JSON text: what `fairsurf compare --json`
+/// prints.
+#[pyfunction]
+fn compare(py: Python<'_>, text: String) -> PyResult<String> {
+    let value = py
+        .detach(|| match Scene::from_json(&text)? {
+            Scene::Tensor(s) => s.compare().map(|c| fairsurf_io::comparison_json(&c)),
+            other => Err(IoError::scene(
+                "surface.type",
+                format!(
+                    "compare works on tensor-product scenes, this one is {}",
+                    other.surface_type().name()
+                ),
+            )),
+        })
+        .map_err(|e| to_py(py, e))?;
+    Ok(value.to_string())
+}
+
 /// The memory budget of a solve: `max_memory_gb` GB (the command line's
 /// --max-memory-gb; default 8).
 fn budget(max_memory_gb: f64) -> PyResult<fairsurf::budget::Budget> {
@@ -502,6 +535,8 @@ fn _fairsurf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analyse, m)?)?;
     m.add_function(wrap_pyfunction!(schema, m)?)?;
     m.add_function(wrap_pyfunction!(_time_solve, m)?)?;
+    m.add_function(wrap_pyfunction!(write_text, m)?)?;
+    m.add_function(wrap_pyfunction!(compare, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

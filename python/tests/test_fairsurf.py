@@ -237,6 +237,19 @@ def test_analyse_and_schema() -> None:
     assert s["type"] == "object" and "surface" in s["properties"]
 
 
+def test_compare_gives_monterde_and_ugails_four_columns(cli: Path) -> None:
+    """The comparison of the bundled model equals `fairsurf compare --json`'s;
+    a triangular scene is refused at surface.type."""
+    scene = EXAMPLES / "monterde_ugail_model.json"
+    ours = fairsurf.compare(scene)
+    theirs = json.loads(subprocess.run([str(cli), "compare", str(scene), "--json"],
+                                       check=True, capture_output=True, text=True).stdout)
+    assert ours == theirs and len(ours) == 4
+    with pytest.raises(fairsurf.SceneError) as e:
+        fairsurf.compare(TRIANGULAR)
+    assert e.value.path == "surface.type"
+
+
 def test_solve_many_equals_one_by_one_and_reports_errors_in_place() -> None:
     scenes = [TENSOR, BSPLINE, {"surface": {"type": "nurbs"}}, TRIANGULAR]
     with pytest.raises(fairsurf.SceneError):
