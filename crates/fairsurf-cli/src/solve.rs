@@ -35,19 +35,35 @@ pub struct Args {
     /// [A, B]}; the result file holds the refined knots and net).
     #[arg(long, value_name = "A,B", value_parser = parse_split)]
     refine: Option<[usize; 2]>,
+    /// B-spline scenes: raise the degree by A in u and B in v before solving
+    /// (exact degree elevation, as the scene's "refine": {"elevate": [A, B]};
+    /// done before any --refine split).
+    #[arg(long, value_name = "A,B", value_parser = parse_elevate)]
+    elevate: Option<[usize; 2]>,
 }
 
-fn parse_split(s: &str) -> Result<[usize; 2], String> {
+/// `A,B` with each number in `lo..=hi`.
+fn parse_pair(s: &str, lo: usize, hi: usize) -> Result<[usize; 2], String> {
     let (a, b) = s
         .split_once(',')
         .ok_or_else(|| format!("expected A,B (two whole numbers), got {s:?}"))?;
     let num = |x: &str| -> Result<usize, String> {
         match x.trim().parse::<usize>() {
-            Ok(k) if (1..=16).contains(&k) => Ok(k),
-            _ => Err(format!("expected a whole number from 1 to 16, got {x:?}")),
+            Ok(k) if (lo..=hi).contains(&k) => Ok(k),
+            _ => Err(format!(
+                "expected a whole number from {lo} to {hi}, got {x:?}"
+            )),
         }
     };
     Ok([num(a)?, num(b)?])
+}
+
+fn parse_split(s: &str) -> Result<[usize; 2], String> {
+    parse_pair(s, 1, 16)
+}
+
+fn parse_elevate(s: &str) -> Result<[usize; 2], String> {
+    parse_pair(s, 0, 14)
 }
 
 pub fn run(a: Args) -> Result<(), Failure> {
@@ -136,15 +152,24 @@ fn result_name(scene: &Path) -> String {
 fn solve_one(path: &Path, out: Option<&Path>, a: &Args) -> Result<String, Failure> {
     let with_file = crate::input::with_file(path);
     let mut scene = Scene::from_json(&crate::input::read(path)?).map_err(&with_file)?;
-    if let Some(split) = a.refine {
+    for (flag, given, what) in [
+        ("--refine", a.refine, "splits the knot spans"),
+        ("--elevate", a.elevate, "raises the degrees"),
+    ] {
+        let Some(pair) = given else { continue };
         let Scene::BSpline(b) = &mut scene else {
             return Err(Failure::input(format!(
-                "{}: --refine splits the knot spans of B-spline scenes; this one is {}",
+                "{}: {flag} {what} of B-spline scenes; this one is {}",
                 path.display(),
                 scene.surface_type().name()
             )));
         };
-        b.refine.get_or_insert_with(Default::default).split = Some(split);
+        let r = b.refine.get_or_insert_with(Default::default);
+        if flag == "--refine" {
+            r.split = Some(pair);
+        } else {
+            r.elevate = Some(pair);
+        }
     }
     let spinner = spinner_for(&scene);
     let solved = scene.solve().map_err(&with_file);

@@ -369,7 +369,7 @@ fn every_kind_reports_the_common_figures_under_one_name() {
 /// more unknowns, a lower thin-plate minimum, the refined knots in the
 /// result; other kinds and bad counts exit 2 before any work.
 #[test]
-fn solve_refine_splits_bspline_spans() {
+fn solve_refine_splits_bspline_spans_and_elevate_raises_degrees() {
     let d = tmpdir("refine");
     let scene = examples().join("bspline_hole.json");
     let report = |extra: &[&str]| -> serde_json::Value {
@@ -416,6 +416,26 @@ fn solve_refine_splits_bspline_spans() {
     let o = fairsurf(&["solve", scene.to_str().unwrap(), "--refine", "0,2"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("from 1 to 16"), "{}", stderr(&o));
+    // --elevate raises the degrees first, then --refine splits: bicubic
+    // over 11 spans elevated by one in u (14 + 11 points), then 2 parts per
+    // span in v (22 spans, 25 points); two rings fixed on each side.
+    let both = report(&["--elevate", "1,0", "--refine", "1,2"]);
+    assert_eq!(both["spans"], serde_json::json!([11, 22]));
+    assert_eq!(both["free_points"], serde_json::json!(21 * 21), "{both}");
+    assert!(both["energy"].as_f64() < coarse["energy"].as_f64());
+    let o = fairsurf(&["solve", tensor.to_str().unwrap(), "--elevate", "1,1"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("--elevate raises the degrees of B-spline scenes; this one is tensor"),
+        "{}",
+        stderr(&o)
+    );
+    let o = fairsurf(&["solve", scene.to_str().unwrap(), "--elevate", "1,15"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("from 0 to 14"), "{}", stderr(&o));
+    let o = fairsurf(&["solve", scene.to_str().unwrap(), "--elevate", "0,13"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("refine.elevate[1]"), "{}", stderr(&o));
 }
 
 #[test]

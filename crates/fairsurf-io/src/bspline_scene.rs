@@ -49,10 +49,16 @@ pub struct BSplineScene {
     pub report: Option<Value>,
 }
 
-/// Knot refinement: knots inserted in u and in v, and/or every span split.
+/// Exact refinement: degrees raised, knots inserted in u and in v, every
+/// span split — in that order.
 #[derive(Clone, Debug, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RefineSpec {
+    /// `[a, b]`: raise the degree by a in u and b in v first (degree
+    /// elevation: each knot's multiplicity rises with it, so the continuity
+    /// at every knot is kept; the degrees stay at most 15).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub elevate: Option<[usize; 2]>,
     /// Knots to insert in u, inside the domain (a knot may be repeated up
     /// to multiplicity p).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -66,10 +72,27 @@ pub struct RefineSpec {
     pub split: Option<[usize; 2]>,
 }
 
-/// The surface with the refinement's knots inserted; errors name
-/// `refine.u[i]`, `refine.v[i]` or `refine.split[k]`.
+/// The surface refined as `r` says (elevated, then knots inserted, then
+/// spans split); errors name `refine.elevate[k]`, `refine.u[i]`,
+/// `refine.v[i]` or `refine.split[k]`.
 fn refined(surface: &BSplineSurface, r: &RefineSpec) -> Result<BSplineSurface> {
     let mut s = surface.clone();
+    if let Some(by) = r.elevate {
+        let (p, q) = s.degree();
+        for (k, (&a, d)) in by.iter().zip([p, q]).enumerate() {
+            if d + a > MAX_DEGREE {
+                return Err(Error::scene(
+                    format!("refine.elevate[{k}]"),
+                    format!(
+                        "degree {d} raised by {a} is {}, above {MAX_DEGREE}: use more spans \
+                         (refine.split) instead",
+                        d + a
+                    ),
+                ));
+            }
+        }
+        s = s.elevated(by[0], by[1])?;
+    }
     for (k, (name, knots)) in [("u", &r.u), ("v", &r.v)].into_iter().enumerate() {
         for (i, &t) in knots.iter().enumerate() {
             let next = if k == 0 {
@@ -394,8 +417,9 @@ impl SolvedBSplineScene {
         let mut out = self.scene.clone();
         let s = self.surface();
         let cv = s.counts().1;
-        // A refined solve's result holds the refined knots and net.
+        // A refined solve's result holds the refined degrees, knots and net.
         out.refine = None;
+        out.surface.degree = [s.degree().0, s.degree().1];
         out.surface.knots = [s.knots().0.knots().to_vec(), s.knots().1.knots().to_vec()];
         if let Some(g) = out.energy.guide_surface.as_mut() {
             if self.scene.refine.is_some() || g.control_points.is_none() {

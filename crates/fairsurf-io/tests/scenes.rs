@@ -515,6 +515,69 @@ fn refined_bspline_scenes_lower_the_minimum_and_write_the_refined_net() {
     );
 }
 
+/// `refine.elevate` raises the degrees before solving: the boundary data
+/// stay the given ones (1e-12), the thin-plate minimum falls (nested
+/// spaces, more freedom), the result holds the raised knots; a degree past
+/// 15 is refused at `refine.elevate[k]`.
+#[test]
+fn elevated_bspline_scenes_keep_the_rings_and_lower_the_minimum() {
+    use fairsurf_io::BSplineScene;
+    let text = std::fs::read_to_string(examples().join("bspline_hole.json")).unwrap();
+    let base: Value = serde_json::from_str(&text).unwrap();
+    let coarse = BSplineScene::from_json(&text).unwrap().solve().unwrap();
+    let mut v = base.clone();
+    v["refine"] = json!({"elevate": [1, 2]});
+    let fine = BSplineScene::from_json(&v.to_string())
+        .unwrap()
+        .solve()
+        .unwrap();
+    // Bicubic over 11 × 11 spans: one point more per span and degree.
+    assert_eq!(fine.surface().degree(), (4, 5));
+    assert_eq!(fine.surface().counts(), (14 + 11, 14 + 22));
+    let (e0, e1) = (coarse.solution.report.energy, fine.solution.report.energy);
+    assert!(e1 < e0 * (1.0 - 1e-4), "bicubic {e0}, elevated {e1}");
+    // Along v = 0 the curve and the cross derivative ∂/∂v, along u = 1 the
+    // curve and ∂/∂u: the data the two fixed rings hold.
+    let gap = |a: fairsurf::SurfaceDerivatives, b: fairsurf::SurfaceDerivatives, cross: usize| {
+        let (da, db) = if cross == 0 {
+            (a.du, b.du)
+        } else {
+            (a.dv, b.dv)
+        };
+        (0..3)
+            .map(|i| (a.point[i] - b.point[i]).abs() + (da[i] - db[i]).abs())
+            .fold(0.0, f64::max)
+    };
+    for k in 0..=20 {
+        let t = k as f64 / 20.0;
+        let (c, f) = (coarse.surface(), fine.surface());
+        let d = gap(c.derivatives(t, 0.0), f.derivatives(t, 0.0), 1).max(gap(
+            c.derivatives(1.0, t),
+            f.derivatives(1.0, t),
+            0,
+        ));
+        assert!(d < 1e-12, "boundary at {t}: {d:e}");
+    }
+    let again = BSplineScene::from_json(&serde_json::to_string(&fine.result_scene()).unwrap())
+        .unwrap()
+        .solve()
+        .unwrap();
+    assert_eq!(again.surface().points(), fine.surface().points());
+    let result = fine.result_scene();
+    assert!(result.refine.is_none() && result.surface.degree == [4, 5]);
+    let mut v = base.clone();
+    v["refine"] = json!({"elevate": [0, 13]});
+    match BSplineScene::from_json(&v.to_string()).unwrap().solve() {
+        Err(Error::Scene { path, message }) => {
+            assert!(
+                path == "refine.elevate[1]" && message.contains("above 15"),
+                "{path}: {message}"
+            )
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
 #[test]
 fn infinite_numbers_are_rejected() {
     // JSON has no NaN or ∞ literal; an overflowing literal is the way to write one.

@@ -251,6 +251,72 @@ impl KnotVector {
         Ok((KnotVector { degree: p, knots }, out))
     }
 
+    /// The same spline one degree higher (exact up to rounding): the knot
+    /// vector with every distinct knot's multiplicity raised by one, and
+    /// its coefficients, `dim` numbers per coefficient. The spline is split
+    /// into its Bézier pieces (the extraction operator), each piece elevated
+    /// (Q_i = i/(p+1) P_{i−1} + (1 − i/(p+1)) P_i, Farin), and the elevated
+    /// B-spline coefficients are the solution of the consistent system
+    /// Ē Q = (elevated pieces) with Ē the elevated knot vector's extraction
+    /// (least squares by refined QR; the continuity at each knot is kept, so
+    /// the system has an exact solution).
+    pub fn elevate(&self, coefficients: &[f64], dim: usize) -> Result<(KnotVector, Vec<f64>)> {
+        let p = self.degree;
+        let c = self.count();
+        assert_eq!(
+            coefficients.len(),
+            c * dim,
+            "{c} coefficients of {dim} numbers"
+        );
+        // The raised knot vector.
+        let mut knots = Vec::with_capacity(self.knots.len() + self.spans().len() + 1);
+        for (k, &t) in self.knots.iter().enumerate() {
+            knots.push(t);
+            if k + 1 == self.knots.len() || self.knots[k + 1] != t {
+                knots.push(t);
+            }
+        }
+        let raised = KnotVector::new(p + 1, knots)?;
+        // The Bézier pieces, degree p: rows p·s + j of E · coefficients.
+        let (_, e) = self.extraction();
+        let spans = (e.len() - 1) / p;
+        let bez = |r: usize, d: usize| -> f64 {
+            e[r].iter()
+                .enumerate()
+                .map(|(k, w)| w * coefficients[k * dim + d])
+                .sum()
+        };
+        let pieces = (p + 1) * spans + 1;
+        let mut rhs = faer::Mat::<f64>::zeros(pieces, dim);
+        for s in 0..spans {
+            for i in 0..=p + 1 {
+                let w = i as f64 / (p + 1) as f64;
+                for d in 0..dim {
+                    let lo = if i > 0 { bez(p * s + i - 1, d) } else { 0.0 };
+                    let hi = if i <= p { bez(p * s + i, d) } else { 0.0 };
+                    rhs[((p + 1) * s + i, d)] = w * lo + (1.0 - w) * hi;
+                }
+            }
+        }
+        let (_, e2) = raised.extraction();
+        debug_assert_eq!(e2.len(), pieces);
+        let c2 = raised.count();
+        let a = faer::Mat::from_fn(pieces, c2, |r, k| e2[r][k]);
+        let x = crate::solve::lstsq::solve_lstsq(
+            &a,
+            &rhs,
+            3,
+            1e12,
+            "the raised knot vector's extraction has dependent columns",
+        )?
+        .x;
+        let out = (0..c2)
+            .flat_map(|k| (0..dim).map(move |d| (k, d)))
+            .map(|(k, d)| x[(k, d)])
+            .collect();
+        Ok((raised, out))
+    }
+
     /// The interior knots each raised to multiplicity p: the knot vector of
     /// the Bézier pieces, and the matrix E (rows: Bézier coefficients
     /// p·s + j of span s, columns: B-spline coefficients) with

@@ -159,6 +159,37 @@ impl BSplineSurface {
         })
     }
 
+    /// The same surface one degree higher in u (degree elevation: every
+    /// distinct u-knot's multiplicity rises by one, so the continuity at
+    /// each knot is kept; [`KnotVector::elevate`]).
+    pub fn elevate_u(&self) -> Result<Self> {
+        let cv = self.counts().1;
+        let flat: Vec<f64> = self.points.iter().flatten().copied().collect();
+        let (u, out) = self.u.elevate(&flat, 3 * cv)?;
+        Ok(Self {
+            u,
+            v: self.v.clone(),
+            points: out.chunks(3).map(|c| [c[0], c[1], c[2]]).collect(),
+        })
+    }
+
+    /// The same surface one degree higher in v.
+    pub fn elevate_v(&self) -> Result<Self> {
+        Ok(self.transposed().elevate_u()?.transposed())
+    }
+
+    /// The same surface with its degrees raised by `a` in u and `b` in v.
+    pub fn elevated(&self, a: usize, b: usize) -> Result<Self> {
+        let mut s = self.clone();
+        for _ in 0..a {
+            s = s.elevate_u()?;
+        }
+        for _ in 0..b {
+            s = s.elevate_v()?;
+        }
+        Ok(s)
+    }
+
     /// The same surface with `t` inserted into the v-knots.
     pub fn insert_knot_v(&self, t: f64) -> Result<Self> {
         Ok(self.transposed().insert_knot_u(t)?.transposed())

@@ -473,3 +473,52 @@ fn the_basis_condition_stays_bounded_as_spans_are_added() {
     let ratio = c16 / c8;
     assert!((8.0..32.0).contains(&ratio), "{c8:e} → {c16:e}: ×{ratio}");
 }
+
+/// Degree elevation keeps the surface (1e-14 of its size, with its first
+/// and second derivatives), raises every distinct knot's multiplicity by
+/// one (so the continuity at each knot is kept) and adds one control point
+/// per span; a Bézier patch elevates to the Bernstein elevation; and it
+/// never raises the thin-plate minimum (nested spaces) but lowers it for a
+/// general boundary.
+#[test]
+fn degree_elevation_keeps_the_surface_and_enlarges_the_space() {
+    let (u, v) = uneven();
+    let s = wavy(u.clone(), v.clone());
+    let e = s.elevated(1, 2).unwrap();
+    assert_eq!(e.degree(), (4, 5));
+    let (su, sv) = (u.spans().len(), v.spans().len());
+    assert_eq!(e.counts(), (s.counts().0 + su, s.counts().1 + 2 * sv));
+    for &t in &[0.2, 0.5, 0.9] {
+        assert_eq!(e.knots().0.multiplicity(t), u.multiplicity(t) + 1);
+    }
+    assert_eq!(e.knots().1.multiplicity(0.35), 3);
+    let size = 10.0;
+    for (a, b) in grid() {
+        let (x, y) = (s.derivatives(a, b), e.derivatives(a, b));
+        assert!(dist(x.point, y.point) < 1e-14 * size, "({a}, {b})");
+        assert!(dist(x.du, y.du) < 1e-12 * size && dist(x.dvv, y.dvv) < 1e-10 * size);
+    }
+    // A Bézier patch: the Bernstein elevation, point for point.
+    let patch = TensorPatch::from_fn(3, 2, |i, j| [i as f64, j as f64, noise(5 * i + j)]);
+    let b = BSplineSurface::from_bezier(&patch).elevated(2, 1).unwrap();
+    let want = patch.elevate(2, 1);
+    for (p, q) in b.points().iter().zip(want.points()) {
+        assert!(dist(*p, *q) < 1e-15 * 4.0, "{p:?} {q:?}");
+    }
+    // Nested spaces: the coarse minimizer elevated is feasible, and the
+    // elevated problem's minimum lies strictly below it.
+    let coarse = BSplineProblem::new(wavy(KnotVector::uniform(3, 2), KnotVector::uniform(3, 2)))
+        .with_fixed_rings(2)
+        .with_bend(1.0)
+        .solve()
+        .unwrap();
+    let start = coarse.surface.elevated(1, 1).unwrap();
+    assert!((start.biharmonic() - coarse.report.energy).abs() < 1e-11 * coarse.report.energy);
+    let fine = BSplineProblem::new(start)
+        .with_fixed_rings(2)
+        .with_bend(1.0)
+        .solve()
+        .unwrap();
+    let (e0, e1) = (coarse.report.energy, fine.report.energy);
+    assert!(e1 < e0 * (1.0 - 1e-6), "bicubic {e0}, biquartic {e1}");
+}
