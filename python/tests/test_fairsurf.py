@@ -59,6 +59,7 @@ def test_results_equal_the_command_lines(cli: Path, scene: Path, tmp_path: Path)
     assert ours.report["energy"] == theirs["report"]["energy"]
     check = ours.report["check"]
     assert check["energy_error"] <= check["tolerance"]
+    assert check["excess"] <= check["tolerance"] and check["corrections"] >= 0
     mine = json.loads(ours.to_json())
     assert mine["surface"] == theirs["surface"]
     again = fairsurf.load(ours.to_json())

@@ -373,10 +373,13 @@ fn bspline_summary(path: &Path, s: &fairsurf_io::SolvedBSplineScene, written: &[
         },
         format!(
             "  checked on the written net: Gauss quadrature span by span gives {:.10e} \
-             (relative difference {:.1e}, tolerance {:.0e})",
+             (relative difference {:.1e}), {:.1e} above the minimum (relative; tolerance \
+             {:.0e}), {} correction(s)",
             r.check_energy,
             r.energy_error,
-            fairsurf::bspline::ENERGY_TOLERANCE
+            r.excess,
+            fairsurf::bspline::ENERGY_TOLERANCE,
+            r.corrections
         ),
     ];
     if let Some(t) = s.normal_turn {

@@ -499,6 +499,9 @@ impl SolvedBSplineScene {
             "check": {
                 "energy": r.check_energy,
                 "energy_error": r.energy_error,
+                "excess": r.excess,
+                "scale": r.scale,
+                "corrections": r.corrections,
                 "tolerance": fairsurf::bspline::ENERGY_TOLERANCE,
             },
             "constraints": [],

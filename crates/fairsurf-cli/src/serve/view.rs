@@ -696,6 +696,7 @@ fn bspline_view(solved: &SolvedBSplineScene) -> Value {
         }
     }
     table.push(row("checked: energy difference (relative)", r.energy_error));
+    table.push(row("checked: above the minimum (relative)", r.excess));
     table.push(row("gradient (relative)", r.relative_gradient));
     table.push(row("residual", r.residual));
     table.push(row("condition estimate", r.condition_estimate));

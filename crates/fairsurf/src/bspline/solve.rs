@@ -12,7 +12,9 @@
 use super::energy::{energy_by_pieces, energy_by_quadrature, patterns, Gram1d};
 use super::guidance::{guide_value, guide_value_by_pieces, NormalTerm};
 use super::BSplineSurface;
+use crate::check;
 use crate::energy::check_weight;
+use crate::solve::dense::dot2_residual;
 use crate::solve::kkt::{hager, sparse_llt, LltFailure};
 use crate::{Error, Result, TensorPatch, Timings, Vec3};
 use faer::dyn_stack::{MemBuffer, MemStack};
@@ -59,11 +61,20 @@ pub struct BSplineReport {
     pub check_energy: f64,
     /// |energy − check_energy| / energy.
     pub energy_error: f64,
+    /// E(x) − min E of the written net over `scale`: ½ gᵀH⁻¹g with the
+    /// gradient g = H x − b in compensated (Dot2) arithmetic on the
+    /// assembled system, through the solve's factor (the tensor check's
+    /// figure; here H is the assembled one, not recomputed apart).
+    pub excess: f64,
+    /// The scale of `excess` ([`crate::Check::scale`]).
+    pub scale: f64,
+    /// Newton corrections x ← x + H⁻¹(b − Hx) taken by the check.
+    pub corrections: usize,
     /// Free control points.
     pub free_points: usize,
     /// Scalar unknowns (3 per free point).
     pub unknowns: usize,
-    /// ‖H x − b‖∞ over the free coordinates.
+    /// ‖H x − b‖∞ over the free coordinates (compensated arithmetic).
     pub gradient_norm: f64,
     /// That over ‖H‖∞‖x‖∞ + ‖b‖∞.
     pub relative_gradient: f64,
@@ -235,7 +246,27 @@ impl BSplineProblem {
         let mut d = sys.residual(&x);
         solve(&mut d);
         x += &d;
-        let r = sys.residual(&x);
+        // The check's gradient, b − Hx with compensated products, and the
+        // excess ½ gᵀH⁻¹g; Newton corrections while it falls.
+        let rows = sys.rows();
+        let excess_at = |x: &Mat<f64>, solve: &mut dyn FnMut(&mut Mat<f64>)| {
+            let g = sys.residual_dot2(&rows, x);
+            let mut d = g.clone();
+            solve(&mut d);
+            let e = 0.5 * dot(&g, &d);
+            (e, g, d)
+        };
+        let (mut excess, mut r, mut d) = excess_at(&x, &mut solve);
+        let mut corrections = 0;
+        while corrections < check::MAX_CORRECTIONS && excess > 0.0 {
+            let next = &x + &d;
+            let (e2, r2, d2) = excess_at(&next, &mut solve);
+            if !(e2 < excess) {
+                break;
+            }
+            (x, excess, r, d) = (next, e2, r2, d2);
+            corrections += 1;
+        }
         // ‖H‖₁‖H⁻¹‖₁ (H symmetric: its 1-norm is its ∞-norm), Hager's
         // estimate through the factor.
         let condition_estimate = sys.h_inf
@@ -303,6 +334,21 @@ impl BSplineProblem {
                 hint: "the closed forms and the quadrature of its energy disagree".into(),
             });
         }
+        // Rounding the free points to doubles can change the energy by about
+        // ε² · max H_ii · Σ x_i²: below that, the excess tells nothing.
+        let scale = check::scale(total, sys.h_diag * dot(&x, &x));
+        let excess = excess.max(0.0) / scale;
+        if excess > check::TOLERANCE {
+            return Err(Error::Unverified {
+                degree: format!("{:?} (B-spline)", surface.degree()),
+                checked: total,
+                excess,
+                tolerance: check::TOLERANCE,
+                hint: "the written net is not the minimizer of the assembled system to the \
+                       tolerance even after Newton corrections"
+                    .into(),
+            });
+        }
         Ok(BSplineSolution {
             surface,
             report: BSplineReport {
@@ -314,6 +360,9 @@ impl BSplineProblem {
                 coupled: normal.is_some(),
                 check_energy,
                 energy_error,
+                excess,
+                scale,
+                corrections,
                 free_points: free.len(),
                 unknowns: 3 * free.len(),
                 gradient_norm,
@@ -373,6 +422,7 @@ impl BSplineProblem {
             lower: Vec::new(),
             b: Mat::zeros(dim, cols),
             h_inf: 0.0,
+            h_diag: 0.0,
         };
         let mut row_sums = vec![0.0f64; dim];
         // (global row, coordinate) → the system's row and column.
@@ -495,6 +545,11 @@ impl BSplineProblem {
             }
         }
         sys.h_inf = row_sums.iter().fold(0.0, |m, &v| m.max(v));
+        sys.h_diag = sys
+            .lower
+            .iter()
+            .filter(|t| t.row == t.col)
+            .fold(0.0, |m, t| m.max(t.val));
         sys
     }
 }
@@ -508,9 +563,39 @@ struct System {
     b: Mat<f64>,
     /// ‖H‖∞ of the free block.
     h_inf: f64,
+    /// max H_ii of the free block.
+    h_diag: f64,
 }
 
 impl System {
+    /// Row by row, the (column, value) pairs of the whole symmetric H.
+    fn rows(&self) -> Vec<Vec<(usize, f64)>> {
+        let mut rows = vec![Vec::new(); self.dim];
+        for t in &self.lower {
+            rows[t.row].push((t.col, t.val));
+            if t.row != t.col {
+                rows[t.col].push((t.row, t.val));
+            }
+        }
+        rows
+    }
+
+    /// b − H x with every row a compensated (Dot2) dot product: as if
+    /// computed in twice the working precision, then rounded.
+    fn residual_dot2(&self, rows: &[Vec<(usize, f64)>], x: &Mat<f64>) -> Mat<f64> {
+        let mut a = Vec::new();
+        let mut xs = Vec::new();
+        Mat::from_fn(self.dim, x.ncols(), |i, c| {
+            a.clear();
+            xs.clear();
+            for &(j, v) in &rows[i] {
+                a.push(v);
+                xs.push(x[(j, c)]);
+            }
+            dot2_residual(self.b[(i, c)], &a, &xs)
+        })
+    }
+
     /// b − H x, from the lower triangle.
     fn residual(&self, x: &Mat<f64>) -> Mat<f64> {
         let mut r = self.b.clone();
@@ -524,6 +609,14 @@ impl System {
         }
         r
     }
+}
+
+/// Σ a_ij b_ij.
+fn dot(a: &Mat<f64>, b: &Mat<f64>) -> f64 {
+    (0..a.ncols())
+        .flat_map(|c| (0..a.nrows()).map(move |i| (i, c)))
+        .map(|(i, c)| a[(i, c)] * b[(i, c)])
+        .sum()
 }
 
 /// max |m_ij|.

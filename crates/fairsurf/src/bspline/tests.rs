@@ -288,6 +288,11 @@ fn two_fixed_rings_of_a_biharmonic_polynomial_give_it_back_at_any_knots() {
             r.relative_gradient < 1e-14 && r.energy_error < 1e-12,
             "{r:?}"
         );
+        // The check's excess over the minimum, at double-double's level.
+        assert!(
+            r.excess < 1e-20 && r.corrections <= crate::check::MAX_CORRECTIONS,
+            "{r:?}"
+        );
         assert!((r.energy - truth.biharmonic()).abs() < 1e-10 * r.energy);
     }
 }
