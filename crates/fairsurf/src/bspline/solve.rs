@@ -261,7 +261,7 @@ impl BSplineProblem {
         while corrections < check::MAX_CORRECTIONS && excess > 0.0 {
             let next = &x + &d;
             let (e2, r2, d2) = excess_at(&next, &mut solve);
-            if !(e2 < excess) {
+            if e2.is_nan() || e2 >= excess {
                 break;
             }
             (x, excess, r, d) = (next, e2, r2, d2);
