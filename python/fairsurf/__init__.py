@@ -170,6 +170,12 @@ class Surface:
         :attr:`control_points`, shape (patches, (n+1)(n+2)/2), uint64."""
         return self._native.patch_indices
 
+    def tensor_patches(self) -> List[np.ndarray]:
+        """The surface as tensor Bézier patches, each (n+1, m+1, 3): the
+        patch itself, a B-spline surface's Bézier pieces, or a triangular
+        surface's patches as exact tensor patches with one side collapsed."""
+        return self._native.tensor_patches()
+
     def derivatives(self, u: Any, v: Any) -> Dict[str, np.ndarray]:
         """Points, first and second derivatives, normals and curvatures at
         (u, v) ∈ [0, 1]² (broadcast; a B-spline surface's knot domain is

@@ -19,7 +19,7 @@ from typing import List, Tuple
 
 import numpy as np
 from OCP.BRep import BRep_Tool
-from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace, BRepBuilderAPI_Sewing
 from OCP.Geom import Geom_BezierSurface, Geom_BSplineSurface
 from OCP.collections import Array1_double, Array1_int, Array2_gp_Pnt
 from OCP.gp import gp_Pnt
@@ -29,7 +29,7 @@ from OCP.TopoDS import TopoDS, TopoDS_Face, TopoDS_Shape
 
 from . import Surface, load
 
-__all__ = ["to_geom", "to_face", "from_face", "from_geom", "faces"]
+__all__ = ["to_geom", "to_face", "to_shape", "from_face", "from_geom", "faces"]
 
 
 def _distinct(knots: np.ndarray) -> Tuple[List[float], List[int]]:
@@ -59,21 +59,8 @@ def _ints(xs: List[int]) -> Array1_int:
     return a
 
 
-def to_geom(surface: Surface) -> Geom_BSplineSurface:
-    """The surface as a non-rational ``Geom_BSplineSurface``: a tensor patch
-    on [0, 1]², a B-spline surface on its own knots. A triangular surface has
-    one face per patch and is refused (``ValueError``)."""
-    if surface.surface_type == "triangular":
-        raise ValueError(
-            "a triangular surface is many patches; write it with export('….step') "
-            "and read that, or use one patch's tensor form"
-        )
-    cp = surface.control_points
-    p, q = surface.degree
-    if surface.knots is None:
-        (u, um), (v, vm) = ([0.0, 1.0], [p + 1] * 2), ([0.0, 1.0], [q + 1] * 2)
-    else:
-        (u, um), (v, vm) = (_distinct(k) for k in surface.knots)
+def _geom(cp: np.ndarray, p: int, q: int, u: List[float], um: List[int],
+          v: List[float], vm: List[int]) -> Geom_BSplineSurface:
     nu, nv = cp.shape[:2]
     poles = Array2_gp_Pnt(1, nu, 1, nv)
     for i in range(nu):
@@ -83,9 +70,43 @@ def to_geom(surface: Surface) -> Geom_BSplineSurface:
     return Geom_BSplineSurface(poles, _reals(u), _reals(v), _ints(um), _ints(vm), p, q)
 
 
+def _bezier_geom(cp: np.ndarray) -> Geom_BSplineSurface:
+    p, q = cp.shape[0] - 1, cp.shape[1] - 1
+    return _geom(cp, p, q, [0.0, 1.0], [p + 1] * 2, [0.0, 1.0], [q + 1] * 2)
+
+
+def to_geom(surface: Surface) -> Geom_BSplineSurface:
+    """The surface as a non-rational ``Geom_BSplineSurface``: a tensor patch
+    on [0, 1]², a B-spline surface on its own knots. A triangular surface has
+    one face per patch and is refused (``ValueError``: use :func:`to_shape`)."""
+    if surface.surface_type == "triangular":
+        raise ValueError(
+            "a triangular surface is many patches, one face each: use to_shape"
+        )
+    if surface.knots is None:
+        return _bezier_geom(surface.control_points)
+    p, q = surface.degree
+    (u, um), (v, vm) = (_distinct(k) for k in surface.knots)
+    return _geom(surface.control_points, p, q, u, um, v, vm)
+
+
 def to_face(surface: Surface, tolerance: float = 1e-7) -> TopoDS_Face:
     """The surface as a ``TopoDS_Face`` bounded by its parameter domain."""
     return BRepBuilderAPI_MakeFace(to_geom(surface), tolerance).Face()
+
+
+def to_shape(surface: Surface, tolerance: float = 1e-7) -> TopoDS_Shape:
+    """The surface as a shape: one face for a tensor or B-spline surface; for
+    a triangular surface a shell of one face per patch (each patch's exact
+    tensor form, one side collapsed), sewn so neighbouring patches share
+    their edges."""
+    if surface.surface_type != "triangular":
+        return to_face(surface, tolerance)
+    sewing = BRepBuilderAPI_Sewing(tolerance)
+    for cp in surface.tensor_patches():
+        sewing.Add(BRepBuilderAPI_MakeFace(_bezier_geom(cp), tolerance).Face())
+    sewing.Perform()
+    return sewing.SewedShape()
 
 
 def from_geom(geom: object) -> Surface:

@@ -141,6 +141,21 @@ impl PySurface {
         ))
     }
 
+    /// The surface as tensor Bézier patches, each an array (n+1, m+1, 3):
+    /// the patch of a tensor surface, a B-spline surface's Bézier pieces, a
+    /// triangular surface's patches as exact tensor patches with one side
+    /// collapsed.
+    fn tensor_patches<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyAny>>> {
+        self.surface
+            .tensor_patches()
+            .iter()
+            .map(|p| {
+                let (n, m) = p.degree();
+                points_array(py, p.points(), &[n + 1, m + 1])
+            })
+            .collect()
+    }
+
     /// Point, first and second derivatives, normal and curvatures at the
     /// parameters (u[i], v[i]) ∈ [0, 1]²: a dict of arrays (points, du,
     /// dv, duu, duv, dvv, normals: (N, 3); gaussian, mean, k1, k2: (N,);

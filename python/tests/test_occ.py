@@ -3,6 +3,7 @@ gives what fairsurf holds: poles, knots and multiplicities one by one."""
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -95,7 +96,7 @@ def test_faces_round_trip_and_evaluate_alike(scene: str) -> None:
 
 def test_what_does_not_convert_is_refused() -> None:
     tri = fairsurf.solve(EXAMPLES / "vw_pentagon_hole.json")
-    with pytest.raises(ValueError, match="triangular surface"):
+    with pytest.raises(ValueError, match="to_shape"):
         occ.to_geom(tri)
     from OCP.Geom import Geom_Plane
     from OCP.gp import gp_Pln
@@ -106,3 +107,46 @@ def test_what_does_not_convert_is_refused() -> None:
     rational.SetWeight(2, 2, 2.0)
     with pytest.raises(ValueError, match="rational"):
         occ.from_geom(rational)
+
+
+def test_a_triangular_surface_is_a_sewn_shell_of_its_patches() -> None:
+    """to_shape: one face per patch, sewn into one shell whose free edges are
+    the surface's boundary edges only (every interior edge shared by two
+    faces); each face evaluates to its patch."""
+    from OCP.ShapeAnalysis import ShapeAnalysis_FreeBounds
+    from OCP.TopAbs import TopAbs_EDGE, TopAbs_SHELL
+    from OCP.TopExp import TopExp_Explorer
+
+    scene = json.loads((EXAMPLES / "vw_pentagon_hole.json").read_text())
+    tri = fairsurf.solve(scene)
+    shape = occ.to_shape(tri)
+    patches = tri.tensor_patches()
+    assert len(occ.faces(shape)) == len(patches) == len(scene["surface"]["triangles"])
+    shells = 0
+    ex = TopExp_Explorer(shape, TopAbs_SHELL)
+    while ex.More():
+        shells += 1
+        ex.Next()
+    assert shells == 1
+    # Boundary edges of the triangle mesh: used by one triangle only.
+    uses: dict = {}
+    for t in scene["surface"]["triangles"]:
+        for a, b in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0])):
+            uses[frozenset((a, b))] = uses.get(frozenset((a, b)), 0) + 1
+    boundary = sum(1 for n in uses.values() if n == 1)
+    free = ShapeAnalysis_FreeBounds(shape, 1e-6, False, False)
+    wires = free.GetClosedWires()
+    edges = 0
+    ex = TopExp_Explorer(wires, TopAbs_EDGE)
+    while ex.More():
+        edges += 1
+        ex.Next()
+    assert edges == boundary, f"{edges} free edges, {boundary} boundary edges"
+    # Each face's surface is one of the patches, pole for pole (sewing may
+    # reorder the faces).
+    want = {np.ascontiguousarray(cp).tobytes() for cp in patches}
+    got = set()
+    for face in occ.faces(shape):
+        poles, u, v = poles_knots(BRep_Tool.Surface_s(face))
+        got.add(np.ascontiguousarray(poles).tobytes())
+    assert got == want
