@@ -30,11 +30,12 @@ def main() -> None:
         scenes.append(s)
 
     if len(sys.argv) > 1:
-        client = Client(sys.argv[1])
+        with Client(sys.argv[1]) as client:
+            results = client.gather(client.map(fairsurf.solve, scenes))
     else:
-        client = Client(LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None))
-    with client:
-        results = client.gather(client.map(fairsurf.solve, scenes))
+        with LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None) as cluster, \
+                Client(cluster) as client:
+            results = client.gather(client.map(fairsurf.solve, scenes))
 
     nets = np.stack([r.control_points for r in results])  # (weights, n+1, m+1, 3)
     print("nets", nets.shape, nets.dtype)

@@ -57,34 +57,47 @@ __version__: str = _fairsurf.__version__
 SceneLike = Union[str, "os.PathLike[str]", Mapping[str, Any]]
 
 
-def _plain(x: Any) -> Any:
-    """numpy values as JSON values; a point of three NaNs as null."""
-    if isinstance(x, np.ndarray):
-        if x.dtype.kind == "f" and x.ndim >= 1 and x.shape[-1] == 3:
-            return [_plain(row) for row in x] if x.ndim > 1 else _point(x)
-        return x.tolist()
-    if isinstance(x, np.generic):
-        return x.item()
-    if isinstance(x, Mapping):
-        return {k: _plain(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_plain(v) for v in x]
-    return x
+def _nan_point(x: Any) -> bool:
+    """Whether x is a point of three NaNs (a free point)."""
+    return (
+        isinstance(x, (list, tuple, np.ndarray))
+        and len(x) == 3
+        and all(isinstance(c, (float, np.floating)) and math.isnan(c) for c in x)
+    )
 
 
-def _point(p: np.ndarray) -> Optional[List[float]]:
-    values = [float(c) for c in p]
-    if all(math.isnan(c) for c in values):
+def _plain(x: Any, path: str = "") -> Any:
+    """numpy values as JSON values; a point of three NaNs as null; any other
+    NaN or infinity a SceneError naming its JSON path."""
+    if _nan_point(x):
         return None
-    return values
+    if isinstance(x, np.ndarray):
+        if x.ndim == 0:
+            return _plain(x.item(), path)
+        return [_plain(v, f"{path}[{i}]") for i, v in enumerate(x)]
+    if isinstance(x, np.generic):
+        return _plain(x.item(), path)
+    if isinstance(x, Mapping):
+        return {k: _plain(v, f"{path}.{k}" if path else str(k)) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_plain(v, f"{path}[{i}]") for i, v in enumerate(x)]
+    if isinstance(x, float) and not math.isfinite(x):
+        err = SceneError(
+            f"{path or 'scene'}: {x} is not a number JSON can hold (only a point of three "
+            "NaNs means a free point)"
+        )
+        err.path = path
+        raise err
+    return x
 
 
 def _scene_text(scene: SceneLike) -> str:
     """The JSON text of a scene given as a path, text or dict."""
     if isinstance(scene, Mapping):
+        plain = _plain(scene)
         try:
-            return json.dumps(_plain(scene), allow_nan=False)
-        except (TypeError, ValueError) as e:
+            return json.dumps(plain, allow_nan=False)
+        except TypeError as e:
             err = SceneError(f"scene: cannot be written as JSON: {e}")
             err.path = ""
             raise err from None
@@ -119,7 +132,10 @@ class Mesh(NamedTuple):
     normals: np.ndarray
     """(V, 3) float64 unit normals."""
     uvs: np.ndarray
-    """(V, 2) float64 parameters of each vertex."""
+    """(V, 2) float64 parameters of each vertex: in [0, 1]² as
+    :meth:`Surface.evaluate` takes them for a tensor or B-spline surface (a
+    B-spline's knot domain mapped); within its own patch for a triangular
+    surface."""
     mean_curvature: np.ndarray
     """(V,) float64 mean curvature H (NaN where singular)."""
     gaussian_curvature: np.ndarray
@@ -216,7 +232,8 @@ class Surface:
         curvature), .stl, .glb/.gltf (|H| colours in ``colour_range``).
         Returns what was written; warns (``UserWarning``) about a degree that
         Open CASCADE-based readers drop."""
-        summary, warning = self._native.export(os.fspath(path), resolution, colour_range)
+        rng = None if colour_range is None else (float(colour_range[0]), float(colour_range[1]))
+        summary, warning = self._native.export(os.fspath(path), resolution, rng)
         if warning:
             warnings.warn(warning, stacklevel=2)
         return summary
@@ -305,11 +322,20 @@ def solve_many(
     in order. An error raises the first scene's exception, unless
     ``return_exceptions``: then its place in the list holds it. Each solve
     has its own memory budget of ``max_memory_gb``."""
-    texts = [_scene_text(s) for s in scenes]
+    texts: List[str] = []
+    failed: Dict[int, BaseException] = {}
+    for k, scene in enumerate(scenes):
+        try:
+            texts.append(_scene_text(scene))
+        except Exception as e:  # a missing file, a dict JSON cannot hold
+            if not return_exceptions:
+                raise
+            failed[k] = e
     n = threads if threads is not None else (os.cpu_count() or 1)
-    out = _fairsurf.solve_many(texts, n, max_memory_gb)
+    solved = iter(_fairsurf.solve_many(texts, n, max_memory_gb))
     results: List[Any] = []
-    for r in out:
+    for k in range(len(scenes)):
+        r = failed[k] if k in failed else next(solved)
         if isinstance(r, BaseException):
             if not return_exceptions:
                 raise r

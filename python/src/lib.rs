@@ -236,6 +236,7 @@ impl PySurface {
         resolution: usize,
     ) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
         check_resolution(resolution)?;
+        check_mesh_size(&self.surface, resolution)?;
         let surface = &self.surface;
         let mesh = py.detach(|| surface.mesh(resolution));
         let t = mesh.mesh();
@@ -243,7 +244,17 @@ impl PySurface {
         let nv = t.positions.len();
         out.set_item("vertices", points_array(py, &t.positions, &[nv])?)?;
         out.set_item("normals", points_array(py, &t.normals, &[nv])?)?;
-        let uvs: Vec<f64> = t.uvs.iter().flatten().copied().collect();
+        // A B-spline mesh's uvs are knot-domain values: mapped onto [0, 1]²
+        // as evaluate takes them.
+        let ((u0, u1), (v0, v1)) = match &self.surface {
+            Surface::BSpline(s) => (s.knots().0.domain(), s.knots().1.domain()),
+            _ => ((0.0, 1.0), (0.0, 1.0)),
+        };
+        let uvs: Vec<f64> = t
+            .uvs
+            .iter()
+            .flat_map(|&[u, v]| [(u - u0) / (u1 - u0), (v - v0) / (v1 - v0)])
+            .collect();
         out.set_item("uvs", PyArray1::from_vec(py, uvs).reshape([nv, 2])?)?;
         let faces: Vec<u32> = t.triangles.iter().flatten().copied().collect();
         let nf = t.triangles.len();
@@ -271,6 +282,7 @@ impl PySurface {
         colour_range: Option<(f64, f64)>,
     ) -> PyResult<(String, Option<String>)> {
         check_resolution(resolution)?;
+        check_mesh_size(&self.surface, resolution)?;
         let options = MeshOptions {
             colour_range: colour_range.map(|(lo, hi)| [lo, hi]),
         };
@@ -333,6 +345,22 @@ impl PySurface {
     }
 }
 
+/// Largest mesh made for Python: 50 million triangles (about 5 GB with the
+/// curvature); beyond it the allocation would end the interpreter.
+const MAX_TRIANGLES: usize = 50_000_000;
+
+/// Refuses a mesh above [`MAX_TRIANGLES`].
+fn check_mesh_size(surface: &Surface, resolution: usize) -> PyResult<()> {
+    let n = surface.mesh_triangles(resolution);
+    if n > MAX_TRIANGLES {
+        return Err(PyValueError::new_err(format!(
+            "resolution {resolution}: the mesh would have {n} triangles, more than \
+             {MAX_TRIANGLES}; lower the resolution"
+        )));
+    }
+    Ok(())
+}
+
 /// Mesh resolutions of `fairsurf export`: 1 to 4096.
 fn check_resolution(r: usize) -> PyResult<()> {
     if !(1..=4096).contains(&r) {
@@ -368,11 +396,6 @@ impl PySolved {
     /// report; solving it again gives the same surface.
     fn to_json(&self) -> String {
         self.solved.result_text()
-    }
-
-    /// Writes the result file (atomically: nothing is left on an error).
-    fn write(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
-        self.solved.write(&path).map_err(|e| to_py(py, e))
     }
 }
 
@@ -463,8 +486,23 @@ fn solve_many(
                 s.spawn(|| loop {
                     let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                     let Some(text) = texts.get(k) else { break };
-                    let r = solve_text(text, &b);
-                    *slots[k].lock().expect("a solve thread panicked") = Some(r);
+                    // A panic in one solve is that scene's error, not the batch's.
+                    let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                        solve_text(text, &b)
+                    }))
+                    .unwrap_or_else(|panic| {
+                        let why = panic
+                            .downcast_ref::<&str>()
+                            .map(|s| s.to_string())
+                            .or_else(|| panic.downcast_ref::<String>().cloned())
+                            .unwrap_or_default();
+                        Err(IoError::Solve(fairsurf::Error::Mismatch {
+                            what: "the solve".into(),
+                            expected: "an answer".into(),
+                            got: format!("an internal error ({why}); please report it"),
+                        }))
+                    });
+                    *slots[k].lock().unwrap_or_else(|e| e.into_inner()) = Some(r);
                 });
             }
         })
@@ -474,7 +512,7 @@ fn solve_many(
         .map(|slot| {
             let r = slot
                 .into_inner()
-                .expect("a solve thread panicked")
+                .unwrap_or_else(|e| e.into_inner())
                 .expect("every scene solved");
             Ok(match r {
                 Ok(solved) => Py::new(py, PySolved { solved })?.into_any(),

@@ -59,7 +59,7 @@ def test_results_equal_the_command_lines(cli: Path, scene: Path, tmp_path: Path)
     assert ours.report["energy"] == theirs["report"]["energy"]
     check = ours.report["check"]
     assert check["energy_error"] <= check["tolerance"]
-    assert check["excess"] <= check["tolerance"] and check["corrections"] >= 0
+    assert check["excess"] <= check["tolerance"]
     mine = json.loads(ours.to_json())
     assert mine["surface"] == theirs["surface"]
     again = fairsurf.load(ours.to_json())
@@ -303,7 +303,7 @@ def test_the_gil_is_released_while_solving() -> None:
 
 def test_the_python_call_adds_little_to_a_degree_10_solve() -> None:
     """The same parse and solve, timed in Rust and called from Python,
-    alternating: Python's median is within 10% of Rust's."""
+    alternating: Python's fastest is within 10% of Rust's."""
     from fairsurf import _fairsurf
 
     text = (EXAMPLES / "editor_degree10.json").read_text()
@@ -313,6 +313,63 @@ def test_the_python_call_adds_little_to_a_degree_10_solve() -> None:
         t = time.perf_counter()
         fairsurf.solve(text).control_points
         python.append(time.perf_counter() - t)
-    ratio = float(np.median(python) / np.median(rust))
-    print(f"degree 10: Rust {np.median(rust) * 1e3:.2f} ms, Python {np.median(python) * 1e3:.2f} ms")
+    # The fastest of each: the least disturbed by the machine's other work.
+    ratio = min(python) / min(rust)
+    print(f"degree 10: Rust {min(rust) * 1e3:.2f} ms, Python {min(python) * 1e3:.2f} ms")
     assert ratio < 1.10, f"the Python call takes {ratio:.2f}× the library's time"
+
+
+def test_bspline_parameters_map_the_knot_domain_onto_the_unit_square() -> None:
+    """On knots over [2, 5] × [−1, 0.5]: derivatives are those of the mapped
+    surface (central differences, 1e-6), the mesh's uvs lie in [0, 1]² and
+    evaluate there to the mesh's vertices."""
+    rng = np.random.default_rng(7)
+    u = [2, 2, 2, 2, 3.5, 5, 5, 5, 5]
+    v = [-1, -1, -1, -0.2, 0.5, 0.5, 0.5]
+    i, j = np.meshgrid(np.arange(5.0), np.arange(4.0), indexing="ij")
+    net = np.stack([i, j, np.zeros_like(i)], axis=-1) + 0.3 * rng.normal(size=(5, 4, 3))
+    s = fairsurf.load({"surface": {"type": "bspline", "degree": [3, 2], "knots": [u, v],
+                                   "control_points": net}})
+    a, b, h = 0.37, 0.61, 1e-5
+    d = s.derivatives(a, b)
+    p = s.evaluate
+    np.testing.assert_allclose(d["du"], (p(a + h, b) - p(a - h, b)) / (2 * h), atol=1e-6)
+    np.testing.assert_allclose(d["dv"], (p(a, b + h) - p(a, b - h)) / (2 * h), atol=1e-6)
+    np.testing.assert_allclose(
+        d["duv"], (p(a + h, b + h) - p(a + h, b - h) - p(a - h, b + h) + p(a - h, b - h))
+        / (4 * h * h), atol=1e-3)
+    mesh = s.mesh(6)
+    assert mesh.uvs.min() == 0.0 and mesh.uvs.max() == 1.0
+    np.testing.assert_allclose(s.evaluate(mesh.uvs[:, 0], mesh.uvs[:, 1]), mesh.vertices,
+                               atol=1e-13)
+
+
+def test_elevation_from_python_keeps_the_boundary() -> None:
+    data = json.loads(BSPLINE.read_text())
+    data["refine"] = {"elevate": [1, 1]}
+    r = fairsurf.solve(data)
+    coarse = fairsurf.solve(BSPLINE)
+    assert r.degree == (4, 4) and r.control_points.shape == (25, 25, 3)
+    t = np.linspace(0, 1, 11)
+    np.testing.assert_allclose(r.evaluate(t, 0), coarse.evaluate(t, 0), atol=1e-12)
+    assert r.report["energy"] < coarse.report["energy"]
+
+
+def test_nan_points_are_free_in_lists_too_and_other_nans_are_named() -> None:
+    data = json.loads(TENSOR.read_text())
+    expected = fairsurf.solve(data).control_points
+    nets = [[[float("nan")] * 3 if p is None else p for p in row]
+            for row in data["surface"]["control_points"]]
+    data["surface"]["control_points"] = nets
+    np.testing.assert_array_equal(fairsurf.solve(data).control_points, expected)
+    nets[0][0] = [0.0, float("nan"), 0.0]
+    with pytest.raises(fairsurf.SceneError) as e:
+        fairsurf.solve(data)
+    assert e.value.path == "surface.control_points[0][0][1]", e.value
+
+
+def test_solve_many_keeps_unreadable_scenes_in_their_place(tmp_path: Path) -> None:
+    out = fairsurf.solve_many([tmp_path / "missing.json", TENSOR], return_exceptions=True)
+    assert isinstance(out[0], FileNotFoundError) and isinstance(out[1], fairsurf.Result)
+    with pytest.raises(FileNotFoundError):
+        fairsurf.solve_many([tmp_path / "missing.json", TENSOR])

@@ -378,7 +378,7 @@ fn bspline_summary(path: &Path, s: &fairsurf_io::SolvedBSplineScene, written: &[
             r.check_energy,
             r.energy_error,
             r.excess,
-            fairsurf::bspline::ENERGY_TOLERANCE,
+            fairsurf::CHECK_TOLERANCE,
             r.corrections
         ),
     ];

@@ -80,18 +80,19 @@ fn refined(surface: &BSplineSurface, r: &RefineSpec) -> Result<BSplineSurface> {
     if let Some(by) = r.elevate {
         let (p, q) = s.degree();
         for (k, (&a, d)) in by.iter().zip([p, q]).enumerate() {
-            if d + a > MAX_DEGREE {
+            if a > MAX_DEGREE.saturating_sub(d) {
                 return Err(Error::scene(
                     format!("refine.elevate[{k}]"),
                     format!(
-                        "degree {d} raised by {a} is {}, above {MAX_DEGREE}: use more spans \
-                         (refine.split) instead",
-                        d + a
+                        "degree {d} raised by {a} is above {MAX_DEGREE}: use more spans \
+                         (refine.split) instead"
                     ),
                 ));
             }
         }
-        s = s.elevated(by[0], by[1])?;
+        s = s
+            .elevated(by[0], by[1])
+            .map_err(|e| Error::scene("refine.elevate", e.to_string()))?;
     }
     for (k, (name, knots)) in [("u", &r.u), ("v", &r.v)].into_iter().enumerate() {
         for (i, &t) in knots.iter().enumerate() {
@@ -502,7 +503,7 @@ impl SolvedBSplineScene {
                 "excess": r.excess,
                 "scale": r.scale,
                 "corrections": r.corrections,
-                "tolerance": fairsurf::bspline::ENERGY_TOLERANCE,
+                "tolerance": fairsurf::CHECK_TOLERANCE,
             },
             "constraints": [],
             "max_violation": 0.0,

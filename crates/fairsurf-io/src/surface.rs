@@ -225,9 +225,15 @@ mod tests {
             let du = (p(u + h, v)[c] - p(u - h, v)[c]) / (2.0 * h);
             let dv = (p(u, v + h)[c] - p(u, v - h)[c]) / (2.0 * h);
             let duu = (p(u + h, v)[c] - 2.0 * p(u, v)[c] + p(u - h, v)[c]) / (h * h);
+            let dvv = (p(u, v + h)[c] - 2.0 * p(u, v)[c] + p(u, v - h)[c]) / (h * h);
+            let duv = (p(u + h, v + h)[c] - p(u + h, v - h)[c] - p(u - h, v + h)[c]
+                + p(u - h, v - h)[c])
+                / (4.0 * h * h);
             assert!((du - d.du[c]).abs() < 1e-7, "du {du} {}", d.du[c]);
             assert!((dv - d.dv[c]).abs() < 1e-7, "dv {dv} {}", d.dv[c]);
             assert!((duu - d.duu[c]).abs() < 1e-3, "duu {duu} {}", d.duu[c]);
+            assert!((dvv - d.dvv[c]).abs() < 1e-3, "dvv {dvv} {}", d.dvv[c]);
+            assert!((duv - d.duv[c]).abs() < 1e-3, "duv {duv} {}", d.duv[c]);
         }
     }
 }

@@ -536,8 +536,8 @@ fn elevated_bspline_scenes_keep_the_rings_and_lower_the_minimum() {
     assert_eq!(fine.surface().counts(), (14 + 11, 14 + 22));
     let (e0, e1) = (coarse.solution.report.energy, fine.solution.report.energy);
     assert!(e1 < e0 * (1.0 - 1e-4), "bicubic {e0}, elevated {e1}");
-    // Along v = 0 the curve and the cross derivative ∂/∂v, along u = 1 the
-    // curve and ∂/∂u: the data the two fixed rings hold.
+    // Along v = 0 and 1 the curve and the cross derivative ∂/∂v, along
+    // u = 0 and 1 the curve and ∂/∂u: the data the two fixed rings hold.
     let gap = |a: fairsurf::SurfaceDerivatives, b: fairsurf::SurfaceDerivatives, cross: usize| {
         let (da, db) = if cross == 0 {
             (a.du, b.du)

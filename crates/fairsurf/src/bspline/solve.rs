@@ -545,11 +545,12 @@ impl BSplineProblem {
             }
         }
         sys.h_inf = row_sums.iter().fold(0.0, |m, &v| m.max(v));
-        sys.h_diag = sys
-            .lower
-            .iter()
-            .filter(|t| t.row == t.col)
-            .fold(0.0, |m, t| m.max(t.val));
+        // The diagonal arrives in several triplets (summed by the matrix).
+        let mut diag = vec![0.0; sys.dim];
+        for t in sys.lower.iter().filter(|t| t.row == t.col) {
+            diag[t.row] += t.val;
+        }
+        sys.h_diag = diag.iter().fold(0.0, |m, &v| m.max(v));
         sys
     }
 }
