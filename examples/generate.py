@@ -422,28 +422,57 @@ def bspline_hole():
     })
 
 
+def wave_normal(x, y):
+    """The unnormalized normal of the sheet (2u, 2v, wave(u, v)) of bspline_hole:
+    (-wave_u / 2, -wave_v / 2, 1)."""
+    wave_u = 0.2 * 2.5 * math.pi * math.cos(2.5 * math.pi * x) * math.cos(1.5 * math.pi * y) + 0.3 * y
+    wave_v = -0.2 * 1.5 * math.pi * math.sin(2.5 * math.pi * x) * math.sin(1.5 * math.pi * y) + 0.3 * x
+    return [-wave_u / 2, -wave_v / 2, 1.0]
+
+
+def hole_variant(name, title, description, energy):
+    """bspline_hole.json with another energy."""
+    with open(os.path.join(HERE, "bspline_hole.json")) as f:
+        scene = json.load(f)
+    scene["name"] = title
+    scene["description"] = description
+    scene["energy"] = energy
+    write(name, scene)
+
+
 def bspline_hole_guided():
     """bspline_hole with Wu & Yang's normal field: N from the wavy sheet's
     normals (a bicubic Bezier field through them at u, v = i/3), lambda = 100,
     so that the fill follows the sheet it was cut from (their Fig. 4)."""
-    wave_u = lambda x, y: 0.2 * 2.5 * math.pi * math.cos(2.5 * math.pi * x) * math.cos(1.5 * math.pi * y) + 0.3 * y
-    wave_v = lambda x, y: -0.2 * 1.5 * math.pi * math.sin(2.5 * math.pi * x) * math.sin(1.5 * math.pi * y) + 0.3 * x
-    # The sheet is (2u, 2v, wave(u, v)): its normal is (-wave_u / 2, -wave_v / 2, 1).
-    field = [[[r(-wave_u(i / 3, j / 3) / 2), r(-wave_v(i / 3, j / 3) / 2), 1.0] for j in range(4)]
-             for i in range(4)]
-    with open(os.path.join(HERE, "bspline_hole.json")) as f:
-        scene = json.load(f)
-    scene["name"] = "Bicubic B-spline hole guided by the sheet's normals (lambda = 100)"
-    scene["description"] = ("bspline_hole.json with Wu & Yang's normal-field term: N is a bicubic "
-                            "Bezier field of the cut sheet's normals, so the fill follows the sheet "
-                            "(their Fig. 4, on a B-spline).")
-    scene["energy"] = {"bend": 1, "normal_field": {"weight": 100, "degree": [3, 3], "control_points": field}}
-    write("bspline_hole_guided.json", scene)
+    field = [[[r(c) for c in wave_normal(i / 3, j / 3)] for j in range(4)] for i in range(4)]
+    hole_variant("bspline_hole_guided.json",
+                 "Bicubic B-spline hole guided by the sheet's normals (lambda = 100)",
+                 "bspline_hole.json with Wu & Yang's normal-field term: N is a bicubic "
+                 "Bezier field of the cut sheet's normals, so the fill follows the sheet "
+                 "(their Fig. 4, on a B-spline).",
+                 {"bend": 1, "normal_field": {"weight": 100, "degree": [3, 3], "control_points": field}})
+
+
+def bspline_hole_sampled():
+    """bspline_hole with the sampled normal field (Wu & Yang eq. 5): the cut
+    sheet's exact unit normals at a 44 x 44 grid of the knot domain, lambda =
+    100 (their Fig. 4 on a B-spline, with the sheet's own normals)."""
+    g = 44
+    normals = [[[r(c) for c in unit(wave_normal(i / g, j / g))] for j in range(g + 1)]
+               for i in range(g + 1)]
+    hole_variant("bspline_hole_sampled.json",
+                 "Bicubic B-spline hole guided by the sheet's sampled normals (lambda = 100)",
+                 "bspline_hole.json with Wu & Yang's sampled normal-field term (eq. 5): the "
+                 "cut sheet's unit normals at 45 x 45 samples of the knot domain, so the "
+                 "fill follows the sheet (their Fig. 4, on a B-spline).",
+                 {"bend": 1, "normal_field": {"weight": 100},
+                  "sampling": {"grid": [g, g], "normal_samples": normals}})
 
 
 if __name__ == "__main__":
     bspline_hole()
     bspline_hole_guided()
+    bspline_hole_sampled()
     editor_degree10()
     tensor_operators()
     monterde_ugail()

@@ -5,9 +5,10 @@
 //! Field docs here become the descriptions in `fairsurf schema --type bspline`.
 
 use crate::tensor_scene::Net;
-use crate::validate::{check_weight, free_mask, normal_field_patch, parse_net};
+use crate::validate::{check_weight, free_mask, parse_net};
 use crate::{Error, Result};
 use fairsurf::bspline::{BSplineProblem, BSplineSolution, BSplineSurface, KnotVector};
+use fairsurf::energy::{NormalField, NormalGuide};
 use fairsurf::Vec3;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -171,9 +172,16 @@ pub struct BSplineEnergySpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bend: Option<f64>,
     /// The normal-field term: a Bézier field N over the knot domain mapped
-    /// onto [0, 1]² (`control_points` required; as in tensor scenes).
+    /// onto [0, 1]², integrated exactly, or with `sampling` the sampled sum
+    /// (Wu & Yang eq. 5); as in tensor scenes.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub normal_field: Option<crate::NormalFieldSpec>,
+    /// The sampled normal field: a grid over the knot domain mapped onto
+    /// [0, 1]², `normal_samples` (or N at the samples) and `normal_weights`,
+    /// as in tensor scenes (`guide_weights` are refused: the guide is
+    /// integrated exactly).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sampling: Option<crate::SamplingSpec>,
     /// The guide-surface term: S on the same knots.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub guide_surface: Option<BSplineGuideSpec>,
@@ -311,15 +319,36 @@ impl BSplineScene {
             .with_free(free)?
             .with_stretch(stretch)
             .with_bend(bend);
-        if let Some(f) = &e.normal_field {
-            check_weight("energy.normal_field.weight", f.weight)?;
-            let net = f.control_points.as_ref().ok_or_else(|| {
-                Error::scene(
-                    "energy.normal_field.control_points",
-                    "required: the Bézier field N over the knot domain",
-                )
-            })?;
-            problem = problem.with_normal_field(f.weight, normal_field_patch(net, f.degree)?);
+        if e.sampling
+            .as_ref()
+            .is_some_and(|s| s.guide_weights.is_some())
+        {
+            return Err(Error::scene(
+                "energy.sampling.guide_weights",
+                "B-spline scenes integrate the guide surface exactly; per-sample guide weights \
+                 are for tensor scenes",
+            ));
+        }
+        let grid = crate::validate::sample_grid(e.sampling.as_ref())?;
+        match crate::validate::normal_field_term(
+            e.normal_field.as_ref(),
+            e.sampling.as_ref(),
+            grid,
+        )? {
+            Some(NormalField {
+                weight,
+                guide: NormalGuide::Field(patch),
+            }) => problem = problem.with_normal_field(weight, patch),
+            Some(NormalField {
+                weight,
+                guide:
+                    NormalGuide::Samples {
+                        grid,
+                        normals,
+                        weights,
+                    },
+            }) => problem = problem.with_sampled_normals(weight, grid, normals, weights)?,
+            None => {}
         }
         if let Some(g) = &e.guide_surface {
             check_weight("energy.guide_surface.weight", g.weight)?;

@@ -236,20 +236,7 @@ impl TensorScene {
     fn add_terms(&self, pb: &mut Problem, built: &mut Built, given: &[Option<Vec3>]) -> Result<()> {
         let e: &EnergySpec = &self.energy;
         let [n, m] = self.tensor().degree;
-        let grid = match &e.sampling {
-            None => None,
-            Some(s) => {
-                for (k, d) in s.grid.into_iter().enumerate() {
-                    if d == 0 || d > MAX_GRID {
-                        return Err(Error::scene(
-                            format!("energy.sampling.grid[{k}]"),
-                            format!("expected 1 to {MAX_GRID}, got {d}"),
-                        ));
-                    }
-                }
-                Some(SampleGrid::new(s.grid[0], s.grid[1]))
-            }
-        };
+        let grid = sample_grid(e.sampling.as_ref())?;
         let measure = grid.map_or(Measure::Exact, Measure::Grid);
         let (mut stretch, mut bend) = (e.stretch, e.bend);
         if stretch.is_none() && bend.is_none() {
@@ -289,87 +276,14 @@ impl TensorScene {
         grid: Option<SampleGrid>,
         built: &mut Built,
     ) -> Result<Option<NormalField>> {
-        let e = &self.energy;
-        let sampling = e.sampling.as_ref();
-        let field = match &e.normal_field {
-            Some(f) => {
-                check_weight("energy.normal_field.weight", f.weight)?;
-                match &f.control_points {
-                    Some(cp) => Some((f.weight, Some(normal_field_patch(cp, f.degree)?))),
-                    None if sampling.is_some_and(|s| s.normal_samples.is_some()) => Some((f.weight, None)),
-                    None => {
-                        return Err(Error::scene(
-                            "energy.normal_field.control_points",
-                            "required (the Bézier field N), unless energy.sampling.normal_samples gives the normals",
-                        ))
-                    }
-                }
-            }
-            None if sampling.is_some_and(|s| s.normal_samples.is_some()) => Some((1.0, None)),
-            None => None,
-        };
-        if let (None, Some(s)) = (&field, sampling) {
-            if s.normal_weights.is_some() {
-                return Err(Error::scene(
-                    "energy.sampling.normal_weights",
-                    "needs energy.normal_field or energy.sampling.normal_samples",
-                ));
-            }
+        if let Some(g) = grid {
+            built.deviation_grid = g.size();
         }
-        let Some((weight, patch)) = field else {
-            return Ok(None);
-        };
-        let Some(g) = grid else {
-            let patch = patch.expect("without sampling the field has control points");
-            return Ok(Some(NormalField::new(weight, patch)));
-        };
-        let s = sampling.expect("grid comes from sampling");
-        let (np, mp) = g.size();
-        built.deviation_grid = (np, mp);
-        let normals: Vec<Vec3> = match &s.normal_samples {
-            Some(ns) => {
-                let pts = parse_net(ns, "energy.sampling.normal_samples", (np, mp), false)?;
-                pts.into_iter()
-                    .enumerate()
-                    .map(|(k, p)| {
-                        let p = p.expect("no null");
-                        if fairsurf::vector::norm(p) == 0.0 {
-                            return Err(Error::scene(
-                                format!(
-                                    "energy.sampling.normal_samples[{}][{}]",
-                                    k / (mp + 1),
-                                    k % (mp + 1)
-                                ),
-                                "is the zero vector and has no direction",
-                            ));
-                        }
-                        Ok(p)
-                    })
-                    .collect::<Result<_>>()?
-            }
-            None => {
-                let f = patch.expect("field given when samples are not");
-                (0..g.len())
-                    .map(|k| {
-                        let (u, v) = g.param(k);
-                        let p = f.eval(u, v);
-                        if fairsurf::vector::normalize(p).is_none() {
-                            return Err(Error::scene(
-                                "energy.normal_field.control_points",
-                                format!("N vanishes at sample (u, v) = ({u}, {v}), so it has no direction there"),
-                            ));
-                        }
-                        Ok(p)
-                    })
-                    .collect::<Result<_>>()?
-            }
-        };
-        let weights = parse_weights(
-            s.normal_weights.as_ref(),
-            "energy.sampling.normal_weights",
-            (np, mp),
-        )?;
-        Ok(Some(NormalField::sampled(weight, g, normals, weights)))
+        normal_field_term(
+            self.energy.normal_field.as_ref(),
+            self.energy.sampling.as_ref(),
+            grid,
+        )
     }
 
     fn guide_term(
@@ -653,4 +567,109 @@ pub(crate) fn free_mask(
         ));
     }
     Ok(free)
+}
+
+/// The sample grid of `energy.sampling`, each count 1 to [`MAX_GRID`].
+pub(crate) fn sample_grid(sampling: Option<&crate::SamplingSpec>) -> Result<Option<SampleGrid>> {
+    let Some(s) = sampling else {
+        return Ok(None);
+    };
+    for (k, d) in s.grid.into_iter().enumerate() {
+        if d == 0 || d > MAX_GRID {
+            return Err(Error::scene(
+                format!("energy.sampling.grid[{k}]"),
+                format!("expected 1 to {MAX_GRID}, got {d}"),
+            ));
+        }
+    }
+    Ok(Some(SampleGrid::new(s.grid[0], s.grid[1])))
+}
+
+/// The normal-field term of `energy.normal_field` and `energy.sampling`
+/// (the same rules for every surface kind): a Bézier field, integrated
+/// exactly without sampling; with sampling, its normals at the samples or
+/// `normal_samples`, and `normal_weights`. Errors name the JSON path.
+pub(crate) fn normal_field_term(
+    normal_field: Option<&crate::NormalFieldSpec>,
+    sampling: Option<&crate::SamplingSpec>,
+    grid: Option<SampleGrid>,
+) -> Result<Option<NormalField>> {
+    let field = match normal_field {
+        Some(f) => {
+            check_weight("energy.normal_field.weight", f.weight)?;
+            match &f.control_points {
+                Some(cp) => Some((f.weight, Some(normal_field_patch(cp, f.degree)?))),
+                None if sampling.is_some_and(|s| s.normal_samples.is_some()) => Some((f.weight, None)),
+                None => {
+                    return Err(Error::scene(
+                        "energy.normal_field.control_points",
+                        "required (the Bézier field N), unless energy.sampling.normal_samples gives the normals",
+                    ))
+                }
+            }
+        }
+        None if sampling.is_some_and(|s| s.normal_samples.is_some()) => Some((1.0, None)),
+        None => None,
+    };
+    if let (None, Some(s)) = (&field, sampling) {
+        if s.normal_weights.is_some() {
+            return Err(Error::scene(
+                "energy.sampling.normal_weights",
+                "needs energy.normal_field or energy.sampling.normal_samples",
+            ));
+        }
+    }
+    let Some((weight, patch)) = field else {
+        return Ok(None);
+    };
+    let Some(g) = grid else {
+        let patch = patch.expect("without sampling the field has control points");
+        return Ok(Some(NormalField::new(weight, patch)));
+    };
+    let s = sampling.expect("grid comes from sampling");
+    let (np, mp) = g.size();
+    let normals: Vec<Vec3> = match &s.normal_samples {
+        Some(ns) => {
+            let pts = parse_net(ns, "energy.sampling.normal_samples", (np, mp), false)?;
+            pts.into_iter()
+                .enumerate()
+                .map(|(k, p)| {
+                    let p = p.expect("no null");
+                    if fairsurf::vector::norm(p) == 0.0 {
+                        return Err(Error::scene(
+                            format!(
+                                "energy.sampling.normal_samples[{}][{}]",
+                                k / (mp + 1),
+                                k % (mp + 1)
+                            ),
+                            "is the zero vector and has no direction",
+                        ));
+                    }
+                    Ok(p)
+                })
+                .collect::<Result<_>>()?
+        }
+        None => {
+            let f = patch.expect("field given when samples are not");
+            (0..g.len())
+                .map(|k| {
+                    let (u, v) = g.param(k);
+                    let p = f.eval(u, v);
+                    if fairsurf::vector::normalize(p).is_none() {
+                        return Err(Error::scene(
+                            "energy.normal_field.control_points",
+                            format!("N vanishes at sample (u, v) = ({u}, {v}), so it has no direction there"),
+                        ));
+                    }
+                    Ok(p)
+                })
+                .collect::<Result<_>>()?
+        }
+    };
+    let weights = parse_weights(
+        s.normal_weights.as_ref(),
+        "energy.sampling.normal_weights",
+        (np, mp),
+    )?;
+    Ok(Some(NormalField::sampled(weight, g, normals, weights)))
 }

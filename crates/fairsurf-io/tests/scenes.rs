@@ -578,6 +578,82 @@ fn elevated_bspline_scenes_keep_the_rings_and_lower_the_minimum() {
     }
 }
 
+/// Wu & Yang's sampled normal field on a B-spline (eq. 5): the sheet's own
+/// unit normals at 45 × 45 samples pull the 14 × 14 bicubic fill onto the
+/// sheet it was cut from (largest vertical distance 0.264 for the thin plate
+/// alone, 0.034 with the samples); errors name the sampling's paths.
+#[test]
+fn sampled_normals_pull_a_bspline_fill_onto_its_sheet() {
+    use fairsurf_io::BSplineScene;
+    let wave = |x: f64, y: f64| {
+        use std::f64::consts::PI;
+        0.2 * (2.5 * PI * x).sin() * (1.5 * PI * y).cos() + 0.3 * x * y
+    };
+    let distance = |name: &str| {
+        let text = std::fs::read_to_string(examples().join(name)).unwrap();
+        let solved = BSplineScene::from_json(&text).unwrap().solve().unwrap();
+        let s = solved.surface();
+        let mut worst: f64 = 0.0;
+        for i in 0..=100 {
+            for j in 0..=100 {
+                let p = s.eval(i as f64 / 100.0, j as f64 / 100.0);
+                worst = worst.max((p[2] - wave(p[0] / 2.0, p[1] / 2.0)).abs());
+            }
+        }
+        worst
+    };
+    let (plain, sampled) = (
+        distance("bspline_hole.json"),
+        distance("bspline_hole_sampled.json"),
+    );
+    assert!(
+        plain > 0.2 && sampled < 0.05,
+        "thin plate {plain}, sampled {sampled}"
+    );
+    let text = std::fs::read_to_string(examples().join("bspline_hole_sampled.json")).unwrap();
+    let base: Value = serde_json::from_str(&text).unwrap();
+    for (change, path, msg) in [
+        (
+            json!({"guide_weights": 1.0}),
+            "energy.sampling.guide_weights",
+            "tensor scenes",
+        ),
+        (
+            json!({"grid": [44, 0]}),
+            "energy.sampling.grid[1]",
+            "expected 1 to",
+        ),
+        (
+            json!({"grid": [43, 44]}),
+            "energy.sampling.normal_samples",
+            "",
+        ),
+    ] {
+        let mut v = base.clone();
+        for (k, x) in change.as_object().unwrap() {
+            v["energy"]["sampling"][k] = x.clone();
+        }
+        match BSplineScene::from_json(&v.to_string()).unwrap().solve() {
+            Err(Error::Scene { path: p, message }) => {
+                assert!(
+                    p.starts_with(path) && message.contains(msg),
+                    "{p}: {message}"
+                )
+            }
+            other => panic!("{change}: {other:?}"),
+        }
+    }
+    let mut v = base.clone();
+    v["energy"]["sampling"]
+        .as_object_mut()
+        .unwrap()
+        .remove("normal_samples");
+    match BSplineScene::from_json(&v.to_string()).unwrap().solve() {
+        Err(Error::Scene { path, .. }) => assert_eq!(path, "energy.normal_field.control_points"),
+        other => panic!("{other:?}"),
+    }
+}
+
 #[test]
 fn infinite_numbers_are_rejected() {
     // JSON has no NaN or ∞ literal; an overflowing literal is the way to write one.

@@ -6,18 +6,30 @@
 //! The normal-field integrand is a polynomial on every span of degree
 //! 2(p + n₁) in u (2(q + m₁) in v), so the (p + n₁ + 1) × (q + m₁ + 1)
 //! Gauss–Legendre rule per span is exact for its Hessian and its value.
+//!
+//! The sampled variant (Wu & Yang eq. 5) sums over a uniform grid of
+//! samples (u_i, v_j) = (i/np, j/mp) of the domain mapped onto [0, 1]²:
+//! ½λ Σ λ_ij ((R_ũ·N_ij)² + (R_ṽ·N_ij)²) with unit normals N_ij and the
+//! derivatives with respect to the mapped parameters ũ, ṽ, so that a
+//! B-spline without interior knots on [0, 1] has the tensor scene's energy.
 
 use super::energy::Gram1d;
 use super::{BSplineSurface, BezierPiece};
 use crate::basis::GaussLegendre;
+use crate::energy::NormalGuide;
 use crate::{TensorPatch, Vec3};
 
-/// The normal-field term: λ and the field N.
+/// The normal-field term: λ and the guide, a Bézier field N or unit normals
+/// at grid samples (normalized when the term is made).
 #[derive(Clone, Debug)]
 pub(crate) struct NormalTerm {
     pub weight: f64,
-    pub field: TensorPatch,
+    pub guide: NormalGuide,
 }
+
+/// A sample of the sampled term: knot-domain (u, v), λ·λ_k and the unit
+/// normal N_k.
+type Sample = (f64, f64, f64, Vec3);
 
 /// One Gauss node of a span: its weight (with the span's area), the
 /// field there, and the basis functions' first derivatives (local index
@@ -30,8 +42,12 @@ pub(crate) struct Node {
 }
 
 impl NormalTerm {
-    fn rule(&self, surface: &BSplineSurface, extra: usize) -> (GaussLegendre, GaussLegendre) {
-        let ((p, q), (n1, m1)) = (surface.degree(), self.field.degree());
+    fn rule(
+        field: &TensorPatch,
+        surface: &BSplineSurface,
+        extra: usize,
+    ) -> (GaussLegendre, GaussLegendre) {
+        let ((p, q), (n1, m1)) = (surface.degree(), field.degree());
         (
             GaussLegendre::new(p + n1 + 1 + extra),
             GaussLegendre::new(q + m1 + 1 + extra),
@@ -39,15 +55,43 @@ impl NormalTerm {
     }
 
     /// N at the surface's parameters (u, v).
-    fn field_at(&self, surface: &BSplineSurface, u: f64, v: f64) -> Vec3 {
+    fn field_at(field: &TensorPatch, surface: &BSplineSurface, u: f64, v: f64) -> Vec3 {
         let ((a, b), (c, d)) = (surface.knots().0.domain(), surface.knots().1.domain());
-        self.field.eval((u - a) / (b - a), (v - c) / (d - c))
+        field.eval((u - a) / (b - a), (v - c) / (d - c))
     }
 
-    /// Every span (ku, kv) with its Gauss nodes, for the Hessian.
+    /// The samples as (knot-domain u, v, λ·λ_k, N_k), with the domain's
+    /// extents (b − a, d − c) that turn ∂/∂u into ∂/∂ũ.
+    fn samples(&self, surface: &BSplineSurface) -> Option<(Vec<Sample>, (f64, f64))> {
+        let NormalGuide::Samples {
+            grid,
+            normals,
+            weights,
+        } = &self.guide
+        else {
+            return None;
+        };
+        let ((a, b), (c, d)) = (surface.knots().0.domain(), surface.knots().1.domain());
+        let out = (0..grid.len())
+            .map(|k| {
+                let (su, sv) = grid.param(k);
+                let w = self.weight * weights.as_ref().map_or(1.0, |w| w[k]);
+                (a + (b - a) * su, c + (d - c) * sv, w, normals[k])
+            })
+            .collect();
+        Some((out, (b - a, d - c)))
+    }
+
+    /// Every span (ku, kv) with its nodes, for the Hessian: Gauss nodes of
+    /// a field, or the samples in it (a sample on a knot line counts once,
+    /// in the span `KnotVector::span` gives).
     pub(crate) fn spans(&self, surface: &BSplineSurface) -> Vec<((usize, usize), Vec<Node>)> {
+        let field = match &self.guide {
+            NormalGuide::Field(f) => f,
+            NormalGuide::Samples { .. } => return self.sample_spans(surface),
+        };
         let (ku, kv) = surface.knots();
-        let (gu, gv) = self.rule(surface, 0);
+        let (gu, gv) = Self::rule(field, surface, 0);
         let (p, q) = surface.degree();
         let mut out = Vec::new();
         for &(su, u0, u1) in &ku.spans() {
@@ -68,7 +112,7 @@ impl NormalTerm {
                         }
                         nodes.push(Node {
                             weight: self.weight * wx * wy * (u1 - u0) * (v1 - v0),
-                            n: self.field_at(surface, u, v),
+                            n: Self::field_at(field, surface, u, v),
                             du,
                             dv,
                         });
@@ -80,9 +124,51 @@ impl NormalTerm {
         out
     }
 
-    /// ½λ∫∫ (R_u·N)² + (R_v·N)², from de Boor derivatives at the nodes.
+    /// The samples grouped by span, with the basis derivatives with
+    /// respect to the mapped parameters.
+    fn sample_spans(&self, surface: &BSplineSurface) -> Vec<((usize, usize), Vec<Node>)> {
+        let (samples, (su, sv)) = self.samples(surface).expect("a sampled guide");
+        let (ku, kv) = surface.knots();
+        let (p, q) = surface.degree();
+        let mut by_span: std::collections::BTreeMap<(usize, usize), Vec<Node>> =
+            std::collections::BTreeMap::new();
+        for (u, v, w, n) in samples {
+            let (k, l) = (ku.span(u), kv.span(v));
+            let (bu, bv) = (ku.basis_derivatives(k, u, 1), kv.basis_derivatives(l, v, 1));
+            let (mut du, mut dv) = (Vec::new(), Vec::new());
+            for i in 0..=p {
+                for j in 0..=q {
+                    du.push(su * bu[1][i] * bv[0][j]);
+                    dv.push(sv * bu[0][i] * bv[1][j]);
+                }
+            }
+            by_span.entry((k, l)).or_default().push(Node {
+                weight: w,
+                n,
+                du,
+                dv,
+            });
+        }
+        by_span.into_iter().collect()
+    }
+
+    /// ½λ∫∫ (R_u·N)² + (R_v·N)², from de Boor derivatives at the nodes (or
+    /// the sampled sum).
     pub(crate) fn value(&self, surface: &BSplineSurface) -> f64 {
-        let (gu, gv) = self.rule(surface, 0);
+        if let Some((samples, (su, sv))) = self.samples(surface) {
+            let total: f64 = samples
+                .iter()
+                .map(|&(u, v, w, n)| {
+                    let d = surface.derivatives(u, v);
+                    w * (dot(scale(d.du, su), n).powi(2) + dot(scale(d.dv, sv), n).powi(2))
+                })
+                .sum();
+            return 0.5 * total;
+        }
+        let NormalGuide::Field(field) = &self.guide else {
+            unreachable!("a field when not sampled")
+        };
+        let (gu, gv) = Self::rule(field, surface, 0);
         let (ku, kv) = surface.knots();
         let mut total = 0.0;
         for &(_, u0, u1) in &ku.spans() {
@@ -91,7 +177,7 @@ impl NormalTerm {
                     for (&y, &wy) in gv.nodes.iter().zip(&gv.weights) {
                         let (u, v) = (u0 + (u1 - u0) * x, v0 + (v1 - v0) * y);
                         let d = surface.derivatives(u, v);
-                        let n = self.field_at(surface, u, v);
+                        let n = Self::field_at(field, surface, u, v);
                         let w = wx * wy * (u1 - u0) * (v1 - v0);
                         total += w * (dot(d.du, n).powi(2) + dot(d.dv, n).powi(2));
                     }
@@ -104,7 +190,37 @@ impl NormalTerm {
     /// The same by another road: one more node each way, from the Bézier
     /// pieces' derivatives.
     pub(crate) fn value_by_pieces(&self, surface: &BSplineSurface, pieces: &[BezierPiece]) -> f64 {
-        let (gu, gv) = self.rule(surface, 1);
+        if let Some((samples, (su, sv))) = self.samples(surface) {
+            // Each sample in the piece whose rectangle holds it (the one
+            // KnotVector::span names), by the piece's Bernstein derivatives.
+            let (ku, kv) = surface.knots();
+            let (spans_u, spans_v) = (ku.spans(), kv.spans());
+            let total: f64 = samples
+                .iter()
+                .map(|&(u, v, w, n)| {
+                    let a = spans_u
+                        .iter()
+                        .position(|s| s.0 == ku.span(u))
+                        .expect("a span");
+                    let b = spans_v
+                        .iter()
+                        .position(|s| s.0 == kv.span(v))
+                        .expect("a span");
+                    let piece = &pieces[a * spans_v.len() + b];
+                    let (hu, hv) = (piece.u.1 - piece.u.0, piece.v.1 - piece.v.0);
+                    let d = piece
+                        .patch
+                        .derivatives((u - piece.u.0) / hu, (v - piece.v.0) / hv);
+                    let (ru, rv) = (scale(d.du, su / hu), scale(d.dv, sv / hv));
+                    w * (dot(ru, n).powi(2) + dot(rv, n).powi(2))
+                })
+                .sum();
+            return 0.5 * total;
+        }
+        let NormalGuide::Field(field) = &self.guide else {
+            unreachable!("a field when not sampled")
+        };
+        let (gu, gv) = Self::rule(field, surface, 1);
         let mut total = 0.0;
         for piece in pieces {
             let (hu, hv) = (piece.u.1 - piece.u.0, piece.v.1 - piece.v.0);
@@ -112,7 +228,7 @@ impl NormalTerm {
             for (a, (&x, &wx)) in gu.nodes.iter().zip(&gu.weights).enumerate() {
                 for (b, (&y, &wy)) in gv.nodes.iter().zip(&gv.weights).enumerate() {
                     let g = &d[a * gv.nodes.len() + b];
-                    let n = self.field_at(surface, piece.u.0 + hu * x, piece.v.0 + hv * y);
+                    let n = Self::field_at(field, surface, piece.u.0 + hu * x, piece.v.0 + hv * y);
                     let (ru, rv) = (scale(g.du, 1.0 / hu), scale(g.dv, 1.0 / hv));
                     total += wx * wy * hu * hv * (dot(ru, n).powi(2) + dot(rv, n).powi(2));
                 }

@@ -13,7 +13,7 @@ use super::energy::{energy_by_pieces, energy_by_quadrature, patterns, Gram1d};
 use super::guidance::{guide_value, guide_value_by_pieces, NormalTerm};
 use super::BSplineSurface;
 use crate::check;
-use crate::energy::check_weight;
+use crate::energy::{check_weight, NormalGuide};
 use crate::solve::dense::dot2_residual;
 use crate::solve::kkt::{hager, sparse_llt, LltFailure};
 use crate::{Error, Result, TensorPatch, Timings, Vec3};
@@ -166,8 +166,56 @@ impl BSplineProblem {
     /// and N the Bézier field `field` over the knot domain mapped onto
     /// [0, 1]² (Wu & Yang eq. 1–2; N as given, not normalized).
     pub fn with_normal_field(mut self, weight: f64, field: TensorPatch) -> Self {
-        self.normal = Some(NormalTerm { weight, field });
+        self.normal = Some(NormalTerm {
+            weight,
+            guide: NormalGuide::Field(field),
+        });
         self
+    }
+
+    /// The sampled normal-field term (Wu & Yang eq. 5),
+    /// ½λ Σ λ_k ((R_ũ·N_k)² + (R_ṽ·N_k)²), over the grid's samples of the
+    /// knot domain mapped onto [0, 1]², with the derivatives with respect to the mapped parameters
+    /// (a B-spline without interior knots on [0, 1] gets the tensor scene's
+    /// energy). The normals are normalized; a zero, non-finite or missing
+    /// one, or a weight list of the wrong length or with a negative entry, is
+    /// an error.
+    pub fn with_sampled_normals(
+        mut self,
+        weight: f64,
+        grid: crate::energy::SampleGrid,
+        normals: Vec<Vec3>,
+        weights: Option<Vec<f64>>,
+    ) -> Result<Self> {
+        check_weight("normal field weight", weight)?;
+        grid.check_len("normal_field samples", normals.len())?;
+        if let Some(w) = &weights {
+            grid.check_len("normal_field sample weights", w.len())?;
+            crate::energy::check_weights("normal_field sample weight", w)?;
+        }
+        let normals = normals
+            .into_iter()
+            .enumerate()
+            .map(|(k, n)| {
+                if !crate::vec3::is_finite(n) {
+                    return Err(Error::NotFinite {
+                        what: format!("normal sample {k}"),
+                    });
+                }
+                crate::vec3::normalize(n).ok_or(Error::ZeroNormal {
+                    what: format!("normal sample {k}"),
+                })
+            })
+            .collect::<Result<Vec<_>>>()?;
+        self.normal = Some(NormalTerm {
+            weight,
+            guide: NormalGuide::Samples {
+                grid,
+                normals,
+                weights,
+            },
+        });
+        Ok(self)
     }
 
     /// The guide term ½γ∫∫ |R − S|² with γ = `weight` ≥ 0 and S the net
