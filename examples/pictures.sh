@@ -21,6 +21,10 @@ r examples/wu_yang_fig4_l0.json examples/wu_yang_fig4_l500.json \
 r examples/wu_yang_fig5_l5.json examples/wu_yang_fig5_l500.json examples/wu_yang_fig5_thin_plate.json \
   -o "$out/wu_yang_fig5_zebra.png" --size 1500x480 --colour none --zebra 24
 
+# Wu & Yang Fig. 4 on a bicubic B-spline: thin plate, Bézier field, sampled normals.
+r examples/bspline_hole.json examples/bspline_hole_guided.json examples/bspline_hole_sampled.json \
+  -o "$out/bspline_holes.png" --size 1500x480 --colour none --zebra 24
+
 # Monterde & Ugail 2004: the four surfaces of Table 1 with |H| on [0, 1] (their Fig. 8–9).
 r --compare examples/monterde_ugail_model.json -o "$out/monterde_ugail_table1.png" \
   --range 0,1 --size 1600x460
