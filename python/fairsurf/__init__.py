@@ -23,6 +23,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 import warnings
 from pathlib import Path
 from typing import Any, Dict, List, Mapping, NamedTuple, Optional, Sequence, Tuple, Union
@@ -110,6 +111,34 @@ def _scene_text(scene: SceneLike) -> str:
     raise TypeError(
         f"a scene is a path, JSON text or a dict, not {type(scene).__name__}"
     )
+
+
+_POSITION = re.compile(r" at line \d+ column \d+")
+
+
+def _located(err: BaseException, scene: SceneLike) -> BaseException:
+    """A scene error told where the user can look: a file's name in front,
+    and for a dict no line and column of the JSON text made from it."""
+    if not isinstance(err, SceneError) or not err.args:
+        return err
+    message = str(err.args[0])
+    if isinstance(scene, Mapping):
+        message = _POSITION.sub("", message)
+    elif isinstance(scene, os.PathLike) or (
+        isinstance(scene, str) and not scene.lstrip().startswith("{")
+    ):
+        message = f"{os.fspath(scene)}: {message}"
+    err.args = (message,) + tuple(err.args[1:])
+    return err
+
+
+def _call(fn: Any, scene: SceneLike, *args: Any) -> Any:
+    """fn(the scene's text, *args), its SceneError located."""
+    text = _scene_text(scene)
+    try:
+        return fn(text, *args)
+    except SceneError as e:
+        raise _located(e, scene) from None
 
 
 class Curvatures(NamedTuple):
@@ -309,7 +338,7 @@ def solve(scene: SceneLike, max_memory_gb: float = 8.0) -> Result:
     may be). Raises :class:`SceneError` naming the JSON path of a bad value,
     :class:`SolveError` / :class:`UnverifiedError` when the solver refuses
     (also when the solve's estimated memory exceeds ``max_memory_gb``)."""
-    return Result._of(_fairsurf.solve(_scene_text(scene), max_memory_gb))
+    return Result._of(_call(_fairsurf.solve, scene, max_memory_gb))
 
 
 def solve_many(
@@ -337,6 +366,7 @@ def solve_many(
     for k in range(len(scenes)):
         r = failed[k] if k in failed else next(solved)
         if isinstance(r, BaseException):
+            r = _located(r, scenes[k])
             if not return_exceptions:
                 raise r
             results.append(r)
@@ -348,20 +378,20 @@ def solve_many(
 def load(scene: SceneLike) -> Surface:
     """The surface a scene gives as it is, without solving: a result file,
     or a scene whose control points are all given."""
-    return Surface(_fairsurf.load(_scene_text(scene)))
+    return Surface(_call(_fairsurf.load, scene))
 
 
 def analyse(scene: SceneLike) -> Dict[str, Any]:
     """Measures of the surface a scene gives (area, functionals, curvature,
     normal turn…), as ``fairsurf analyse --json`` prints them."""
-    return json.loads(_fairsurf.analyse(_scene_text(scene)))
+    return json.loads(_call(_fairsurf.analyse, scene))
 
 
 def compare(scene: SceneLike) -> Dict[str, Any]:
     """Monterde & Ugail's comparison for a tensor scene's boundary: the
     harmonic and biharmonic surfaces and the two masks with their area,
     functionals and curvature (``fairsurf compare --json``)."""
-    return json.loads(_fairsurf.compare(_scene_text(scene)))
+    return json.loads(_call(_fairsurf.compare, scene))
 
 
 def schema(kind: str = "tensor") -> Dict[str, Any]:

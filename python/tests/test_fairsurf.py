@@ -147,6 +147,12 @@ def test_errors_are_exceptions_that_name_the_json_path(tmp_path: Path) -> None:
     with pytest.raises(fairsurf.SceneError) as e:
         fairsurf.solve(data)
     assert e.value.path == "surface.degree[1]" and str(e.value).startswith("surface.degree[1]:")
+    assert " line " not in str(e.value)  # no position in JSON text the user never saw
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(data))
+    with pytest.raises(fairsurf.SceneError) as e:
+        fairsurf.solve(bad)
+    assert str(e.value).startswith(f"{bad}: surface.degree[1]:") and " line 1 " in str(e.value)
     assert isinstance(e.value, ValueError) and isinstance(e.value, fairsurf.FairsurfError)
 
     with pytest.raises(fairsurf.SceneError) as e:

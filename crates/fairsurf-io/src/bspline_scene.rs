@@ -73,6 +73,17 @@ pub struct RefineSpec {
     pub split: Option<[usize; 2]>,
 }
 
+impl RefineSpec {
+    /// Whether it changes nothing (no elevation, no knots, no split into
+    /// more than one part): then `fixed_rings` is not needed.
+    pub fn is_noop(&self) -> bool {
+        self.elevate.is_none_or(|e| e == [0, 0])
+            && self.u.is_empty()
+            && self.v.is_empty()
+            && self.split.is_none_or(|s| s == [1, 1])
+    }
+}
+
 /// The surface refined as `r` says (elevated, then knots inserted, then
 /// spans split); errors name `refine.elevate[k]`, `refine.u[i]`,
 /// `refine.v[i]` or `refine.split[k]`.
@@ -286,7 +297,7 @@ impl BSplineScene {
         let points = given.iter().map(|p| p.unwrap_or([0.0; 3])).collect();
         let mut surface = BSplineSurface::new(u, v, points)?;
         let mut given = given;
-        if let Some(r) = &self.refine {
+        if let Some(r) = self.refine.as_ref().filter(|r| !r.is_noop()) {
             // Knot insertion mixes neighbouring points of a row; the outer
             // rings of the refined net come from the given rings alone, so
             // `fixed_rings` says which refined points are free.

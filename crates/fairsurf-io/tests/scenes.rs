@@ -506,6 +506,14 @@ fn refined_bspline_scenes_lower_the_minimum_and_write_the_refined_net() {
             other => panic!("{other:?}"),
         }
     }
+    // A refinement that changes nothing does not need fixed_rings.
+    let mut v = base.clone();
+    v.as_object_mut().unwrap().remove("fixed_rings");
+    v["refine"] = json!({"elevate": [0, 0], "split": [1, 1]});
+    assert!(BSplineScene::from_json(&v.to_string())
+        .unwrap()
+        .solve()
+        .is_ok());
     let mut v = base.clone();
     v.as_object_mut().unwrap().remove("fixed_rings");
     v["refine"] = json!({"split": [2, 2]});
