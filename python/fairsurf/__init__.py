@@ -187,6 +187,22 @@ class Surface:
         n, m = self.degree
         return f"<fairsurf.Surface {self.surface_type} degree {n}×{m}>"
 
+    def __reduce__(self) -> Any:
+        # A tensor or B-spline surface pickles as the scene that gives it
+        # (floats round-trip exactly); a triangular one travels in its Result.
+        if self.surface_type == "triangular":
+            raise TypeError(
+                "a triangular Surface does not pickle on its own; pickle the Result it came from"
+            )
+        surface: Dict[str, Any] = {
+            "type": self.surface_type,
+            "degree": list(self.degree),
+            "control_points": self.control_points.tolist(),
+        }
+        if self.knots is not None:
+            surface["knots"] = [k.tolist() for k in self.knots]
+        return (_surface_from_text, (json.dumps({"surface": surface}),))
+
     @property
     def surface_type(self) -> str:
         """``"tensor"``, ``"triangular"`` or ``"bspline"``."""
@@ -325,6 +341,11 @@ class Result(Surface):
     def write(self, path: Union[str, "os.PathLike[str]"]) -> None:
         """Writes the result file (atomically: nothing is left on an error)."""
         _fairsurf.write_text(os.fspath(path), self._text)
+
+
+def _surface_from_text(text: str) -> Surface:
+    """A surface again from the scene text it pickled as."""
+    return Surface(_fairsurf.load(text))
 
 
 def _result_from_text(text: str, report_json: str) -> Result:

@@ -26,6 +26,14 @@ def test_results_pickle_exactly(scene: str, tmp_path: Path) -> None:
     assert back.report == r.report and back.to_json() == r.to_json()
     back.write(tmp_path / "r.json")
     assert json.loads((tmp_path / "r.json").read_text()) == json.loads(r.to_json())
+    if r.surface_type == "triangular":
+        with pytest.raises(TypeError, match="pickle the Result"):
+            pickle.dumps(r.surface)
+    else:
+        alone = pickle.loads(pickle.dumps(r.surface))
+        assert type(alone) is fairsurf.Surface and alone.degree == r.degree
+        np.testing.assert_array_equal(alone.control_points, r.control_points)
+        np.testing.assert_array_equal(alone.evaluate(0.3, 0.7), r.evaluate(0.3, 0.7))
     e = pickle.loads(pickle.dumps(_scene_error()))
     assert isinstance(e, fairsurf.SceneError) and e.path == "surface.type"
 
