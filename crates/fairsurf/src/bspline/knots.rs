@@ -280,12 +280,19 @@ impl KnotVector {
         // The Bézier pieces, degree p: rows p·s + j of E · coefficients.
         let (_, e) = self.extraction();
         let spans = (e.len() - 1) / p;
-        let bez = |r: usize, d: usize| -> f64 {
-            e[r].iter()
-                .enumerate()
-                .map(|(k, w)| w * coefficients[k * dim + d])
-                .sum()
-        };
+        // E · coefficients once: row r, number d at r·dim + d.
+        let bez_rows: Vec<f64> = e
+            .iter()
+            .flat_map(|row| {
+                (0..dim).map(move |d| {
+                    row.iter()
+                        .enumerate()
+                        .map(|(k, w)| w * coefficients[k * dim + d])
+                        .sum::<f64>()
+                })
+            })
+            .collect();
+        let bez = |r: usize, d: usize| bez_rows[r * dim + d];
         let pieces = (p + 1) * spans + 1;
         let mut rhs = faer::Mat::<f64>::zeros(pieces, dim);
         for s in 0..spans {

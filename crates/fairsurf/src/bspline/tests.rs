@@ -46,6 +46,15 @@ fn dist(a: Vec3, b: Vec3) -> f64 {
     (0..3).map(|c| (a[c] - b[c]).abs()).fold(0.0, f64::max)
 }
 
+/// The thin plate with two rings fixed, solved.
+fn ring_thin_plate(s: BSplineSurface) -> BSplineSolution {
+    BSplineProblem::new(s)
+        .with_fixed_rings(2)
+        .with_bend(1.0)
+        .solve()
+        .unwrap()
+}
+
 /// The largest coordinate difference between two nets.
 fn net_gap(a: &[Vec3], b: &[Vec3]) -> f64 {
     a.iter()
@@ -308,11 +317,7 @@ fn two_fixed_rings_of_a_biharmonic_polynomial_give_it_back_at_any_knots() {
 #[test]
 fn refinement_never_raises_the_minimum_and_lowers_it_for_a_general_boundary() {
     let s = wavy(KnotVector::uniform(3, 3), KnotVector::uniform(3, 3));
-    let coarse = BSplineProblem::new(s)
-        .with_fixed_rings(2)
-        .with_bend(1.0)
-        .solve()
-        .unwrap();
+    let coarse = ring_thin_plate(s);
     let refined_start = coarse
         .surface
         .refined(&[0.25, 0.5, 0.75], &[0.2, 0.6])
@@ -322,11 +327,7 @@ fn refinement_never_raises_the_minimum_and_lowers_it_for_a_general_boundary() {
     assert!(
         (refined_start.biharmonic() - coarse.report.energy).abs() < 1e-11 * coarse.report.energy
     );
-    let fine = BSplineProblem::new(refined_start)
-        .with_fixed_rings(2)
-        .with_bend(1.0)
-        .solve()
-        .unwrap();
+    let fine = ring_thin_plate(refined_start);
     let (e0, e1) = (coarse.report.energy, fine.report.energy);
     assert!(e1 < e0 * (1.0 - 1e-6), "coarse {e0}, refined {e1}");
     // Minimal under perturbation of any free point.
@@ -514,18 +515,10 @@ fn degree_elevation_keeps_the_surface_and_enlarges_the_space() {
     }
     // Nested spaces: the coarse minimizer elevated is feasible, and the
     // elevated problem's minimum lies strictly below it.
-    let coarse = BSplineProblem::new(wavy(KnotVector::uniform(3, 2), KnotVector::uniform(3, 2)))
-        .with_fixed_rings(2)
-        .with_bend(1.0)
-        .solve()
-        .unwrap();
+    let coarse = ring_thin_plate(wavy(KnotVector::uniform(3, 2), KnotVector::uniform(3, 2)));
     let start = coarse.surface.elevated(1, 1).unwrap();
     assert!((start.biharmonic() - coarse.report.energy).abs() < 1e-11 * coarse.report.energy);
-    let fine = BSplineProblem::new(start)
-        .with_fixed_rings(2)
-        .with_bend(1.0)
-        .solve()
-        .unwrap();
+    let fine = ring_thin_plate(start);
     let (e0, e1) = (coarse.report.energy, fine.report.energy);
     assert!(e1 < e0 * (1.0 - 1e-6), "bicubic {e0}, biquartic {e1}");
 }
