@@ -195,6 +195,12 @@ pub enum Error {
         /// The tolerance.
         tolerance: f64,
     },
+    /// A hole cannot be filled as asked (see [`crate::fill`]).
+    #[error("cannot fill the hole: {why}")]
+    Fill {
+        /// What is wrong, and where.
+        why: String,
+    },
 }
 
 /// `Result` with fairsurf's [`Error`].

@@ -50,6 +50,7 @@ pub mod budget;
 pub mod colour;
 pub mod constraint;
 pub mod energy;
+pub mod fill;
 pub mod harmonic;
 pub mod operator;
 pub mod triangle;

@@ -46,6 +46,12 @@ pub fn norm(a: Vec3) -> f64 {
     dot(a, a).sqrt()
 }
 
+/// |a − b|
+#[inline]
+pub fn dist(a: Vec3, b: Vec3) -> f64 {
+    norm(sub(a, b))
+}
+
 /// a / |a|, or `None` when a is zero or not finite. Any finite nonzero
 /// vector has a direction, also when |a|² would overflow or underflow
 /// (e.g. (−0.6, 1e300, 1)): then it is scaled by its largest coordinate

@@ -195,6 +195,45 @@ impl BSplineSurface {
         Ok(self.transposed().insert_knot_u(t)?.transposed())
     }
 
+    /// The surface cut at u = t (inside the domain) into the parts over
+    /// [u_min, t] and [t, u_max], each clamped: t inserted up to
+    /// multiplicity p (exact), the rows split there.
+    pub fn split_u(&self, t: f64) -> Result<(Self, Self)> {
+        let p = self.u.degree();
+        let (a, b) = self.u.domain();
+        if !(t > a && t < b) {
+            return Err(Error::Knots {
+                why: format!("cannot split at {t}: outside the open domain ({a}, {b})"),
+            });
+        }
+        let mut s = self.clone();
+        while s.u.multiplicity(t) < p {
+            s = s.insert_knot_u(t)?;
+        }
+        let k = s.u.knots();
+        let r = k.iter().position(|&x| x == t).expect("t was inserted");
+        let cv = s.v.count();
+        let mut left = k[..r + p].to_vec();
+        left.push(t);
+        let mut right = vec![t];
+        right.extend_from_slice(&k[r..]);
+        let lu = KnotVector::new(p, left)?;
+        let ru = KnotVector::new(p, right)?;
+        let (nl, nr) = (lu.count(), ru.count());
+        let lp = s.points[..nl * cv].to_vec();
+        let rp = s.points[(s.u.count() - nr) * cv..].to_vec();
+        Ok((
+            Self::new(lu, s.v.clone(), lp)?,
+            Self::new(ru, s.v.clone(), rp)?,
+        ))
+    }
+
+    /// The surface cut at v = t ([`BSplineSurface::split_u`] in v).
+    pub fn split_v(&self, t: f64) -> Result<(Self, Self)> {
+        let (a, b) = self.transposed().split_u(t)?;
+        Ok((a.transposed(), b.transposed()))
+    }
+
     /// u and v exchanged.
     pub fn transposed(&self) -> Self {
         let (cu, cv) = self.counts();

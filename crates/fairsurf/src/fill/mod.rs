@@ -1,0 +1,393 @@
+//! Filling a hole between neighbouring faces (Wu & Yang 2015, §5 and
+//! Fig. 4: "a hole with a set of surrounding patches"; the two outer rings
+//! of control points "are given in advance based on the border curves and
+//! the tangent planes at the borders").
+//!
+//! The neighbours are B-spline surfaces (a Bézier patch is one without
+//! interior knots). A hole is a closed loop of their free edges
+//! ([`find_holes`]); a 4-sided hole whose sides are whole boundaries of
+//! neighbours is filled by one B-spline patch ([`fill_hole`]):
+//!
+//! 1. **Boundary data, exactly.** Along each side, the neighbour's boundary
+//!    curve P(t) and its cross-boundary derivative D(t) (turned to point
+//!    into the hole) as B-splines of t ∈ [0, 1]; opposite sides brought to
+//!    one degree and one knot vector by degree elevation and knot
+//!    insertion, which do not change the curves.
+//! 2. **Two rings.** The fill's outer ring is P; its second ring is
+//!    P + (h/p)·α·D (h the first knot span, p the degree across), so the
+//!    fill's cross derivative is α·D: G¹ — with the same tangent plane —
+//!    along the whole side, exactly up to rounding. α > 0 is one number per
+//!    side, chosen so the corners agree (the fill's derivative along one
+//!    side at a corner is the cross derivative of the next); for neighbours
+//!    cut from one C¹ B-spline this reproduces the missing piece's rings
+//!    exactly. Where two sides prescribe the same control point (the 2 × 2
+//!    corner blocks) and disagree — neighbours that are not C¹ at a
+//!    corner, or incompatible twists — the position wins over the
+//!    derivative, twists are averaged, and the disagreement is reported.
+//! 3. **Fair inside.** The free points minimize the thin plate (Wu & Yang
+//!    eq. 2) guided by a normal field from the boundary data: the normals
+//!    of the bicubically blended Hermite–Coons patch of P and α·D, sampled
+//!    (Wu & Yang eq. 5) with weight λ per unit area (λ over the number of
+//!    samples each) — see [`FillOptions`].
+//! 4. **Measured.** Every side's gap and normal angle on the returned
+//!    surface against the neighbour, at 257 parameters clustered towards
+//!    the corners (Chebyshev–Lobatto), and W = ∫∫ κ₁² + κ₂² dA of the fill
+//!    ([`total_curvature`]).
+
+mod coons;
+mod holes;
+mod measure;
+mod strip;
+#[cfg(test)]
+mod tests;
+
+pub use holes::{edge_point, find_holes, surface_param, tolerance, Hole, Side};
+pub use measure::{side_fit, total_curvature, SideFit, TotalCurvature};
+
+use crate::bspline::{BSplineProblem, BSplineReport, BSplineSurface, KnotVector};
+use crate::energy::SampleGrid;
+use crate::vec3::{add, cross, dist, dot, scale};
+use crate::{Error, Result, Vec3};
+use std::time::Instant;
+use strip::{unify, Strip};
+
+/// λ of the default fill's normal field, per unit parameter area. On the
+/// test holes (a C¹ bi-quintic network, a bicubic B-spline sheet) W of the
+/// fill varied by 2e-4 over λ ∈ [0, 1e5] and elevations 0–4; 100 gave the
+/// lowest W on the B-spline sheet and stays below the cut-out piece's W on
+/// both.
+pub const DEFAULT_NORMAL_WEIGHT: f64 = 100.0;
+
+/// How to fill.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FillOptions {
+    /// Degrees added to the fill over its sides' largest degree (in u and
+    /// in v); more freedom for the same boundary data.
+    pub elevate: usize,
+    /// At least this many control points in u and in v (more elevation
+    /// when the sides have fewer), at least 5: two rings on each side and
+    /// one free row.
+    pub min_points: usize,
+    /// Membrane weight (Wu & Yang eq. 1); 0 by default.
+    pub stretch: f64,
+    /// Thin-plate weight (eq. 2); 1 by default.
+    pub bend: f64,
+    /// λ of the Hermite–Coons normal field per unit area; 0: the plain
+    /// thin plate.
+    pub normal_weight: f64,
+    /// Normal samples per control point and direction (the grid has
+    /// `samples · count` intervals each way).
+    pub samples: usize,
+}
+
+impl Default for FillOptions {
+    fn default() -> Self {
+        Self {
+            elevate: 2,
+            min_points: 8,
+            stretch: 0.0,
+            bend: 1.0,
+            normal_weight: DEFAULT_NORMAL_WEIGHT,
+            samples: 3,
+        }
+    }
+}
+
+/// Where two sides prescribe the same control point of a corner block and
+/// disagree (distances; 0 up to rounding for neighbours cut from one C¹
+/// surface).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CornerMismatch {
+    /// Between the two sides' corner points (the hole is not closed there).
+    pub position: f64,
+    /// Between a side's boundary point next to a corner and the next
+    /// side's derivative row there (the neighbours are not C¹ at the
+    /// corner; the fill is G¹ there only if this is 0).
+    pub tangent: f64,
+    /// Between the two sides' twist points (averaged in the fill).
+    pub twist: f64,
+}
+
+/// What a fill reports.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FillReport {
+    /// The solve's own report (energy, its check, gradient, timings).
+    pub solve: BSplineReport,
+    /// Per side, in the hole's order: gap and normal angle measured on the
+    /// returned surface against the neighbour.
+    pub sides: Vec<SideFit>,
+    /// The corner blocks' disagreements.
+    pub corners: CornerMismatch,
+    /// α per side (the fill's cross derivative over the neighbour's).
+    pub alpha: [f64; 4],
+    /// W = ∫∫ κ₁² + κ₂² dA of the fill.
+    pub curvature: TotalCurvature,
+    /// λ used (0: plain thin plate).
+    pub normal_weight: f64,
+    /// Seconds: boundary data and rings, solve, measurements.
+    pub seconds: FillSeconds,
+}
+
+/// Where a fill's time goes.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FillSeconds {
+    /// Boundary data, rings and the normal field.
+    pub setup: f64,
+    /// The solve, its check included.
+    pub solve: f64,
+    /// Side fits and W.
+    pub measure: f64,
+}
+
+/// A filled hole.
+#[derive(Clone, Debug)]
+pub struct Fill {
+    /// The fill, parameters on [0, 1]²; its v = 0, u = 1, v = 1, u = 0
+    /// boundaries are the hole's sides 0, 1, 2, 3 (sides 2 and 3
+    /// traversed backwards), and its normal R_u × R_v agrees with side 0's
+    /// neighbour.
+    pub surface: BSplineSurface,
+    /// The hole as filled (possibly traversed the other way than given, to
+    /// agree with the neighbours' orientation).
+    pub hole: Hole,
+    /// How good it is.
+    pub report: FillReport,
+}
+
+/// The fill's (u, v) at parameter t of its side k (t along the hole's
+/// traversal).
+pub fn fill_param(k: usize, t: f64) -> (f64, f64) {
+    match k {
+        0 => (t, 0.0),
+        1 => (1.0, t),
+        2 => (1.0 - t, 1.0),
+        _ => (0.0, 1.0 - t),
+    }
+}
+
+/// The four sides' boundary data in the fill's frame: the u-sides (0, 2)
+/// and v-sides (3, 1) as strips along increasing u resp. v, D pointing
+/// into the hole (not yet scaled by α).
+fn frame(faces: &[BSplineSurface], hole: &Hole) -> Result<[Strip; 4]> {
+    let strip = |k: usize| -> Result<Strip> {
+        let s = hole.sides[k];
+        let face = faces.get(s.face).ok_or_else(|| Error::Fill {
+            why: format!(
+                "side {k} names face {}, but there are {}",
+                s.face,
+                faces.len()
+            ),
+        })?;
+        let st = Strip::from_side(face, s.edge, s.reversed)?;
+        // Sides 2 and 3 run against the fill's u resp. v.
+        Ok(if k >= 2 { st.reversed() } else { st })
+    };
+    Ok([strip(0)?, strip(1)?, strip(2)?, strip(3)?])
+}
+
+/// α for side k from its two corners: the least-squares c with
+/// c·D ≈ the corner tangent it must equal, averaged over both ends.
+fn alphas(s: &[Strip; 4]) -> Result<[f64; 4]> {
+    // (side, its t, sign of D in the fill, the tangent it must equal)
+    let ends = |k: usize| -> [(f64, f64, Vec3); 2] {
+        match k {
+            // ∂F/∂v(u, 0) = α₀ D₀(u): at u = 0 it is side 3's P′(0), at u = 1 side 1's P′(0).
+            0 => [(0.0, 1.0, s[3].at(0.0).dpos), (1.0, 1.0, s[1].at(0.0).dpos)],
+            // ∂F/∂u(1, v) = −α₁ D₁(v).
+            1 => [
+                (0.0, -1.0, s[0].at(1.0).dpos),
+                (1.0, -1.0, s[2].at(1.0).dpos),
+            ],
+            // ∂F/∂v(u, 1) = −α₂ D₂(u).
+            2 => [
+                (0.0, -1.0, s[3].at(1.0).dpos),
+                (1.0, -1.0, s[1].at(1.0).dpos),
+            ],
+            // ∂F/∂u(0, v) = α₃ D₃(v).
+            _ => [(0.0, 1.0, s[0].at(0.0).dpos), (1.0, 1.0, s[2].at(0.0).dpos)],
+        }
+    };
+    let mut out = [0.0; 4];
+    for (k, a) in out.iter_mut().enumerate() {
+        let mut sum = 0.0;
+        for (t, sign, tangent) in ends(k) {
+            let d = scale(s[k].at(t).der, sign);
+            let c = dot(d, tangent) / dot(d, d);
+            if !(c > 0.0 && c.is_finite()) {
+                return Err(Error::Fill {
+                    why: format!(
+                        "at the corner where side {k} {} (t = {t}), its neighbour's cross-boundary \
+                         derivative does not point into the hole along the adjacent side (the \
+                         faces fold over there, or the side is not a boundary facing the hole)",
+                        if t == 0.0 { "starts" } else { "ends" }
+                    ),
+                });
+            }
+            sum += c;
+        }
+        *a = sum / 2.0;
+    }
+    Ok(out)
+}
+
+/// The two rings of the fill and the corner mismatches: the net (None
+/// inside) on the knot vectors of the unified sides.
+fn rings(s: &[Strip; 4]) -> (KnotVector, KnotVector, Vec<Option<Vec3>>, CornerMismatch) {
+    let (ku, kv) = (s[0].knots.clone(), s[3].knots.clone());
+    let (p, q) = (ku.degree(), kv.degree());
+    let (cu, cv) = (ku.count(), kv.count());
+    // candidates[i][j]: (priority 0 position / 1 derivative row, point)
+    let mut cand: Vec<Vec<(u8, Vec3)>> = vec![Vec::new(); cu * cv];
+    let (hu0, hu1) = (ku.knots()[p + 1], 1.0 - ku.knots()[cu - 1]);
+    let (hv0, hv1) = (kv.knots()[q + 1], 1.0 - kv.knots()[cv - 1]);
+    for i in 0..cu {
+        cand[i * cv].push((0, s[0].pos[i]));
+        cand[i * cv + 1].push((1, add(s[0].pos[i], scale(s[0].der[i], hv0 / q as f64))));
+        cand[i * cv + cv - 1].push((0, s[2].pos[i]));
+        cand[i * cv + cv - 2].push((1, add(s[2].pos[i], scale(s[2].der[i], hv1 / q as f64))));
+    }
+    for j in 0..cv {
+        cand[j].push((0, s[3].pos[j]));
+        cand[cv + j].push((1, add(s[3].pos[j], scale(s[3].der[j], hu0 / p as f64))));
+        cand[(cu - 1) * cv + j].push((0, s[1].pos[j]));
+        cand[(cu - 2) * cv + j].push((1, add(s[1].pos[j], scale(s[1].der[j], hu1 / p as f64))));
+    }
+    let mut m = CornerMismatch::default();
+    let net = cand
+        .into_iter()
+        .map(|c| {
+            let best = c.iter().map(|x| x.0).min()?;
+            let top: Vec<Vec3> = c.iter().filter(|x| x.0 == best).map(|x| x.1).collect();
+            let mean = scale(
+                top.iter().fold([0.0; 3], |a, &b| add(a, b)),
+                1.0 / top.len() as f64,
+            );
+            for x in &c {
+                let d = dist(x.1, mean);
+                match (best, x.0) {
+                    (0, 0) => m.position = m.position.max(2.0 * d),
+                    (0, _) => m.tangent = m.tangent.max(d),
+                    _ => m.twist = m.twist.max(2.0 * d),
+                }
+            }
+            Some(mean)
+        })
+        .collect();
+    (ku, kv, net, m)
+}
+
+/// Fills the 4-sided `hole` of `faces` (see the module documentation).
+///
+/// Errors ([`Error::Fill`]) name what does not fit: a hole with other than
+/// four sides (N-sided holes are not filled yet), a side naming no face,
+/// neighbours whose cross derivatives fold over at a corner, opposite sides
+/// whose knots cannot be merged; and the solve's own refusals.
+pub fn fill_hole(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -> Result<Fill> {
+    let t0 = Instant::now();
+    if hole.sides.len() != 4 {
+        return Err(Error::Fill {
+            why: format!(
+                "the hole has {} sides; only 4-sided holes (four whole face boundaries) are filled so far",
+                hole.sides.len()
+            ),
+        });
+    }
+    if options.samples == 0 {
+        return Err(Error::Fill {
+            why: "samples must be at least 1".into(),
+        });
+    }
+    // Orientation: the fill's normal R_u × R_v at side 0 agrees with the
+    // neighbour's; else traverse the loop the other way.
+    let mut hole = hole.clone();
+    let mut s = frame(faces, &hole)?;
+    let side0 = hole.sides[0];
+    let (u, v) = surface_param(&faces[side0.face], side0.edge, 0.5);
+    let nb = faces[side0.face].derivatives(u, v);
+    let mid = s[0].at(0.5);
+    if dot(cross(mid.dpos, mid.der), cross(nb.du, nb.dv)) < 0.0 {
+        hole = hole.reversed();
+        s = frame(faces, &hole)?;
+    }
+    let alpha = alphas(&s)?;
+    let s: [Strip; 4] = std::array::from_fn(|k| s[k].scaled(alpha[k]));
+    // One degree and knot vector per direction, enough points for two
+    // rings each side and a free row.
+    let min_points = options.min_points.max(5);
+    let degree = |a: &Strip, b: &Strip| a.degree().max(b.degree()) + options.elevate;
+    let (mut du, mut dv) = (degree(&s[0], &s[2]), degree(&s[1], &s[3]));
+    let (s0, s2, s1, s3) = loop {
+        let (s0, s2) = unify(&s[0], &s[2], du)?;
+        let (s3, s1) = unify(&s[3], &s[1], dv)?;
+        let (cu, cv) = (s0.knots.count(), s3.knots.count());
+        if cu >= min_points && cv >= min_points {
+            break (s0, s2, s1, s3);
+        }
+        du += usize::from(cu < min_points);
+        dv += usize::from(cv < min_points);
+    };
+    let s = [s0, s1, s2, s3];
+    let (ku, kv, net, corners) = rings(&s);
+    let (cu, cv) = (ku.count(), kv.count());
+    let patch = coons::Coons::new(&s);
+    let greville = |k: &KnotVector, i: usize| {
+        let p = k.degree();
+        k.knots()[i + 1..=i + p].iter().sum::<f64>() / p as f64
+    };
+    let points: Vec<Vec3> = net
+        .iter()
+        .enumerate()
+        .map(|(k, p)| p.unwrap_or_else(|| patch.at(greville(&ku, k / cv), greville(&kv, k % cv)).0))
+        .collect();
+    let surface = BSplineSurface::new(ku, kv, points)?;
+    let mut problem = BSplineProblem::new(surface)
+        .with_fixed_rings(2)
+        .with_stretch(options.stretch)
+        .with_bend(options.bend);
+    if options.normal_weight > 0.0 {
+        let grid = SampleGrid::try_new(options.samples * cu, options.samples * cv)?;
+        let normals = (0..grid.len())
+            .map(|k| {
+                let (u, v) = grid.param(k);
+                let (_, fu, fv) = patch.at(u, v);
+                cross(fu, fv)
+            })
+            .collect();
+        let weight = options.normal_weight / grid.len() as f64;
+        problem = problem.with_sampled_normals(weight, grid, normals, None)?;
+    }
+    let setup = t0.elapsed().as_secs_f64();
+    let t1 = Instant::now();
+    let solved = problem.solve()?;
+    let solve = t1.elapsed().as_secs_f64();
+    let t2 = Instant::now();
+    let sides = (0..4)
+        .map(|k| {
+            side_fit(
+                &solved.surface,
+                k,
+                &faces[hole.sides[k].face],
+                hole.sides[k],
+            )
+        })
+        .collect();
+    let curvature = total_curvature(&solved.surface);
+    let measure = t2.elapsed().as_secs_f64();
+    Ok(Fill {
+        surface: solved.surface,
+        hole,
+        report: FillReport {
+            solve: solved.report,
+            sides,
+            corners,
+            alpha,
+            curvature,
+            normal_weight: options.normal_weight,
+            seconds: FillSeconds {
+                setup,
+                solve,
+                measure,
+            },
+        },
+    })
+}

@@ -1,0 +1,248 @@
+use super::*;
+use crate::analysis::Edge;
+use crate::TensorPatch;
+
+/// A wavy bi-quintic patch over [0, 3]², cut into 3 × 3 pieces: the eight
+/// outer ones (row-major, centre left out) and the centre, as B-splines.
+fn quintic_network() -> (Vec<BSplineSurface>, BSplineSurface) {
+    let big = TensorPatch::from_fn(5, 5, |i, j| {
+        let (x, y) = (3.0 * i as f64 / 5.0, 3.0 * j as f64 / 5.0);
+        [
+            x + 0.1 * y,
+            y,
+            0.3 * (1.3 * x).sin() * (0.9 * y).cos() + 0.05 * x * y,
+        ]
+    });
+    cut(
+        &BSplineSurface::from_bezier(&big),
+        [1.0 / 3.0, 2.0 / 3.0],
+        [1.0 / 3.0, 2.0 / 3.0],
+    )
+}
+
+/// `s` cut at u = us[0], us[1] and v = vs[0], vs[1] into nine pieces.
+fn cut(s: &BSplineSurface, us: [f64; 2], vs: [f64; 2]) -> (Vec<BSplineSurface>, BSplineSurface) {
+    let (a, rest) = s.split_u(us[0]).unwrap();
+    let (b, c) = rest.split_u(us[1]).unwrap();
+    let mut pieces = Vec::new();
+    for col in [a, b, c] {
+        let (x, rest) = col.split_v(vs[0]).unwrap();
+        let (y, z) = rest.split_v(vs[1]).unwrap();
+        pieces.extend([x, y, z]);
+    }
+    let centre = pieces.remove(4);
+    (pieces, centre)
+}
+
+/// A bicubic B-spline sheet with uneven knots; cut along interior knots it
+/// gives neighbours with several spans and different knot vectors.
+fn bicubic_sheet() -> BSplineSurface {
+    let u = KnotVector::new(
+        3,
+        vec![0., 0., 0., 0., 0.5, 1.0, 1.7, 2.0, 2.4, 3.0, 3.0, 3.0, 3.0],
+    )
+    .unwrap();
+    let v = KnotVector::new(
+        3,
+        vec![0., 0., 0., 0., 0.8, 1.2, 1.5, 2.1, 3.0, 3.0, 3.0, 3.0],
+    )
+    .unwrap();
+    let (cu, cv) = (u.count(), v.count());
+    let pts = (0..cu * cv)
+        .map(|k| {
+            let (x, y) = ((k / cv) as f64 * 0.4, (k % cv) as f64 * 0.45);
+            [x, y + 0.05 * x, 0.4 * (1.1 * x).cos() * (1.4 * y).sin()]
+        })
+        .collect();
+    BSplineSurface::new(u, v, pts).unwrap()
+}
+
+fn bicubic_network() -> (Vec<BSplineSurface>, BSplineSurface) {
+    cut(&bicubic_sheet(), [1.0, 2.0], [1.2, 2.1])
+}
+
+fn centre_hole(faces: &[BSplineSurface]) -> Hole {
+    let holes = find_holes(faces).unwrap();
+    assert_eq!(holes.len(), 2, "the rim and the hole");
+    assert_eq!(holes[0].sides.len(), 12, "the rim is longest");
+    assert_eq!(holes[1].sides.len(), 4);
+    holes[1].clone()
+}
+
+fn exact_options() -> FillOptions {
+    FillOptions {
+        elevate: 0,
+        min_points: 5,
+        normal_weight: 0.0,
+        ..FillOptions::default()
+    }
+}
+
+/// A C¹ network cut from one bi-quintic patch: the fill's rings are exactly
+/// the missing piece's, so with the same energy the fill is G¹ (angle
+/// ≤ 1e-9°), closed (gap ≤ 1e-12), and its corners agree.
+#[test]
+fn a_c1_quintic_network_is_filled_exactly() {
+    let (faces, centre) = quintic_network();
+    let hole = centre_hole(&faces);
+    let fill = fill_hole(&faces, &hole, &exact_options()).unwrap();
+    assert_eq!(fill.surface.degree(), (5, 5));
+    for a in fill.report.alpha {
+        assert!((a - 1.0).abs() < 1e-12, "{a}");
+    }
+    let c = fill.report.corners;
+    assert!(
+        c.position < 1e-14 && c.tangent < 1e-13 && c.twist < 1e-13,
+        "{c:?}"
+    );
+    for f in &fill.report.sides {
+        assert!(f.gap < 1e-13, "{f:?}");
+        assert!(f.angle.to_degrees() < 1e-9, "{f:?}");
+        assert_eq!(f.singular, 0);
+    }
+    // The rings as control points: the fill's two outer rings, mapped
+    // through the fill's orientation, are the centre's.
+    let rings = |s: &BSplineSurface| {
+        let (cu, cv) = s.counts();
+        let mut pts: Vec<Vec3> = (0..cu * cv)
+            .filter(|&k| {
+                let (i, j) = (k / cv, k % cv);
+                i < 2 || j < 2 || i + 2 >= cu || j + 2 >= cv
+            })
+            .map(|k| s.points()[k])
+            .collect();
+        pts.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        pts
+    };
+    for (a, b) in rings(&fill.surface).iter().zip(rings(&centre)) {
+        assert!(dist(*a, b) < 1e-13, "{a:?} {b:?}");
+    }
+    assert!(fill.report.solve.energy_error < 1e-10);
+    assert!(
+        fill.report.curvature.value > 0.0
+            && fill.report.curvature.error < 1e-6 * fill.report.curvature.value
+    );
+}
+
+/// The same with neighbours of several spans and different knot vectors.
+#[test]
+fn a_c1_bicubic_network_is_filled_exactly() {
+    let (faces, centre) = bicubic_network();
+    let hole = centre_hole(&faces);
+    let fill = fill_hole(&faces, &hole, &exact_options()).unwrap();
+    let c = fill.report.corners;
+    assert!(
+        c.position < 1e-14 && c.tangent < 1e-13 && c.twist < 1e-13,
+        "{c:?}"
+    );
+    for f in &fill.report.sides {
+        assert!(f.gap < 1e-13 && f.angle.to_degrees() < 1e-9, "{f:?}");
+    }
+    assert_eq!(fill.surface.points().len(), centre.points().len());
+}
+
+/// The default fill (elevated, guided by the Coons normals) is still G¹
+/// exactly, and at least as fair (W) as the piece that was cut out.
+#[test]
+fn the_default_fill_is_exact_and_as_fair_as_the_missing_piece() {
+    for (faces, centre) in [quintic_network(), bicubic_network()] {
+        let hole = centre_hole(&faces);
+        let fill = fill_hole(&faces, &hole, &FillOptions::default()).unwrap();
+        assert!(fill.surface.degree().0 >= centre.degree().0 + 2);
+        for f in &fill.report.sides {
+            assert!(f.gap < 1e-12 && f.angle.to_degrees() < 1e-9, "{f:?}");
+        }
+        let (w0, w) = (total_curvature(&centre).value, fill.report.curvature.value);
+        assert!(w <= w0 * (1.0 + 1e-9), "{w} > {w0}");
+    }
+}
+
+/// A hole given the other way round is filled facing the neighbours.
+#[test]
+fn orientation_follows_the_neighbours() {
+    let (faces, _) = quintic_network();
+    let hole = centre_hole(&faces);
+    let a = fill_hole(&faces, &hole, &exact_options()).unwrap();
+    let b = fill_hole(&faces, &hole.reversed(), &exact_options()).unwrap();
+    assert_eq!(a.hole, b.hole);
+    for f in a.report.sides.iter().chain(&b.report.sides) {
+        assert!(f.angle < 1e-9);
+    }
+}
+
+#[test]
+fn a_hole_with_other_than_four_sides_is_refused() {
+    let (faces, _) = quintic_network();
+    let rim = find_holes(&faces).unwrap().remove(0);
+    let e = fill_hole(&faces, &rim, &FillOptions::default()).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("the hole has 12 sides; only 4-sided holes"),
+        "{e}"
+    );
+    let mut bad = centre_hole(&faces);
+    bad.sides[2].face = 99;
+    let e = fill_hole(&faces, &bad, &FillOptions::default()).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("side 2 names face 99, but there are 8"),
+        "{e}"
+    );
+}
+
+/// A side whose neighbour folds back over the hole has no G¹ fill.
+#[test]
+fn a_folded_corner_is_refused() {
+    let (mut faces, _) = quintic_network();
+    let hole = centre_hole(&faces);
+    // Mirror the second ring of side 0's neighbour through its boundary:
+    // its cross derivative now points into the hole's neighbour side.
+    let s = hole.sides[0];
+    let f = &faces[s.face];
+    let (cu, cv) = f.counts();
+    let mut pts = f.points().to_vec();
+    let (row0, row1): (Vec<usize>, Vec<usize>) = match s.edge {
+        Edge::U0 => ((0..cv).collect(), (cv..2 * cv).collect()),
+        Edge::U1 => (
+            ((cu - 1) * cv..cu * cv).collect(),
+            ((cu - 2) * cv..(cu - 1) * cv).collect(),
+        ),
+        Edge::V0 => (
+            (0..cu).map(|i| i * cv).collect(),
+            (0..cu).map(|i| i * cv + 1).collect(),
+        ),
+        Edge::V1 => (
+            (0..cu).map(|i| i * cv + cv - 1).collect(),
+            (0..cu).map(|i| i * cv + cv - 2).collect(),
+        ),
+    };
+    for (a, b) in row0.into_iter().zip(row1) {
+        pts[b] = sub(scale(pts[a], 2.0), pts[b]);
+    }
+    faces[s.face] = BSplineSurface::new(f.knots().0.clone(), f.knots().1.clone(), pts).unwrap();
+    let e = fill_hole(&faces, &hole, &FillOptions::default()).unwrap_err();
+    assert!(
+        e.to_string().contains("does not point into the hole"),
+        "{e}"
+    );
+}
+
+/// Cutting a surface leaves it unchanged: each part evaluates as the
+/// whole on its own parameters (1e-14 of the size).
+#[test]
+fn split_keeps_the_surface() {
+    let s = bicubic_sheet();
+    let (faces, centre) = cut(&s, [1.0, 2.0], [1.2, 2.1]);
+    for f in faces.iter().chain([&centre]) {
+        let ((a, b), (c, d)) = (f.knots().0.domain(), f.knots().1.domain());
+        for i in 0..=7 {
+            for j in 0..=7 {
+                let (u, v) = (a + (b - a) * i as f64 / 7.0, c + (d - c) * j as f64 / 7.0);
+                assert!(dist(f.eval(u, v), s.eval(u, v)) < 1e-14);
+            }
+        }
+    }
+    assert!(s.split_u(0.0).is_err() && s.split_v(3.0).is_err());
+}
+
+use crate::vec3::{scale, sub};
