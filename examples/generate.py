@@ -469,7 +469,51 @@ def bspline_hole_sampled():
                   "sampling": {"grid": [g, g], "normal_samples": normals}})
 
 
+def split_rows(net, t):
+    """de Casteljau along the first index at t: the nets over [0, t] and [t, 1]."""
+    n = len(net) - 1
+    left, right = [], []
+    rows = [row[:] for row in net]
+    for k in range(n + 1):
+        left.append(rows[0])
+        right.append(rows[n - k])
+        rows = [[[(1 - t) * a[c] + t * b[c] for c in range(3)] for a, b in zip(rows[i], rows[i + 1])]
+                for i in range(len(rows) - 1)]
+    return left, right[::-1]
+
+
+def transpose(net):
+    return [list(col) for col in zip(*net)]
+
+
+def fill_network():
+    """A wavy bi-quintic patch cut into 3 x 3 pieces by de Casteljau (a C1
+    network: the pieces of one polynomial), the centre piece left out: the hole
+    of Wu & Yang's Fig. 4 as a CAD model has it. `fairsurf fill` fills it."""
+    big = [[[r(3 * i / 5 + 0.3 * j / 5), r(3 * j / 5),
+             r(0.3 * math.sin(3.9 * i / 5) * math.cos(2.7 * j / 5) + 0.45 * i * j / 25)]
+            for j in range(6)] for i in range(6)]
+    a, rest = split_rows(big, 1 / 3)
+    b, c = split_rows(rest, 1 / 2)
+    faces = []
+    for k, col in enumerate([a, b, c]):
+        x, rest = split_rows(transpose(col), 1 / 3)
+        y, z = split_rows(rest, 1 / 2)
+        for j, piece in enumerate([x, y, z]):
+            if (k, j) != (1, 1):
+                faces.append({"type": "tensor", "degree": [5, 5], "control_points": transpose(piece)})
+    write("fill_network.json", {
+        "name": "A hole in a C1 network of bi-quintic patches",
+        "description": "Eight bi-quintic Bezier faces cut from one wavy patch, the centre one "
+                       "missing. fairsurf fill finds the hole (the inner loop of free edges; the "
+                       "outer rim is left alone), builds the fill's two outer rings from the "
+                       "neighbours (G1 exactly) and fairs the inside.",
+        "faces": faces,
+    })
+
+
 if __name__ == "__main__":
+    fill_network()
     bspline_hole()
     bspline_hole_guided()
     bspline_hole_sampled()

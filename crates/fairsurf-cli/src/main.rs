@@ -16,6 +16,7 @@ mod analyse;
 mod compare;
 mod eval;
 mod export;
+mod fill;
 mod input;
 mod render;
 mod serve;
@@ -51,6 +52,9 @@ enum Command {
     /// Write a solved surface as a mesh (OBJ, PLY, STL, glTF) or as the exact
     /// surface for CAD (STEP AP214, IGES).
     Export(export::Args),
+    /// Fill the holes between faces (a STEP file or a JSON fill scene) with
+    /// G1 B-spline patches and write the faces and fills, sewn, as STEP.
+    Fill(fill::Args),
     /// Evaluate points and unit normals of a solved surface at given (u, v).
     Eval(eval::Args),
     /// Measure surfaces as result files give them, without solving: area
@@ -65,10 +69,10 @@ enum Command {
     #[command(hide = true)]
     ServeWorker,
     /// Print the JSON Schema of scene files of one surface type (tensor by
-    /// default; --type triangular or bspline).
+    /// default; --type triangular or bspline), or of fill scenes (--type fill).
     Schema {
-        /// The surface type: tensor, triangular or bspline.
-        #[arg(long = "type", default_value = "tensor", value_parser = ["tensor", "triangular", "bspline"])]
+        /// The surface type: tensor, triangular or bspline; or fill.
+        #[arg(long = "type", default_value = "tensor", value_parser = ["tensor", "triangular", "bspline", "fill"])]
         kind: String,
         /// The same as --type triangular.
         #[arg(long, conflicts_with = "kind")]
@@ -149,6 +153,7 @@ fn run(command: Command, max_bytes: usize) -> Result<(), Failure> {
         Command::Eval(a) => eval::run(a),
         Command::Analyse(a) => analyse::run(a),
         Command::Export(a) => export::run(a),
+        Command::Fill(a) => fill::run(a),
         Command::Serve(a) => serve::run(a, max_bytes),
         Command::ServeWorker => serve::run_worker(),
         Command::Render(a) => render::run(a),
@@ -158,11 +163,14 @@ fn run(command: Command, max_bytes: usize) -> Result<(), Failure> {
             } else {
                 kind.as_str()
             };
-            let schema = fairsurf_io::SurfaceType::ALL
-                .into_iter()
-                .find(|t| t.name() == kind)
-                .expect("clap checked the name")
-                .json_schema();
+            let schema = match kind {
+                "fill" => fairsurf_io::FillScene::json_schema(),
+                _ => fairsurf_io::SurfaceType::ALL
+                    .into_iter()
+                    .find(|t| t.name() == kind)
+                    .expect("clap checked the name")
+                    .json_schema(),
+            };
             say!("{}", serde_json::to_string_pretty(&schema).expect("schema"));
             Ok(())
         }

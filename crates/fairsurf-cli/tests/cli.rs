@@ -1309,3 +1309,119 @@ fn work_over_the_memory_limit_is_refused_with_the_estimate() {
         stderr(&o)
     );
 }
+
+/// `fill` on the bundled network: the hole (not the rim) is filled, the
+/// report says G1 to rounding, and the STEP file holds the 8 faces and the
+/// fill sewn — 9 faces whose 24 edges are shared (12 rim edges stay free).
+#[test]
+fn fill_fills_the_hole_and_writes_a_sewn_shell() {
+    let d = tmpdir("fill");
+    let scene = examples().join("fill_network.json");
+    let out = d.join("sub/filled.step");
+    let png = d.join("sub/filled.png");
+    let o = fairsurf(&[
+        "fill",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--render",
+        png.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(report["faces"], 8);
+    let fill = &report["fills"][0];
+    assert_eq!(fill["hole"], 1);
+    assert_eq!(report["holes"][0]["rim"], true);
+    assert!(fill["max_angle_deg"].as_f64().unwrap() < 1e-9, "{fill}");
+    assert!(fill["max_gap"].as_f64().unwrap() < 1e-12, "{fill}");
+    assert!(fill["solve"]["check"]["energy_error"].as_f64().unwrap() < 1e-10);
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert_eq!(text.matches("=ADVANCED_FACE(").count(), 9);
+    // 3 × 3 faces of a sheet: 12 interior edges + 12 on the rim.
+    assert_eq!(text.matches("=EDGE_CURVE(").count(), 24);
+    assert_eq!(text.matches("=VERTEX_POINT(").count(), 16);
+    assert!(std::fs::metadata(&png).unwrap().len() > 1000);
+    // The summary names the rim and the figures.
+    let o = fairsurf(&["fill", scene.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let s = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        s.contains("filled [1] (hole 0, the longest, taken as the outer rim)"),
+        "{s}"
+    );
+    assert!(s.contains("largest normal angle"), "{s}");
+    let o = fairsurf(&["fill", scene.to_str().unwrap(), "--list"]);
+    let s = String::from_utf8_lossy(&o.stdout);
+    assert!(s.contains("hole 1: 4 sides"), "{s}");
+    assert!(s.contains("hole 0: 12 sides"), "{s}");
+}
+
+/// Bad fill requests exit 2, say why, and write nothing.
+#[test]
+fn bad_fills_exit_2_and_write_nothing() {
+    let d = tmpdir("fill-bad");
+    let scene = examples().join("fill_network.json");
+    let out = d.join("x.step");
+    let run = |args: &[&str]| {
+        let mut all = vec!["fill"];
+        all.extend_from_slice(args);
+        all.extend_from_slice(&["-o", out.to_str().unwrap()]);
+        let o = fairsurf(&all);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(!out.exists());
+        stderr(&o)
+    };
+    let s = scene.to_str().unwrap();
+    assert!(
+        run(&[s, "--hole", "7"]).contains("--hole: there is no hole 7: the faces have 2 (0 to 1)")
+    );
+    assert!(run(&[s, "--hole", "0"]).contains("hole 0: the hole has 12 sides; only 4-sided holes"));
+    assert!(run(&[s, "--lambda=-1"]).contains("--lambda: expected a number ≥ 0, got -1"));
+    let text: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&scene).unwrap()).unwrap();
+    let write = |name: &str, v: &serde_json::Value| {
+        let p = d.join(name);
+        std::fs::write(&p, v.to_string()).unwrap();
+        p
+    };
+    let mut bad = text.clone();
+    bad["faces"][3]["control_points"][2] = serde_json::json!([[0, 0, 0]]);
+    let p = write("bad_net.json", &bad);
+    assert!(run(&[p.to_str().unwrap()]).contains("faces[3].control_points[2]"));
+    let mut bad = text.clone();
+    bad["faces"][0]["knots"] = serde_json::json!([[0, 1], [0, 1]]);
+    let p = write("tensor_knots.json", &bad);
+    assert!(
+        run(&[p.to_str().unwrap()]).contains("faces[0].knots: a tensor (Bézier) face has no knots")
+    );
+    let mut bad = text.clone();
+    bad["fill"] = serde_json::json!({"elevate": 11});
+    let p = write("elevate.json", &bad);
+    assert!(run(&[p.to_str().unwrap()]).contains("fill.elevate: expected 0 to 10, got 11"));
+    let mut bad = text.clone();
+    bad["fill"] = serde_json::json!({"bend": 0});
+    let p = write("no_energy.json", &bad);
+    assert!(run(&[p.to_str().unwrap()]).contains("stretch and bend are both 0"));
+    // A closed cube of six bilinear faces has no free edge.
+    let corners = |f: &dyn Fn(f64, f64) -> [f64; 3]| {
+        serde_json::json!({"type": "tensor", "degree": [1, 1], "control_points":
+            [[f(0.0, 0.0), f(0.0, 1.0)], [f(1.0, 0.0), f(1.0, 1.0)]]})
+    };
+    let cube = serde_json::json!({"faces": [
+        corners(&|a, b| [a, b, 0.0]), corners(&|a, b| [a, b, 1.0]),
+        corners(&|a, b| [a, 0.0, b]), corners(&|a, b| [a, 1.0, b]),
+        corners(&|a, b| [0.0, a, b]), corners(&|a, b| [1.0, a, b]),
+    ]});
+    let p = write("cube.json", &cube);
+    assert!(run(&[p.to_str().unwrap()]).contains("there is no hole: every face boundary is shared"));
+    // One face alone: its rim is the only loop, and the face's cross
+    // derivatives point away from it: no G1 fill.
+    let lone = serde_json::json!({"faces": [corners(&|a, b| [a, b, 0.0])]});
+    let p = write("lone.json", &lone);
+    assert!(run(&[p.to_str().unwrap()]).contains("does not point into the hole"));
+    let p = write("empty.json", &serde_json::json!({"faces": []}));
+    assert!(run(&[p.to_str().unwrap()]).contains("faces: no faces"));
+    let p = write("not_json.json", &serde_json::json!(1));
+    assert!(run(&[p.to_str().unwrap()]).contains("not_json.json"));
+}

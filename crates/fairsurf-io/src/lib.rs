@@ -28,6 +28,7 @@ mod cad;
 mod compare;
 mod constraints;
 mod error;
+mod fill;
 mod gltf;
 mod iges;
 mod mesh;
@@ -35,6 +36,7 @@ mod operators;
 mod result;
 mod scene;
 mod step;
+mod step_read;
 mod surface;
 mod surface_mesh;
 mod tensor_scene;
@@ -51,12 +53,16 @@ pub use cad::CadSurface;
 pub use compare::comparison_json;
 pub use constraints::{TensorConstraintSpec, UvSpec};
 pub use error::{Error, Result};
+pub use fill::{
+    fill_json, fill_surfaces, FaceKind, FaceSpec, FillInput, FillScene, FillSpec, HoleChoice,
+};
 pub use iges::{write_iges, write_iges_surfaces};
 pub use mesh::{write_mesh, write_mesh_with, MeshFormat, MeshOptions};
 pub use operators::{EdgeSpec, OperatorKind, TensorOperatorSpec, TensorPatchSpec};
 pub use result::{construction_report_json, report_json, Outcome, SolvedTensorScene};
 pub use scene::{Scene, SolvedScene, SurfaceType};
 pub use step::{write_step, write_step_surfaces};
+pub use step_read::read_step_faces;
 pub use surface::{Exported, Surface, OCC_MAX_DEGREE};
 pub use surface_mesh::SurfaceMesh;
 pub use tensor_scene::{

@@ -20,9 +20,12 @@ use std::path::Path;
 /// boundary rows and columns of the net) in an `EDGE_LOOP` that runs
 /// counter-clockwise in (u, v), so the face normal is R_u × R_v. A boundary
 /// collapsed to a point (all its control points equal) has no edge: the
-/// loop goes through its vertex. Edges with identical control points (in
-/// either direction) and vertices at identical points are shared, so
-/// patches that meet along a common boundary form one connected shell.
+/// loop goes through its vertex. Vertices closer than 1e-9 of the model's
+/// size are one; edges with identical control points (in either
+/// direction), or between the same vertices and through the same points
+/// at nine parameters (within that distance; e.g. a boundary and its
+/// degree-elevated or knot-refined copy), are one: patches that meet along
+/// a common boundary form one connected (sewn) shell.
 ///
 /// The file holds the AP214 product structure (one `PRODUCT` "fairsurf")
 /// and a `MANIFOLD_SURFACE_SHAPE_REPRESENTATION` whose context has
@@ -64,7 +67,14 @@ pub fn write_step_surfaces(path: &Path, surfaces: &[CadSurface]) -> Result<()> {
 
 /// The whole file.
 fn step_text(file_name: &str, patches: &[CadSurface]) -> String {
-    let mut d = Data::default();
+    let all: Vec<Vec3> = patches
+        .iter()
+        .flat_map(|p| p.points.iter().copied())
+        .collect();
+    let mut d = Data {
+        tol: 1e-9 * fairsurf::vector::bounding_diagonal(&all),
+        ..Data::default()
+    };
     let context = d.header_entities();
     let faces: Vec<usize> = patches.iter().map(|p| d.face(p)).collect();
     let shell = d.add(format!("OPEN_SHELL('',({}))", refs(&faces)));
@@ -108,6 +118,32 @@ struct Data {
     /// EDGE_CURVE of each distinct control polygon (by its bits), which runs
     /// from the polygon's first point to its last.
     edges: HashMap<Vec<[u64; 3]>, usize>,
+    /// Every vertex: its point and VERTEX_POINT.
+    vertex_points: Vec<(Vec3, usize)>,
+    /// Every edge: points at nine parameters (first to last) and its
+    /// EDGE_CURVE.
+    edge_samples: Vec<([Vec3; EDGE_SAMPLES], usize)>,
+    /// Points closer than this are one.
+    tol: f64,
+}
+
+/// Points compared per edge when matching edges by their geometry.
+const EDGE_SAMPLES: usize = 9;
+
+/// The curve of degree d with the full knot vector `knots` and control
+/// points `pts` at `EDGE_SAMPLES` parameters spread evenly over its domain.
+fn curve_samples(d: usize, knots: &[f64], pts: &[Vec3]) -> Option<[Vec3; EDGE_SAMPLES]> {
+    let kv = fairsurf::bspline::KnotVector::new(d, knots.to_vec()).ok()?;
+    let (a, b) = kv.domain();
+    Some(std::array::from_fn(|s| {
+        let t = a + (b - a) * s as f64 / (EDGE_SAMPLES - 1) as f64;
+        let k = kv.span(t);
+        let n = kv.basis_derivatives(k, t, 0);
+        (0..=d).fold([0.0; 3], |acc, i| {
+            let (p, w) = (pts[k - d + i], n[0][i]);
+            [acc[0] + w * p[0], acc[1] + w * p[1], acc[2] + w * p[2]]
+        })
+    }))
 }
 
 /// The entities the geometry refers to.
@@ -215,7 +251,7 @@ impl Data {
         // Counter-clockwise in (u, v): v = 0 and u = 1 along their parameter,
         // v = 1 and u = 0 against it. Each side: (i, j) in parameter order,
         // with the knots of its direction.
-        let (u_curve, v_curve) = ((n, &ku, &mu), (m, &kv, &mv));
+        let (u_curve, v_curve) = ((n, &ku, &mu, &s.knots[0]), (m, &kv, &mv, &s.knots[1]));
         let sides: [(Vec<(usize, usize)>, bool, _); 4] = [
             ((0..cu).map(|i| (i, 0)).collect(), true, u_curve),
             ((0..cv).map(|j| (cu - 1, j)).collect(), true, v_curve),
@@ -251,7 +287,7 @@ impl Data {
         &mut self,
         pts: &[Vec3],
         ids: &[usize],
-        (d, knots, mults): (usize, &Vec<f64>, &Vec<usize>),
+        (d, knots, mults, full): (usize, &Vec<f64>, &Vec<usize>, &Vec<f64>),
     ) -> Option<(usize, bool)> {
         if pts.iter().all(|&p| bits(p) == bits(pts[0])) {
             return None;
@@ -269,6 +305,24 @@ impl Data {
         if let Some(&e) = self.edges.get(&reversed) {
             return Some((e, false));
         }
+        let samples = curve_samples(d, full, pts);
+        if let Some(samples) = samples {
+            let tol = self.tol;
+            let close = |a: &[Vec3], b: &mut dyn Iterator<Item = Vec3>| {
+                a.iter().zip(b).all(|(p, q)| {
+                    let d = [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
+                    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() <= tol
+                })
+            };
+            for (other, e) in &self.edge_samples {
+                if close(other, &mut samples.iter().copied()) {
+                    return Some((*e, true));
+                }
+                if close(other, &mut samples.iter().rev().copied()) {
+                    return Some((*e, false));
+                }
+            }
+        }
         let curve = self.add(format!(
             "B_SPLINE_CURVE_WITH_KNOTS('',{d},({}),.UNSPECIFIED.,.F.,.F.,({}),({}),.UNSPECIFIED.)",
             refs(ids),
@@ -280,6 +334,9 @@ impl Data {
         let end = self.vertex(pts[last], ids[last]);
         let e = self.add(format!("EDGE_CURVE('',#{start},#{end},#{curve},.T.)"));
         self.edges.insert(key, e);
+        if let Some(samples) = samples {
+            self.edge_samples.push((samples, e));
+        }
         Some((e, true))
     }
 
@@ -289,8 +346,17 @@ impl Data {
         if let Some(&v) = self.vertices.get(&bits(p)) {
             return v;
         }
+        let tol = self.tol;
+        let near = self.vertex_points.iter().find(|(q, _)| {
+            let d = [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
+            (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() <= tol
+        });
+        if let Some(&(_, v)) = near {
+            return v;
+        }
         let v = self.add(format!("VERTEX_POINT('',#{point})"));
         self.vertices.insert(bits(p), v);
+        self.vertex_points.push((p, v));
         v
     }
 }
@@ -356,6 +422,22 @@ mod tests {
         // Top and left of each run against their edges; the shared edge is
         // used once each way (a by its right side, b by its left).
         assert_eq!(shared.count(), 4);
+    }
+
+    /// A neighbour's boundary and the same curve degree-elevated (another
+    /// surface's boundary) are one edge.
+    #[test]
+    fn a_boundary_and_its_elevated_copy_are_one_edge() {
+        let a = TensorPatch::from_fn(2, 2, |i, j| [i as f64, j as f64, (i * j) as f64]);
+        let b = TensorPatch::from_fn(2, 2, |i, j| [2.0 + i as f64, j as f64, (2 * j) as f64]);
+        let b = b.elevate(1, 1);
+        let t = step_text("x.step", &[(&a).into(), (&b).into()]);
+        assert_eq!(count(&t, "EDGE_CURVE"), 7);
+        assert_eq!(count(&t, "VERTEX_POINT"), 6);
+        // Moved off by 1e-6 of the size, it is not.
+        let c = b.map(|p| [p[0], p[1], p[2] + 1e-6 * (p[0] - 2.0).abs().max(0.0) + 1e-6]);
+        let t = step_text("x.step", &[(&a).into(), (&c).into()]);
+        assert_eq!(count(&t, "EDGE_CURVE"), 8);
     }
 
     #[test]

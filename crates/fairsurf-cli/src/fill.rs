@@ -1,0 +1,235 @@
+//! `fairsurf fill`: fill the holes between faces (a STEP file or a JSON
+//! fill scene) and write the faces with the fills, sewn, as STEP.
+
+use crate::input::with_file;
+use crate::Failure;
+use fairsurf::fill::Fill;
+use fairsurf_io::{fill_json, fill_surfaces, write_atomic, Batch, FillInput, HoleChoice};
+use fairsurf_render::{render, ColourBy, Panel, Range, RenderOptions};
+use serde_json::json;
+use std::path::{Path, PathBuf};
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The faces: a STEP file (.step/.stp: B-spline and Bézier faces, as
+    /// Open CASCADE, CadQuery or FreeCAD write them) or a JSON fill scene
+    /// (`fairsurf schema --type fill`).
+    input: PathBuf,
+    /// The STEP file to write: the input faces and the fills, sewn.
+    #[arg(short, long, required_unless_present = "list")]
+    output: Option<PathBuf>,
+    /// List the holes (index, sides, length, faces, whether filled by
+    /// default) and fill nothing.
+    #[arg(long)]
+    list: bool,
+    /// Fill hole K (repeatable; as `--list` numbers them). Default: every
+    /// hole but the outer rim (the longest loop) when there are several.
+    #[arg(long = "hole", value_name = "K")]
+    holes: Vec<usize>,
+    /// Print the report as JSON on standard output instead of the summary.
+    #[arg(long)]
+    json: bool,
+    /// The plain thin plate (no normal field from the boundary data).
+    #[arg(long, conflicts_with = "lambda")]
+    plain: bool,
+    /// λ of the normal field from the boundary data, per unit area.
+    #[arg(long)]
+    lambda: Option<f64>,
+    /// Degrees the fill gets above its sides' largest.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=10))]
+    elevate: Option<u32>,
+    /// Also draw the faces and the fills, coloured by |H| (PNG).
+    #[arg(long, value_name = "PNG")]
+    render: Option<PathBuf>,
+    /// Reflection-line stripes in the picture instead of curvature colours.
+    #[arg(long)]
+    zebra: bool,
+}
+
+pub fn run(a: Args) -> Result<(), Failure> {
+    let input = FillInput::read(&a.input).map_err(with_file(&a.input))?;
+    let asked = if a.holes.is_empty() {
+        input.holes.clone()
+    } else {
+        Some(a.holes.clone())
+    };
+    let choice = HoleChoice::new(&input.faces, asked.as_deref()).map_err(|e| match e {
+        fairsurf_io::Error::Scene { message, .. } if !a.holes.is_empty() => {
+            Failure::input(format!("--hole: {message}"))
+        }
+        e => with_file(&a.input)(e),
+    })?;
+    if a.list {
+        let list = choice.list_json();
+        if a.json {
+            crate::say!("{}", serde_json::to_string_pretty(&list).expect("JSON"));
+        } else {
+            crate::say!(
+                "{}: {} faces, {} holes",
+                a.input.display(),
+                input.faces.len(),
+                choice.holes.len()
+            );
+            for h in list.as_array().expect("a list") {
+                crate::say!(
+                    "  hole {}: {} sides, length {:.6}, faces {}{}",
+                    h["index"],
+                    h["sides"],
+                    h["length"].as_f64().unwrap_or(f64::NAN),
+                    h["faces"],
+                    if h["rim"] == true {
+                        " (outer rim: not filled unless asked)"
+                    } else {
+                        ""
+                    }
+                );
+            }
+        }
+        return Ok(());
+    }
+    let mut options = input.options.clone();
+    if a.plain {
+        options.normal_weight = 0.0;
+    }
+    if let Some(l) = a.lambda {
+        if !(l >= 0.0 && l.is_finite()) {
+            return Err(Failure::input(format!(
+                "--lambda: expected a number ≥ 0, got {l}"
+            )));
+        }
+        options.normal_weight = l;
+    }
+    if let Some(e) = a.elevate {
+        options.elevate = e as usize;
+    }
+    let fills = choice
+        .fill(&input.faces, &options)
+        .map_err(with_file(&a.input))?;
+    let output = a
+        .output
+        .as_deref()
+        .expect("clap requires -o without --list");
+    crate::solve::ensure_parent(output)?;
+    let surfaces = fill_surfaces(&input.faces, &fills);
+    // Everything is made in memory first; the files are written together.
+    let picture = a
+        .render
+        .as_ref()
+        .map(|p| picture(&input.faces, &fills, a.zebra).map(|png| (p.clone(), png)))
+        .transpose()?;
+    if let Some((path, _)) = &picture {
+        crate::solve::ensure_parent(path)?;
+    }
+    let batch = Batch::begin();
+    fairsurf_io::write_step_surfaces(output, &surfaces)?;
+    if let Some((path, png)) = &picture {
+        write_atomic(path, |w| w.write_all(png))?;
+    }
+    batch.commit()?;
+    let reports: Vec<_> = choice
+        .chosen
+        .iter()
+        .zip(&fills)
+        .map(|(&h, f)| fill_json(h, f))
+        .collect();
+    if a.json {
+        let out = json!({
+            "input": a.input.display().to_string(),
+            "output": output.display().to_string(),
+            "faces": input.faces.len(),
+            "holes": choice.list_json(),
+            "fills": reports,
+            "fairsurf_version": env!("CARGO_PKG_VERSION"),
+        });
+        crate::say!("{}", serde_json::to_string_pretty(&out).expect("JSON"));
+    } else {
+        crate::say!(
+            "{}",
+            summary(&a.input, output, input.faces.len(), &choice, &fills)
+        );
+    }
+    Ok(())
+}
+
+fn summary(
+    input: &Path,
+    output: &Path,
+    faces: usize,
+    choice: &HoleChoice,
+    fills: &[Fill],
+) -> String {
+    let mut lines = vec![format!(
+        "{}: {faces} faces, {} holes; filled {:?}{}",
+        input.display(),
+        choice.holes.len(),
+        choice.chosen,
+        choice
+            .rim
+            .filter(|r| !choice.chosen.contains(r))
+            .map(|r| format!(" (hole {r}, the longest, taken as the outer rim)"))
+            .unwrap_or_default()
+    )];
+    for (&h, f) in choice.chosen.iter().zip(fills) {
+        let r = &f.report;
+        let (p, q) = f.surface.degree();
+        let (cu, cv) = f.surface.counts();
+        let gap = r.sides.iter().map(|s| s.gap).fold(0.0, f64::max);
+        let angle = r
+            .sides
+            .iter()
+            .map(|s| s.angle.to_degrees())
+            .fold(0.0, f64::max);
+        lines.push(format!(
+            "  hole {h}: degree {p}×{q}, {cu}×{cv} control points; largest gap {gap:.1e}, \
+             largest normal angle {angle:.1e}° ({} samples per side); W = ∫κ₁²+κ₂² dA = {:.6} \
+             (±{:.0e}); energy check {:.0e}; {:.1} ms",
+            r.sides[0].samples,
+            r.curvature.value,
+            r.curvature.error,
+            r.solve.energy_error,
+            1e3 * (r.seconds.setup + r.seconds.solve + r.seconds.measure)
+        ));
+        let c = &r.corners;
+        if c.position > 0.0 || c.tangent > 1e-12 || c.twist > 1e-12 {
+            lines.push(format!(
+                "    corners: sides disagree by {:.1e} in position, {:.1e} in tangent, {:.1e} in twist",
+                c.position, c.tangent, c.twist
+            ));
+        }
+    }
+    lines.push(format!(
+        "{}: {} faces",
+        output.display(),
+        faces + fills.len()
+    ));
+    lines.join("\n")
+}
+
+/// The faces and the fills in one panel.
+fn picture(
+    faces: &[fairsurf::bspline::BSplineSurface],
+    fills: &[Fill],
+    zebra: bool,
+) -> Result<Vec<u8>, Failure> {
+    let patches = faces
+        .iter()
+        .chain(fills.iter().map(|f| &f.surface))
+        .flat_map(|s| s.bezier_pieces().into_iter().map(|p| p.patch))
+        .collect();
+    let panel = Panel {
+        patches,
+        ..Panel::default()
+    };
+    let opts = RenderOptions {
+        colour: ColourBy::AbsMean,
+        range: Range::Auto,
+        zebra: zebra.then_some(20),
+        ..RenderOptions::default()
+    };
+    let picture = render(&[panel], &opts).map_err(|e| Failure::input(e.to_string()))?;
+    let mut png = Vec::new();
+    picture
+        .encode_png(&mut png)
+        .map_err(|e| Failure::input(e.to_string()))?;
+    Ok(png)
+}

@@ -1,0 +1,428 @@
+//! Fill scenes and fill jobs ([`fairsurf::fill`]): the neighbour faces from
+//! a JSON fill scene or a STEP file, their holes, which to fill, the fills,
+//! the sewn STEP output (the input faces and the fills, sharing the hole's
+//! edges) and the report.
+//!
+//! Field docs here become the descriptions in `fairsurf schema --type fill`.
+
+use crate::tensor_scene::Net;
+use crate::validate::parse_net;
+use crate::{CadSurface, Error, Result};
+use fairsurf::analysis::Edge;
+use fairsurf::bspline::{BSplineSurface, KnotVector};
+use fairsurf::fill::{fill_hole, find_holes, Fill, FillOptions, Hole};
+use fairsurf::Vec3;
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+use serde_json::{json, Value};
+use std::path::Path;
+
+/// A fill scene: the faces around one or more holes, which holes to fill,
+/// and how.
+#[derive(Clone, Debug, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct FillScene {
+    /// Free text: a title.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// Free text: what the scene shows.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub description: Option<String>,
+    /// The faces: Bézier patches or B-spline surfaces, every control point
+    /// given. Holes are the closed loops of boundaries no other face
+    /// shares.
+    pub faces: Vec<FaceSpec>,
+    /// Which holes to fill, by their index in `fairsurf fill --list`
+    /// (longest loop first). Default: every hole but the outer rim (the
+    /// longest loop) when there are several, the one loop otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub holes: Option<Vec<usize>>,
+    /// How to fill.
+    #[serde(default)]
+    pub fill: FillSpec,
+}
+
+/// `"tensor"` (a Bézier patch) or `"bspline"`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum FaceKind {
+    /// A tensor-product Bézier patch.
+    Tensor,
+    /// A tensor-product B-spline surface.
+    Bspline,
+}
+
+/// One face.
+#[derive(Clone, Debug, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct FaceSpec {
+    /// `"tensor"` or `"bspline"`.
+    #[serde(rename = "type")]
+    pub kind: FaceKind,
+    /// `[p, q]`: degree in u and in v, 1 to 25.
+    pub degree: [usize; 2],
+    /// `[U, V]`: full clamped knot vectors (B-spline faces only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub knots: Option<[Vec<f64>; 2]>,
+    /// Rows (one per u index) of points `[x, y, z]`.
+    pub control_points: Net,
+}
+
+/// How to fill; every field optional ([`FillOptions::default`]).
+#[derive(Clone, Debug, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct FillSpec {
+    /// Degrees the fill gets above its sides' largest (default 2).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub elevate: Option<usize>,
+    /// At least this many control points per direction (default 8, at
+    /// least 5).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min_points: Option<usize>,
+    /// Membrane weight (default 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stretch: Option<f64>,
+    /// Thin-plate weight (default 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bend: Option<f64>,
+    /// λ of the normal field from the boundary data, per unit area
+    /// (default 100; 0: the plain thin plate).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub normal_weight: Option<f64>,
+    /// Normal samples per control point and direction (default 3).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub samples: Option<usize>,
+}
+
+/// The largest degree of a face (Open CASCADE reads up to 25).
+const MAX_FACE_DEGREE: usize = 25;
+/// The largest fill degree asked through `elevate`.
+const MAX_ELEVATE: usize = 10;
+
+impl FillSpec {
+    /// The options; errors name `fill.<field>`.
+    pub fn options(&self) -> Result<FillOptions> {
+        let d = FillOptions::default();
+        let weight = |name: &str, w: Option<f64>, default: f64| -> Result<f64> {
+            let w = w.unwrap_or(default);
+            crate::validate::check_weight(&format!("fill.{name}"), w)?;
+            Ok(w)
+        };
+        let elevate = self.elevate.unwrap_or(d.elevate);
+        if elevate > MAX_ELEVATE {
+            return Err(Error::scene(
+                "fill.elevate",
+                format!("expected 0 to {MAX_ELEVATE}, got {elevate}"),
+            ));
+        }
+        let min_points = self.min_points.unwrap_or(d.min_points);
+        if !(5..=64).contains(&min_points) {
+            return Err(Error::scene(
+                "fill.min_points",
+                format!("expected 5 to 64, got {min_points}"),
+            ));
+        }
+        let samples = self.samples.unwrap_or(d.samples);
+        if !(1..=16).contains(&samples) {
+            return Err(Error::scene(
+                "fill.samples",
+                format!("expected 1 to 16, got {samples}"),
+            ));
+        }
+        let options = FillOptions {
+            elevate,
+            min_points,
+            stretch: weight("stretch", self.stretch, d.stretch)?,
+            bend: weight("bend", self.bend, d.bend)?,
+            normal_weight: weight("normal_weight", self.normal_weight, d.normal_weight)?,
+            samples,
+        };
+        if options.stretch == 0.0 && options.bend == 0.0 {
+            return Err(Error::scene(
+                "fill",
+                "stretch and bend are both 0: the fill needs a membrane or thin-plate energy",
+            ));
+        }
+        Ok(options)
+    }
+}
+
+impl FillScene {
+    /// Parses a fill scene; errors name the JSON path.
+    pub fn from_json(text: &str) -> Result<FillScene> {
+        crate::scene::parse_with_path(text)
+    }
+
+    /// The JSON Schema of fill scenes.
+    pub fn json_schema() -> Value {
+        serde_json::to_value(schemars::schema_for!(FillScene)).expect("a schema serializes")
+    }
+
+    /// The faces as B-spline surfaces; errors name `faces[k].…`.
+    pub fn faces(&self) -> Result<Vec<BSplineSurface>> {
+        if self.faces.is_empty() {
+            return Err(Error::scene("faces", "no faces: a hole needs neighbours"));
+        }
+        self.faces
+            .iter()
+            .enumerate()
+            .map(|(k, f)| f.surface(&format!("faces[{k}]")))
+            .collect()
+    }
+}
+
+impl FaceSpec {
+    /// The face; errors name `{path}.degree`, `.knots` or `.control_points`.
+    pub fn surface(&self, path: &str) -> Result<BSplineSurface> {
+        for (k, &d) in self.degree.iter().enumerate() {
+            if !(1..=MAX_FACE_DEGREE).contains(&d) {
+                return Err(Error::scene(
+                    format!("{path}.degree[{k}]"),
+                    format!("must be 1 to {MAX_FACE_DEGREE}, got {d}"),
+                ));
+            }
+        }
+        let (u, v) = match (self.kind, &self.knots) {
+            (FaceKind::Tensor, None) => (
+                KnotVector::bezier(self.degree[0]),
+                KnotVector::bezier(self.degree[1]),
+            ),
+            (FaceKind::Tensor, Some(_)) => {
+                return Err(Error::scene(
+                    format!("{path}.knots"),
+                    "a tensor (Bézier) face has no knots: use \"type\": \"bspline\"",
+                ))
+            }
+            (FaceKind::Bspline, None) => {
+                return Err(Error::scene(
+                    format!("{path}.knots"),
+                    "a bspline face needs its knot vectors [U, V]",
+                ))
+            }
+            (FaceKind::Bspline, Some(k)) => {
+                let one = |i: usize| {
+                    KnotVector::new(self.degree[i], k[i].clone())
+                        .map_err(|e| Error::scene(format!("{path}.knots[{i}]"), e.to_string()))
+                };
+                (one(0)?, one(1)?)
+            }
+        };
+        let (cu, cv) = (u.count(), v.count());
+        let net = parse_net(
+            &self.control_points,
+            &format!("{path}.control_points"),
+            (cu - 1, cv - 1),
+            false,
+        )?;
+        let points: Vec<Vec3> = net.into_iter().map(|p| p.expect("no null")).collect();
+        Ok(BSplineSurface::new(u, v, points)?)
+    }
+}
+
+/// The faces to fill between, from a file: a JSON fill scene, or a STEP
+/// file (`.step`, `.stp`).
+#[derive(Clone, Debug)]
+pub struct FillInput {
+    /// The faces.
+    pub faces: Vec<BSplineSurface>,
+    /// The holes the scene chose, if it did.
+    pub holes: Option<Vec<usize>>,
+    /// The scene's fill options (the defaults for STEP).
+    pub options: FillOptions,
+}
+
+impl FillInput {
+    /// Reads `path`: STEP by its extension (`.step`, `.stp`, any case),
+    /// else a JSON fill scene.
+    pub fn read(path: &Path) -> Result<FillInput> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        if matches!(ext.as_deref(), Some("step" | "stp")) {
+            return Ok(FillInput {
+                faces: crate::step_read::read_step_faces(&text)?,
+                holes: None,
+                options: FillOptions::default(),
+            });
+        }
+        let scene = FillScene::from_json(&text)?;
+        Ok(FillInput {
+            faces: scene.faces()?,
+            holes: scene.holes.clone(),
+            options: scene.fill.options()?,
+        })
+    }
+}
+
+/// The holes of a set of faces and which of them to fill.
+#[derive(Clone, Debug)]
+pub struct HoleChoice {
+    /// Every hole, longest first.
+    pub holes: Vec<Hole>,
+    /// The indices to fill.
+    pub chosen: Vec<usize>,
+    /// The index taken for the outer rim of an open sheet (not filled
+    /// unless asked), when there are several holes.
+    pub rim: Option<usize>,
+}
+
+impl HoleChoice {
+    /// The holes of `faces`; `asked` (indices) or, without it, every hole
+    /// but the longest when there are several (the outer rim), the one
+    /// hole otherwise. Errors: no hole, an index out of range (named as
+    /// `holes[k]`).
+    pub fn new(faces: &[BSplineSurface], asked: Option<&[usize]>) -> Result<HoleChoice> {
+        let holes = find_holes(faces)?;
+        if holes.is_empty() {
+            return Err(Error::Solve(fairsurf::Error::Fill {
+                why: "there is no hole: every face boundary is shared by two faces".into(),
+            }));
+        }
+        let rim = (holes.len() > 1).then_some(0);
+        let chosen = match asked {
+            Some(a) => {
+                for (k, &h) in a.iter().enumerate() {
+                    if h >= holes.len() {
+                        return Err(Error::scene(
+                            format!("holes[{k}]"),
+                            format!(
+                                "there is no hole {h}: the faces have {} (0 to {})",
+                                holes.len(),
+                                holes.len() - 1
+                            ),
+                        ));
+                    }
+                }
+                let mut c = a.to_vec();
+                c.dedup();
+                c
+            }
+            None if holes.len() == 1 => vec![0],
+            None => (1..holes.len()).collect(),
+        };
+        Ok(HoleChoice { holes, chosen, rim })
+    }
+
+    /// Fills the chosen holes.
+    pub fn fill(&self, faces: &[BSplineSurface], options: &FillOptions) -> Result<Vec<Fill>> {
+        self.chosen
+            .iter()
+            .map(|&h| {
+                fill_hole(faces, &self.holes[h], options).map_err(|e| match e {
+                    fairsurf::Error::Fill { why } => fairsurf::Error::Fill {
+                        why: format!("hole {h}: {why}"),
+                    },
+                    e => e,
+                })
+            })
+            .collect::<fairsurf::Result<_>>()
+            .map_err(Error::Solve)
+    }
+
+    /// The `--list` table: index, sides, length, faces, and whether it is
+    /// filled by default.
+    pub fn list_json(&self) -> Value {
+        Value::Array(
+            self.holes
+                .iter()
+                .enumerate()
+                .map(|(k, h)| {
+                    json!({
+                        "index": k,
+                        "sides": h.sides.len(),
+                        "length": h.length,
+                        "faces": h.faces(),
+                        "rim": self.rim == Some(k),
+                        "chosen": self.chosen.contains(&k),
+                    })
+                })
+                .collect(),
+        )
+    }
+}
+
+fn edge_name(e: Edge) -> &'static str {
+    match e {
+        Edge::U0 => "u0",
+        Edge::U1 => "u1",
+        Edge::V0 => "v0",
+        Edge::V1 => "v1",
+    }
+}
+
+/// One fill's report: the surface's size, per side the gap and normal
+/// angle measured on it, the corner mismatches, W, the solve's figures and
+/// the time.
+pub fn fill_json(hole: usize, fill: &Fill) -> Value {
+    let r = &fill.report;
+    let s = &r.solve;
+    let sides: Vec<Value> = r
+        .sides
+        .iter()
+        .map(|f| {
+            json!({
+                "face": f.side.face,
+                "edge": edge_name(f.side.edge),
+                "reversed": f.side.reversed,
+                "gap": f.gap,
+                "angle_deg": f.angle.to_degrees(),
+                "samples": f.samples,
+                "singular": f.singular,
+            })
+        })
+        .collect();
+    let (ku, kv) = fill.surface.knots();
+    json!({
+        "hole": hole,
+        "degree": fill.surface.degree(),
+        "control_points": fill.surface.counts(),
+        "spans": [ku.spans().len(), kv.spans().len()],
+        "sides": sides,
+        "max_gap": r.sides.iter().map(|f| f.gap).fold(0.0, f64::max),
+        "max_angle_deg": r.sides.iter().map(|f| f.angle.to_degrees()).fold(0.0, f64::max),
+        "corners": {
+            "position": r.corners.position,
+            "tangent": r.corners.tangent,
+            "twist": r.corners.twist,
+        },
+        "alpha": r.alpha,
+        "curvature_w": r.curvature.value,
+        "curvature_w_error": r.curvature.error,
+        "normal_weight": r.normal_weight,
+        "solve": {
+            "energy": s.energy,
+            "terms": {"stretch": s.stretch, "bend": s.bend, "normal_field": s.normal_field},
+            "relative_gradient": s.relative_gradient,
+            "residual": s.residual,
+            "condition_estimate": crate::result::finite(s.condition_estimate),
+            "free_points": s.free_points,
+            "check": {
+                "energy": s.check_energy,
+                "energy_error": s.energy_error,
+                "excess": s.excess,
+                "scale": s.scale,
+                "tolerance": fairsurf::CHECK_TOLERANCE,
+            },
+        },
+        "seconds": {
+            "setup": r.seconds.setup,
+            "solve": r.seconds.solve,
+            "measure": r.seconds.measure,
+            "total": r.seconds.setup + r.seconds.solve + r.seconds.measure,
+        },
+    })
+}
+
+/// The input faces followed by the fills, for the CAD writers.
+pub fn fill_surfaces(faces: &[BSplineSurface], fills: &[Fill]) -> Vec<CadSurface> {
+    faces
+        .iter()
+        .chain(fills.iter().map(|f| &f.surface))
+        .map(CadSurface::from)
+        .collect()
+}
