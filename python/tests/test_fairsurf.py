@@ -25,15 +25,6 @@ TRIANGULAR = EXAMPLES / "vw_pentagon_hole.json"
 BSPLINE = EXAMPLES / "bspline_hole_guided.json"
 
 
-@pytest.fixture(scope="session")
-def cli() -> Path:
-    """The command line, built from this checkout."""
-    subprocess.run(
-        ["cargo", "build", "-q", "-p", "fairsurf-cli"], cwd=ROOT, check=True
-    )
-    return ROOT / "target" / "debug" / "fairsurf"
-
-
 def cli_result(cli: Path, scene: Path, tmp_path: Path) -> dict:
     out = tmp_path / (scene.stem + ".result.json")
     subprocess.run([str(cli), "solve", str(scene), "-o", str(out)], check=True,
