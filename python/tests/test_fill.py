@@ -124,3 +124,103 @@ def test_the_filled_network_is_sewn_and_g1(cli: Path, tmp_path: Path):
     measured = max(s[1] for s in across)
     assert measured < 1e-9 and reported < 1e-9, (measured, reported)
     assert max(s[2] for s in across) < 1e-12
+
+
+def sewn_step(faces, path: Path) -> None:
+    """Open CASCADE sews `faces` (OCP faces) and writes them as STEP."""
+    from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
+
+    sewing = BRepBuilderAPI_Sewing(1e-7)
+    for f in faces:
+        sewing.Add(f)
+    sewing.Perform()
+    writer = STEPControl_Writer()
+    writer.Transfer(sewing.SewedShape(), STEPControl_AsIs)
+    assert int(writer.Write(str(path))) == 1
+
+
+def bezier_face(net):
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+    from OCP.collections import Array2_gp_Pnt
+    from OCP.Geom import Geom_BezierSurface
+
+    poles = Array2_gp_Pnt(1, len(net), 1, len(net[0]))
+    for i, row in enumerate(net):
+        for j, p in enumerate(row):
+            poles.SetValue(i + 1, j + 1, gp_Pnt(*p))
+    return BRepBuilderAPI_MakeFace(Geom_BezierSurface(poles), 1e-7).Face()
+
+
+def fill_and_check(cli: Path, step_in: Path, tmp_path: Path, faces: int) -> dict:
+    """fairsurf fill on an Open CASCADE file; Open CASCADE checks the result."""
+    out = tmp_path / "filled.step"
+    run = subprocess.run([str(cli), "fill", str(step_in), "-o", str(out), "--json"],
+                         check=True, capture_output=True, text=True)
+    report = json.loads(run.stdout)
+    shape = read_step(out)
+    assert count(shape, TopAbs_FACE) == faces + 1
+    assert free_edges_after_sewing(shape) == 12  # the rim only
+    across = [s for s in seams(shape) if faces in s[0]]
+    assert len(across) == 4
+    assert max(s[1] for s in across) < 1e-9
+    assert max(s[2] for s in across) < 1e-9
+    assert report["fills"][0]["max_angle_deg"] < 1e-9
+    return report
+
+
+def test_an_open_cascade_network_of_bezier_faces_is_filled(cli: Path, tmp_path: Path):
+    scene = json.loads((EXAMPLES / "fill_network.json").read_text())
+    step_in = tmp_path / "network.step"
+    sewn_step([bezier_face(f["control_points"]) for f in scene["faces"]], step_in)
+    fill_and_check(cli, step_in, tmp_path, 8)
+
+
+def test_an_open_cascade_network_of_bspline_faces_is_filled(cli: Path, tmp_path: Path):
+    """A bicubic B-spline sheet with uneven knots cut by Open CASCADE
+    (Geom_BSplineSurface.Segment) at interior knots: neighbours of several
+    spans and different knot vectors."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+    from OCP.collections import Array1_double, Array1_int, Array2_gp_Pnt
+    from OCP.Geom import Geom_BSplineSurface
+
+    def array(values, kind):
+        a = kind(1, len(values))
+        for k, x in enumerate(values):
+            a.SetValue(k + 1, x)
+        return a
+
+    uk, um = [0.0, 0.5, 1.0, 1.7, 2.0, 2.4, 3.0], [4, 1, 1, 1, 1, 1, 4]
+    vk, vm = [0.0, 0.8, 1.2, 1.5, 2.1, 3.0], [4, 1, 1, 1, 1, 4]
+    cu, cv = sum(um) - 4, sum(vm) - 4
+    poles = Array2_gp_Pnt(1, cu, 1, cv)
+    for i in range(cu):
+        for j in range(cv):
+            x, y = 0.4 * i, 0.45 * j
+            poles.SetValue(i + 1, j + 1,
+                           gp_Pnt(x, y + 0.05 * x, 0.4 * math.cos(1.1 * x) * math.sin(1.4 * y)))
+    faces = []
+    for a, b in [(0.0, 1.0), (1.0, 2.0), (2.0, 3.0)]:
+        for c, d in [(0.0, 1.2), (1.2, 2.1), (2.1, 3.0)]:
+            if (a, c) == (1.0, 1.2):
+                continue
+            s = Geom_BSplineSurface(poles, array(uk, Array1_double), array(vk, Array1_double),
+                                    array(um, Array1_int), array(vm, Array1_int), 3, 3)
+            s.Segment(a, b, c, d)
+            faces.append(BRepBuilderAPI_MakeFace(s, 1e-7).Face())
+    step_in = tmp_path / "bspline_network.step"
+    sewn_step(faces, step_in)
+    report = fill_and_check(cli, step_in, tmp_path, 8)
+    assert report["fills"][0]["spans"][0] >= 2
+
+
+def test_a_cylinder_neighbour_is_refused(cli: Path, tmp_path: Path):
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakeCylinder
+
+    step_in = tmp_path / "cylinder.step"
+    sewn_step([BRepPrimAPI_MakeCylinder(1.0, 2.0).Shape()], step_in)
+    out = tmp_path / "x.step"
+    run = subprocess.run([str(cli), "fill", str(step_in), "-o", str(out)],
+                         capture_output=True, text=True)
+    assert run.returncode == 2, run.stderr
+    assert "elementary surface" in run.stderr or "swept surface" in run.stderr, run.stderr
+    assert not out.exists()

@@ -66,7 +66,7 @@ pub fn write_step_surfaces(path: &Path, surfaces: &[CadSurface]) -> Result<()> {
 }
 
 /// The whole file.
-fn step_text(file_name: &str, patches: &[CadSurface]) -> String {
+pub(crate) fn step_text(file_name: &str, patches: &[CadSurface]) -> String {
     let all: Vec<Vec3> = patches
         .iter()
         .flat_map(|p| p.points.iter().copied())
