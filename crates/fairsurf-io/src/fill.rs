@@ -401,6 +401,10 @@ pub fn fill_json(hole: usize, fill: &Fill) -> Value {
             "residual": s.residual,
             "condition_estimate": crate::result::finite(s.condition_estimate),
             "free_points": s.free_points,
+            "timings_s": {
+                "assemble": s.timings.assemble, "factor": s.timings.factor,
+                "solve": s.timings.solve, "analyse": s.timings.analyse, "total": s.timings.total,
+            },
             "check": {
                 "energy": s.check_energy,
                 "energy_error": s.energy_error,

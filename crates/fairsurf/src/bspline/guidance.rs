@@ -31,14 +31,93 @@ pub(crate) struct NormalTerm {
 /// normal N_k.
 type Sample = (f64, f64, f64, Vec3);
 
-/// One Gauss node of a span: its weight (with the span's area), the
-/// field there, and the basis functions' first derivatives (local index
-/// i·(q+1) + j for N_{ku−p+i}(u) N_{kv−q+j}(v)).
-pub(crate) struct Node {
-    pub weight: f64,
-    pub n: Vec3,
-    pub du: Vec<f64>,
-    pub dv: Vec<f64>,
+/// A span's samples in one direction: (sample index, [basis values,
+/// derivatives]).
+type AxisNodes = Vec<(usize, [Vec<f64>; 2])>;
+
+/// The nodes of one span, a tensor grid (Gauss nodes of a field, or the
+/// samples that fall in the span): at each u node the p + 1 nonzero basis
+/// functions N_{ku−p+i} and their derivatives (with respect to the mapped
+/// parameter for samples), likewise in v, and at node (s, t) the weight
+/// (with the span's area, and λ) and the field N.
+pub(crate) struct SpanGrid {
+    pub span: (usize, usize),
+    /// Per u node: [values, derivatives], p + 1 each.
+    pub bu: Vec<[Vec<f64>; 2]>,
+    /// Per v node: [values, derivatives], q + 1 each.
+    pub bv: Vec<[Vec<f64>; 2]>,
+    /// Weight at node (s, t), row-major s·nv + t.
+    pub weight: Vec<f64>,
+    /// N at node (s, t).
+    pub n: Vec<Vec3>,
+}
+
+impl SpanGrid {
+    /// The span's local Hessian Σ_nodes w (Y Yᵀ + Z Zᵀ), Y = ∂_u B ⊗ N,
+    /// Z = ∂_v B ⊗ N, as an m × m matrix (m = 3(p+1)(q+1), row 3a + c for
+    /// basis function a = i(q+1) + j and coordinate c), by sum
+    /// factorization over the grid: for each pair (c, d),
+    /// Σ_s N′_i(u_s) N′_i′(u_s) Σ_t w_st n_c n_d N_j(v_t) N_j′(v_t), and the
+    /// same with the derivative in v — (p+1)²(q+1)² per u node instead of
+    /// 9(p+1)²(q+1)² per node.
+    pub fn local(&self) -> Vec<f64> {
+        let (pu, pv) = (self.bu[0][0].len(), self.bv[0][0].len());
+        let (nu, nv) = (self.bu.len(), self.bv.len());
+        let size = pu * pv;
+        let m = 3 * size;
+        let mut local = vec![0.0f64; m * m];
+        let mut t = vec![0.0f64; pv * pv];
+        for c in 0..3 {
+            for d in c..3 {
+                // (u factor index, v factor index): the u-derivative term
+                // pairs N′(u) with N(v), the v-derivative term N(u) with N′(v).
+                for (ku, kv) in [(1, 0), (0, 1)] {
+                    for s in 0..nu {
+                        t.fill(0.0);
+                        for tt in 0..nv {
+                            let k = s * nv + tt;
+                            let w = self.weight[k] * self.n[k][c] * self.n[k][d];
+                            if w == 0.0 {
+                                continue;
+                            }
+                            let b = &self.bv[tt][kv];
+                            for j in 0..pv {
+                                let wj = w * b[j];
+                                for j2 in 0..pv {
+                                    t[j * pv + j2] += wj * b[j2];
+                                }
+                            }
+                        }
+                        let b = &self.bu[s][ku];
+                        for i in 0..pu {
+                            for i2 in 0..pu {
+                                let f = b[i] * b[i2];
+                                if f == 0.0 {
+                                    continue;
+                                }
+                                for j in 0..pv {
+                                    let row = 3 * (i * pv + j) + c;
+                                    for j2 in 0..pv {
+                                        let col = 3 * (i2 * pv + j2) + d;
+                                        local[row * m + col] += f * t[j * pv + j2];
+                                    }
+                                }
+                            }
+                        }
+                    }
+                }
+                if c != d {
+                    // The (d, c) blocks are the transposes' entries.
+                    for a in 0..size {
+                        for b in 0..size {
+                            local[(3 * a + d) * m + 3 * b + c] = local[(3 * b + c) * m + 3 * a + d];
+                        }
+                    }
+                }
+            }
+        }
+        local
+    }
 }
 
 impl NormalTerm {
@@ -82,74 +161,113 @@ impl NormalTerm {
         Some((out, (b - a, d - c)))
     }
 
-    /// Every span (ku, kv) with its nodes, for the Hessian: Gauss nodes of
-    /// a field, or the samples in it (a sample on a knot line counts once,
-    /// in the span `KnotVector::span` gives).
-    pub(crate) fn spans(&self, surface: &BSplineSurface) -> Vec<((usize, usize), Vec<Node>)> {
+    /// Every span's node grid, for the Hessian: Gauss nodes of a field, or
+    /// the samples in it (a sample on a knot line counts once, in the span
+    /// `KnotVector::span` gives).
+    pub(crate) fn spans(&self, surface: &BSplineSurface) -> Vec<SpanGrid> {
         let field = match &self.guide {
             NormalGuide::Field(f) => f,
             NormalGuide::Samples { .. } => return self.sample_spans(surface),
         };
         let (ku, kv) = surface.knots();
         let (gu, gv) = Self::rule(field, surface, 0);
-        let (p, q) = surface.degree();
         let mut out = Vec::new();
         for &(su, u0, u1) in &ku.spans() {
+            let us: Vec<f64> = gu.nodes.iter().map(|&x| u0 + (u1 - u0) * x).collect();
+            let bu: Vec<[Vec<f64>; 2]> = us
+                .iter()
+                .map(|&u| {
+                    let b = ku.basis_derivatives(su, u, 1);
+                    [b[0].clone(), b[1].clone()]
+                })
+                .collect();
             for &(sv, v0, v1) in &kv.spans() {
-                let mut nodes = Vec::with_capacity(gu.nodes.len() * gv.nodes.len());
-                for (&x, &wx) in gu.nodes.iter().zip(&gu.weights) {
-                    let u = u0 + (u1 - u0) * x;
-                    let bu = ku.basis_derivatives(su, u, 1);
-                    for (&y, &wy) in gv.nodes.iter().zip(&gv.weights) {
-                        let v = v0 + (v1 - v0) * y;
-                        let bv = kv.basis_derivatives(sv, v, 1);
-                        let (mut du, mut dv) = (Vec::new(), Vec::new());
-                        for i in 0..=p {
-                            for j in 0..=q {
-                                du.push(bu[1][i] * bv[0][j]);
-                                dv.push(bu[0][i] * bv[1][j]);
-                            }
-                        }
-                        nodes.push(Node {
-                            weight: self.weight * wx * wy * (u1 - u0) * (v1 - v0),
-                            n: Self::field_at(field, surface, u, v),
-                            du,
-                            dv,
-                        });
+                let vs: Vec<f64> = gv.nodes.iter().map(|&y| v0 + (v1 - v0) * y).collect();
+                let bv = vs
+                    .iter()
+                    .map(|&v| {
+                        let b = kv.basis_derivatives(sv, v, 1);
+                        [b[0].clone(), b[1].clone()]
+                    })
+                    .collect();
+                let mut weight = Vec::with_capacity(us.len() * vs.len());
+                let mut n = Vec::with_capacity(us.len() * vs.len());
+                for (&u, &wx) in us.iter().zip(&gu.weights) {
+                    for (&v, &wy) in vs.iter().zip(&gv.weights) {
+                        weight.push(self.weight * wx * wy * (u1 - u0) * (v1 - v0));
+                        n.push(Self::field_at(field, surface, u, v));
                     }
                 }
-                out.push(((su, sv), nodes));
+                out.push(SpanGrid {
+                    span: (su, sv),
+                    bu: bu.clone(),
+                    bv,
+                    weight,
+                    n,
+                });
             }
         }
         out
     }
 
-    /// The samples grouped by span, with the basis derivatives with
-    /// respect to the mapped parameters.
-    fn sample_spans(&self, surface: &BSplineSurface) -> Vec<((usize, usize), Vec<Node>)> {
-        let (samples, (su, sv)) = self.samples(surface).expect("a sampled guide");
+    /// The samples grouped by span (the samples of a span are the grid's u
+    /// samples in its u-interval times its v samples in its v-interval),
+    /// with the basis derivatives with respect to the mapped parameters.
+    fn sample_spans(&self, surface: &BSplineSurface) -> Vec<SpanGrid> {
+        let NormalGuide::Samples {
+            grid,
+            normals,
+            weights,
+        } = &self.guide
+        else {
+            unreachable!("a sampled guide");
+        };
         let (ku, kv) = surface.knots();
-        let (p, q) = surface.degree();
-        let mut by_span: std::collections::BTreeMap<(usize, usize), Vec<Node>> =
-            std::collections::BTreeMap::new();
-        for (u, v, w, n) in samples {
-            let (k, l) = (ku.span(u), kv.span(v));
-            let (bu, bv) = (ku.basis_derivatives(k, u, 1), kv.basis_derivatives(l, v, 1));
-            let (mut du, mut dv) = (Vec::new(), Vec::new());
-            for i in 0..=p {
-                for j in 0..=q {
-                    du.push(su * bu[1][i] * bv[0][j]);
-                    dv.push(sv * bu[0][i] * bv[1][j]);
-                }
+        let ((a, b), (c, d)) = (ku.domain(), kv.domain());
+        let (np, mp) = grid.size();
+        // Per direction: (span, sample index, basis values, derivatives).
+        let axis = |k: &crate::bspline::KnotVector, lo: f64, hi: f64, count: usize| {
+            (0..=count)
+                .map(|i| {
+                    let x = lo + (hi - lo) * (i as f64 / count as f64);
+                    let span = k.span(x);
+                    let bs = k.basis_derivatives(span, x, 1);
+                    let d: Vec<f64> = bs[1].iter().map(|v| v * (hi - lo)).collect();
+                    (span, i, [bs[0].clone(), d])
+                })
+                .collect::<Vec<_>>()
+        };
+        let (au, av) = (axis(ku, a, b, np), axis(kv, c, d, mp));
+        let group = |ax: &[(usize, usize, [Vec<f64>; 2])]| {
+            let mut g: std::collections::BTreeMap<usize, AxisNodes> = Default::default();
+            for (span, i, b) in ax {
+                g.entry(*span).or_default().push((*i, b.clone()));
             }
-            by_span.entry((k, l)).or_default().push(Node {
-                weight: w,
-                n,
-                du,
-                dv,
-            });
+            g
+        };
+        let (gu, gv) = (group(&au), group(&av));
+        let mut out = Vec::new();
+        for (&su, us) in &gu {
+            for (&sv, vs) in &gv {
+                let mut weight = Vec::with_capacity(us.len() * vs.len());
+                let mut n = Vec::with_capacity(us.len() * vs.len());
+                for (i, _) in us {
+                    for (j, _) in vs {
+                        let k = i * (mp + 1) + j;
+                        weight.push(self.weight * weights.as_ref().map_or(1.0, |w| w[k]));
+                        n.push(normals[k]);
+                    }
+                }
+                out.push(SpanGrid {
+                    span: (su, sv),
+                    bu: us.iter().map(|(_, b)| b.clone()).collect(),
+                    bv: vs.iter().map(|(_, b)| b.clone()).collect(),
+                    weight,
+                    n,
+                });
+            }
         }
-        by_span.into_iter().collect()
+        out
     }
 
     /// ½λ∫∫ (R_u·N)² + (R_v·N)², from de Boor derivatives at the nodes (or

@@ -533,24 +533,10 @@ impl BSplineProblem {
             let mut band = vec![0.0f64; nf * wu * wv * 9];
             let size = (p + 1) * (q + 1);
             let m = 3 * size;
-            for ((su, sv), nodes) in n.spans(&self.surface) {
+            for grid in n.spans(&self.surface) {
                 // Local Σ_nodes w (Y Yᵀ + Z Zᵀ), Y = ∂_u B ⊗ N, Z = ∂_v B ⊗ N.
-                let mut local = vec![0.0f64; m * m];
-                let (mut y, mut z) = (vec![0.0; m], vec![0.0; m]);
-                for node in &nodes {
-                    for a in 0..size {
-                        for c in 0..3 {
-                            y[3 * a + c] = node.du[a] * node.n[c];
-                            z[3 * a + c] = node.dv[a] * node.n[c];
-                        }
-                    }
-                    for (r, row) in local.chunks_mut(m).enumerate() {
-                        let (yr, zr) = (node.weight * y[r], node.weight * z[r]);
-                        for ((e, &ys), &zs) in row.iter_mut().zip(&y).zip(&z) {
-                            *e += yr * ys + zr * zs;
-                        }
-                    }
-                }
+                let local = grid.local();
+                let (su, sv) = grid.span;
                 let (i0, j0) = (su - p, sv - q);
                 for a in 0..size {
                     let (ia, ja) = (i0 + a / (q + 1), j0 + a % (q + 1));

@@ -9,7 +9,7 @@ use crate::vec3::{angle, cross, dist, norm};
 
 /// Parameters sampled per side: Chebyshev–Lobatto points, clustered at the
 /// corners where the largest deviations of an approximate fill sit.
-pub const SIDE_SAMPLES: usize = 257;
+pub const SIDE_SAMPLES: usize = 129;
 
 /// How a fill meets one neighbour.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -60,7 +60,7 @@ pub fn side_fit(fill: &BSplineSurface, k: usize, face: &BSplineSurface, side: Si
 /// quadrature span by span (the integrand is rational: no closed form).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TotalCurvature {
-    /// W with 2(p + q) + 8 nodes per span and direction.
+    /// W with p + q + 4 nodes per span and direction.
     pub value: f64,
     /// |W − W'| with W' from half as many nodes plus one: an error estimate.
     pub error: f64,
@@ -70,7 +70,7 @@ pub struct TotalCurvature {
 /// regular contribute nothing.
 pub fn total_curvature(s: &BSplineSurface) -> TotalCurvature {
     let (p, q) = s.degree();
-    let order = 2 * (p + q) + 8;
+    let order = p + q + 4;
     let w = |order: usize| {
         let g = GaussLegendre::new(order);
         let (ku, kv) = s.knots();

@@ -30,7 +30,7 @@
 //!    (Wu & Yang eq. 5) with weight λ per unit area (λ over the number of
 //!    samples each) — see [`FillOptions`].
 //! 4. **Measured.** Every side's gap and normal angle on the returned
-//!    surface against the neighbour, at 257 parameters clustered towards
+//!    surface against the neighbour, at 129 parameters clustered towards
 //!    the corners (Chebyshev–Lobatto), and W = ∫∫ κ₁² + κ₂² dA of the fill
 //!    ([`total_curvature`]).
 
