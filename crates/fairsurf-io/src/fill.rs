@@ -92,6 +92,10 @@ pub struct FillSpec {
     /// Normal samples per control point and direction (default 3).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub samples: Option<usize>,
+    /// Linearized Willmore steps after the solve, each kept only if it
+    /// lowers W (default 4; 0 to 50).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub willmore_steps: Option<usize>,
 }
 
 /// The largest degree of a face (Open CASCADE reads up to 25).
@@ -122,6 +126,13 @@ impl FillSpec {
                 format!("expected 5 to 64, got {min_points}"),
             ));
         }
+        let willmore_steps = self.willmore_steps.unwrap_or(d.willmore_steps);
+        if willmore_steps > 50 {
+            return Err(Error::scene(
+                "fill.willmore_steps",
+                format!("expected 0 to 50, got {willmore_steps}"),
+            ));
+        }
         let samples = self.samples.unwrap_or(d.samples);
         if !(1..=16).contains(&samples) {
             return Err(Error::scene(
@@ -136,6 +147,7 @@ impl FillSpec {
             bend: weight("bend", self.bend, d.bend)?,
             normal_weight: weight("normal_weight", self.normal_weight, d.normal_weight)?,
             samples,
+            willmore_steps,
         };
         if options.stretch == 0.0 && options.bend == 0.0 {
             return Err(Error::scene(
@@ -393,6 +405,7 @@ pub fn fill_json(hole: usize, fill: &Fill) -> Value {
         "alpha": r.alpha,
         "curvature_w": r.curvature.value,
         "curvature_w_error": r.curvature.error,
+        "willmore_w": r.willmore,
         "normal_weight": r.normal_weight,
         "solve": {
             "energy": s.energy,

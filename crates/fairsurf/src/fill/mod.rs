@@ -28,7 +28,10 @@
 //!    eq. 2) guided by a normal field from the boundary data: the normals
 //!    of the bicubically blended Hermite–Coons patch of P and α·D, sampled
 //!    (Wu & Yang eq. 5) with weight λ per unit area (λ over the number of
-//!    samples each) — see [`FillOptions`].
+//!    samples each) — see [`FillOptions`]. Then a few linearized Willmore
+//!    steps lower W further: with the boundary's tangent planes fixed,
+//!    ∫∫ K dA is fixed (Gauss–Bonnet), so W falls exactly as ∫∫ 4H² dA does,
+//!    and ∫∫ |Δ_g R|² dA with the metric frozen is quadratic.
 //! 4. **Measured.** Every side's gap and normal angle on the returned
 //!    surface against the neighbour, at 129 parameters clustered towards
 //!    the corners (Chebyshev–Lobatto), and W = ∫∫ κ₁² + κ₂² dA of the fill
@@ -40,6 +43,7 @@ mod measure;
 mod strip;
 #[cfg(test)]
 mod tests;
+mod willmore;
 
 pub use holes::{edge_point, find_holes, surface_param, tolerance, Hole, Side};
 pub use measure::{side_fit, total_curvature, SideFit, TotalCurvature};
@@ -78,6 +82,10 @@ pub struct FillOptions {
     /// Normal samples per control point and direction (the grid has
     /// `samples · count` intervals each way).
     pub samples: usize,
+    /// Linearized Willmore steps after the solve (see the module
+    /// `willmore`): at most this many, each kept only if it lowers W,
+    /// stopping once one lowers it by less than 1e-6 of itself; 0 for none.
+    pub willmore_steps: usize,
 }
 
 impl Default for FillOptions {
@@ -89,6 +97,7 @@ impl Default for FillOptions {
             bend: 1.0,
             normal_weight: DEFAULT_NORMAL_WEIGHT,
             samples: 3,
+            willmore_steps: 4,
         }
     }
 }
@@ -122,6 +131,9 @@ pub struct FillReport {
     pub alpha: [f64; 4],
     /// W = ∫∫ κ₁² + κ₂² dA of the fill.
     pub curvature: TotalCurvature,
+    /// W after the solve and after each linearized Willmore step tried
+    /// (the last one tried is dropped when it did not lower W).
+    pub willmore: Vec<f64>,
     /// λ used (0: plain thin plate).
     pub normal_weight: f64,
     /// Seconds: boundary data and rings, solve, measurements.
@@ -361,20 +373,30 @@ pub fn fill_hole(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -
     let solved = problem.solve()?;
     let solve = t1.elapsed().as_secs_f64();
     let t2 = Instant::now();
-    let sides = (0..4)
-        .map(|k| {
-            side_fit(
-                &solved.surface,
-                k,
-                &faces[hole.sides[k].face],
-                hole.sides[k],
-            )
-        })
+    let mut surface = solved.surface;
+    let mut curvature = total_curvature(&surface);
+    let mut history = vec![curvature.value];
+    let free = problem.free().to_vec();
+    for _ in 0..options.willmore_steps {
+        let next = willmore::step(&surface, &free)?;
+        let w = total_curvature(&next);
+        history.push(w.value);
+        if w.value.is_nan() || w.value >= curvature.value {
+            break;
+        }
+        let done = curvature.value - w.value <= 1e-6 * curvature.value;
+        surface = next;
+        curvature = w;
+        if done {
+            break;
+        }
+    }
+    let sides: Vec<SideFit> = (0..4)
+        .map(|k| side_fit(&surface, k, &faces[hole.sides[k].face], hole.sides[k]))
         .collect();
-    let curvature = total_curvature(&solved.surface);
     let measure = t2.elapsed().as_secs_f64();
     Ok(Fill {
-        surface: solved.surface,
+        surface,
         hole,
         report: FillReport {
             solve: solved.report,
@@ -382,6 +404,7 @@ pub fn fill_hole(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -
             corners,
             alpha,
             curvature,
+            willmore: history,
             normal_weight: options.normal_weight,
             seconds: FillSeconds {
                 setup,
