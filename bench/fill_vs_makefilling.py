@@ -213,7 +213,7 @@ def seam(fill_face, edges, samples=65):
 
 
 def curvature_squared(s, u, v):
-    """k1^2 + k2^2 = 4H^2 - 2K and |S_u x S_v| at (u, v), from Open CASCADE's
+    """4H^2, K (k1^2 + k2^2 = 4H^2 - 2K) and |S_u x S_v| at (u, v), from Open CASCADE's
     derivatives (D2) and the fundamental forms. (Open CASCADE 8's
     GeomLProp_SLProps was not used: on these surfaces its MaxCurvature came
     out 0 where the principal curvatures from its own derivatives are 0.018
@@ -228,7 +228,7 @@ def curvature_squared(s, u, v):
     det = E * G - F * F
     K = (e * g - f * f) / det
     H = (e * G - 2 * f * F + g * E) / (2 * det)
-    return 4 * H * H - 2 * K, da
+    return 4 * H * H, K, da
 
 
 def uv_boundary(face):
@@ -260,9 +260,10 @@ def uv_boundary(face):
 def total_curvature(face, nodes=16, cells=4):
     """W = integral of k1^2 + k2^2 dA over the face: its parameter region is
     mapped from [0, 1]^2 by the bilinearly blended Coons patch of its four
-    boundary pcurves, Gauss-Legendre on cells x cells squares; returns W and
-    the area so integrated over the face's area (BRepGProp; 1 when the map
-    covers the face once)."""
+    boundary pcurves, Gauss-Legendre on cells x cells squares; returns W, its
+    parts integral 4H^2 dA and integral K dA (W = the first - 2 x the second),
+    and the area so integrated over the face's area (BRepGProp; 1 when the
+    map covers the face once)."""
     s = BRep_Tool.Surface_s(face)
     e0, e1, e2, e3 = uv_boundary(face)
     p00, p10, p11, p01 = e0(0)[0], e1(0)[0], e2(0)[0], e3(0)[0]
@@ -278,19 +279,20 @@ def total_curvature(face, nodes=16, cells=4):
 
     g, w = np.polynomial.legendre.leggauss(nodes)
     g, w = (g + 1) / 2, w / 2
-    total = area = 0.0
+    willmore = gauss = area = 0.0
     for i in range(cells):
         for j in range(cells):
             for xi, wi in zip(g, w):
                 for yj, wj in zip(g, w):
                     (u, v), jac = coons((i + xi) / cells, (j + yj) / cells)
-                    w2, dA = curvature_squared(s, u, v)
+                    h2, k, dA = curvature_squared(s, u, v)
                     da = dA * jac * wi * wj / cells ** 2
-                    total += w2 * da
+                    willmore += h2 * da
+                    gauss += k * da
                     area += da
     props = GProp_GProps()
     BRepGProp.SurfaceProperties_s(face, props, 1e-10)
-    return total, area / props.Mass()
+    return willmore - 2 * gauss, willmore, gauss, area / props.Mass()
 
 
 def run(args):
@@ -313,7 +315,7 @@ def run(args):
                 times.append(time.perf_counter() - t)
                 fill = TopoDS.Face(mf.Shape())
             occ_angle, occ_gap = seam(fill, edges)
-            occ_w, occ_rect = total_curvature(fill)
+            occ_w, occ_h, occ_k, occ_rect = total_curvature(fill)
             step_out = tmp / f"{name}.filled.step"
             ptimes, report = [], None
             for _ in range(args.repeats):
@@ -324,18 +326,24 @@ def run(args):
                 report = json.loads(out.stdout)["fills"][0]
             ours = faces_of(read_step(step_out))[-1]
             fs_angle, fs_gap = seam(ours, edges)
-            fs_w, fs_rect = total_curvature(ours)
+            fs_w, fs_h, fs_k, fs_rect = total_curvature(ours)
             assert abs(occ_rect - 1) < 1e-6 and abs(fs_rect - 1) < 1e-6, (occ_rect, fs_rect)
             rows.append((name, statistics.median(times), occ_angle, occ_gap, occ_w,
                          report["seconds"]["total"], statistics.median(ptimes), fs_angle,
-                         fs_gap, fs_w, report["max_angle_deg"], report["curvature_w"]))
+                         fs_gap, fs_w, report["max_angle_deg"], report["curvature_w"],
+                         occ_h, occ_k, fs_h, fs_k))
     print(f"{'hole':8} {'MakeFilling':>34} | {'fairsurf fill (measured by Open CASCADE)':>52} | "
           f"{'fairsurf reports':>20}")
     print(f"{'':8} {'ms':>7} {'angle°':>9} {'gap':>8} {'W':>9} | {'lib ms':>7} {'proc ms':>8} "
           f"{'angle°':>9} {'gap':>8} {'W':>9} {'W/W_MF':>7} | {'angle°':>9} {'W':>9}")
-    for (name, mt, ma, mg, mw, lt, pt, fa, fg, fw, ra, rw) in rows:
+    for (name, mt, ma, mg, mw, lt, pt, fa, fg, fw, ra, rw, *_parts) in rows:
         print(f"{name:8} {1e3 * mt:7.2f} {ma:9.2e} {mg:8.1e} {mw:9.6f} | {1e3 * lt:7.2f} "
               f"{1e3 * pt:8.1f} {fa:9.1e} {fg:8.1e} {fw:9.6f} {fw / mw:7.4f} | {ra:9.1e} {rw:9.6f}")
+    print("W = integral 4H^2 dA - 2 integral K dA (integral K dA is fixed by the boundary and its "
+          "tangent planes, Gauss-Bonnet):")
+    for (name, *_r, occ_h, occ_k, fs_h, fs_k) in rows:
+        print(f"  {name}: MakeFilling 4H^2 {occ_h:.6f} K {occ_k:.6f} | fairsurf 4H^2 {fs_h:.6f} "
+              f"K {fs_k:.6f}")
     print("time ratio MakeFilling / fairsurf (> 1: fairsurf faster):")
     for (name, mt, _, _, _, lt, pt, *_rest) in rows:
         print(f"  {name}: the library's fill {mt / lt:.2f}, the whole fairsurf fill process {mt / pt:.2f}")
