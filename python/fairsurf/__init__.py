@@ -40,6 +40,8 @@ __all__ = [
     "analyse",
     "compare",
     "schema",
+    "fill",
+    "Filled",
     "Result",
     "Surface",
     "Mesh",
@@ -415,6 +417,55 @@ def compare(scene: SceneLike) -> Dict[str, Any]:
     return json.loads(_call(_fairsurf.compare, scene))
 
 
+class Filled:
+    """Holes filled between faces (:func:`fill`): the input ``faces``, the
+    ``fills`` (B-spline :class:`Surface` objects, one per filled hole, G1 to
+    their neighbours) and the ``report`` (``fairsurf fill --json``)."""
+
+    def __init__(self, native: Any) -> None:
+        self._native = native
+        self.faces: List[Surface] = [Surface(f) for f in native.faces()]
+        self.fills: List[Surface] = [Surface(f) for f in native.fills()]
+        self.report: Dict[str, Any] = json.loads(native.report_json())
+
+    def __repr__(self) -> str:
+        return f"<fairsurf.Filled {len(self.faces)} faces, {len(self.fills)} fills>"
+
+    def write(self, path: Union[str, "os.PathLike[str]"]) -> None:
+        """Writes the faces and the fills as one sewn STEP shell."""
+        self._native.write_step(os.fspath(path))
+
+
+def fill(
+    faces: SceneLike,
+    holes: Optional[Sequence[int]] = None,
+    *,
+    normal_weight: Optional[float] = None,
+    elevate: Optional[int] = None,
+    willmore_steps: Optional[int] = None,
+) -> Filled:
+    """Fills the holes between faces: ``faces`` is a STEP file's path
+    (``.step``/``.stp``), or a JSON fill scene as a path, text or dict
+    (``schema("fill")``). ``holes`` chooses holes by index (longest loop
+    first; default: all but the outer rim). Raises :class:`SceneError` for
+    bad input (with ``.path``), :class:`SolveError` for a hole that cannot be
+    filled (e.g. not 4-sided). For Open CASCADE shapes see
+    :func:`fairsurf.occ.fill_shape`."""
+    step = isinstance(faces, (str, os.PathLike)) and not (
+        isinstance(faces, str) and faces.lstrip().startswith("{")
+    ) and Path(faces).suffix.lower() in (".step", ".stp")
+    text = Path(faces).read_text(encoding="utf-8") if step else _scene_text(faces)
+    try:
+        native = _fairsurf.fill(
+            text, step, None if holes is None else list(holes), normal_weight, elevate,
+            willmore_steps,
+        )
+    except SceneError as e:
+        raise _located(e, faces) from None
+    return Filled(native)
+
+
 def schema(kind: str = "tensor") -> Dict[str, Any]:
-    """The JSON Schema of scenes of a kind: tensor, triangular or bspline."""
+    """The JSON Schema of scenes of a kind: tensor, triangular or bspline;
+    or of fill scenes ("fill")."""
     return json.loads(_fairsurf.schema(kind))

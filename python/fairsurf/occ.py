@@ -15,7 +15,9 @@ end multiplicities n + 1), so OCC evaluates the same surface.
 
 from __future__ import annotations
 
-from typing import List, Tuple
+import os
+import tempfile
+from typing import Any, List, Optional, Sequence, Tuple
 
 import numpy as np
 from OCP.BRep import BRep_Tool
@@ -27,9 +29,9 @@ from OCP.TopAbs import TopAbs_FACE
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS, TopoDS_Face, TopoDS_Shape
 
-from . import Surface, load
+from . import Filled, Surface, fill, load
 
-__all__ = ["to_geom", "to_face", "to_shape", "from_face", "from_geom", "faces"]
+__all__ = ["to_geom", "to_face", "to_shape", "from_face", "from_geom", "faces", "fill_shape"]
 
 
 def _distinct(knots: np.ndarray) -> Tuple[List[float], List[int]]:
@@ -157,3 +159,33 @@ def faces(shape: TopoDS_Shape) -> List[TopoDS_Face]:
 
 def _xyz(p: gp_Pnt) -> List[float]:
     return [p.X(), p.Y(), p.Z()]
+
+
+def fill_shape(
+    shape: TopoDS_Shape,
+    holes: Optional[Sequence[int]] = None,
+    tolerance: float = 1e-7,
+    **options: Any,
+) -> Tuple[TopoDS_Shape, Filled]:
+    """Fills the holes of an Open CASCADE shape (its B-spline and Bézier
+    faces; see :func:`fairsurf.fill` for ``holes`` and the options) and
+    returns the shape sewn with the fills (``BRepBuilderAPI_Sewing`` at
+    ``tolerance``: the fills share the holes' edges) and the
+    :class:`fairsurf.Filled` with the report. The shape crosses to fairsurf
+    as a STEP file written by Open CASCADE in a temporary directory."""
+    from OCP.IFSelect import IFSelect_RetDone
+    from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
+
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "shape.step")
+        writer = STEPControl_Writer()
+        writer.Transfer(shape, STEPControl_AsIs)
+        if writer.Write(path) != IFSelect_RetDone:
+            raise OSError(f"Open CASCADE could not write {path}")
+        filled = fill(path, holes, **options)
+    sewing = BRepBuilderAPI_Sewing(tolerance)
+    sewing.Add(shape)
+    for surface in filled.fills:
+        sewing.Add(to_face(surface, tolerance))
+    sewing.Perform()
+    return sewing.SewedShape(), filled

@@ -542,10 +542,13 @@ fn analyse(py: Python<'_>, text: String) -> PyResult<String> {
     Ok(serde_json::Value::Object(map).to_string())
 }
 
-/// The JSON Schema of a scene kind ("tensor", "triangular", "bspline"), as
-/// JSON text.
+/// The JSON Schema of a scene kind ("tensor", "triangular", "bspline") or
+/// of fill scenes ("fill"), as JSON text.
 #[pyfunction]
 fn schema(py: Python<'_>, kind: &str) -> PyResult<String> {
+    if kind == "fill" {
+        return Ok(fairsurf_io::FillScene::json_schema().to_string());
+    }
     let t = SurfaceType::ALL
         .into_iter()
         .find(|t| t.name() == kind)
@@ -559,6 +562,101 @@ fn schema(py: Python<'_>, kind: &str) -> PyResult<String> {
             )
         })?;
     Ok(t.json_schema().to_string())
+}
+
+/// Filled holes: the input faces, the fills and the report.
+#[pyclass(module = "fairsurf._fairsurf", frozen, name = "Filled")]
+struct PyFilled {
+    faces: Vec<fairsurf::bspline::BSplineSurface>,
+    fills: Vec<fairsurf::fill::Fill>,
+    report: String,
+}
+
+#[pymethods]
+impl PyFilled {
+    /// The input faces (B-spline surfaces).
+    fn faces(&self) -> Vec<PySurface> {
+        self.faces
+            .iter()
+            .map(|f| PySurface {
+                surface: Surface::BSpline(f.clone()),
+            })
+            .collect()
+    }
+
+    /// The fills, one per filled hole.
+    fn fills(&self) -> Vec<PySurface> {
+        self.fills
+            .iter()
+            .map(|f| PySurface {
+                surface: Surface::BSpline(f.surface.clone()),
+            })
+            .collect()
+    }
+
+    /// The report as JSON text (what `fairsurf fill --json` prints, without
+    /// the file names).
+    fn report_json(&self) -> String {
+        self.report.clone()
+    }
+
+    /// Writes the faces and the fills as one sewn STEP shell.
+    fn write_step(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        let surfaces = fairsurf_io::fill_surfaces(&self.faces, &self.fills);
+        py.detach(|| fairsurf_io::write_step_surfaces(&path, &surfaces))
+            .map_err(|e| to_py(py, e))
+    }
+}
+
+/// Fills holes between faces given as a STEP file's text (`step`) or a
+/// JSON fill scene's, the GIL released; `holes` and the options override
+/// the scene's.
+#[pyfunction]
+#[pyo3(signature = (text, step, holes = None, normal_weight = None, elevate = None, willmore_steps = None))]
+fn fill(
+    py: Python<'_>,
+    text: String,
+    step: bool,
+    holes: Option<Vec<usize>>,
+    normal_weight: Option<f64>,
+    elevate: Option<usize>,
+    willmore_steps: Option<usize>,
+) -> PyResult<PyFilled> {
+    if let Some(w) = normal_weight {
+        if !(w >= 0.0 && w.is_finite()) {
+            return Err(PyValueError::new_err(format!(
+                "normal_weight {w}: expected a number ≥ 0"
+            )));
+        }
+    }
+    if elevate.is_some_and(|e| e > 10) || willmore_steps.is_some_and(|s| s > 50) {
+        return Err(PyValueError::new_err(
+            "elevate is 0 to 10 and willmore_steps 0 to 50",
+        ));
+    }
+    py.detach(|| {
+        let input = fairsurf_io::FillInput::from_text(&text, step)?;
+        let mut options = input.options.clone();
+        if let Some(w) = normal_weight {
+            options.normal_weight = w;
+        }
+        if let Some(e) = elevate {
+            options.elevate = e;
+        }
+        if let Some(s) = willmore_steps {
+            options.willmore_steps = s;
+        }
+        let asked = holes.or(input.holes.clone());
+        let choice = fairsurf_io::HoleChoice::new(&input.faces, asked.as_deref())?;
+        let fills = choice.fill(&input.faces, &options)?;
+        let report = fairsurf_io::fill_report_json(input.faces.len(), &choice, &fills).to_string();
+        Ok(PyFilled {
+            faces: input.faces,
+            fills,
+            report,
+        })
+    })
+    .map_err(|e| to_py(py, e))
 }
 
 /// Seconds of `repeats` parses and solves of one scene timed inside Rust
@@ -582,6 +680,8 @@ fn _time_solve(py: Python<'_>, text: String, repeats: usize) -> PyResult<Vec<f64
 fn _fairsurf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PySurface>()?;
     m.add_class::<PySolved>()?;
+    m.add_class::<PyFilled>()?;
+    m.add_function(wrap_pyfunction!(fill, m)?)?;
     m.add_function(wrap_pyfunction!(solve, m)?)?;
     m.add_function(wrap_pyfunction!(solve_many, m)?)?;
     m.add_function(wrap_pyfunction!(load, m)?)?;

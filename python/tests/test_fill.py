@@ -224,3 +224,54 @@ def test_a_cylinder_neighbour_is_refused(cli: Path, tmp_path: Path):
     assert run.returncode == 2, run.stderr
     assert "elementary surface" in run.stderr or "swept surface" in run.stderr, run.stderr
     assert not out.exists()
+
+
+def test_the_python_fill_gives_what_the_command_line_gives(cli: Path, tmp_path: Path):
+    import fairsurf
+    import numpy as np
+
+    scene = EXAMPLES / "fill_network.json"
+    filled = fairsurf.fill(scene)
+    assert len(filled.faces) == 8 and len(filled.fills) == 1
+    out = tmp_path / "cli.step"
+    run = subprocess.run([str(cli), "fill", str(scene), "-o", str(out), "--json"],
+                         check=True, capture_output=True, text=True)
+    theirs = json.loads(run.stdout)
+    # The same surface, bit for bit, and the same figures (times aside).
+    net = filled.fills[0].control_points
+    assert net.shape == (8, 8, 3) and net.dtype == np.float64
+    ours = dict(filled.report["fills"][0])
+    for r in (ours, theirs["fills"][0]):
+        r.pop("seconds")
+        r["solve"].pop("timings_s")
+    assert ours == theirs["fills"][0]
+    assert filled.report["holes"] == theirs["holes"]
+    # A dict works too, and a hole that is not 4-sided is a SolveError.
+    as_dict = json.loads(scene.read_text())
+    again = fairsurf.fill(as_dict, willmore_steps=0)
+    assert again.report["fills"][0]["willmore_w"] == [again.report["fills"][0]["curvature_w"]]
+    import pytest
+
+    with pytest.raises(fairsurf.SolveError, match="hole 0: the hole has 12 sides"):
+        fairsurf.fill(as_dict, holes=[0])
+    with pytest.raises(fairsurf.SceneError, match=r"faces\[0\]\.degree\[0\]") as e:
+        fairsurf.fill({"faces": [{"type": "tensor", "degree": [0, 1], "control_points": []}]})
+    assert e.value.path == "faces[0].degree[0]"
+    filled.write(tmp_path / "py.step")
+    assert count(read_step(tmp_path / "py.step"), TopAbs_FACE) == 9
+
+
+def test_an_open_cascade_shape_is_filled_and_sewn():
+    from fairsurf import occ
+
+    scene = json.loads((EXAMPLES / "fill_network.json").read_text())
+    sewing = BRepBuilderAPI_Sewing(1e-7)
+    for f in scene["faces"]:
+        sewing.Add(bezier_face(f["control_points"]))
+    sewing.Perform()
+    shape, filled = occ.fill_shape(sewing.SewedShape())
+    assert count(shape, TopAbs_FACE) == 9
+    assert free_edges_after_sewing(shape) == 12
+    across = [s for s in seams(shape) if 8 in s[0]]
+    assert len(across) == 4 and max(s[1] for s in across) < 1e-9
+    assert filled.report["fills"][0]["max_angle_deg"] < 1e-9

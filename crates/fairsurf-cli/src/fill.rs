@@ -4,7 +4,7 @@
 use crate::input::with_file;
 use crate::Failure;
 use fairsurf::fill::Fill;
-use fairsurf_io::{fill_json, fill_surfaces, write_atomic, Batch, FillInput, HoleChoice};
+use fairsurf_io::{fill_report_json, fill_surfaces, write_atomic, Batch, FillInput, HoleChoice};
 use fairsurf_render::{render, ColourBy, Panel, Range, RenderOptions};
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -126,21 +126,10 @@ pub fn run(a: Args) -> Result<(), Failure> {
         write_atomic(path, |w| w.write_all(png))?;
     }
     batch.commit()?;
-    let reports: Vec<_> = choice
-        .chosen
-        .iter()
-        .zip(&fills)
-        .map(|(&h, f)| fill_json(h, f))
-        .collect();
     if a.json {
-        let out = json!({
-            "input": a.input.display().to_string(),
-            "output": output.display().to_string(),
-            "faces": input.faces.len(),
-            "holes": choice.list_json(),
-            "fills": reports,
-            "fairsurf_version": env!("CARGO_PKG_VERSION"),
-        });
+        let mut out = fill_report_json(input.faces.len(), &choice, &fills);
+        out["input"] = json!(a.input.display().to_string());
+        out["output"] = json!(output.display().to_string());
         crate::say!("{}", serde_json::to_string_pretty(&out).expect("JSON"));
     } else {
         crate::say!(
@@ -171,6 +160,7 @@ fn summary(
     )];
     for (&h, f) in choice.chosen.iter().zip(fills) {
         let r = &f.report;
+        let steps = r.willmore.windows(2).take_while(|w| w[1] < w[0]).count();
         let (p, q) = f.surface.degree();
         let (cu, cv) = f.surface.counts();
         let gap = r.sides.iter().map(|s| s.gap).fold(0.0, f64::max);
@@ -182,7 +172,7 @@ fn summary(
         lines.push(format!(
             "  hole {h}: degree {p}×{q}, {cu}×{cv} control points; largest gap {gap:.1e}, \
              largest normal angle {angle:.1e}° ({} samples per side); W = ∫κ₁²+κ₂² dA = {:.6} \
-             (±{:.0e}); energy check {:.0e}; {:.1} ms",
+             (±{:.0e}); thin-plate solve checked to {:.0e}, Willmore steps: {steps}; {:.1} ms",
             r.sides[0].samples,
             r.curvature.value,
             r.curvature.error,

@@ -255,14 +255,19 @@ impl FillInput {
             path: path.to_path_buf(),
             source,
         })?;
-        if matches!(ext.as_deref(), Some("step" | "stp")) {
+        Self::from_text(&text, matches!(ext.as_deref(), Some("step" | "stp")))
+    }
+
+    /// From a STEP file's text (`step`) or a JSON fill scene's.
+    pub fn from_text(text: &str, step: bool) -> Result<FillInput> {
+        if step {
             return Ok(FillInput {
-                faces: crate::step_read::read_step_faces(&text)?,
+                faces: crate::step_read::read_step_faces(text)?,
                 holes: None,
                 options: FillOptions::default(),
             });
         }
-        let scene = FillScene::from_json(&text)?;
+        let scene = FillScene::from_json(text)?;
         Ok(FillInput {
             faces: scene.faces()?,
             holes: scene.holes.clone(),
@@ -432,6 +437,22 @@ pub fn fill_json(hole: usize, fill: &Fill) -> Value {
             "measure": r.seconds.measure,
             "total": r.seconds.setup + r.seconds.solve + r.seconds.measure,
         },
+    })
+}
+
+/// The whole report of a fill job: the number of faces, every hole (as
+/// `--list` gives them) and each fill's report ([`fill_json`]).
+pub fn fill_report_json(faces: usize, choice: &HoleChoice, fills: &[Fill]) -> Value {
+    json!({
+        "faces": faces,
+        "holes": choice.list_json(),
+        "fills": choice
+            .chosen
+            .iter()
+            .zip(fills)
+            .map(|(&h, f)| fill_json(h, f))
+            .collect::<Vec<_>>(),
+        "fairsurf_version": env!("CARGO_PKG_VERSION"),
     })
 }
 

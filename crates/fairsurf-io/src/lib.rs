@@ -54,7 +54,8 @@ pub use compare::comparison_json;
 pub use constraints::{TensorConstraintSpec, UvSpec};
 pub use error::{Error, Result};
 pub use fill::{
-    fill_json, fill_surfaces, FaceKind, FaceSpec, FillInput, FillScene, FillSpec, HoleChoice,
+    fill_json, fill_report_json, fill_surfaces, FaceKind, FaceSpec, FillInput, FillScene, FillSpec,
+    HoleChoice,
 };
 pub use iges::{write_iges, write_iges_surfaces};
 pub use mesh::{write_mesh, write_mesh_with, MeshFormat, MeshOptions};
