@@ -116,6 +116,62 @@ impl BSplineSurface {
         self.derivatives(u, v).normal()
     }
 
+    /// R and its first and second derivatives on the grid `us` × `vs`
+    /// (u-major: entry i·|vs| + j at (us[i], vs[j])): each direction's
+    /// basis functions computed once per parameter, no allocation per point.
+    pub fn derivatives_on(&self, us: &[f64], vs: &[f64]) -> Vec<SurfaceDerivatives> {
+        let (p, q) = self.degree();
+        let cv = self.v.count();
+        let bu: Vec<(usize, Vec<Vec<f64>>)> = us
+            .iter()
+            .map(|&u| {
+                let k = self.u.span(u);
+                (k, self.u.basis_derivatives(k, u, 2))
+            })
+            .collect();
+        let bv: Vec<(usize, Vec<Vec<f64>>)> = vs
+            .iter()
+            .map(|&v| {
+                let k = self.v.span(v);
+                (k, self.v.basis_derivatives(k, v, 2))
+            })
+            .collect();
+        let mut out = Vec::with_capacity(us.len() * vs.len());
+        for (ku, nu) in &bu {
+            for (kv, nv) in &bv {
+                let mut d = [[0.0f64; 3]; 6];
+                for i in 0..=p {
+                    let row = (ku - p + i) * cv + kv - q;
+                    for j in 0..=q {
+                        let pt = self.points[row + j];
+                        let w = [
+                            nu[0][i] * nv[0][j],
+                            nu[1][i] * nv[0][j],
+                            nu[0][i] * nv[1][j],
+                            nu[2][i] * nv[0][j],
+                            nu[1][i] * nv[1][j],
+                            nu[0][i] * nv[2][j],
+                        ];
+                        for (dk, wk) in d.iter_mut().zip(w) {
+                            dk[0] += wk * pt[0];
+                            dk[1] += wk * pt[1];
+                            dk[2] += wk * pt[2];
+                        }
+                    }
+                }
+                out.push(SurfaceDerivatives {
+                    point: d[0],
+                    du: d[1],
+                    dv: d[2],
+                    duu: d[3],
+                    duv: d[4],
+                    dvv: d[5],
+                });
+            }
+        }
+        out
+    }
+
     /// `out[r][s]` = ∂^(r+s)R/∂u^r∂v^s for r + s ≤ `order` (A3.6).
     fn partials(&self, u: f64, v: f64, order: usize) -> Vec<Vec<Vec3>> {
         let (p, q) = self.degree();

@@ -622,3 +622,37 @@ fn sampled_normal_fields_match_the_tensor_problem_and_are_minimal() {
         .with_sampled_normals(1.0, grid, four, Some(vec![1.0, -1.0, 1.0, 1.0]))
         .is_err());
 }
+
+/// The grid evaluation gives what point-by-point de Boor gives.
+#[test]
+fn derivatives_on_a_grid_are_the_pointwise_ones() {
+    let u = KnotVector::new(3, vec![0., 0., 0., 0., 0.3, 0.3, 1., 1.5, 1.5, 1.5, 1.5]).unwrap();
+    let v = KnotVector::new(2, vec![-1., -1., -1., 0., 2., 2., 2.]).unwrap();
+    let (cu, cv) = (u.count(), v.count());
+    let pts = (0..cu * cv)
+        .map(|k| {
+            let (i, j) = ((k / cv) as f64, (k % cv) as f64);
+            [i, j + 0.1 * i * i, (i * 0.7).sin() * j]
+        })
+        .collect();
+    let s = BSplineSurface::new(u, v, pts).unwrap();
+    let (us, vs) = ([0.0, 0.3, 0.71, 1.5], [-1.0, -0.2, 0.0, 1.3, 2.0]);
+    let grid = s.derivatives_on(&us, &vs);
+    for (i, &a) in us.iter().enumerate() {
+        for (j, &b) in vs.iter().enumerate() {
+            let (g, d) = (&grid[i * vs.len() + j], s.derivatives(a, b));
+            for (x, y) in [
+                (g.point, d.point),
+                (g.du, d.du),
+                (g.dv, d.dv),
+                (g.duu, d.duu),
+                (g.duv, d.duv),
+                (g.dvv, d.dvv),
+            ] {
+                for c in 0..3 {
+                    assert!((x[c] - y[c]).abs() <= 1e-12 * (1.0 + y[c].abs()), "{a} {b}");
+                }
+            }
+        }
+    }
+}

@@ -80,10 +80,37 @@ impl<'a> Coons<'a> {
     /// F, F_u and F_v at (u, v).
     pub fn at(&self, u: f64, v: f64) -> (Vec3, Vec3, Vec3) {
         let s = self.s;
+        self.at_with(u, v, [s[0].at(u), s[2].at(u)], [s[3].at(v), s[1].at(v)])
+    }
+
+    /// F, F_u and F_v on the grid `us` × `vs` (u-major), each side evaluated
+    /// once per parameter.
+    pub fn on_grid(&self, us: &[f64], vs: &[f64]) -> Vec<(Vec3, Vec3, Vec3)> {
+        let s = self.s;
+        let bu: Vec<[StripPoint; 2]> = us.iter().map(|&u| [s[0].at(u), s[2].at(u)]).collect();
+        let bv: Vec<[StripPoint; 2]> = vs.iter().map(|&v| [s[3].at(v), s[1].at(v)]).collect();
+        let mut out = Vec::with_capacity(us.len() * vs.len());
+        for (&u, b) in us.iter().zip(&bu) {
+            for (&v, c) in vs.iter().zip(&bv) {
+                out.push(self.at_with(u, v, *b, *c));
+            }
+        }
+        out
+    }
+
+    /// F, F_u, F_v at (u, v) from the sides there: B₀, B₁ at u and C₀, C₁
+    /// at v.
+    fn at_with(
+        &self,
+        u: f64,
+        v: f64,
+        b: [StripPoint; 2],
+        c: [StripPoint; 2],
+    ) -> (Vec3, Vec3, Vec3) {
         let (hu, dhu) = hermite(u);
         let (hv, dhv) = hermite(v);
-        let (b0, b1) = (s[0].at(u), s[2].at(u));
-        let (c0, c1) = (s[3].at(v), s[1].at(v));
+        let [b0, b1] = b;
+        let [c0, c1] = c;
         // P₁: curves in u, blends in v.
         let x1 = [b0.pos, b1.pos, b0.der, scale(b1.der, -1.0)];
         let x1u = [b0.dpos, b1.dpos, b0.dder, scale(b1.dder, -1.0)];

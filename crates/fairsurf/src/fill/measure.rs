@@ -32,13 +32,25 @@ pub struct SideFit {
 pub fn side_fit(fill: &BSplineSurface, k: usize, face: &BSplineSurface, side: Side) -> SideFit {
     let n = SIDE_SAMPLES - 1;
     let (mut gap, mut ang, mut singular) = (0.0f64, 0.0f64, 0usize);
-    for i in 0..=n {
-        let t = 0.5 - 0.5 * (std::f64::consts::PI * i as f64 / n as f64).cos();
-        let (fu, fv) = super::fill_param(k, t);
-        let a = fill.derivatives(fu, fv);
-        let tn = if side.reversed { 1.0 - t } else { t };
-        let (u, v) = surface_param(face, side.edge, tn);
-        let b = face.derivatives(u, v);
+    let ts: Vec<f64> = (0..=n)
+        .map(|i| 0.5 - 0.5 * (std::f64::consts::PI * i as f64 / n as f64).cos())
+        .collect();
+    // Both sides are lines of constant u or v: one grid evaluation each.
+    let line = |s: &BSplineSurface, at: &dyn Fn(f64) -> (f64, f64)| {
+        let pts: Vec<(f64, f64)> = ts.iter().map(|&t| at(t)).collect();
+        if pts.iter().all(|p| p.0 == pts[0].0) {
+            let vs: Vec<f64> = pts.iter().map(|p| p.1).collect();
+            s.derivatives_on(&[pts[0].0], &vs)
+        } else {
+            let us: Vec<f64> = pts.iter().map(|p| p.0).collect();
+            s.derivatives_on(&us, &[pts[0].1])
+        }
+    };
+    let da = line(fill, &|t| super::fill_param(k, t));
+    let db = line(face, &|t| {
+        surface_param(face, side.edge, if side.reversed { 1.0 - t } else { t })
+    });
+    for (a, b) in da.iter().zip(&db) {
         gap = gap.max(dist(a.point, b.point));
         let (na, nb) = (cross(a.du, a.dv), cross(b.du, b.dv));
         if norm(na) == 0.0 || norm(nb) == 0.0 {
@@ -76,12 +88,15 @@ pub fn total_curvature(s: &BSplineSurface) -> TotalCurvature {
         let (ku, kv) = s.knots();
         let mut sum = 0.0;
         for &(_, u0, u1) in &ku.spans() {
+            let us: Vec<f64> = g.nodes.iter().map(|&x| u0 + x * (u1 - u0)).collect();
             for &(_, v0, v1) in &kv.spans() {
                 let area = (u1 - u0) * (v1 - v0);
-                for (&x, &wx) in g.nodes.iter().zip(&g.weights) {
-                    for (&y, &wy) in g.nodes.iter().zip(&g.weights) {
-                        let d = s.derivatives(u0 + x * (u1 - u0), v0 + y * (v1 - v0));
-                        if let Some(c) = curvature_from(&d) {
+                let vs: Vec<f64> = g.nodes.iter().map(|&y| v0 + y * (v1 - v0)).collect();
+                let grid = s.derivatives_on(&us, &vs);
+                for (a, &wx) in g.weights.iter().enumerate() {
+                    for (b, &wy) in g.weights.iter().enumerate() {
+                        let d = &grid[a * vs.len() + b];
+                        if let Some(c) = curvature_from(d) {
                             let integrand = 4.0 * c.mean * c.mean - 2.0 * c.gaussian;
                             sum += wx * wy * area * integrand * norm(cross(d.du, d.dv));
                         }

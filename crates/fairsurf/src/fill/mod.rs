@@ -358,12 +358,10 @@ pub fn fill_hole(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -
         .with_bend(options.bend);
     if options.normal_weight > 0.0 {
         let grid = SampleGrid::try_new(options.samples * cu, options.samples * cv)?;
-        let normals = (0..grid.len())
-            .map(|k| {
-                let (u, v) = grid.param(k);
-                let (_, fu, fv) = patch.at(u, v);
-                cross(fu, fv)
-            })
+        let normals = patch
+            .on_grid(&grid.us(), &grid.vs())
+            .into_iter()
+            .map(|(_, fu, fv)| cross(fu, fv))
             .collect();
         let weight = options.normal_weight / grid.len() as f64;
         problem = problem.with_sampled_normals(weight, grid, normals, None)?;

@@ -44,16 +44,23 @@ pub(crate) fn step(reference: &BSplineSurface, free: &[bool]) -> Result<BSplineS
     let mut b = Mat::<f64>::zeros(nf, 3);
     let (gu, gv) = (GaussLegendre::new(p + q + 4), GaussLegendre::new(p + q + 4));
     let size = (p + 1) * (q + 1);
-    let mut l = vec![0.0; size];
+    let nodes = gu.nodes.len() * gv.nodes.len();
+    // Per span: the rows √w·L(B_a) at every node, and LᵀL by one product.
+    let mut lm = Mat::<f64>::zeros(nodes, size);
     for &(su, u0, u1) in &ku.spans() {
+        let us: Vec<f64> = gu.nodes.iter().map(|&x| u0 + (u1 - u0) * x).collect();
+        let bu: Vec<Vec<Vec<f64>>> = us.iter().map(|&u| ku.basis_derivatives(su, u, 2)).collect();
         for &(sv, v0, v1) in &kv.spans() {
-            for (&x, &wx) in gu.nodes.iter().zip(&gu.weights) {
-                let u = u0 + (u1 - u0) * x;
-                let nu = ku.basis_derivatives(su, u, 2);
-                for (&y, &wy) in gv.nodes.iter().zip(&gv.weights) {
-                    let v = v0 + (v1 - v0) * y;
-                    let nv = kv.basis_derivatives(sv, v, 2);
-                    let d = reference.derivatives(u, v);
+            let vs: Vec<f64> = gv.nodes.iter().map(|&y| v0 + (v1 - v0) * y).collect();
+            let bv: Vec<Vec<Vec<f64>>> =
+                vs.iter().map(|&v| kv.basis_derivatives(sv, v, 2)).collect();
+            let grid = reference.derivatives_on(&us, &vs);
+            lm.fill(0.0);
+            for (x, &wx) in gu.weights.iter().enumerate() {
+                let nu = &bu[x];
+                for (y, &wy) in gv.weights.iter().enumerate() {
+                    let nv = &bv[y];
+                    let d = &grid[x * vs.len() + y];
                     let (e, f, g) = (dot(d.du, d.du), dot(d.du, d.dv), dot(d.dv, d.dv));
                     let det = e * g - f * f;
                     if det.is_nan() || det <= 0.0 {
@@ -69,30 +76,42 @@ pub(crate) fn step(reference: &BSplineSurface, free: &[bool]) -> Result<BSplineS
                     // L(B) = g^uu (B_uu − Γ·B′) + 2 g^uv (B_uv − Γ·B′) + g^vv (B_vv − Γ·B′).
                     let cu = gi[0] * guu.0 + 2.0 * gi[1] * guv.0 + gi[2] * gvv.0;
                     let cvv = gi[0] * guu.1 + 2.0 * gi[1] * guv.1 + gi[2] * gvv.1;
+                    let sw = (wx * wy * (u1 - u0) * (v1 - v0) * det.sqrt()).sqrt();
+                    let row = x * vs.len() + y;
                     for i in 0..=p {
                         for j in 0..=q {
-                            l[i * (q + 1) + j] = gi[0] * nu[2][i] * nv[0][j]
-                                + 2.0 * gi[1] * nu[1][i] * nv[1][j]
-                                + gi[2] * nu[0][i] * nv[2][j]
-                                - cu * nu[1][i] * nv[0][j]
-                                - cvv * nu[0][i] * nv[1][j];
+                            lm[(row, i * (q + 1) + j)] = sw
+                                * (gi[0] * nu[2][i] * nv[0][j]
+                                    + 2.0 * gi[1] * nu[1][i] * nv[1][j]
+                                    + gi[2] * nu[0][i] * nv[2][j]
+                                    - cu * nu[1][i] * nv[0][j]
+                                    - cvv * nu[0][i] * nv[1][j]);
                         }
                     }
-                    let w = wx * wy * (u1 - u0) * (v1 - v0) * det.sqrt();
-                    for a in 0..size {
-                        let ka = (su - p + a / (q + 1)) * cv + sv - q + a % (q + 1);
-                        let Some(ra) = slot[ka] else { continue };
-                        for c in 0..size {
-                            let kc = (su - p + c / (q + 1)) * cv + sv - q + c % (q + 1);
-                            let wl = w * l[a] * l[c];
-                            match slot[kc] {
-                                Some(rc) => h[(ra, rc)] += wl,
-                                None => {
-                                    let pt = reference.points()[kc];
-                                    for k in 0..3 {
-                                        b[(ra, k)] -= wl * pt[k];
-                                    }
-                                }
+                }
+            }
+            // Small products: sequential (a thread pool's start costs more).
+            let mut local = Mat::<f64>::zeros(size, size);
+            faer::linalg::matmul::matmul(
+                local.as_mut(),
+                faer::Accum::Replace,
+                lm.transpose(),
+                lm.as_ref(),
+                1.0,
+                faer::Par::Seq,
+            );
+            for a in 0..size {
+                let ka = (su - p + a / (q + 1)) * cv + sv - q + a % (q + 1);
+                let Some(ra) = slot[ka] else { continue };
+                for c in 0..size {
+                    let kc = (su - p + c / (q + 1)) * cv + sv - q + c % (q + 1);
+                    let hac = local[(a, c)];
+                    match slot[kc] {
+                        Some(rc) => h[(ra, rc)] += hac,
+                        None => {
+                            let pt = reference.points()[kc];
+                            for k in 0..3 {
+                                b[(ra, k)] -= hac * pt[k];
                             }
                         }
                     }
