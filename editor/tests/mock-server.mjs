@@ -491,6 +491,7 @@ function listExamples() {
   return files.map((file) => {
     try {
       const scene = JSON.parse(fs.readFileSync(path.join(EXAMPLES, file), 'utf8'));
+      if (!scene.surface) return null; // a fill scene: for `fairsurf fill`, not the editor
       return { file, name: scene.name || file, kind: scene.surface?.type === 'triangular' ? 'triangular' : 'tensor' };
     } catch {
       return null;

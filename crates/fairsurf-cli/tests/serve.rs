@@ -104,6 +104,8 @@ fn the_api_solves_and_describes() {
         .map(|e| e["file"].as_str().unwrap())
         .collect();
     assert!(files.contains(&"quickstart.json") && files.contains(&"vw_fig5_directors.json"));
+    // A fill scene is for `fairsurf fill`, not the editor.
+    assert!(!files.contains(&"fill_network.json"));
 
     // A tensor scene: the energy equals the command line's, the handles
     // point at the scene's fixed points, the mesh is consistent.

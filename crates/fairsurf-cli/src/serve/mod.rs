@@ -249,7 +249,8 @@ async fn serve_connections(listener: tokio::net::TcpListener, app: Router, heade
     }
 }
 
-/// The bundled examples, sorted by file name.
+/// The bundled examples the editor opens (scenes: files with a
+/// `"surface"`; fill scenes are for `fairsurf fill`), sorted by file name.
 fn bundled_examples() -> Vec<(String, String)> {
     let mut out: Vec<(String, String)> = EXAMPLES
         .files()
@@ -259,6 +260,9 @@ fn bundled_examples() -> Vec<(String, String)> {
                 f.path().file_name()?.to_string_lossy().into_owned(),
                 f.contents_utf8()?.to_string(),
             ))
+        })
+        .filter(|(_, text)| {
+            serde_json::from_str::<Value>(text).is_ok_and(|v| v.get("surface").is_some())
         })
         .collect();
     out.sort();

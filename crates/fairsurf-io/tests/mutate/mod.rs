@@ -99,8 +99,12 @@ pub fn mutate(v: &mut Value, rng: &mut Rng) {
     };
 }
 
-/// Whether the scene is small enough to solve within the test's budget.
+/// Whether the scene is small enough to solve within the test's budget
+/// (fill scenes, without a `"surface"`, are not solve scenes).
 pub fn small(v: &Value) -> bool {
+    if v.get("surface").is_none() {
+        return false;
+    }
     let degree_ok = |d: &Value| match d {
         Value::Array(a) => a.iter().all(|x| x.as_f64().is_some_and(|x| x <= 12.0)),
         Value::Number(n) => n.as_f64().is_some_and(|x| x <= 8.0),
