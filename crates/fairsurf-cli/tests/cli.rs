@@ -1351,6 +1351,20 @@ fn fill_fills_the_hole_and_writes_a_sewn_shell() {
         "{s}"
     );
     assert!(s.contains("largest normal angle"), "{s}");
+    // A hole asked twice is filled once.
+    let o = fairsurf(&[
+        "fill",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--hole",
+        "1",
+        "--hole",
+        "1",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert_eq!(text.matches("=ADVANCED_FACE(").count(), 9);
     let o = fairsurf(&["fill", scene.to_str().unwrap(), "--list"]);
     let s = String::from_utf8_lossy(&o.stdout);
     assert!(s.contains("hole 1: 4 sides"), "{s}");

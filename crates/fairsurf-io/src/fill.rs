@@ -315,8 +315,13 @@ impl HoleChoice {
                         ));
                     }
                 }
-                let mut c = a.to_vec();
-                c.dedup();
+                // Each hole once, in the order first asked.
+                let mut c: Vec<usize> = Vec::new();
+                for &h in a {
+                    if !c.contains(&h) {
+                        c.push(h);
+                    }
+                }
                 c
             }
             None if holes.len() == 1 => vec![0],
@@ -463,4 +468,29 @@ pub fn fill_surfaces(faces: &[BSplineSurface], fills: &[Fill]) -> Vec<CadSurface
         .chain(fills.iter().map(|f| &f.surface))
         .map(CadSurface::from)
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn network() -> Vec<BSplineSurface> {
+        let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/fill_network.json");
+        FillInput::read(&p).unwrap().faces
+    }
+
+    /// The default choice leaves out the rim; an asked hole is filled once,
+    /// in the order first asked; a hole that does not exist names its index.
+    #[test]
+    fn holes_are_chosen_once() {
+        let faces = network();
+        let c = HoleChoice::new(&faces, None).unwrap();
+        assert_eq!((c.chosen.clone(), c.rim), (vec![1], Some(0)));
+        let c = HoleChoice::new(&faces, Some(&[1, 0, 1])).unwrap();
+        assert_eq!(c.chosen, vec![1, 0]);
+        let e = HoleChoice::new(&faces, Some(&[0, 2]))
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("holes[1]: there is no hole 2"), "{e}");
+    }
 }

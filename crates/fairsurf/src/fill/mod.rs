@@ -376,7 +376,11 @@ pub fn fill_hole(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -
     let mut history = vec![curvature.value];
     let free = problem.free().to_vec();
     for _ in 0..options.willmore_steps {
-        let next = willmore::step(&surface, &free)?;
+        // A step whose system is not positive definite ends the steps; the
+        // surface so far stands (its W and side fits are measured below).
+        let Ok(next) = willmore::step(&surface, &free) else {
+            break;
+        };
         let w = total_curvature(&next);
         history.push(w.value);
         if w.value.is_nan() || w.value >= curvature.value {
