@@ -214,50 +214,39 @@ impl NormalTerm {
     /// samples in its u-interval times its v samples in its v-interval),
     /// with the basis derivatives with respect to the mapped parameters.
     fn sample_spans(&self, surface: &BSplineSurface) -> Vec<SpanGrid> {
-        let NormalGuide::Samples {
-            grid,
-            normals,
-            weights,
-        } = &self.guide
-        else {
+        let NormalGuide::Samples { grid, .. } = &self.guide else {
             unreachable!("a sampled guide");
         };
+        // λ·λ_k and N_k per sample, row-major (the sampled value's own list).
+        let (samples, _) = self.samples(surface).expect("a sampled guide");
         let (ku, kv) = surface.knots();
-        let ((a, b), (c, d)) = (ku.domain(), kv.domain());
         let (np, mp) = grid.size();
-        // Per direction: (span, sample index, basis values, derivatives).
-        let axis = |k: &crate::bspline::KnotVector, lo: f64, hi: f64, count: usize| {
-            (0..=count)
-                .map(|i| {
-                    let x = lo + (hi - lo) * (i as f64 / count as f64);
-                    let span = k.span(x);
-                    let bs = k.basis_derivatives(span, x, 1);
-                    let d: Vec<f64> = bs[1].iter().map(|v| v * (hi - lo)).collect();
-                    (span, i, [bs[0].clone(), d])
-                })
-                .collect::<Vec<_>>()
-        };
-        let (au, av) = (axis(ku, a, b, np), axis(kv, c, d, mp));
-        let group = |ax: &[(usize, usize, [Vec<f64>; 2])]| {
-            let mut g: std::collections::BTreeMap<usize, AxisNodes> = Default::default();
-            for (span, i, b) in ax {
-                g.entry(*span).or_default().push((*i, b.clone()));
+        // Per direction, by span: (sample index, [basis values, derivatives
+        // with respect to the mapped parameter]).
+        let axis = |k: &crate::bspline::KnotVector, count: usize| {
+            let (lo, hi) = k.domain();
+            let mut by_span: std::collections::BTreeMap<usize, AxisNodes> = Default::default();
+            for i in 0..=count {
+                let x = lo + (hi - lo) * (i as f64 / count as f64);
+                let span = k.span(x);
+                let mut bs = k.basis_derivatives(span, x, 1);
+                let d: Vec<f64> = bs[1].iter().map(|v| v * (hi - lo)).collect();
+                by_span
+                    .entry(span)
+                    .or_default()
+                    .push((i, [bs.swap_remove(0), d]));
             }
-            g
+            by_span
         };
-        let (gu, gv) = (group(&au), group(&av));
+        let (gu, gv) = (axis(ku, np), axis(kv, mp));
         let mut out = Vec::new();
         for (&su, us) in &gu {
             for (&sv, vs) in &gv {
-                let mut weight = Vec::with_capacity(us.len() * vs.len());
-                let mut n = Vec::with_capacity(us.len() * vs.len());
-                for (i, _) in us {
-                    for (j, _) in vs {
-                        let k = i * (mp + 1) + j;
-                        weight.push(self.weight * weights.as_ref().map_or(1.0, |w| w[k]));
-                        n.push(normals[k]);
-                    }
-                }
+                let (weight, n) = us
+                    .iter()
+                    .flat_map(|(i, _)| vs.iter().map(move |(j, _)| i * (mp + 1) + j))
+                    .map(|k| (samples[k].2, samples[k].3))
+                    .unzip();
                 out.push(SpanGrid {
                     span: (su, sv),
                     bu: us.iter().map(|(_, b)| b.clone()).collect(),
