@@ -512,7 +512,37 @@ def fill_network():
     })
 
 
+def blend_sheets():
+    """Wu & Yang's Fig. 5 as a CAD user has it: two B-spline surfaces of
+    different degrees and knots, a gap between an edge of each. `fairsurf
+    blend` spans it G1 to both."""
+    # A: bicubic, three uneven spans in u, a gentle wave, edge u1 at x = 2.
+    ua = [0, 0, 0, 0, 0.3, 0.7, 1, 1, 1, 1]
+    na, ma = len(ua) - 4, 4
+    a = [[[r(2 * i / (na - 1)), r(1.2 * j / (ma - 1)),
+           r(0.15 * math.sin(2.1 * i / (na - 1) + 1.3 * j / (ma - 1)))]
+          for j in range(ma)] for i in range(na)]
+    # B: biquartic Bezier, tilted up, edge u0 at x = 3 facing A's.
+    b = [[[r(3 + 1.5 * i / 4 + 0.1 * j / 4), r(-0.1 + 1.4 * j / 4),
+           r(0.9 + 0.8 * i / 4 + 0.1 * math.cos(3.0 * j / 4) * i / 4)]
+          for j in range(5)] for i in range(5)]
+    write("blend_sheets.json", {
+        "name": "A transition surface between two B-spline sheets",
+        "description": "A bicubic B-spline sheet (three uneven spans) and a tilted biquartic "
+                       "Bezier sheet with a gap between them. fairsurf blend builds the two rings "
+                       "on each edge from the surfaces (G1 exactly), makes the two other sides "
+                       "cubic Hermite curves, and fairs the inside (Wu & Yang 2015, Fig. 5).",
+        "surfaces": [
+            {"face": {"type": "bspline", "degree": [3, 3],
+                      "knots": [ua, [0, 0, 0, 0, 1, 1, 1, 1]], "control_points": a},
+             "edge": "u1"},
+            {"face": {"type": "tensor", "degree": [4, 4], "control_points": b}, "edge": "u0"},
+        ],
+    })
+
+
 if __name__ == "__main__":
+    blend_sheets()
     fill_network()
     bspline_hole()
     bspline_hole_guided()

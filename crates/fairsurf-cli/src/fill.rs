@@ -3,8 +3,11 @@
 
 use crate::input::with_file;
 use crate::Failure;
-use fairsurf::fill::Fill;
-use fairsurf_io::{fill_report_json, fill_surfaces, write_atomic, Batch, FillInput, HoleChoice};
+use fairsurf::bspline::BSplineSurface;
+use fairsurf::fill::{Fill, FillOptions};
+use fairsurf_io::{
+    fill_report_json, fill_surfaces, write_atomic, Batch, CadSurface, FillInput, HoleChoice,
+};
 use fairsurf_render::{render, ColourBy, Panel, Range, RenderOptions};
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -29,15 +32,8 @@ pub struct Args {
     /// Print the report as JSON on standard output instead of the summary.
     #[arg(long)]
     json: bool,
-    /// The plain thin plate (no normal field from the boundary data).
-    #[arg(long, conflicts_with = "lambda")]
-    plain: bool,
-    /// λ of the normal field from the boundary data, per unit area.
-    #[arg(long)]
-    lambda: Option<f64>,
-    /// Degrees the fill gets above its sides' largest.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=10))]
-    elevate: Option<u32>,
+    #[command(flatten)]
+    energy: EnergyArgs,
     /// Also draw the faces and the fills, coloured by |H| (PNG).
     #[arg(long, value_name = "PNG")]
     render: Option<PathBuf>,
@@ -88,20 +84,7 @@ pub fn run(a: Args) -> Result<(), Failure> {
         return Ok(());
     }
     let mut options = input.options.clone();
-    if a.plain {
-        options.normal_weight = 0.0;
-    }
-    if let Some(l) = a.lambda {
-        if !(l >= 0.0 && l.is_finite()) {
-            return Err(Failure::input(format!(
-                "--lambda: expected a number ≥ 0, got {l}"
-            )));
-        }
-        options.normal_weight = l;
-    }
-    if let Some(e) = a.elevate {
-        options.elevate = e as usize;
-    }
+    a.energy.apply(&mut options)?;
     let fills = choice
         .fill(&input.faces, &options)
         .map_err(with_file(&a.input))?;
@@ -109,23 +92,13 @@ pub fn run(a: Args) -> Result<(), Failure> {
         .output
         .as_deref()
         .expect("clap requires -o without --list");
-    crate::solve::ensure_parent(output)?;
     let surfaces = fill_surfaces(&input.faces, &fills);
-    // Everything is made in memory first; the files are written together.
-    let picture = a
-        .render
-        .as_ref()
-        .map(|p| picture(&input.faces, &fills, a.zebra).map(|png| (p.clone(), png)))
-        .transpose()?;
-    if let Some((path, _)) = &picture {
-        crate::solve::ensure_parent(path)?;
-    }
-    let batch = Batch::begin();
-    fairsurf_io::write_step_surfaces(output, &surfaces)?;
-    if let Some((path, png)) = &picture {
-        write_atomic(path, |w| w.write_all(png))?;
-    }
-    batch.commit()?;
+    let shown: Vec<&BSplineSurface> = input
+        .faces
+        .iter()
+        .chain(fills.iter().map(|f| &f.surface))
+        .collect();
+    write_step_and_picture(output, &surfaces, a.render.as_deref(), &shown, a.zebra)?;
     if a.json {
         let mut out = fill_report_json(input.faces.len(), &choice, &fills);
         out["input"] = json!(a.input.display().to_string());
@@ -195,15 +168,71 @@ fn summary(
     lines.join("\n")
 }
 
-/// The faces and the fills in one panel.
-fn picture(
-    faces: &[fairsurf::bspline::BSplineSurface],
-    fills: &[Fill],
+/// Energy options a fill and a blend take from the command line.
+#[derive(clap::Args)]
+pub struct EnergyArgs {
+    /// The plain thin plate (no normal field from the boundary data).
+    #[arg(long, conflicts_with = "lambda")]
+    plain: bool,
+    /// λ of the normal field from the boundary data, per unit area.
+    #[arg(long)]
+    lambda: Option<f64>,
+    /// Degrees the patch gets above its sides' largest.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=10))]
+    elevate: Option<u32>,
+}
+
+impl EnergyArgs {
+    /// The scene's options with these flags applied.
+    pub fn apply(&self, options: &mut FillOptions) -> Result<(), Failure> {
+        if self.plain {
+            options.normal_weight = 0.0;
+        }
+        if let Some(l) = self.lambda {
+            if !(l >= 0.0 && l.is_finite()) {
+                return Err(Failure::input(format!(
+                    "--lambda: expected a number ≥ 0, got {l}"
+                )));
+            }
+            options.normal_weight = l;
+        }
+        if let Some(e) = self.elevate {
+            options.elevate = e as usize;
+        }
+        Ok(())
+    }
+}
+
+/// Writes `surfaces` as STEP to `output` and, when asked, the picture of
+/// `shown` to `render` — made in memory first, written together (both or
+/// neither).
+pub fn write_step_and_picture(
+    output: &Path,
+    surfaces: &[CadSurface],
+    render: Option<&Path>,
+    shown: &[&BSplineSurface],
     zebra: bool,
-) -> Result<Vec<u8>, Failure> {
-    let patches = faces
+) -> Result<(), Failure> {
+    crate::solve::ensure_parent(output)?;
+    let picture = render
+        .map(|p| picture(shown, zebra).map(|png| (p, png)))
+        .transpose()?;
+    if let Some((path, _)) = &picture {
+        crate::solve::ensure_parent(path)?;
+    }
+    let batch = Batch::begin();
+    fairsurf_io::write_step_surfaces(output, surfaces)?;
+    if let Some((path, png)) = &picture {
+        write_atomic(path, |w| w.write_all(png))?;
+    }
+    batch.commit()?;
+    Ok(())
+}
+
+/// The surfaces in one panel, coloured by |H| or striped.
+fn picture(surfaces: &[&BSplineSurface], zebra: bool) -> Result<Vec<u8>, Failure> {
+    let patches = surfaces
         .iter()
-        .chain(fills.iter().map(|f| &f.surface))
         .flat_map(|s| s.bezier_pieces().into_iter().map(|p| p.patch))
         .collect();
     let panel = Panel {

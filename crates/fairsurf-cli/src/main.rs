@@ -13,6 +13,7 @@ macro_rules! say {
 pub(crate) use say;
 
 mod analyse;
+mod blend;
 mod compare;
 mod eval;
 mod export;
@@ -55,6 +56,9 @@ enum Command {
     /// Fill the holes between faces (a STEP file or a JSON fill scene) with
     /// G1 B-spline patches and write the faces and fills, sewn, as STEP.
     Fill(fill::Args),
+    /// Blend two surfaces along one edge of each (a JSON blend scene) with
+    /// a G1 B-spline transition surface and write them, sewn, as STEP.
+    Blend(blend::Args),
     /// Evaluate points and unit normals of a solved surface at given (u, v).
     Eval(eval::Args),
     /// Measure surfaces as result files give them, without solving: area
@@ -69,10 +73,11 @@ enum Command {
     #[command(hide = true)]
     ServeWorker,
     /// Print the JSON Schema of scene files of one surface type (tensor by
-    /// default; --type triangular or bspline), or of fill scenes (--type fill).
+    /// default; --type triangular or bspline), or of fill and blend scenes
+    /// (--type fill, --type blend).
     Schema {
-        /// The surface type: tensor, triangular or bspline; or fill.
-        #[arg(long = "type", default_value = "tensor", value_parser = ["tensor", "triangular", "bspline", "fill"])]
+        /// The surface type: tensor, triangular or bspline; or fill, blend.
+        #[arg(long = "type", default_value = "tensor", value_parser = ["tensor", "triangular", "bspline", "fill", "blend"])]
         kind: String,
         /// The same as --type triangular.
         #[arg(long, conflicts_with = "kind")]
@@ -154,6 +159,7 @@ fn run(command: Command, max_bytes: usize) -> Result<(), Failure> {
         Command::Analyse(a) => analyse::run(a),
         Command::Export(a) => export::run(a),
         Command::Fill(a) => fill::run(a),
+        Command::Blend(a) => blend::run(a),
         Command::Serve(a) => serve::run(a, max_bytes),
         Command::ServeWorker => serve::run_worker(),
         Command::Render(a) => render::run(a),
@@ -165,6 +171,7 @@ fn run(command: Command, max_bytes: usize) -> Result<(), Failure> {
             };
             let schema = match kind {
                 "fill" => fairsurf_io::FillScene::json_schema(),
+                "blend" => fairsurf_io::BlendScene::json_schema(),
                 _ => fairsurf_io::SurfaceType::ALL
                     .into_iter()
                     .find(|t| t.name() == kind)

@@ -1371,21 +1371,32 @@ fn fill_fills_the_hole_and_writes_a_sewn_shell() {
     assert!(s.contains("hole 0: 12 sides"), "{s}");
 }
 
+/// Runs `fairsurf <command> <args> -o <out>`, which must exit 2 and leave
+/// no `out`; its standard error.
+fn exits_2(command: &str, out: &std::path::Path, args: &[&str]) -> String {
+    let mut all = vec![command];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["-o", out.to_str().unwrap()]);
+    let o = fairsurf(&all);
+    assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+    assert!(!out.exists());
+    stderr(&o)
+}
+
+/// `v` written as `name` in `d`.
+fn write_json(d: &std::path::Path, name: &str, v: &serde_json::Value) -> std::path::PathBuf {
+    let p = d.join(name);
+    std::fs::write(&p, v.to_string()).unwrap();
+    p
+}
+
 /// Bad fill requests exit 2, say why, and write nothing.
 #[test]
 fn bad_fills_exit_2_and_write_nothing() {
     let d = tmpdir("fill-bad");
     let scene = examples().join("fill_network.json");
     let out = d.join("x.step");
-    let run = |args: &[&str]| {
-        let mut all = vec!["fill"];
-        all.extend_from_slice(args);
-        all.extend_from_slice(&["-o", out.to_str().unwrap()]);
-        let o = fairsurf(&all);
-        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
-        assert!(!out.exists());
-        stderr(&o)
-    };
+    let run = |args: &[&str]| exits_2("fill", &out, args);
     let s = scene.to_str().unwrap();
     assert!(
         run(&[s, "--hole", "7"]).contains("--hole: there is no hole 7: the faces have 2 (0 to 1)")
@@ -1394,11 +1405,7 @@ fn bad_fills_exit_2_and_write_nothing() {
     assert!(run(&[s, "--lambda=-1"]).contains("--lambda: expected a number ≥ 0, got -1"));
     let text: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&scene).unwrap()).unwrap();
-    let write = |name: &str, v: &serde_json::Value| {
-        let p = d.join(name);
-        std::fs::write(&p, v.to_string()).unwrap();
-        p
-    };
+    let write = |name: &str, v: &serde_json::Value| write_json(&d, name, v);
     let mut bad = text.clone();
     bad["faces"][3]["control_points"][2] = serde_json::json!([[0, 0, 0]]);
     let p = write("bad_net.json", &bad);
@@ -1438,4 +1445,109 @@ fn bad_fills_exit_2_and_write_nothing() {
     assert!(run(&[p.to_str().unwrap()]).contains("faces: no faces"));
     let p = write("not_json.json", &serde_json::json!(1));
     assert!(run(&[p.to_str().unwrap()]).contains("not_json.json"));
+}
+
+/// `blend` on the bundled sheets: G1 to both to rounding, and the STEP
+/// file holds the two surfaces and the blend sewn — its two long edges
+/// shared with the surfaces (8 + 4 + 4 - 2 = 10 edges, 8 vertices).
+#[test]
+fn blend_joins_two_surfaces_and_writes_them_sewn() {
+    let d = tmpdir("blend");
+    let scene = examples().join("blend_sheets.json");
+    let out = d.join("sub/blend.step");
+    let png = d.join("sub/blend.png");
+    let o = fairsurf(&[
+        "blend",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--render",
+        png.to_str().unwrap(),
+        "--zebra",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(r["faces"], 2);
+    assert!(r["max_angle_deg"].as_f64().unwrap() < 1e-9, "{r}");
+    assert!(r["max_gap"].as_f64().unwrap() < 1e-12, "{r}");
+    assert_eq!(r["sides"][0]["face"], 0);
+    assert_eq!(r["sides"][1]["face"], 1);
+    assert_eq!(r["sides"][0]["edge"], "u1");
+    assert_eq!(r["sides"][1]["edge"], "u0");
+    assert_eq!(r["bulge"], serde_json::json!([1.0, 1.0]));
+    assert!(r["curvature_w"].as_f64().unwrap() > 0.0);
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert_eq!(text.matches("=ADVANCED_FACE(").count(), 3);
+    assert_eq!(text.matches("=EDGE_CURVE(").count(), 10);
+    assert_eq!(text.matches("=VERTEX_POINT(").count(), 8);
+    assert!(std::fs::metadata(&png).unwrap().len() > 1000);
+    // --bulge changes α by its factor; the summary says the figures.
+    let o = fairsurf(&[
+        "blend",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--bulge",
+        "2,0.5",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r2: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    for (k, f) in [(0, 2.0), (1, 0.5)] {
+        let (a, b) = (
+            r["alpha"][k].as_f64().unwrap(),
+            r2["alpha"][k].as_f64().unwrap(),
+        );
+        assert!((b - f * a).abs() < 1e-14 * a, "{a} {b}");
+    }
+    let o = fairsurf(&[
+        "blend",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let s = String::from_utf8_lossy(&o.stdout);
+    assert!(s.contains("blend between face 0 and face 1"), "{s}");
+    assert!(s.contains("against B: largest gap"), "{s}");
+    let o = fairsurf(&["schema", "--type", "blend"]);
+    assert!(o.status.success());
+    let schema: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(schema["properties"]["surfaces"].is_object());
+}
+
+/// Bad blend requests exit 2, say why, and write nothing.
+#[test]
+fn bad_blends_exit_2_and_write_nothing() {
+    let d = tmpdir("blend-bad");
+    let scene = examples().join("blend_sheets.json");
+    let out = d.join("x.step");
+    let run = |args: &[&str]| exits_2("blend", &out, args);
+    let s = scene.to_str().unwrap();
+    assert!(run(&[s, "--bulge", "1"]).contains("--bulge: expected two numbers > 0"));
+    assert!(run(&[s, "--bulge", "1,-1"]).contains("--bulge: expected two numbers > 0"));
+    assert!(run(&[s, "--lambda=-1"]).contains("--lambda: expected a number ≥ 0"));
+    let text: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&scene).unwrap()).unwrap();
+    let write = |name: &str, v: &serde_json::Value| write_json(&d, name, v);
+    let mut bad = text.clone();
+    bad["surfaces"][1] = serde_json::json!({"step": "missing.step", "index": 0, "edge": "u0"});
+    let p = write("missing.json", &bad);
+    let e = run(&[p.to_str().unwrap()]);
+    assert!(
+        e.contains("surfaces[1].step: cannot read") && e.contains("missing.step"),
+        "{e}"
+    );
+    let mut bad = text.clone();
+    bad["surfaces"][1]["edge"] = serde_json::json!("u2");
+    let p = write("edge.json", &bad);
+    assert!(run(&[p.to_str().unwrap()]).contains("surfaces[1].edge: unknown variant `u2`"));
+    // Both edges of one surface that share a corner.
+    let mut bad = text.clone();
+    bad["surfaces"][1] = bad["surfaces"][0].clone();
+    bad["surfaces"][1]["edge"] = serde_json::json!("v0");
+    let p = write("touch.json", &bad);
+    assert!(run(&[p.to_str().unwrap()]).contains("the two edges meet at their"));
+    let p = write("fill.json", &serde_json::json!({"faces": []}));
+    assert!(run(&[p.to_str().unwrap()]).contains("unknown field `faces`"));
 }

@@ -9,8 +9,12 @@ use crate::tensor_scene::Net;
 use crate::validate::parse_net;
 use crate::{CadSurface, Error, Result};
 use fairsurf::analysis::Edge;
+use fairsurf::bspline::BSplineReport;
 use fairsurf::bspline::{BSplineSurface, KnotVector};
-use fairsurf::fill::{fill_hole, find_holes, Fill, FillOptions, Hole};
+use fairsurf::fill::{
+    fill_hole, find_holes, CornerMismatch, Fill, FillOptions, FillSeconds, Hole, SideFit,
+    TotalCurvature,
+};
 use fairsurf::Vec3;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -368,7 +372,7 @@ impl HoleChoice {
     }
 }
 
-fn edge_name(e: Edge) -> &'static str {
+pub(crate) fn edge_name(e: Edge) -> &'static str {
     match e {
         Edge::U0 => "u0",
         Edge::U1 => "u1",
@@ -377,46 +381,49 @@ fn edge_name(e: Edge) -> &'static str {
     }
 }
 
-/// One fill's report: the surface's size, per side the gap and normal
-/// angle measured on it, the corner mismatches, W, the solve's figures and
-/// the time.
-pub fn fill_json(hole: usize, fill: &Fill) -> Value {
-    let r = &fill.report;
-    let s = &r.solve;
-    let sides: Vec<Value> = r
-        .sides
-        .iter()
-        .map(|f| {
-            json!({
-                "face": f.side.face,
-                "edge": edge_name(f.side.edge),
-                "reversed": f.side.reversed,
-                "gap": f.gap,
-                "angle_deg": f.angle.to_degrees(),
-                "samples": f.samples,
-                "singular": f.singular,
-            })
-        })
-        .collect();
-    let (ku, kv) = fill.surface.knots();
+/// One side's fit as JSON, `face` the neighbour's index in the output.
+pub(crate) fn side_json(f: &SideFit, face: usize) -> Value {
     json!({
-        "hole": hole,
-        "degree": fill.surface.degree(),
-        "control_points": fill.surface.counts(),
+        "face": face,
+        "edge": edge_name(f.side.edge),
+        "reversed": f.side.reversed,
+        "gap": f.gap,
+        "angle_deg": f.angle.to_degrees(),
+        "samples": f.samples,
+        "singular": f.singular,
+    })
+}
+
+/// The fields a fill and a blend report alike: size, sides, corners, W,
+/// the solve and the time.
+pub(crate) fn patch_json(
+    surface: &BSplineSurface,
+    sides: Vec<Value>,
+    fits: &[SideFit],
+    corners: &CornerMismatch,
+    curvature: &TotalCurvature,
+    willmore: &[f64],
+    normal_weight: f64,
+    s: &BSplineReport,
+    seconds: &FillSeconds,
+) -> Value {
+    let (ku, kv) = surface.knots();
+    json!({
+        "degree": surface.degree(),
+        "control_points": surface.counts(),
         "spans": [ku.spans().len(), kv.spans().len()],
         "sides": sides,
-        "max_gap": r.sides.iter().map(|f| f.gap).fold(0.0, f64::max),
-        "max_angle_deg": r.sides.iter().map(|f| f.angle.to_degrees()).fold(0.0, f64::max),
+        "max_gap": fits.iter().map(|f| f.gap).fold(0.0, f64::max),
+        "max_angle_deg": fits.iter().map(|f| f.angle.to_degrees()).fold(0.0, f64::max),
         "corners": {
-            "position": r.corners.position,
-            "tangent": r.corners.tangent,
-            "twist": r.corners.twist,
+            "position": corners.position,
+            "tangent": corners.tangent,
+            "twist": corners.twist,
         },
-        "alpha": r.alpha,
-        "curvature_w": r.curvature.value,
-        "curvature_w_error": r.curvature.error,
-        "willmore_w": r.willmore,
-        "normal_weight": r.normal_weight,
+        "curvature_w": curvature.value,
+        "curvature_w_error": curvature.error,
+        "willmore_w": willmore,
+        "normal_weight": normal_weight,
         "solve": {
             "energy": s.energy,
             "terms": {"stretch": s.stretch, "bend": s.bend, "normal_field": s.normal_field},
@@ -437,12 +444,34 @@ pub fn fill_json(hole: usize, fill: &Fill) -> Value {
             },
         },
         "seconds": {
-            "setup": r.seconds.setup,
-            "solve": r.seconds.solve,
-            "measure": r.seconds.measure,
-            "total": r.seconds.setup + r.seconds.solve + r.seconds.measure,
+            "setup": seconds.setup,
+            "solve": seconds.solve,
+            "measure": seconds.measure,
+            "total": seconds.setup + seconds.solve + seconds.measure,
         },
     })
+}
+
+/// One fill's report: the surface's size, per side the gap and normal
+/// angle measured on it, the corner mismatches, W, the solve's figures and
+/// the time.
+pub fn fill_json(hole: usize, fill: &Fill) -> Value {
+    let r = &fill.report;
+    let sides = r.sides.iter().map(|f| side_json(f, f.side.face)).collect();
+    let mut out = patch_json(
+        &fill.surface,
+        sides,
+        &r.sides,
+        &r.corners,
+        &r.curvature,
+        &r.willmore,
+        r.normal_weight,
+        &r.solve,
+        &r.seconds,
+    );
+    out["hole"] = json!(hole);
+    out["alpha"] = json!(r.alpha);
+    out
 }
 
 /// The whole report of a fill job: the number of faces, every hole (as

@@ -23,6 +23,7 @@
 
 mod analysis;
 mod atomic;
+mod blend;
 mod bspline_scene;
 mod cad;
 mod compare;
@@ -46,6 +47,7 @@ mod validate;
 
 pub use analysis::Measures;
 pub use atomic::{remove_temporaries, write_atomic, Batch};
+pub use blend::{blend_json, BlendInput, BlendScene, BlendSurfaceSpec, EdgeName};
 pub use bspline_scene::{
     BSplineEnergySpec, BSplineGuideSpec, BSplineKind, BSplineScene, BSplineSpec, SolvedBSplineScene,
 };

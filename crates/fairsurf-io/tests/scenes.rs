@@ -849,6 +849,23 @@ fn results_round_trip() {
     }
 }
 
+/// A fill's or blend's solve checked and every side G¹ and closed to
+/// rounding.
+fn g1_to_rounding(
+    solve: &fairsurf::bspline::BSplineReport,
+    sides: &[fairsurf::fill::SideFit],
+    p: &std::path::Path,
+) {
+    assert!(solve.energy_error < 1e-12, "{}", p.display());
+    for side in sides {
+        assert!(
+            side.gap < 1e-12 && side.angle < 1e-11,
+            "{}: {side:?}",
+            p.display()
+        );
+    }
+}
+
 #[test]
 fn every_example_solves_to_a_true_minimizer_or_exact_construction() {
     let mut n = 0;
@@ -856,21 +873,23 @@ fn every_example_solves_to_a_true_minimizer_or_exact_construction() {
         let p = entry.unwrap().path();
         if p.extension().is_some_and(|e| e == "json") {
             let text = std::fs::read_to_string(&p).unwrap();
-            if serde_json::from_str::<serde_json::Value>(&text).unwrap()["faces"].is_array() {
+            let value: serde_json::Value = serde_json::from_str(&text).unwrap();
+            if value["surfaces"].is_array() {
+                // A blend scene: G1 to both surfaces to rounding.
+                let input = fairsurf_io::BlendInput::from_text(&text, &examples()).unwrap();
+                let b = input.blend().unwrap();
+                g1_to_rounding(&b.report.solve, &b.report.sides, &p);
+                n += 1;
+                continue;
+            }
+            if value["faces"].is_array() {
                 // A fill scene: every chosen hole filled G1 to rounding.
                 let input = fairsurf_io::FillInput::from_text(&text, false).unwrap();
                 let choice = fairsurf_io::HoleChoice::new(&input.faces, None).unwrap();
                 let fills = choice.fill(&input.faces, &input.options).unwrap();
                 assert!(!fills.is_empty(), "{}", p.display());
                 for f in &fills {
-                    assert!(f.report.solve.energy_error < 1e-12, "{}", p.display());
-                    for side in &f.report.sides {
-                        assert!(
-                            side.gap < 1e-12 && side.angle < 1e-11,
-                            "{}: {side:?}",
-                            p.display()
-                        );
-                    }
+                    g1_to_rounding(&f.report.solve, &f.report.sides, &p);
                 }
                 n += 1;
                 continue;

@@ -30,6 +30,18 @@ pub struct SideFit {
 
 /// Compares the fill's side `k` with the neighbour `face` along `side`.
 pub fn side_fit(fill: &BSplineSurface, k: usize, face: &BSplineSurface, side: Side) -> SideFit {
+    side_fit_facing(fill, k, face, side, false)
+}
+
+/// [`side_fit`], the neighbour's normal turned around when `flipped` (a
+/// blend between faces whose parameterizations face opposite ways).
+pub(crate) fn side_fit_facing(
+    fill: &BSplineSurface,
+    k: usize,
+    face: &BSplineSurface,
+    side: Side,
+    flipped: bool,
+) -> SideFit {
     let n = SIDE_SAMPLES - 1;
     let (mut gap, mut ang, mut singular) = (0.0f64, 0.0f64, 0usize);
     let ts: Vec<f64> = (0..=n)
@@ -52,7 +64,10 @@ pub fn side_fit(fill: &BSplineSurface, k: usize, face: &BSplineSurface, side: Si
     });
     for (a, b) in da.iter().zip(&db) {
         gap = gap.max(dist(a.point, b.point));
-        let (na, nb) = (cross(a.du, a.dv), cross(b.du, b.dv));
+        let (na, mut nb) = (cross(a.du, a.dv), cross(b.du, b.dv));
+        if flipped {
+            nb = [-nb[0], -nb[1], -nb[2]];
+        }
         if norm(na) == 0.0 || norm(nb) == 0.0 {
             singular += 1;
             continue;

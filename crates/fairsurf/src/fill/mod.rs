@@ -37,6 +37,7 @@
 //!    the corners (Chebyshev–Lobatto), and W = ∫∫ κ₁² + κ₂² dA of the fill
 //!    ([`total_curvature`]).
 
+mod blend;
 mod coons;
 mod holes;
 mod measure;
@@ -45,6 +46,7 @@ mod strip;
 mod tests;
 mod willmore;
 
+pub use blend::{blend, Blend, BlendOptions, BlendReport};
 pub use holes::{edge_point, find_holes, surface_param, tolerance, Hole, Side};
 pub use measure::{side_fit, total_curvature, SideFit, TotalCurvature};
 
@@ -147,7 +149,7 @@ pub struct FillSeconds {
     pub setup: f64,
     /// The solve, its check included.
     pub solve: f64,
-    /// Side fits and W.
+    /// W, the Willmore steps and the side fits.
     pub measure: f64,
 }
 
@@ -243,8 +245,13 @@ fn alphas(s: &[Strip; 4]) -> Result<[f64; 4]> {
 }
 
 /// The two rings of the fill and the corner mismatches: the net (None
-/// inside) on the knot vectors of the unified sides.
-fn rings(s: &[Strip; 4]) -> (KnotVector, KnotVector, Vec<Option<Vec3>>, CornerMismatch) {
+/// inside) on the knot vectors of the unified sides. A side whose `across`
+/// is false gives only its boundary points (a blend's made sides: position,
+/// no tangent plane).
+fn rings(
+    s: &[Strip; 4],
+    across: [bool; 4],
+) -> (KnotVector, KnotVector, Vec<Option<Vec3>>, CornerMismatch) {
     let (ku, kv) = (s[0].knots.clone(), s[3].knots.clone());
     let (p, q) = (ku.degree(), kv.degree());
     let (cu, cv) = (ku.count(), kv.count());
@@ -252,17 +259,26 @@ fn rings(s: &[Strip; 4]) -> (KnotVector, KnotVector, Vec<Option<Vec3>>, CornerMi
     let mut cand: Vec<Vec<(u8, Vec3)>> = vec![Vec::new(); cu * cv];
     let (hu0, hu1) = (ku.knots()[p + 1], 1.0 - ku.knots()[cu - 1]);
     let (hv0, hv1) = (kv.knots()[q + 1], 1.0 - kv.knots()[cv - 1]);
+    let ring = |x: Vec3, d: Vec3, h: f64, p: usize| add(x, scale(d, h / p as f64));
     for i in 0..cu {
         cand[i * cv].push((0, s[0].pos[i]));
-        cand[i * cv + 1].push((1, add(s[0].pos[i], scale(s[0].der[i], hv0 / q as f64))));
         cand[i * cv + cv - 1].push((0, s[2].pos[i]));
-        cand[i * cv + cv - 2].push((1, add(s[2].pos[i], scale(s[2].der[i], hv1 / q as f64))));
+        if across[0] {
+            cand[i * cv + 1].push((1, ring(s[0].pos[i], s[0].der[i], hv0, q)));
+        }
+        if across[2] {
+            cand[i * cv + cv - 2].push((1, ring(s[2].pos[i], s[2].der[i], hv1, q)));
+        }
     }
     for j in 0..cv {
         cand[j].push((0, s[3].pos[j]));
-        cand[cv + j].push((1, add(s[3].pos[j], scale(s[3].der[j], hu0 / p as f64))));
         cand[(cu - 1) * cv + j].push((0, s[1].pos[j]));
-        cand[(cu - 2) * cv + j].push((1, add(s[1].pos[j], scale(s[1].der[j], hu1 / p as f64))));
+        if across[3] {
+            cand[cv + j].push((1, ring(s[3].pos[j], s[3].der[j], hu0, p)));
+        }
+        if across[1] {
+            cand[(cu - 2) * cv + j].push((1, ring(s[1].pos[j], s[1].der[j], hu1, p)));
+        }
     }
     let mut m = CornerMismatch::default();
     let net = cand
@@ -288,6 +304,115 @@ fn rings(s: &[Strip; 4]) -> (KnotVector, KnotVector, Vec<Option<Vec3>>, CornerMi
     (ku, kv, net, m)
 }
 
+/// Sides on one degree and knot vector per direction (at least the larger
+/// degree of opposite sides plus `elevate`), with at least `min_points`
+/// (≥ 5) control points each way: two rings each side and a free row.
+fn unified(s: &[Strip; 4], options: &FillOptions) -> Result<[Strip; 4]> {
+    let min_points = options.min_points.max(5);
+    let degree = |a: &Strip, b: &Strip| a.degree().max(b.degree()) + options.elevate;
+    let (mut du, mut dv) = (degree(&s[0], &s[2]), degree(&s[1], &s[3]));
+    loop {
+        let (s0, s2) = unify(&s[0], &s[2], du)?;
+        let (s3, s1) = unify(&s[3], &s[1], dv)?;
+        let (cu, cv) = (s0.knots.count(), s3.knots.count());
+        if cu >= min_points && cv >= min_points {
+            return Ok([s0, s1, s2, s3]);
+        }
+        du += usize::from(cu < min_points);
+        dv += usize::from(cv < min_points);
+    }
+}
+
+/// A patch made fair inside fixed boundary rows: the solve, then the
+/// linearized Willmore steps.
+struct Faired {
+    surface: BSplineSurface,
+    solve: BSplineReport,
+    corners: CornerMismatch,
+    curvature: TotalCurvature,
+    willmore: Vec<f64>,
+    setup: f64,
+    solve_seconds: f64,
+    /// W and the Willmore steps.
+    improve_seconds: f64,
+}
+
+/// The patch of the unified sides `s` (their D already scaled: the
+/// patch's cross derivative) with the rows [`rings`] fixes, every other point
+/// free, made fair by `options` (see the module documentation, steps 2–3).
+fn fair(s: &[Strip; 4], across: [bool; 4], options: &FillOptions, t0: Instant) -> Result<Faired> {
+    if options.samples == 0 {
+        return Err(Error::Fill {
+            why: "samples must be at least 1".into(),
+        });
+    }
+    let (ku, kv, net, corners) = rings(s, across);
+    let (cu, cv) = (ku.count(), kv.count());
+    let patch = coons::Coons::new(s);
+    let greville = |k: &KnotVector, i: usize| {
+        let p = k.degree();
+        k.knots()[i + 1..=i + p].iter().sum::<f64>() / p as f64
+    };
+    let free: Vec<bool> = net.iter().map(Option::is_none).collect();
+    let points: Vec<Vec3> = net
+        .iter()
+        .enumerate()
+        .map(|(k, p)| p.unwrap_or_else(|| patch.at(greville(&ku, k / cv), greville(&kv, k % cv)).0))
+        .collect();
+    let surface = BSplineSurface::new(ku, kv, points)?;
+    let mut problem = BSplineProblem::new(surface)
+        .with_free(free)?
+        .with_stretch(options.stretch)
+        .with_bend(options.bend);
+    if options.normal_weight > 0.0 {
+        let grid = SampleGrid::try_new(options.samples * cu, options.samples * cv)?;
+        let normals = patch
+            .on_grid(&grid.us(), &grid.vs())
+            .into_iter()
+            .map(|(_, fu, fv)| cross(fu, fv))
+            .collect();
+        let weight = options.normal_weight / grid.len() as f64;
+        problem = problem.with_sampled_normals(weight, grid, normals, None)?;
+    }
+    let setup = t0.elapsed().as_secs_f64();
+    let t1 = Instant::now();
+    let solved = problem.solve()?;
+    let solve_seconds = t1.elapsed().as_secs_f64();
+    let t2 = Instant::now();
+    let mut surface = solved.surface;
+    let mut curvature = total_curvature(&surface);
+    let mut history = vec![curvature.value];
+    let free = problem.free().to_vec();
+    for _ in 0..options.willmore_steps {
+        // A step whose system is not positive definite ends the steps; the
+        // surface so far stands (its W and side fits are measured after).
+        let Ok(next) = willmore::step(&surface, &free) else {
+            break;
+        };
+        let w = total_curvature(&next);
+        history.push(w.value);
+        if w.value.is_nan() || w.value >= curvature.value {
+            break;
+        }
+        let done = curvature.value - w.value <= 1e-6 * curvature.value;
+        surface = next;
+        curvature = w;
+        if done {
+            break;
+        }
+    }
+    Ok(Faired {
+        surface,
+        solve: solved.report,
+        corners,
+        curvature,
+        willmore: history,
+        setup,
+        solve_seconds,
+        improve_seconds: t2.elapsed().as_secs_f64(),
+    })
+}
+
 /// Fills the 4-sided `hole` of `faces` (see the module documentation).
 ///
 /// Errors ([`Error::Fill`]) name what does not fit: a hole with other than
@@ -304,11 +429,6 @@ pub fn fill_hole(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -
             ),
         });
     }
-    if options.samples == 0 {
-        return Err(Error::Fill {
-            why: "samples must be at least 1".into(),
-        });
-    }
     // Orientation: the fill's normal R_u × R_v at side 0 agrees with the
     // neighbour's; else traverse the loop the other way.
     let mut hole = hole.clone();
@@ -323,76 +443,10 @@ pub fn fill_hole(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -
     }
     let alpha = alphas(&s)?;
     let s: [Strip; 4] = std::array::from_fn(|k| s[k].scaled(alpha[k]));
-    // One degree and knot vector per direction, enough points for two
-    // rings each side and a free row.
-    let min_points = options.min_points.max(5);
-    let degree = |a: &Strip, b: &Strip| a.degree().max(b.degree()) + options.elevate;
-    let (mut du, mut dv) = (degree(&s[0], &s[2]), degree(&s[1], &s[3]));
-    let (s0, s2, s1, s3) = loop {
-        let (s0, s2) = unify(&s[0], &s[2], du)?;
-        let (s3, s1) = unify(&s[3], &s[1], dv)?;
-        let (cu, cv) = (s0.knots.count(), s3.knots.count());
-        if cu >= min_points && cv >= min_points {
-            break (s0, s2, s1, s3);
-        }
-        du += usize::from(cu < min_points);
-        dv += usize::from(cv < min_points);
-    };
-    let s = [s0, s1, s2, s3];
-    let (ku, kv, net, corners) = rings(&s);
-    let (cu, cv) = (ku.count(), kv.count());
-    let patch = coons::Coons::new(&s);
-    let greville = |k: &KnotVector, i: usize| {
-        let p = k.degree();
-        k.knots()[i + 1..=i + p].iter().sum::<f64>() / p as f64
-    };
-    let points: Vec<Vec3> = net
-        .iter()
-        .enumerate()
-        .map(|(k, p)| p.unwrap_or_else(|| patch.at(greville(&ku, k / cv), greville(&kv, k % cv)).0))
-        .collect();
-    let surface = BSplineSurface::new(ku, kv, points)?;
-    let mut problem = BSplineProblem::new(surface)
-        .with_fixed_rings(2)
-        .with_stretch(options.stretch)
-        .with_bend(options.bend);
-    if options.normal_weight > 0.0 {
-        let grid = SampleGrid::try_new(options.samples * cu, options.samples * cv)?;
-        let normals = patch
-            .on_grid(&grid.us(), &grid.vs())
-            .into_iter()
-            .map(|(_, fu, fv)| cross(fu, fv))
-            .collect();
-        let weight = options.normal_weight / grid.len() as f64;
-        problem = problem.with_sampled_normals(weight, grid, normals, None)?;
-    }
-    let setup = t0.elapsed().as_secs_f64();
-    let t1 = Instant::now();
-    let solved = problem.solve()?;
-    let solve = t1.elapsed().as_secs_f64();
+    let s = unified(&s, options)?;
+    let faired = fair(&s, [true; 4], options, t0)?;
     let t2 = Instant::now();
-    let mut surface = solved.surface;
-    let mut curvature = total_curvature(&surface);
-    let mut history = vec![curvature.value];
-    let free = problem.free().to_vec();
-    for _ in 0..options.willmore_steps {
-        // A step whose system is not positive definite ends the steps; the
-        // surface so far stands (its W and side fits are measured below).
-        let Ok(next) = willmore::step(&surface, &free) else {
-            break;
-        };
-        let w = total_curvature(&next);
-        history.push(w.value);
-        if w.value.is_nan() || w.value >= curvature.value {
-            break;
-        }
-        let done = curvature.value - w.value <= 1e-6 * curvature.value;
-        surface = next;
-        curvature = w;
-        if done {
-            break;
-        }
-    }
+    let surface = faired.surface;
     let sides: Vec<SideFit> = (0..4)
         .map(|k| side_fit(&surface, k, &faces[hole.sides[k].face], hole.sides[k]))
         .collect();
@@ -401,17 +455,17 @@ pub fn fill_hole(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -
         surface,
         hole,
         report: FillReport {
-            solve: solved.report,
+            solve: faired.solve,
             sides,
-            corners,
+            corners: faired.corners,
             alpha,
-            curvature,
-            willmore: history,
+            curvature: faired.curvature,
+            willmore: faired.willmore,
             normal_weight: options.normal_weight,
             seconds: FillSeconds {
-                setup,
-                solve,
-                measure,
+                setup: faired.setup,
+                solve: faired.solve_seconds,
+                measure: faired.improve_seconds + measure,
             },
         },
     })

@@ -1,0 +1,100 @@
+//! `fairsurf blend`: a transition surface between two surfaces along one
+//! edge of each (a JSON blend scene), written with the surfaces, sewn, as
+//! STEP.
+
+use crate::fill::{write_step_and_picture, EnergyArgs};
+use crate::input::with_file;
+use crate::Failure;
+use fairsurf::bspline::BSplineSurface;
+use fairsurf_io::{blend_json, BlendInput};
+use serde_json::json;
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The blend scene (`fairsurf schema --type blend`): two surfaces,
+    /// inline or faces of STEP files, and one edge of each.
+    input: PathBuf,
+    /// The STEP file to write: every input face and the blend, sewn.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Print the report as JSON on standard output instead of the summary.
+    #[arg(long)]
+    json: bool,
+    #[command(flatten)]
+    energy: EnergyArgs,
+    /// The tangent lengths across at A's and B's edge, relative to the gap
+    /// (overrides the scene's `bulge`): two numbers > 0 and ≤ 10.
+    #[arg(long, value_name = "A,B", value_delimiter = ',')]
+    bulge: Option<Vec<f64>>,
+    /// Also draw the surfaces and the blend, coloured by |H| (PNG).
+    #[arg(long, value_name = "PNG")]
+    render: Option<PathBuf>,
+    /// Reflection-line stripes in the picture instead of curvature colours.
+    #[arg(long)]
+    zebra: bool,
+}
+
+pub fn run(a: Args) -> Result<(), Failure> {
+    let mut input = BlendInput::read(&a.input).map_err(with_file(&a.input))?;
+    a.energy.apply(&mut input.options.fill)?;
+    if let Some(b) = &a.bulge {
+        if b.len() != 2 || b.iter().any(|&x| !(x > 0.0 && x <= 10.0)) {
+            return Err(Failure::input(format!(
+                "--bulge: expected two numbers > 0 and ≤ 10 (A,B), got {b:?}"
+            )));
+        }
+        input.options.bulge = [b[0], b[1]];
+    }
+    let blend = input.blend().map_err(with_file(&a.input))?;
+    let surfaces = input.surfaces(&blend);
+    let shown: Vec<&BSplineSurface> = input.faces.iter().chain([&blend.surface]).collect();
+    write_step_and_picture(&a.output, &surfaces, a.render.as_deref(), &shown, a.zebra)?;
+    let mut out = blend_json(&input, &blend);
+    if a.json {
+        out["input"] = json!(a.input.display().to_string());
+        out["output"] = json!(a.output.display().to_string());
+        crate::say!("{}", serde_json::to_string_pretty(&out).expect("JSON"));
+        return Ok(());
+    }
+    let r = &blend.report;
+    let [(fa, _), (fb, _)] = input.ends;
+    let (p, q) = blend.surface.degree();
+    let (cu, cv) = blend.surface.counts();
+    let steps = r.willmore.windows(2).take_while(|w| w[1] < w[0]).count();
+    let mut lines = vec![format!(
+        "{}: blend between face {fa} and face {fb}: degree {p}×{q}, {cu}×{cv} control points, \
+         α = [{:.4}, {:.4}]{}",
+        a.input.display(),
+        r.alpha[0],
+        r.alpha[1],
+        if r.flipped {
+            " (face B's normal faces the other way: measured against its turned normal)"
+        } else {
+            ""
+        }
+    )];
+    for (name, f) in ["A", "B"].iter().zip(&r.sides) {
+        lines.push(format!(
+            "  against {name}: largest gap {:.1e}, largest normal angle {:.1e}° ({} samples)",
+            f.gap,
+            f.angle.to_degrees(),
+            f.samples
+        ));
+    }
+    lines.push(format!(
+        "  W = ∫κ₁²+κ₂² dA = {:.6} (±{:.0e}); thin-plate solve checked to {:.0e}, Willmore steps: \
+         {steps}; {:.1} ms",
+        r.curvature.value,
+        r.curvature.error,
+        r.solve.energy_error,
+        1e3 * (r.seconds.setup + r.seconds.solve + r.seconds.measure)
+    ));
+    lines.push(format!(
+        "{}: {} faces",
+        a.output.display(),
+        input.faces.len() + 1
+    ));
+    crate::say!("{}", lines.join("\n"));
+    Ok(())
+}
