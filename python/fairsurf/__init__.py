@@ -42,6 +42,8 @@ __all__ = [
     "schema",
     "fill",
     "Filled",
+    "blend",
+    "Blended",
     "Result",
     "Surface",
     "Mesh",
@@ -465,7 +467,53 @@ def fill(
     return Filled(native)
 
 
+class Blended:
+    """A transition surface between two surfaces (:func:`blend`): the input
+    ``faces``, the ``blend`` (a B-spline :class:`Surface`, G1 to both) and
+    the ``report`` (``fairsurf blend --json``)."""
+
+    def __init__(self, native: Any) -> None:
+        self._native = native
+        self.faces: List[Surface] = [Surface(f) for f in native.faces()]
+        self.blend: Surface = Surface(native.blend())
+        self.report: Dict[str, Any] = json.loads(native.report_json())
+
+    def __repr__(self) -> str:
+        return f"<fairsurf.Blended {len(self.faces)} faces and the blend>"
+
+    def write(self, path: Union[str, "os.PathLike[str]"]) -> None:
+        """Writes the faces and the blend as one sewn STEP shell."""
+        self._native.write_step(os.fspath(path))
+
+
+def blend(
+    scene: SceneLike,
+    *,
+    bulge: Optional[Sequence[float]] = None,
+    normal_weight: Optional[float] = None,
+    elevate: Optional[int] = None,
+    clamp_sides: Optional[bool] = None,
+) -> Blended:
+    """Blends two surfaces along one edge of each: ``scene`` is a JSON blend
+    scene as a path, text or dict (``schema("blend")``); the STEP files it
+    names are found next to the scene file (the working folder for text or
+    a dict). ``bulge`` (two numbers > 0: the tangent lengths across,
+    relative to the gap) and the other options override the scene's.
+    Raises :class:`SceneError` for bad input (with ``.path``),
+    :class:`SolveError` for edges that cannot be blended."""
+    is_file = isinstance(scene, os.PathLike) or (
+        isinstance(scene, str) and not scene.lstrip().startswith("{")
+    )
+    folder = Path(scene).resolve().parent if is_file else Path.cwd()
+    pair = None if bulge is None else tuple(float(x) for x in bulge)
+    if pair is not None and len(pair) != 2:
+        raise ValueError(f"bulge {list(pair)}: expected two numbers (A, B)")
+    native = _call(_fairsurf.blend, scene, os.fspath(folder), pair, normal_weight, elevate,
+                   clamp_sides)
+    return Blended(native)
+
+
 def schema(kind: str = "tensor") -> Dict[str, Any]:
     """The JSON Schema of scenes of a kind: tensor, triangular or bspline;
-    or of fill scenes ("fill")."""
+    or of fill and blend scenes ("fill", "blend")."""
     return json.loads(_fairsurf.schema(kind))

@@ -543,11 +543,14 @@ fn analyse(py: Python<'_>, text: String) -> PyResult<String> {
 }
 
 /// The JSON Schema of a scene kind ("tensor", "triangular", "bspline") or
-/// of fill scenes ("fill"), as JSON text.
+/// of fill or blend scenes ("fill", "blend"), as JSON text.
 #[pyfunction]
 fn schema(py: Python<'_>, kind: &str) -> PyResult<String> {
     if kind == "fill" {
         return Ok(fairsurf_io::FillScene::json_schema().to_string());
+    }
+    if kind == "blend" {
+        return Ok(fairsurf_io::BlendScene::json_schema().to_string());
     }
     let t = SurfaceType::ALL
         .into_iter()
@@ -659,6 +662,106 @@ fn fill(
     .map_err(|e| to_py(py, e))
 }
 
+/// A blend: every input face, the transition surface and the report.
+#[pyclass(module = "fairsurf._fairsurf", frozen, name = "Blended")]
+struct PyBlended {
+    input: fairsurf_io::BlendInput,
+    blend: fairsurf::fill::Blend,
+    report: String,
+}
+
+#[pymethods]
+impl PyBlended {
+    /// The input faces (B-spline surfaces): the inline ones and every face
+    /// of the STEP files named.
+    fn faces(&self) -> Vec<PySurface> {
+        self.input
+            .faces
+            .iter()
+            .map(|f| PySurface {
+                surface: Surface::BSpline(f.clone()),
+            })
+            .collect()
+    }
+
+    /// The transition surface.
+    fn blend(&self) -> PySurface {
+        PySurface {
+            surface: Surface::BSpline(self.blend.surface.clone()),
+        }
+    }
+
+    /// The report as JSON text (what `fairsurf blend --json` prints,
+    /// without the file names).
+    fn report_json(&self) -> String {
+        self.report.clone()
+    }
+
+    /// Writes the faces and the blend as one sewn STEP shell.
+    fn write_step(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        let surfaces = self.input.surfaces(&self.blend);
+        py.detach(|| fairsurf_io::write_step_surfaces(&path, &surfaces))
+            .map_err(|e| to_py(py, e))
+    }
+}
+
+/// Blends two surfaces as a JSON blend scene's text says (STEP files it
+/// names found in `folder`), the GIL released; the options override the
+/// scene's.
+#[pyfunction]
+#[pyo3(signature = (text, folder, bulge = None, normal_weight = None, elevate = None, clamp_sides = None))]
+fn blend(
+    py: Python<'_>,
+    text: String,
+    folder: PathBuf,
+    bulge: Option<[f64; 2]>,
+    normal_weight: Option<f64>,
+    elevate: Option<usize>,
+    clamp_sides: Option<bool>,
+) -> PyResult<PyBlended> {
+    if let Some(w) = normal_weight {
+        if !(w >= 0.0 && w.is_finite()) {
+            return Err(PyValueError::new_err(format!(
+                "normal_weight {w}: expected a number ≥ 0"
+            )));
+        }
+    }
+    if let Some(b) = bulge {
+        if b.iter().any(|&x| !(x > 0.0 && x <= 10.0)) {
+            return Err(PyValueError::new_err(format!(
+                "bulge {b:?}: expected two numbers > 0 and ≤ 10"
+            )));
+        }
+    }
+    if elevate.is_some_and(|e| e > 10) {
+        return Err(PyValueError::new_err("elevate is 0 to 10"));
+    }
+    py.detach(|| {
+        let mut input = fairsurf_io::BlendInput::from_text(&text, &folder)?;
+        let o = &mut input.options;
+        if let Some(b) = bulge {
+            o.bulge = b;
+        }
+        if let Some(w) = normal_weight {
+            o.fill.normal_weight = w;
+        }
+        if let Some(e) = elevate {
+            o.fill.elevate = e;
+        }
+        if let Some(c) = clamp_sides {
+            o.clamp_sides = c;
+        }
+        let blend = input.blend()?;
+        let report = fairsurf_io::blend_json(&input, &blend).to_string();
+        Ok(PyBlended {
+            input,
+            blend,
+            report,
+        })
+    })
+    .map_err(|e| to_py(py, e))
+}
+
 /// Seconds of `repeats` parses and solves of one scene timed inside Rust
 /// (the library's own cost, to measure what the Python call adds).
 #[pyfunction]
@@ -682,6 +785,8 @@ fn _fairsurf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PySolved>()?;
     m.add_class::<PyFilled>()?;
     m.add_function(wrap_pyfunction!(fill, m)?)?;
+    m.add_class::<PyBlended>()?;
+    m.add_function(wrap_pyfunction!(blend, m)?)?;
     m.add_function(wrap_pyfunction!(solve, m)?)?;
     m.add_function(wrap_pyfunction!(solve_many, m)?)?;
     m.add_function(wrap_pyfunction!(load, m)?)?;

@@ -9,99 +9,19 @@ import math
 import subprocess
 from pathlib import Path
 
-from OCP.BRep import BRep_Tool
-from OCP.BRepAdaptor import BRepAdaptor_Curve
-from OCP.BRepBuilderAPI import BRepBuilderAPI_Sewing
-from OCP.collections import (
-    IndexedDataMap_TopoDS_Shape_List_TopoDS_Shape_TopTools_ShapeMapHasher as EdgeFaces,
+from occ_check import (
+    bezier_face,
+    bspline_surface,
+    count,
+    free_edges_after_sewing,
+    read_step,
+    seams,
+    sewn_step,
 )
-from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
-from OCP.gp import gp_Pnt, gp_Vec
-from OCP.ShapeAnalysis import ShapeAnalysis_FreeBounds
-from OCP.STEPControl import STEPControl_Reader
-from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
-from OCP.TopExp import TopExp, TopExp_Explorer
-from OCP.TopoDS import TopoDS
+from OCP.BRepBuilderAPI import BRepBuilderAPI_Sewing
+from OCP.TopAbs import TopAbs_FACE
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
-
-
-def read_step(path: Path):
-    reader = STEPControl_Reader()
-    assert int(reader.ReadFile(str(path))) == 1  # IFSelect_RetDone
-    reader.TransferRoots()
-    return reader.OneShape()
-
-
-def count(shape, kind) -> int:
-    n, ex = 0, TopExp_Explorer(shape, kind)
-    while ex.More():
-        n += 1
-        ex.Next()
-    return n
-
-
-def foot(surface, p: gp_Pnt) -> tuple[float, float]:
-    """(u, v) of the point of `surface` nearest to p: Open CASCADE's
-    projection, then Newton steps to rounding."""
-    u, v = GeomAPI_ProjectPointOnSurf(p, surface).LowerDistanceParameters()
-    for _ in range(4):
-        q, su, sv, suu, svv, suv = gp_Pnt(), gp_Vec(), gp_Vec(), gp_Vec(), gp_Vec(), gp_Vec()
-        surface.D2(u, v, q, su, sv, suu, svv, suv)
-        d = gp_Vec(p, q)
-        f1, f2 = d.Dot(su), d.Dot(sv)
-        a11, a12, a22 = su.Dot(su) + d.Dot(suu), su.Dot(sv) + d.Dot(suv), sv.Dot(sv) + d.Dot(svv)
-        det = a11 * a22 - a12 * a12
-        u, v = u - (a22 * f1 - a12 * f2) / det, v - (a11 * f2 - a12 * f1) / det
-    return u, v
-
-
-def unit_normal(surface, u: float, v: float):
-    q, su, sv = gp_Pnt(), gp_Vec(), gp_Vec()
-    surface.D1(u, v, q, su, sv)
-    n = su.Crossed(sv)
-    return n.Divided(n.Magnitude()), q
-
-
-def seams(shape, samples: int = 65):
-    """Per edge shared by two faces: (face indices, largest normal angle in
-    degrees, largest distance between the faces' foot points), measured by
-    Open CASCADE at `samples` points of the edge."""
-    faces = []
-    ex = TopExp_Explorer(shape, TopAbs_FACE)
-    while ex.More():
-        faces.append(TopoDS.Face(ex.Current()))
-        ex.Next()
-    m = EdgeFaces()
-    TopExp.MapShapesAndAncestors_s(shape, TopAbs_EDGE, TopAbs_FACE, m)
-    out = []
-    for i in range(1, m.Extent() + 1):
-        pair = [TopoDS.Face(f) for f in m.FindFromIndex(i)]
-        if len(pair) != 2:
-            continue
-        index = [next(k for k, f in enumerate(faces) if f.IsSame(g)) for g in pair]
-        curve = BRepAdaptor_Curve(TopoDS.Edge(m.FindKey(i)))
-        a, b = curve.FirstParameter(), curve.LastParameter()
-        worst_angle = worst_gap = 0.0
-        for k in range(samples):
-            p = curve.Value(a + (b - a) * k / (samples - 1))
-            (n1, q1), (n2, q2) = (
-                unit_normal(s, *foot(s, p))
-                for s in (BRep_Tool.Surface_s(f) for f in pair)
-            )
-            angle = math.degrees(math.atan2(n1.Crossed(n2).Magnitude(), abs(n1.Dot(n2))))
-            worst_angle = max(worst_angle, angle)
-            worst_gap = max(worst_gap, q1.Distance(q2))
-        out.append((sorted(index), worst_angle, worst_gap))
-    return out
-
-
-def free_edges_after_sewing(shape) -> int:
-    sewing = BRepBuilderAPI_Sewing(1e-7)
-    sewing.Add(shape)
-    sewing.Perform()
-    bounds = ShapeAnalysis_FreeBounds(sewing.SewedShape(), 1e-7, False, False)
-    return count(bounds.GetClosedWires(), TopAbs_EDGE) + count(bounds.GetOpenWires(), TopAbs_EDGE)
 
 
 def test_the_filled_network_is_sewn_and_g1(cli: Path, tmp_path: Path):
@@ -124,31 +44,6 @@ def test_the_filled_network_is_sewn_and_g1(cli: Path, tmp_path: Path):
     measured = max(s[1] for s in across)
     assert measured < 1e-9 and reported < 1e-9, (measured, reported)
     assert max(s[2] for s in across) < 1e-12
-
-
-def sewn_step(faces, path: Path) -> None:
-    """Open CASCADE sews `faces` (OCP faces) and writes them as STEP."""
-    from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
-
-    sewing = BRepBuilderAPI_Sewing(1e-7)
-    for f in faces:
-        sewing.Add(f)
-    sewing.Perform()
-    writer = STEPControl_Writer()
-    writer.Transfer(sewing.SewedShape(), STEPControl_AsIs)
-    assert int(writer.Write(str(path))) == 1
-
-
-def bezier_face(net):
-    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
-    from OCP.collections import Array2_gp_Pnt
-    from OCP.Geom import Geom_BezierSurface
-
-    poles = Array2_gp_Pnt(1, len(net), 1, len(net[0]))
-    for i, row in enumerate(net):
-        for j, p in enumerate(row):
-            poles.SetValue(i + 1, j + 1, gp_Pnt(*p))
-    return BRepBuilderAPI_MakeFace(Geom_BezierSurface(poles), 1e-7).Face()
 
 
 def fill_and_check(cli: Path, step_in: Path, tmp_path: Path, faces: int) -> dict:
@@ -180,31 +75,18 @@ def test_an_open_cascade_network_of_bspline_faces_is_filled(cli: Path, tmp_path:
     (Geom_BSplineSurface.Segment) at interior knots: neighbours of several
     spans and different knot vectors."""
     from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
-    from OCP.collections import Array1_double, Array1_int, Array2_gp_Pnt
-    from OCP.Geom import Geom_BSplineSurface
-
-    def array(values, kind):
-        a = kind(1, len(values))
-        for k, x in enumerate(values):
-            a.SetValue(k + 1, x)
-        return a
 
     uk, um = [0.0, 0.5, 1.0, 1.7, 2.0, 2.4, 3.0], [4, 1, 1, 1, 1, 1, 4]
     vk, vm = [0.0, 0.8, 1.2, 1.5, 2.1, 3.0], [4, 1, 1, 1, 1, 4]
     cu, cv = sum(um) - 4, sum(vm) - 4
-    poles = Array2_gp_Pnt(1, cu, 1, cv)
-    for i in range(cu):
-        for j in range(cv):
-            x, y = 0.4 * i, 0.45 * j
-            poles.SetValue(i + 1, j + 1,
-                           gp_Pnt(x, y + 0.05 * x, 0.4 * math.cos(1.1 * x) * math.sin(1.4 * y)))
+    net = [[(0.4 * i, 0.45 * j + 0.02 * i, 0.4 * math.cos(0.44 * i) * math.sin(0.63 * j))
+            for j in range(cv)] for i in range(cu)]
     faces = []
     for a, b in [(0.0, 1.0), (1.0, 2.0), (2.0, 3.0)]:
         for c, d in [(0.0, 1.2), (1.2, 2.1), (2.1, 3.0)]:
             if (a, c) == (1.0, 1.2):
                 continue
-            s = Geom_BSplineSurface(poles, array(uk, Array1_double), array(vk, Array1_double),
-                                    array(um, Array1_int), array(vm, Array1_int), 3, 3)
+            s = bspline_surface(net, uk, um, vk, vm, 3, 3)
             s.Segment(a, b, c, d)
             faces.append(BRepBuilderAPI_MakeFace(s, 1e-7).Face())
     step_in = tmp_path / "bspline_network.step"
