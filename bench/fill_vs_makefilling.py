@@ -39,6 +39,7 @@ import json
 import math
 import statistics
 import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -58,7 +59,6 @@ from OCP.collections import (
 )
 from OCP.GeomAbs import GeomAbs_G1
 from OCP.Geom import Geom_BezierSurface, Geom_BSplineSurface
-from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
 from OCP.GeomLProp import GeomLProp_SLProps
 from OCP.gp import gp_Pnt, gp_Vec
 from OCP.GProp import GProp_GProps
@@ -66,6 +66,11 @@ from OCP.STEPControl import STEPControl_AsIs, STEPControl_Reader, STEPControl_Wr
 from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
 from OCP.TopExp import TopExp, TopExp_Explorer
 from OCP.TopoDS import TopoDS
+
+# Foot points and normals as the tests measure them.
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "python" / "tests"))
+from occ_check import foot  # noqa: E402
+from occ_check import unit_normal as normal_at  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -172,26 +177,6 @@ def hole_edges(shape):
     centre = np.mean([[p.X(), p.Y(), p.Z()] for _, _, p in free], axis=0)
     free.sort(key=lambda t: np.linalg.norm(np.array([t[2].X(), t[2].Y(), t[2].Z()]) - centre))
     return [(e, f) for e, f, _ in free[:4]]
-
-
-def foot(surface, p):
-    u, v = GeomAPI_ProjectPointOnSurf(p, surface).LowerDistanceParameters()
-    for _ in range(4):
-        q, su, sv, suu, svv, suv = gp_Pnt(), gp_Vec(), gp_Vec(), gp_Vec(), gp_Vec(), gp_Vec()
-        surface.D2(u, v, q, su, sv, suu, svv, suv)
-        d = gp_Vec(p, q)
-        f1, f2 = d.Dot(su), d.Dot(sv)
-        a11, a12, a22 = su.Dot(su) + d.Dot(suu), su.Dot(sv) + d.Dot(suv), sv.Dot(sv) + d.Dot(svv)
-        det = a11 * a22 - a12 * a12
-        u, v = u - (a22 * f1 - a12 * f2) / det, v - (a11 * f2 - a12 * f1) / det
-    return u, v
-
-
-def normal_at(surface, u, v):
-    q, su, sv = gp_Pnt(), gp_Vec(), gp_Vec()
-    surface.D1(u, v, q, su, sv)
-    n = su.Crossed(sv)
-    return n.Divided(n.Magnitude()), q
 
 
 def seam(fill_face, edges, samples=65):
