@@ -36,6 +36,10 @@
 //!    surface against the neighbour, at 129 parameters clustered towards
 //!    the corners (Chebyshev–Lobatto), and W = ∫∫ κ₁² + κ₂² dA of the fill
 //!    ([`total_curvature`]).
+//!
+//! The same rings and fairing make a transition surface between two
+//! surfaces along one edge of each ([`blend`], Wu & Yang Fig. 5): two sides
+//! from the surfaces, two made as cubic Hermite curves.
 
 mod blend;
 mod coons;
