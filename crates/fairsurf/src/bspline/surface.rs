@@ -117,7 +117,7 @@ impl BSplineSurface {
     }
 
     /// R and its first and second derivatives on the grid `us` × `vs`
-    /// (u-major: entry i·|vs| + j at (us[i], vs[j])): each direction's
+    /// (u-major: entry i·|vs| + j at (`us[i]`, `vs[j]`)): each direction's
     /// basis functions computed once per parameter, no allocation per point.
     pub fn derivatives_on(&self, us: &[f64], vs: &[f64]) -> Vec<SurfaceDerivatives> {
         let (p, q) = self.degree();
