@@ -541,7 +541,47 @@ def blend_sheets():
     })
 
 
+def fill_pentagon():
+    """A pentagonal hole in the graph of a cubic, ringed by five bicubic
+    patches (each the graph over the quad between a hole side and the
+    pentagon of twice the radius). `fairsurf fill` fills it with a fan of five
+    triangular patches, G1 to the neighbours and to each other."""
+    def f(x, y):
+        return 0.3 * x * x - 0.2 * x * y + 0.15 * y * y + 0.1 * x + 0.06 * x ** 3 - 0.05 * x * y * y
+
+    def corner(k, rad):
+        a = 2 * math.pi * k / 5 + 0.3
+        return (rad * math.cos(a), rad * math.sin(a))
+
+    a = [bern(3, k / 3) for k in range(4)]
+    faces = []
+    for k in range(5):
+        c0, c1, o0, o1 = corner(k, 1), corner(k + 1, 1), corner(k, 2), corner(k + 1, 2)
+
+        def lift(s, t):
+            x = (1 - t) * ((1 - s) * c0[0] + s * c1[0]) + t * ((1 - s) * o0[0] + s * o1[0])
+            y = (1 - t) * ((1 - s) * c0[1] + s * c1[1]) + t * ((1 - s) * o0[1] + s * o1[1])
+            return [x, y, f(x, y)]
+
+        # Interpolate on the 4 x 4 grid: rows first, then columns.
+        vals = [[lift(i / 3, j / 3) for j in range(4)] for i in range(4)]
+        rows = [[solve_linear(a, [v[c] for v in vals[i]]) for c in range(3)] for i in range(4)]
+        net = [[[r(solve_linear(a, [rows[i][c][j] for i in range(4)])[ii]) for c in range(3)]
+                for j in range(4)] for ii in range(4)]
+        faces.append({"type": "tensor", "degree": [3, 3], "control_points": net})
+    write("fill_pentagon.json", {
+        "name": "A pentagonal hole in a ring of bicubic patches",
+        "description": "Five bicubic Bezier faces, pieces of one smooth graph, around a "
+                       "pentagonal hole. fairsurf fill fills it with a fan of five triangular "
+                       "patches around a free centre: the rows next to each side from the "
+                       "neighbour (G1 exactly), Veltkamp & Wesselink's G1 conditions between the "
+                       "fan's patches, the thin plate inside.",
+        "faces": faces,
+    })
+
+
 if __name__ == "__main__":
+    fill_pentagon()
     blend_sheets()
     fill_network()
     bspline_hole()

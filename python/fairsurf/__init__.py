@@ -421,7 +421,8 @@ def compare(scene: SceneLike) -> Dict[str, Any]:
 
 class Filled:
     """Holes filled between faces (:func:`fill`): the input ``faces``, the
-    ``fills`` (B-spline :class:`Surface` objects, one per filled hole, G1 to
+    ``fills`` (:class:`Surface` objects, one per filled hole: B-spline for a
+    4-sided hole, triangular (a fan around a centre) otherwise; G1 to
     their neighbours) and the ``report`` (``fairsurf fill --json``)."""
 
     def __init__(self, native: Any) -> None:
@@ -451,7 +452,7 @@ def fill(
     (``schema("fill")``). ``holes`` chooses holes by index (longest loop
     first; default: all but the outer rim). Raises :class:`SceneError` for
     bad input (with ``.path``), :class:`SolveError` for a hole that cannot be
-    filled (e.g. not 4-sided). For Open CASCADE shapes see
+    filled (e.g. an N-sided hole whose sides have interior knots). For Open CASCADE shapes see
     :func:`fairsurf.occ.fill_shape`."""
     step = isinstance(faces, (str, os.PathLike)) and not (
         isinstance(faces, str) and faces.lstrip().startswith("{")

@@ -571,7 +571,7 @@ fn schema(py: Python<'_>, kind: &str) -> PyResult<String> {
 #[pyclass(module = "fairsurf._fairsurf", frozen, name = "Filled")]
 struct PyFilled {
     faces: Vec<fairsurf::bspline::BSplineSurface>,
-    fills: Vec<fairsurf::fill::Fill>,
+    fills: Vec<fairsurf::fill::HoleFill>,
     report: String,
 }
 
@@ -587,12 +587,16 @@ impl PyFilled {
             .collect()
     }
 
-    /// The fills, one per filled hole.
+    /// The fills, one per filled hole: a B-spline surface for a 4-sided
+    /// hole, a triangular surface (a fan around a centre) otherwise.
     fn fills(&self) -> Vec<PySurface> {
         self.fills
             .iter()
             .map(|f| PySurface {
-                surface: Surface::BSpline(f.surface.clone()),
+                surface: match f {
+                    fairsurf::fill::HoleFill::Patch(p) => Surface::BSpline(p.surface.clone()),
+                    fairsurf::fill::HoleFill::Fan(t) => Surface::Triangular(t.surface.clone()),
+                },
             })
             .collect()
     }

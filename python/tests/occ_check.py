@@ -53,16 +53,24 @@ def foot(surface, p: gp_Pnt) -> tuple[float, float]:
 
 
 def unit_normal(surface, u: float, v: float):
+    """The unit normal and the point; the normal is None where the
+    parameterization is singular: a side collapsed to a point, where one
+    derivative vanishes (below 1e-8 of the other; rounding then decides
+    S_u x S_v's direction)."""
     q, su, sv = gp_Pnt(), gp_Vec(), gp_Vec()
     surface.D1(u, v, q, su, sv)
     n = su.Crossed(sv)
+    a, b = su.Magnitude(), sv.Magnitude()
+    if min(a, b) <= 1e-8 * max(a, b) or n.Magnitude() == 0.0:
+        return None, q
     return n.Divided(n.Magnitude()), q
 
 
 def seams(shape, samples: int = 65):
     """Per edge shared by two faces: (face indices, largest normal angle in
     degrees, largest distance between the faces' foot points), measured by
-    Open CASCADE at `samples` points of the edge."""
+    Open CASCADE at `samples` points of the edge (the angle where both
+    faces have a normal)."""
     faces = []
     ex = TopExp_Explorer(shape, TopAbs_FACE)
     while ex.More():
@@ -85,9 +93,11 @@ def seams(shape, samples: int = 65):
                 unit_normal(s, *foot(s, p))
                 for s in (BRep_Tool.Surface_s(f) for f in pair)
             )
+            worst_gap = max(worst_gap, q1.Distance(q2))
+            if n1 is None or n2 is None:
+                continue  # a collapsed side's point: no normal to compare
             angle = math.degrees(math.atan2(n1.Crossed(n2).Magnitude(), abs(n1.Dot(n2))))
             worst_angle = max(worst_angle, angle)
-            worst_gap = max(worst_gap, q1.Distance(q2))
         out.append((sorted(index), worst_angle, worst_gap))
     return out
 

@@ -4,7 +4,7 @@
 use crate::input::with_file;
 use crate::Failure;
 use fairsurf::bspline::BSplineSurface;
-use fairsurf::fill::{Fill, FillOptions};
+use fairsurf::fill::{FillOptions, HoleFill};
 use fairsurf_io::{
     fill_report_json, fill_surfaces, write_atomic, Batch, CadSurface, FillInput, HoleChoice,
 };
@@ -93,11 +93,8 @@ pub fn run(a: Args) -> Result<(), Failure> {
         .as_deref()
         .expect("clap requires -o without --list");
     let surfaces = fill_surfaces(&input.faces, &fills);
-    let shown: Vec<&BSplineSurface> = input
-        .faces
-        .iter()
-        .chain(fills.iter().map(|f| &f.surface))
-        .collect();
+    let patches: Vec<BSplineSurface> = fills.iter().flat_map(HoleFill::patches).collect();
+    let shown: Vec<&BSplineSurface> = input.faces.iter().chain(&patches).collect();
     write_step_and_picture(output, &surfaces, a.render.as_deref(), &shown, a.zebra)?;
     if a.json {
         let mut out = fill_report_json(input.faces.len(), &choice, &fills);
@@ -118,7 +115,7 @@ fn summary(
     output: &Path,
     faces: usize,
     choice: &HoleChoice,
-    fills: &[Fill],
+    fills: &[HoleFill],
 ) -> String {
     let mut lines = vec![format!(
         "{}: {faces} faces, {} holes; filled {:?}{}",
@@ -131,39 +128,67 @@ fn summary(
             .map(|r| format!(" (hole {r}, the longest, taken as the outer rim)"))
             .unwrap_or_default()
     )];
-    for (&h, f) in choice.chosen.iter().zip(fills) {
-        let r = &f.report;
-        let steps = r.willmore.windows(2).take_while(|w| w[1] < w[0]).count();
-        let (p, q) = f.surface.degree();
-        let (cu, cv) = f.surface.counts();
-        let gap = r.sides.iter().map(|s| s.gap).fold(0.0, f64::max);
-        let angle = r
-            .sides
+    for (&h, fill) in choice.chosen.iter().zip(fills) {
+        let gap = fill.sides().iter().map(|s| s.gap).fold(0.0, f64::max);
+        let angle = fill
+            .sides()
             .iter()
             .map(|s| s.angle.to_degrees())
             .fold(0.0, f64::max);
-        lines.push(format!(
-            "  hole {h}: degree {p}×{q}, {cu}×{cv} control points; largest gap {gap:.1e}, \
-             largest normal angle {angle:.1e}° ({} samples per side); W = ∫κ₁²+κ₂² dA = {:.6} \
-             (±{:.0e}); thin-plate solve checked to {:.0e}, Willmore steps: {steps}; {:.1} ms",
-            r.sides[0].samples,
-            r.curvature.value,
-            r.curvature.error,
-            r.solve.energy_error,
-            1e3 * (r.seconds.setup + r.seconds.solve + r.seconds.measure)
-        ));
-        let c = &r.corners;
-        if c.position > 0.0 || c.tangent > 1e-12 || c.twist > 1e-12 {
-            lines.push(format!(
-                "    corners: sides disagree by {:.1e} in position, {:.1e} in tangent, {:.1e} in twist",
-                c.position, c.tangent, c.twist
-            ));
+        let w = fill.curvature();
+        let fit = format!(
+            "largest gap {gap:.1e}, largest normal angle {angle:.1e}° ({} samples per side); \
+             W = ∫κ₁²+κ₂² dA = {:.6} (±{:.0e})",
+            fill.sides()[0].samples,
+            w.value,
+            w.error
+        );
+        match fill {
+            HoleFill::Patch(f) => {
+                let r = &f.report;
+                let steps = r.willmore.windows(2).take_while(|w| w[1] < w[0]).count();
+                let (p, q) = f.surface.degree();
+                let (cu, cv) = f.surface.counts();
+                lines.push(format!(
+                    "  hole {h}: degree {p}×{q}, {cu}×{cv} control points; {fit}; thin-plate solve \
+                     checked to {:.0e}, Willmore steps: {steps}; {:.1} ms",
+                    r.solve.energy_error,
+                    1e3 * (r.seconds.setup + r.seconds.solve + r.seconds.measure)
+                ));
+                let c = &r.corners;
+                if c.position > 0.0 || c.tangent > 1e-12 || c.twist > 1e-12 {
+                    lines.push(format!(
+                        "    corners: sides disagree by {:.1e} in position, {:.1e} in tangent, {:.1e} in twist",
+                        c.position, c.tangent, c.twist
+                    ));
+                }
+            }
+            HoleFill::Fan(f) => {
+                let r = &f.report;
+                lines.push(format!(
+                    "  hole {h}: {} triangular patches of degree {} around a centre; {fit}; between \
+                     the patches {:.1e}°, {} of {} G1 conditions dropped; {:.1} ms",
+                    f.surface.patch_count(),
+                    f.surface.degree(),
+                    r.inner_angle.to_degrees(),
+                    r.solve.dropped.len(),
+                    r.solve.rows,
+                    1e3 * (r.seconds.setup + r.seconds.solve + r.seconds.measure)
+                ));
+                let c = &r.corners;
+                if c.position > 0.0 || c.tangent > 1e-12 {
+                    lines.push(format!(
+                        "    corners: sides disagree by {:.1e} in position, {:.1e} in tangent",
+                        c.position, c.tangent
+                    ));
+                }
+            }
         }
     }
     lines.push(format!(
         "{}: {} faces",
         output.display(),
-        faces + fills.len()
+        faces + fills.iter().map(|f| f.patches().len()).sum::<usize>()
     ));
     lines.join("\n")
 }

@@ -1371,6 +1371,43 @@ fn fill_fills_the_hole_and_writes_a_sewn_shell() {
     assert!(s.contains("hole 0: 12 sides"), "{s}");
 }
 
+/// `fill` on the pentagonal hole: a fan of five triangular patches, G1 to
+/// the neighbours to rounding and to each other as measured, written as
+/// five collapsed tensor patches sewn to the faces (5 + 5 faces; edges: 5
+/// rim, 5 radial, 5 hole sides, 5 spokes).
+#[test]
+fn fill_fills_a_pentagonal_hole_with_a_fan() {
+    let d = tmpdir("fill-fan");
+    let out = d.join("fan.step");
+    let scene = examples().join("fill_pentagon.json");
+    let o = fairsurf(&[
+        "fill",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let fill = &r["fills"][0];
+    assert_eq!(fill["kind"], "fan");
+    assert_eq!(fill["patches"], 5);
+    assert!(fill["max_angle_deg"].as_f64().unwrap() < 1e-9, "{fill}");
+    assert!(fill["max_gap"].as_f64().unwrap() < 1e-12, "{fill}");
+    assert!(fill["inner_angle_deg"].as_f64().unwrap() < 1e-8, "{fill}");
+    assert_eq!(fill["solve"]["conditions_dropped"], serde_json::json!([]));
+    assert!(fill["solve"]["check"]["energy_error"].as_f64().unwrap() < 1e-10);
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert_eq!(text.matches("=ADVANCED_FACE(").count(), 10);
+    assert_eq!(text.matches("=EDGE_CURVE(").count(), 20);
+    let o = fairsurf(&["fill", scene.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let s = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        s.contains("5 triangular patches of degree 7 around a centre"),
+        "{s}"
+    );
+}
+
 /// Runs `fairsurf <command> <args> -o <out>`, which must exit 2 and leave
 /// no `out`; its standard error.
 fn exits_2(command: &str, out: &std::path::Path, args: &[&str]) -> String {
@@ -1401,7 +1438,9 @@ fn bad_fills_exit_2_and_write_nothing() {
     assert!(
         run(&[s, "--hole", "7"]).contains("--hole: there is no hole 7: the faces have 2 (0 to 1)")
     );
-    assert!(run(&[s, "--hole", "0"]).contains("hole 0: the hole has 12 sides; only 4-sided holes"));
+    // The rim's sides continue each other at 8 of its 12 corners.
+    assert!(run(&[s, "--hole", "0"])
+        .contains("hole 0: sides 0 and 1 of the hole continue each other at corner 1"));
     assert!(run(&[s, "--lambda=-1"]).contains("--lambda: expected a number ≥ 0, got -1"));
     let text: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&scene).unwrap()).unwrap();

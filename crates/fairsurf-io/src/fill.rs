@@ -12,7 +12,7 @@ use fairsurf::analysis::Edge;
 use fairsurf::bspline::BSplineReport;
 use fairsurf::bspline::{BSplineSurface, KnotVector};
 use fairsurf::fill::{
-    fill_hole, find_holes, CornerMismatch, Fill, FillOptions, FillSeconds, Hole, SideFit,
+    find_holes, CornerMismatch, FanFill, Fill, FillOptions, FillSeconds, Hole, HoleFill, SideFit,
     TotalCurvature,
 };
 use fairsurf::Vec3;
@@ -334,12 +334,13 @@ impl HoleChoice {
         Ok(HoleChoice { holes, chosen, rim })
     }
 
-    /// Fills the chosen holes.
-    pub fn fill(&self, faces: &[BSplineSurface], options: &FillOptions) -> Result<Vec<Fill>> {
+    /// Fills the chosen holes: one patch for 4 sides, a fan of triangular
+    /// patches otherwise.
+    pub fn fill(&self, faces: &[BSplineSurface], options: &FillOptions) -> Result<Vec<HoleFill>> {
         self.chosen
             .iter()
             .map(|&h| {
-                fill_hole(faces, &self.holes[h], options).map_err(|e| match e {
+                HoleFill::new(faces, &self.holes[h], options).map_err(|e| match e {
                     fairsurf::Error::Fill { why } => fairsurf::Error::Fill {
                         why: format!("hole {h}: {why}"),
                     },
@@ -452,10 +453,67 @@ pub(crate) fn patch_json(
     })
 }
 
-/// One fill's report: the surface's size, per side the gap and normal
-/// angle measured on it, the corner mismatches, W, the solve's figures and
-/// the time.
-pub fn fill_json(hole: usize, fill: &Fill) -> Value {
+/// One fill's report (`"kind"`: `"patch"` or `"fan"`): the surface's
+/// size, per side the gap and normal angle measured on it, the corner
+/// mismatches, W, the solve's figures and the time.
+pub fn fill_json(hole: usize, fill: &HoleFill) -> Value {
+    match fill {
+        HoleFill::Patch(f) => patch_fill_json(hole, f),
+        HoleFill::Fan(f) => fan_fill_json(hole, f),
+    }
+}
+
+/// A fan's report: as a patch's, with the fan's own G¹ (the largest
+/// normal angle between its patches, the conditions kept and dropped) and
+/// the triangular solve's check.
+fn fan_fill_json(hole: usize, fan: &FanFill) -> Value {
+    let r = &fan.report;
+    let s = &r.solve;
+    let sides: Vec<Value> = r.sides.iter().map(|f| side_json(f, f.side.face)).collect();
+    json!({
+        "hole": hole,
+        "kind": "fan",
+        "patches": fan.surface.patch_count(),
+        "degree": fan.surface.degree(),
+        "control_points": fan.surface.point_count(),
+        "sides": sides,
+        "max_gap": r.sides.iter().map(|f| f.gap).fold(0.0, f64::max),
+        "max_angle_deg": r.sides.iter().map(|f| f.angle.to_degrees()).fold(0.0, f64::max),
+        "inner_angle_deg": r.inner_angle.to_degrees(),
+        "corners": {
+            "position": r.corners.position,
+            "tangent": r.corners.tangent,
+        },
+        "curvature_w": r.curvature.value,
+        "curvature_w_error": r.curvature.error,
+        "solve": {
+            "energy": s.total,
+            "terms": {"stretch": s.stretch, "bend": s.bend},
+            "relative_gradient": s.relative_gradient,
+            "free_coordinates": s.unknowns,
+            "conditions": s.rows,
+            "conditions_kept": s.independent_rows,
+            "conditions_implied": s.dependent_rows,
+            "conditions_dropped": s.dropped.iter().map(|d| json!({"name": d.name, "residual": d.residual})).collect::<Vec<_>>(),
+            "row_tolerance": s.row_tolerance,
+            "check": s.check.as_ref().map(|c| json!({
+                "energy": c.energy,
+                "energy_error": c.energy_error,
+                "excess": c.excess,
+                "tolerance": fairsurf::CHECK_TOLERANCE,
+            })),
+        },
+        "seconds": {
+            "setup": r.seconds.setup,
+            "solve": r.seconds.solve,
+            "measure": r.seconds.measure,
+            "total": r.seconds.setup + r.seconds.solve + r.seconds.measure,
+        },
+    })
+}
+
+/// A 4-sided fill's report.
+fn patch_fill_json(hole: usize, fill: &Fill) -> Value {
     let r = &fill.report;
     let sides = r.sides.iter().map(|f| side_json(f, f.side.face)).collect();
     let mut out = patch_json(
@@ -470,13 +528,14 @@ pub fn fill_json(hole: usize, fill: &Fill) -> Value {
         &r.seconds,
     );
     out["hole"] = json!(hole);
+    out["kind"] = json!("patch");
     out["alpha"] = json!(r.alpha);
     out
 }
 
 /// The whole report of a fill job: the number of faces, every hole (as
 /// `--list` gives them) and each fill's report ([`fill_json`]).
-pub fn fill_report_json(faces: usize, choice: &HoleChoice, fills: &[Fill]) -> Value {
+pub fn fill_report_json(faces: usize, choice: &HoleChoice, fills: &[HoleFill]) -> Value {
     json!({
         "faces": faces,
         "holes": choice.list_json(),
@@ -490,13 +549,11 @@ pub fn fill_report_json(faces: usize, choice: &HoleChoice, fills: &[Fill]) -> Va
     })
 }
 
-/// The input faces followed by the fills, for the CAD writers.
-pub fn fill_surfaces(faces: &[BSplineSurface], fills: &[Fill]) -> Vec<CadSurface> {
-    faces
-        .iter()
-        .chain(fills.iter().map(|f| &f.surface))
-        .map(CadSurface::from)
-        .collect()
+/// The input faces followed by the fills (a fan as its patches), for the
+/// CAD writers.
+pub fn fill_surfaces(faces: &[BSplineSurface], fills: &[HoleFill]) -> Vec<CadSurface> {
+    let patches: Vec<BSplineSurface> = fills.iter().flat_map(HoleFill::patches).collect();
+    faces.iter().chain(&patches).map(CadSurface::from).collect()
 }
 
 #[cfg(test)]

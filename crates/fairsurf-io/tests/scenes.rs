@@ -889,7 +889,21 @@ fn every_example_solves_to_a_true_minimizer_or_exact_construction() {
                 let fills = choice.fill(&input.faces, &input.options).unwrap();
                 assert!(!fills.is_empty(), "{}", p.display());
                 for f in &fills {
-                    g1_to_rounding(&f.report.solve, &f.report.sides, &p);
+                    match f {
+                        fairsurf::fill::HoleFill::Patch(f) => {
+                            g1_to_rounding(&f.report.solve, &f.report.sides, &p)
+                        }
+                        fairsurf::fill::HoleFill::Fan(f) => {
+                            let r = &f.report;
+                            let check = r.solve.check.as_ref().unwrap();
+                            assert!(check.energy_error < 1e-10, "{}", p.display());
+                            assert!(r.solve.dropped.is_empty(), "{}", p.display());
+                            assert!(r.inner_angle < 1e-10, "{}: {}", p.display(), r.inner_angle);
+                            for side in &r.sides {
+                                assert!(side.gap < 1e-12 && side.angle < 1e-11, "{side:?}");
+                            }
+                        }
+                    }
                 }
                 n += 1;
                 continue;

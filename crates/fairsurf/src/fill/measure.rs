@@ -6,6 +6,7 @@ use crate::analysis::curvature_from;
 use crate::basis::GaussLegendre;
 use crate::bspline::BSplineSurface;
 use crate::vec3::{angle, cross, dist, norm};
+use crate::SurfaceDerivatives;
 
 /// Parameters sampled per side: Chebyshev–Lobatto points, clustered at the
 /// corners where the largest deviations of an approximate fill sit.
@@ -42,11 +43,7 @@ pub(crate) fn side_fit_facing(
     side: Side,
     flipped: bool,
 ) -> SideFit {
-    let n = SIDE_SAMPLES - 1;
-    let (mut gap, mut ang, mut singular) = (0.0f64, 0.0f64, 0usize);
-    let ts: Vec<f64> = (0..=n)
-        .map(|i| 0.5 - 0.5 * (std::f64::consts::PI * i as f64 / n as f64).cos())
-        .collect();
+    let ts = side_parameters();
     // Both sides are lines of constant u or v: one grid evaluation each.
     let line = |s: &BSplineSurface, at: &dyn Fn(f64) -> (f64, f64)| {
         let pts: Vec<(f64, f64)> = ts.iter().map(|&t| at(t)).collect();
@@ -59,10 +56,34 @@ pub(crate) fn side_fit_facing(
         }
     };
     let da = line(fill, &|t| super::fill_param(k, t));
-    let db = line(face, &|t| {
-        surface_param(face, side.edge, if side.reversed { 1.0 - t } else { t })
-    });
-    for (a, b) in da.iter().zip(&db) {
+    let db = line(face, &|t| neighbour_param(face, side, t));
+    compare(&da, &db, side, flipped)
+}
+
+/// The [`SIDE_SAMPLES`] parameters on [0, 1] a side is compared at:
+/// Chebyshev–Lobatto points, clustered at the corners.
+pub(crate) fn side_parameters() -> Vec<f64> {
+    let n = SIDE_SAMPLES - 1;
+    (0..=n)
+        .map(|i| 0.5 - 0.5 * (std::f64::consts::PI * i as f64 / n as f64).cos())
+        .collect()
+}
+
+/// The neighbour's (u, v) at parameter t of the hole's side.
+pub(crate) fn neighbour_param(face: &BSplineSurface, side: Side, t: f64) -> (f64, f64) {
+    surface_param(face, side.edge, if side.reversed { 1.0 - t } else { t })
+}
+
+/// The fit of the fill's derivatives `da` against the neighbour's `db` at
+/// the same side parameters.
+pub(crate) fn compare(
+    da: &[SurfaceDerivatives],
+    db: &[SurfaceDerivatives],
+    side: Side,
+    flipped: bool,
+) -> SideFit {
+    let (mut gap, mut ang, mut singular) = (0.0f64, 0.0f64, 0usize);
+    for (a, b) in da.iter().zip(db) {
         gap = gap.max(dist(a.point, b.point));
         let (na, mut nb) = (cross(a.du, a.dv), cross(b.du, b.dv));
         if flipped {
@@ -78,7 +99,7 @@ pub(crate) fn side_fit_facing(
         side,
         gap,
         angle: ang,
-        samples: n + 1,
+        samples: da.len(),
         singular,
     }
 }

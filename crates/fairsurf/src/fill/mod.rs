@@ -37,12 +37,19 @@
 //!    the corners (Chebyshev–Lobatto), and W = ∫∫ κ₁² + κ₂² dA of the fill
 //!    ([`total_curvature`]).
 //!
+//! A hole of 3, 5 or more sides, each one Bézier piece of a neighbour, is
+//! filled by a fan of triangular patches around a free centre
+//! ([`fill_fan`]: G¹ to the neighbours exactly by the same two rows, G¹
+//! between the fan's patches by Veltkamp & Wesselink's conditions);
+//! [`HoleFill::new`] picks by the number of sides.
+//!
 //! The same rings and fairing make a transition surface between two
 //! surfaces along one edge of each ([`blend`], Wu & Yang Fig. 5): two sides
 //! from the surfaces, two made as cubic Hermite curves.
 
 mod blend;
 mod coons;
+mod fan;
 mod holes;
 mod measure;
 mod strip;
@@ -51,8 +58,9 @@ mod tests;
 mod willmore;
 
 pub use blend::{blend, Blend, BlendOptions, BlendReport};
+pub use fan::{fill_fan, FanFill, FanReport};
 pub use holes::{edge_point, find_holes, surface_param, tolerance, Hole, Side};
-pub use measure::{side_fit, total_curvature, SideFit, TotalCurvature};
+pub use measure::{side_fit, total_curvature, SideFit, TotalCurvature, SIDE_SAMPLES};
 
 use crate::bspline::{BSplineProblem, BSplineReport, BSplineSurface, KnotVector};
 use crate::energy::SampleGrid;
@@ -172,6 +180,63 @@ pub struct Fill {
     pub report: FillReport,
 }
 
+/// A filled hole of any number of sides: one patch for four sides
+/// ([`fill_hole`]), a fan of triangular patches otherwise ([`fill_fan`]).
+#[derive(Clone, Debug)]
+// Both variants are large and made once per hole: no boxing.
+#[allow(clippy::large_enum_variant)]
+pub enum HoleFill {
+    /// A 4-sided hole's B-spline patch.
+    Patch(Fill),
+    /// An N-sided hole's fan.
+    Fan(FanFill),
+}
+
+impl HoleFill {
+    /// Fills `hole`: [`fill_hole`] for four sides, [`fill_fan`] for three,
+    /// five or more.
+    pub fn new(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -> Result<Self> {
+        if hole.sides.len() == 4 {
+            fill_hole(faces, hole, options).map(Self::Patch)
+        } else {
+            fill_fan(faces, hole, options).map(Self::Fan)
+        }
+    }
+
+    /// The fill as tensor-product B-spline surfaces (a fan's triangles
+    /// with one side collapsed), for CAD and pictures.
+    pub fn patches(&self) -> Vec<BSplineSurface> {
+        match self {
+            Self::Patch(f) => vec![f.surface.clone()],
+            Self::Fan(f) => f.patches(),
+        }
+    }
+
+    /// The hole as filled.
+    pub fn hole(&self) -> &Hole {
+        match self {
+            Self::Patch(f) => &f.hole,
+            Self::Fan(f) => &f.hole,
+        }
+    }
+
+    /// Per side, gap and normal angle against the neighbour.
+    pub fn sides(&self) -> &[SideFit] {
+        match self {
+            Self::Patch(f) => &f.report.sides,
+            Self::Fan(f) => &f.report.sides,
+        }
+    }
+
+    /// W of the fill.
+    pub fn curvature(&self) -> TotalCurvature {
+        match self {
+            Self::Patch(f) => f.report.curvature,
+            Self::Fan(f) => f.report.curvature,
+        }
+    }
+}
+
 /// The fill's (u, v) at parameter t of its side k (t along the hole's
 /// traversal).
 pub fn fill_param(k: usize, t: f64) -> (f64, f64) {
@@ -183,20 +248,31 @@ pub fn fill_param(k: usize, t: f64) -> (f64, f64) {
     }
 }
 
+/// Whether a fill whose normal along side 0 is P′ × D (its strip `s0`,
+/// D into the hole) faces the way side 0's neighbour does.
+fn faces_like_side_0(faces: &[BSplineSurface], hole: &Hole, s0: &Strip) -> bool {
+    let side0 = hole.sides[0];
+    let (u, v) = surface_param(&faces[side0.face], side0.edge, 0.5);
+    let nb = faces[side0.face].derivatives(u, v);
+    let mid = s0.at(0.5);
+    dot(cross(mid.dpos, mid.der), cross(nb.du, nb.dv)) >= 0.0
+}
+
+/// The face of the hole's side k, or an error naming it.
+fn side_face<'a>(faces: &'a [BSplineSurface], hole: &Hole, k: usize) -> Result<&'a BSplineSurface> {
+    let face = hole.sides[k].face;
+    faces.get(face).ok_or_else(|| Error::Fill {
+        why: format!("side {k} names face {face}, but there are {}", faces.len()),
+    })
+}
+
 /// The four sides' boundary data in the fill's frame: the u-sides (0, 2)
 /// and v-sides (3, 1) as strips along increasing u resp. v, D pointing
 /// into the hole (not yet scaled by α).
 fn frame(faces: &[BSplineSurface], hole: &Hole) -> Result<[Strip; 4]> {
     let strip = |k: usize| -> Result<Strip> {
         let s = hole.sides[k];
-        let face = faces.get(s.face).ok_or_else(|| Error::Fill {
-            why: format!(
-                "side {k} names face {}, but there are {}",
-                s.face,
-                faces.len()
-            ),
-        })?;
-        let st = Strip::from_side(face, s.edge, s.reversed)?;
+        let st = Strip::from_side(side_face(faces, hole, k)?, s.edge, s.reversed)?;
         // Sides 2 and 3 run against the fill's u resp. v.
         Ok(if k >= 2 { st.reversed() } else { st })
     };
@@ -420,7 +496,7 @@ fn fair(s: &[Strip; 4], across: [bool; 4], options: &FillOptions, t0: Instant) -
 /// Fills the 4-sided `hole` of `faces` (see the module documentation).
 ///
 /// Errors ([`Error::Fill`]) name what does not fit: a hole with other than
-/// four sides (N-sided holes are not filled yet), a side naming no face,
+/// four sides ([`fill_fan`] fills those), a side naming no face,
 /// neighbours whose cross derivatives fold over at a corner, opposite sides
 /// whose knots cannot be merged; and the solve's own refusals.
 pub fn fill_hole(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -> Result<Fill> {
@@ -428,7 +504,8 @@ pub fn fill_hole(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -
     if hole.sides.len() != 4 {
         return Err(Error::Fill {
             why: format!(
-                "the hole has {} sides; only 4-sided holes (four whole face boundaries) are filled so far",
+                "the hole has {} sides; one patch fills a 4-sided hole (a fan of triangular \
+                 patches fills others: fill_fan)",
                 hole.sides.len()
             ),
         });
@@ -437,11 +514,7 @@ pub fn fill_hole(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -
     // neighbour's; else traverse the loop the other way.
     let mut hole = hole.clone();
     let mut s = frame(faces, &hole)?;
-    let side0 = hole.sides[0];
-    let (u, v) = surface_param(&faces[side0.face], side0.edge, 0.5);
-    let nb = faces[side0.face].derivatives(u, v);
-    let mid = s[0].at(0.5);
-    if dot(cross(mid.dpos, mid.der), cross(nb.du, nb.dv)) < 0.0 {
+    if !faces_like_side_0(faces, &hole, &s[0]) {
         hole = hole.reversed();
         s = frame(faces, &hole)?;
     }

@@ -176,8 +176,14 @@ fn a_hole_with_other_than_four_sides_is_refused() {
     let rim = find_holes(&faces).unwrap().remove(0);
     let e = fill_hole(&faces, &rim, &FillOptions::default()).unwrap_err();
     assert!(
-        e.to_string()
-            .contains("the hole has 12 sides; only 4-sided holes"),
+        e.to_string().contains("the hole has 12 sides; one patch"),
+        "{e}"
+    );
+    // A fan takes N sides, but not sides that continue each other (the
+    // rim's sides are three face edges each).
+    let e = HoleFill::new(&faces, &rim, &FillOptions::default()).unwrap_err();
+    assert!(
+        e.to_string().contains("continue each other at corner"),
         "{e}"
     );
     let mut bad = centre_hole(&faces);
@@ -370,4 +376,127 @@ fn invert(m: &[Vec<f64>]) -> Vec<Vec<f64>> {
         }
     }
     a.into_iter().map(|r| r[n..].to_vec()).collect()
+}
+
+/// A regular N-gon hole (circumradius 1) in the graph of z = f(x, y),
+/// ringed by N patches, each the graph over the quad between a hole side
+/// and the polygon of radius 2 (a bilinear map lifted: degree d in both
+/// directions for f of degree d). One smooth graph: the neighbours share
+/// tangent planes everywhere, and every hole side is one Bézier piece.
+fn polygon_hole(n: usize, d: usize, f: impl Fn(f64, f64) -> f64) -> (Vec<BSplineSurface>, Hole) {
+    let corner = |k: usize, r: f64| {
+        let a = 2.0 * std::f64::consts::PI * k as f64 / n as f64 + 0.3;
+        [r * a.cos(), r * a.sin()]
+    };
+    let faces: Vec<BSplineSurface> = (0..n)
+        .map(|k| {
+            let (c0, c1, o0, o1) = (
+                corner(k, 1.0),
+                corner(k + 1, 1.0),
+                corner(k, 2.0),
+                corner(k + 1, 2.0),
+            );
+            let lift = |s: f64, t: f64| {
+                let x = (1.0 - t) * ((1.0 - s) * c0[0] + s * c1[0])
+                    + t * ((1.0 - s) * o0[0] + s * o1[0]);
+                let y = (1.0 - t) * ((1.0 - s) * c0[1] + s * c1[1])
+                    + t * ((1.0 - s) * o0[1] + s * o1[1]);
+                [x, y, f(x, y)]
+            };
+            BSplineSurface::from_bezier(&interpolate(d, lift, 0.0, 1.0))
+        })
+        .collect();
+    let holes = find_holes(&faces).unwrap();
+    assert_eq!(holes.len(), 2, "the rim and the hole");
+    assert_eq!(holes[1].sides.len(), n);
+    (faces, holes[1].clone())
+}
+
+fn quadratic(x: f64, y: f64) -> f64 {
+    0.3 * x * x - 0.2 * x * y + 0.15 * y * y + 0.1 * x
+}
+
+fn cubic(x: f64, y: f64) -> f64 {
+    quadratic(x, y) + 0.06 * x * x * x - 0.05 * x * y * y
+}
+
+/// A polygonal hole in a tilted plane is filled by the plane: the rows lie
+/// in it, and so does the thin plate's minimizer under §4.3's conditions
+/// (the normal component of every point is a separate minimization with
+/// zero data).
+#[test]
+fn a_polygonal_hole_in_a_plane_is_filled_by_the_plane() {
+    let plane = |x: f64, y: f64| 0.3 * x - 0.2 * y + 0.1;
+    for n in [3, 5, 6] {
+        let (faces, hole) = polygon_hole(n, 1, plane);
+        let fan = fill_fan(&faces, &hole, &exact_options()).unwrap();
+        let r = &fan.report;
+        assert!(r.solve.dropped.is_empty(), "{n}: {:?}", r.solve.dropped);
+        for p in fan.surface.points() {
+            // To rounding: the six-fold centre makes the constrained system
+            // ill-conditioned (its estimate ~1e11), hence 1e-11, not 1e-15.
+            let off = (p[2] - plane(p[0], p[1])).abs();
+            assert!(off < 1e-11, "{n}: {p:?} off by {off}");
+        }
+        assert!(r.curvature.value.abs() < 1e-20, "{n}: {:?}", r.curvature);
+        for f in &r.sides {
+            assert!(f.gap < 1e-13 && f.angle.to_degrees() < 1e-9, "{n}: {f:?}");
+        }
+    }
+}
+
+/// 3-, 5- and 6-sided holes in the graph of a cubic: G¹ to every
+/// neighbour to rounding (the rows), the corners agree (one smooth graph),
+/// and the fan's own patches meet G¹ as §4.3's conditions make them —
+/// measured, with no condition dropped.
+#[test]
+fn polygonal_holes_are_filled_g1() {
+    for n in [3, 5, 6] {
+        let (faces, hole) = polygon_hole(n, 3, cubic);
+        let fan = fill_fan(&faces, &hole, &FillOptions::default()).unwrap();
+        let r = &fan.report;
+        assert_eq!(fan.surface.patch_count(), n);
+        for f in &r.sides {
+            assert!(f.gap < 1e-12 && f.angle.to_degrees() < 1e-9, "{n}: {f:?}");
+        }
+        assert!(
+            r.corners.position < 1e-14 && r.corners.tangent < 1e-12,
+            "{n}: {:?}",
+            r.corners
+        );
+        assert!(r.solve.dropped.is_empty(), "{n}: {:?}", r.solve.dropped);
+        assert!(
+            r.inner_angle.to_degrees() < 1e-9,
+            "{n}: inner {}",
+            r.inner_angle.to_degrees()
+        );
+        // The collapsed corner at the centre slows the quadrature a little.
+        assert!(
+            r.curvature.value > 0.0 && r.curvature.error < 1e-5 * r.curvature.value,
+            "{n}: {:?}",
+            r.curvature
+        );
+        assert!(
+            r.solve.relative_gradient < 1e-12,
+            "{n}: {}",
+            r.solve.relative_gradient
+        );
+        let check = r.solve.check.as_ref().unwrap();
+        assert!(check.energy_error < 1e-10, "{n}: {check:?}");
+    }
+}
+
+/// A fan refuses what it cannot fill exactly: a side with interior knots.
+#[test]
+fn a_fan_refuses_multi_span_sides() {
+    let (mut faces, hole) = polygon_hole(5, 3, cubic);
+    let side = hole.sides[2];
+    faces[side.face] = match side.edge {
+        Edge::U0 | Edge::U1 => faces[side.face].insert_knot_v(0.4).unwrap(),
+        Edge::V0 | Edge::V1 => faces[side.face].insert_knot_u(0.4).unwrap(),
+    };
+    let e = fill_fan(&faces, &hole, &FillOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("is a B-spline of 2 spans"), "{e}");
 }

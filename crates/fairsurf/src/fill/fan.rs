@@ -1,0 +1,348 @@
+//! N-sided holes: a fan of N triangular Bézier patches of degree n around
+//! a free centre (Veltkamp & Wesselink's triangular surfaces, §4.3 for the
+//! G¹ conditions between them).
+//!
+//! Patch k has corners (C, V_k, V_{k+1}): the centre and the ends of side
+//! k. With its points P_ijk (i for C, j for V_k, l for V_{k+1}):
+//!
+//! 1. **Row 0** (the side, P_{0,n−m,m}) is the neighbour's boundary curve
+//!    raised to degree n.
+//! 2. **Row 1** (P_{1,n−1−m,m} = P_{0,n−m,m} + W_m/n) makes the derivative
+//!    towards C along the side W(t) = α(t)·D(t) + β(t)·P′(t), D the
+//!    neighbour's cross derivative into the hole, P′ the side's tangent,
+//!    α > 0 and β linear: W lies in the neighbour's tangent plane at every
+//!    t, so the fill is G¹ to it exactly, up to rounding (n ≥ p + 2 holds
+//!    the degree-(p + 1) W).
+//! 3. **The spokes' first points.** At a corner V_k the two patches share
+//!    the spoke V_k → C; its first point V_k + d is fixed by both rows 1,
+//!    and d is chosen so §4.3's boundary-vertex rule holds there:
+//!    d_a + d_b − 2cos(γ/2)·d = 0 for the sides' first control-point
+//!    differences d_a, d_b at V_k and their angle γ (the rule the solver
+//!    enforces). α and β at each end of a side are read off W there (a
+//!    2 × 2 least-squares fit in the tangent plane; its residual, non-zero
+//!    when the two neighbours disagree on the tangent plane at the corner,
+//!    is reported).
+//! 4. **Fair inside**: the free points minimize the thin plate (membrane
+//!    if asked) subject to §4.3's G¹ conditions across the spokes and at
+//!    the centre; conditions the fixed rows contradict give way and are
+//!    counted. Measured: gap and normal angle against each neighbour, the
+//!    largest normal angle between the fan's patches, W.
+
+use super::holes::Hole;
+use super::measure::{
+    compare, neighbour_param, side_parameters, total_curvature, SideFit, TotalCurvature,
+};
+use super::strip::Strip;
+use super::{faces_like_side_0, side_face, CornerMismatch, FillOptions, FillSeconds};
+use crate::bspline::BSplineSurface;
+use crate::constraint::Constraint;
+use crate::curve::elevate_points;
+use crate::triangle::{Continuity, InternalEnergy, TriProblem, TriReport, TriSurface};
+use crate::vec3::{add, angle, dist, dot, norm, scale, sub};
+use crate::{Error, Result, Vec3};
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+/// What a fan fill reports.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FanReport {
+    /// The triangular solve's report: energy, its check, the G¹ rows kept
+    /// and dropped, the largest normal angle between the fan's patches.
+    pub solve: TriReport,
+    /// Per side, in the hole's order: gap and normal angle measured on the
+    /// returned surface against the neighbour.
+    pub sides: Vec<SideFit>,
+    /// Disagreements at the corners: `position` between the two sides'
+    /// corner points, `tangent` between the spoke's first point as the two
+    /// sides' tangent planes give it (0 when the neighbours share the
+    /// tangent plane at the corner); no twists (the rows 2 are free).
+    pub corners: CornerMismatch,
+    /// The largest normal angle (radians) between two patches of the fan,
+    /// along the spokes (65 samples each).
+    pub inner_angle: f64,
+    /// W = ∫∫ κ₁² + κ₂² dA of the whole fan.
+    pub curvature: TotalCurvature,
+    /// Seconds: rows, solve, measurements.
+    pub seconds: FillSeconds,
+}
+
+/// A hole filled by a fan of triangular patches.
+#[derive(Clone, Debug)]
+pub struct FanFill {
+    /// The fan: vertex 0 the centre, vertex k + 1 the hole's corner k;
+    /// triangle k = (centre, corner k, corner k + 1) over side k.
+    pub surface: TriSurface,
+    /// The hole as filled (possibly traversed the other way than given, to
+    /// agree with the neighbours' orientation).
+    pub hole: Hole,
+    /// How good it is.
+    pub report: FanReport,
+}
+
+impl FanFill {
+    /// The patches as tensor-product B-spline surfaces of degree n × n
+    /// with the side u = 1 collapsed to the centre (exact; for CAD, which
+    /// has no triangular patches): patch k's v = 0 … 1 at u = 0 runs along
+    /// side k backwards, from corner k + 1 to corner k.
+    pub fn patches(&self) -> Vec<BSplineSurface> {
+        self.surface
+            .patches()
+            .map(|p| BSplineSurface::from_bezier(&p.to_tensor()))
+            .collect()
+    }
+}
+
+/// Bézier coefficients of f(t)·g(t), f linear (f₀, f₁), g of degree d.
+fn times_linear(f: [f64; 2], g: &[Vec3]) -> Vec<Vec3> {
+    let d = g.len() - 1;
+    (0..=d + 1)
+        .map(|m| {
+            let mut x = [0.0; 3];
+            if m <= d {
+                x = add(x, scale(g[m], f[0] * (d + 1 - m) as f64 / (d + 1) as f64));
+            }
+            if m >= 1 {
+                x = add(x, scale(g[m - 1], f[1] * m as f64 / (d + 1) as f64));
+            }
+            x
+        })
+        .collect()
+}
+
+/// (a, b) with a·x + b·y nearest to w, and the distance left.
+fn decompose(w: Vec3, x: Vec3, y: Vec3) -> (f64, f64, f64) {
+    let (xx, xy, yy) = (dot(x, x), dot(x, y), dot(y, y));
+    let (wx, wy) = (dot(w, x), dot(w, y));
+    let det = xx * yy - xy * xy;
+    let a = (wx * yy - wy * xy) / det;
+    let b = (wy * xx - wx * xy) / det;
+    let r = norm(sub(w, add(scale(x, a), scale(y, b))));
+    (a, b, r)
+}
+
+/// Fills the N-sided `hole` (N ≥ 3) of `faces` with a fan of triangular
+/// patches (see the module documentation). `options.elevate` raises the
+/// degree above the least (the sides' largest + 2, at least 5); the
+/// energy is `options.stretch` and `options.bend` (the normal field and the
+/// Willmore steps of 4-sided fills are not applied to fans yet).
+///
+/// Errors ([`Error::Fill`]): a side that is not one Bézier piece (a
+/// B-spline side with interior knots), a corner where two sides continue
+/// each other (a side of several edges) or fold back, a
+/// neighbour whose cross derivative does not point into the hole at a
+/// corner; and the solve's own refusals.
+pub fn fill_fan(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -> Result<FanFill> {
+    let t0 = Instant::now();
+    let count = hole.sides.len();
+    if count < 3 {
+        return Err(Error::Fill {
+            why: format!("a hole has at least 3 sides, this one {count}"),
+        });
+    }
+    let strips = |hole: &Hole| -> Result<Vec<Strip>> {
+        (0..count)
+            .map(|k| {
+                let s = hole.sides[k];
+                Strip::from_side(side_face(faces, hole, k)?, s.edge, s.reversed)
+            })
+            .collect()
+    };
+    // Orientation: patch k's normal (V_k − C) × (V_{k+1} − C) is P′ × D
+    // along the side; it must agree with side 0's neighbour.
+    let mut hole = hole.clone();
+    let mut s = strips(&hole)?;
+    if !faces_like_side_0(faces, &hole, &s[0]) {
+        hole = hole.reversed();
+        s = strips(&hole)?;
+    }
+    for (k, st) in s.iter().enumerate() {
+        let spans = st.knots.count() - st.degree();
+        if spans != 1 {
+            return Err(Error::Fill {
+                why: format!(
+                    "side {k} (face {}) is a B-spline of {spans} spans; holes of {count} sides \
+                     are filled along sides that are one Bézier piece so far",
+                    hole.sides[k].face
+                ),
+            });
+        }
+    }
+    let p_max = s.iter().map(Strip::degree).max().unwrap_or(1);
+    let n = (p_max + 2 + options.elevate).max(5);
+    // Row 0 of every side at degree n, and P′ as Bézier coefficients.
+    let rows0: Vec<Vec<Vec3>> = s
+        .iter()
+        .map(|st| elevate_points(&st.pos, n - st.degree()))
+        .collect();
+    let mut corners = CornerMismatch::default();
+    // The spoke's first difference d at each corner V_k (start of side k).
+    let mut spoke = Vec::with_capacity(count);
+    for k in 0..count {
+        let prev = &rows0[(k + count - 1) % count];
+        let v = rows0[k][0];
+        corners.position = corners.position.max(dist(prev[n], v));
+        let (da, db) = (sub(prev[n - 1], prev[n]), sub(rows0[k][1], v));
+        let gamma = angle(da, db);
+        if gamma >= std::f64::consts::PI - 1e-6 {
+            return Err(Error::Fill {
+                why: format!(
+                    "sides {} and {k} of the hole continue each other at corner {k} ({:.4}°): \
+                     a hole side made of several face edges is not filled yet",
+                    (k + count - 1) % count,
+                    gamma.to_degrees()
+                ),
+            });
+        }
+        if gamma <= 1e-9 {
+            return Err(Error::Fill {
+                why: format!(
+                    "the hole's sides {} and {k} fold back on each other at corner {k}",
+                    (k + count - 1) % count
+                ),
+            });
+        }
+        spoke.push(scale(add(da, db), 1.0 / (2.0 * (gamma / 2.0).cos())));
+    }
+    // Rows 1: W = α D + β P′ through the spokes' first points.
+    let nf = n as f64;
+    let mut fixed: BTreeMap<usize, Vec<Vec3>> = BTreeMap::new();
+    let mut vertices = vec![[0.0; 3]; count + 1];
+    for k in 0..count {
+        vertices[k + 1] = rows0[k][0];
+    }
+    vertices[0] = scale(
+        vertices[1..].iter().fold([0.0; 3], |a, &b| add(a, b)),
+        1.0 / count as f64,
+    );
+    let triangles: Vec<[usize; 3]> = (0..count)
+        .map(|k| [0, k + 1, (k + 1) % count + 1])
+        .collect();
+    let mut surface = TriSurface::try_new(&vertices, &triangles, n)?;
+    for k in 0..count {
+        let st = &s[k];
+        let p = st.degree();
+        let row = &rows0[k];
+        let tangent = |t: f64| st.at(t).dpos;
+        let w0 = scale(spoke[k], nf);
+        let w1 = add(
+            scale(spoke[(k + 1) % count], nf),
+            scale(sub(row[n], row[n - 1]), nf),
+        );
+        let (a0, b0, r0) = decompose(w0, st.at(0.0).der, tangent(0.0));
+        let (a1, b1, r1) = decompose(w1, st.at(1.0).der, tangent(1.0));
+        corners.tangent = corners.tangent.max(r0 / nf).max(r1 / nf);
+        if !(a0 > 0.0 && a1 > 0.0 && a0.is_finite() && a1.is_finite()) {
+            return Err(Error::Fill {
+                why: format!(
+                    "side {k}'s neighbour (face {}): its cross-boundary derivative does not point \
+                     into the hole at a corner (the faces fold over there, or the side is not a \
+                     boundary facing the hole)",
+                    hole.sides[k].face
+                ),
+            });
+        }
+        // P′ of degree p − 1 raised to p, then both products of degree p + 1.
+        let dp: Vec<Vec3> = st
+            .pos
+            .windows(2)
+            .map(|w| scale(sub(w[1], w[0]), p as f64))
+            .collect();
+        let dp = elevate_points(&dp, 1);
+        let wa = times_linear([a0, a1], &st.der);
+        let wb = times_linear([b0, b1], &dp);
+        let w: Vec<Vec3> = wa.iter().zip(&wb).map(|(&x, &y)| add(x, y)).collect();
+        let w = elevate_points(&w, n - 1 - (p + 1));
+        for m in 0..=n {
+            let g = surface.global_index(k, 0, n - m, m);
+            fixed.entry(g).or_default().push(row[m]);
+        }
+        for m in 0..n {
+            let g = surface.global_index(k, 1, n - 1 - m, m);
+            fixed
+                .entry(g)
+                .or_default()
+                .push(add(row[m], scale(w[m], 1.0 / nf)));
+        }
+    }
+    let mut problem_constraints = Vec::with_capacity(fixed.len());
+    for (&g, values) in &fixed {
+        let mean = scale(
+            values.iter().fold([0.0; 3], |a, &b| add(a, b)),
+            1.0 / values.len() as f64,
+        );
+        for &x in values {
+            corners.tangent = corners.tangent.max(dist(x, mean));
+        }
+        surface.set_point(g, mean);
+        problem_constraints.push((g, mean));
+    }
+    let mut problem = TriProblem::new(surface, InternalEnergy::new(options.stretch, options.bend))
+        .with_continuity(Continuity::default());
+    for (g, value) in problem_constraints {
+        problem = problem.with_constraint(
+            format!("fill row point {g}"),
+            Constraint::Fixed { point: g, value },
+        );
+    }
+    let setup = t0.elapsed().as_secs_f64();
+    let t1 = Instant::now();
+    let solved = problem.solve()?;
+    let solve = t1.elapsed().as_secs_f64();
+    let t2 = Instant::now();
+    let surface = solved.surface;
+    let sides = (0..count)
+        .map(|k| fan_side_fit(&surface, k, &faces[hole.sides[k].face], hole.sides[k]))
+        .collect();
+    let mut curvature = TotalCurvature {
+        value: 0.0,
+        error: 0.0,
+    };
+    for p in surface.patches() {
+        let w = total_curvature(&BSplineSurface::from_bezier(&p.to_tensor()));
+        curvature.value += w.value;
+        curvature.error += w.error;
+    }
+    let inner_angle = solved.report.max_edge_normal_angle.map_or(0.0, |a| a.0);
+    let measure = t2.elapsed().as_secs_f64();
+    Ok(FanFill {
+        surface,
+        hole,
+        report: FanReport {
+            solve: solved.report,
+            sides,
+            corners,
+            inner_angle,
+            curvature,
+            seconds: FillSeconds {
+                setup,
+                solve,
+                measure,
+            },
+        },
+    })
+}
+
+/// Patch k's side against the neighbour, at the parameters of
+/// [`super::side_fit`].
+fn fan_side_fit(
+    surface: &TriSurface,
+    k: usize,
+    face: &BSplineSurface,
+    side: super::Side,
+) -> SideFit {
+    let patch = surface.patch(k);
+    let ts = side_parameters();
+    // Corner 0 is C: T_u × T_v is the normal of (C, V_k, V_{k+1}).
+    let da: Vec<_> = ts
+        .iter()
+        .map(|&t| patch.derivatives([0.0, 1.0 - t, t]))
+        .collect();
+    let db: Vec<_> = ts
+        .iter()
+        .map(|&t| {
+            let (u, v) = neighbour_param(face, side, t);
+            face.derivatives(u, v)
+        })
+        .collect();
+    compare(&da, &db, side, false)
+}
