@@ -4,7 +4,7 @@
 Each hole is a 3 x 3 network of faces cut by Open CASCADE (Segment) from one
 smooth surface, the centre face left out, sewn and written as STEP:
 
-- bezier: the wavy bi-quintic network of examples/fill_network.json;
+- bezier: the wavy bi-quintic network of examples/cad/fill_network.json;
 - bspline: a bicubic B-spline sheet with uneven knots (neighbours of several
   spans and different knot vectors);
 - dome: a bi-quintic Bezier patch through a spherical cap (radius 1.5).

@@ -502,7 +502,7 @@ def fill_network():
         for j, piece in enumerate([x, y, z]):
             if (k, j) != (1, 1):
                 faces.append({"type": "tensor", "degree": [5, 5], "control_points": transpose(piece)})
-    write("fill_network.json", {
+    write("cad/fill_network.json", {
         "name": "A hole in a C1 network of bi-quintic patches",
         "description": "Eight bi-quintic Bezier faces cut from one wavy patch, the centre one "
                        "missing. fairsurf fill finds the hole (the inner loop of free edges; the "
@@ -526,7 +526,7 @@ def blend_sheets():
     b = [[[r(3 + 1.5 * i / 4 + 0.1 * j / 4), r(-0.1 + 1.4 * j / 4),
            r(0.9 + 0.8 * i / 4 + 0.1 * math.cos(3.0 * j / 4) * i / 4)]
           for j in range(5)] for i in range(5)]
-    write("blend_sheets.json", {
+    write("cad/blend_sheets.json", {
         "name": "A transition surface between two B-spline sheets",
         "description": "A bicubic B-spline sheet (three uneven spans) and a tilted biquartic "
                        "Bezier sheet with a gap between them. fairsurf blend builds the two rings "
@@ -569,7 +569,7 @@ def fill_pentagon():
         net = [[[r(solve_linear(a, [rows[i][c][j] for i in range(4)])[ii]) for c in range(3)]
                 for j in range(4)] for ii in range(4)]
         faces.append({"type": "tensor", "degree": [3, 3], "control_points": net})
-    write("fill_pentagon.json", {
+    write("cad/fill_pentagon.json", {
         "name": "A pentagonal hole in a ring of bicubic patches",
         "description": "Five bicubic Bezier faces, pieces of one smooth graph, around a "
                        "pentagonal hole. fairsurf fill fills it with a fan of five triangular "

@@ -14,7 +14,7 @@ import pytest
 from occ_check import bspline_surface, count, free_edges_after_sewing, read_step, seams
 from OCP.TopAbs import TopAbs_FACE
 
-EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "cad"
 
 
 def two_sheets(path: Path) -> None:

@@ -21,7 +21,7 @@ from occ_check import (
 from OCP.BRepBuilderAPI import BRepBuilderAPI_Sewing
 from OCP.TopAbs import TopAbs_FACE
 
-EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "cad"
 
 
 def test_the_filled_network_is_sewn_and_g1(cli: Path, tmp_path: Path):

@@ -1316,7 +1316,7 @@ fn work_over_the_memory_limit_is_refused_with_the_estimate() {
 #[test]
 fn fill_fills_the_hole_and_writes_a_sewn_shell() {
     let d = tmpdir("fill");
-    let scene = examples().join("fill_network.json");
+    let scene = examples().join("cad/fill_network.json");
     let out = d.join("sub/filled.step");
     let png = d.join("sub/filled.png");
     let o = fairsurf(&[
@@ -1379,7 +1379,7 @@ fn fill_fills_the_hole_and_writes_a_sewn_shell() {
 fn fill_fills_a_pentagonal_hole_with_a_fan() {
     let d = tmpdir("fill-fan");
     let out = d.join("fan.step");
-    let scene = examples().join("fill_pentagon.json");
+    let scene = examples().join("cad/fill_pentagon.json");
     let o = fairsurf(&[
         "fill",
         scene.to_str().unwrap(),
@@ -1431,7 +1431,7 @@ fn write_json(d: &std::path::Path, name: &str, v: &serde_json::Value) -> std::pa
 #[test]
 fn bad_fills_exit_2_and_write_nothing() {
     let d = tmpdir("fill-bad");
-    let scene = examples().join("fill_network.json");
+    let scene = examples().join("cad/fill_network.json");
     let out = d.join("x.step");
     let run = |args: &[&str]| exits_2("fill", &out, args);
     let s = scene.to_str().unwrap();
@@ -1492,7 +1492,7 @@ fn bad_fills_exit_2_and_write_nothing() {
 #[test]
 fn blend_joins_two_surfaces_and_writes_them_sewn() {
     let d = tmpdir("blend");
-    let scene = examples().join("blend_sheets.json");
+    let scene = examples().join("cad/blend_sheets.json");
     let out = d.join("sub/blend.step");
     let png = d.join("sub/blend.png");
     let o = fairsurf(&[
@@ -1559,7 +1559,7 @@ fn blend_joins_two_surfaces_and_writes_them_sewn() {
 #[test]
 fn bad_blends_exit_2_and_write_nothing() {
     let d = tmpdir("blend-bad");
-    let scene = examples().join("blend_sheets.json");
+    let scene = examples().join("cad/blend_sheets.json");
     let out = d.join("x.step");
     let run = |args: &[&str]| exits_2("blend", &out, args);
     let s = scene.to_str().unwrap();

@@ -292,7 +292,7 @@ mod tests {
     use super::*;
 
     fn example() -> (String, PathBuf) {
-        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cad");
         let text = std::fs::read_to_string(dir.join("blend_sheets.json")).unwrap();
         (text, dir)
     }

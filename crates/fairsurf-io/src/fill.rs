@@ -561,7 +561,7 @@ mod tests {
     use super::*;
 
     fn network() -> Vec<BSplineSurface> {
-        let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/fill_network.json");
+        let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cad/fill_network.json");
         FillInput::read(&p).unwrap().faces
     }
 

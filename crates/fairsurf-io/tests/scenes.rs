@@ -869,14 +869,19 @@ fn g1_to_rounding(
 #[test]
 fn every_example_solves_to_a_true_minimizer_or_exact_construction() {
     let mut n = 0;
-    for entry in std::fs::read_dir(examples()).unwrap() {
+    // The solve scenes, and the CAD jobs (fill and blend) in examples/cad.
+    let cad = examples().join("cad");
+    let entries = std::fs::read_dir(examples())
+        .unwrap()
+        .chain(std::fs::read_dir(&cad).unwrap());
+    for entry in entries {
         let p = entry.unwrap().path();
         if p.extension().is_some_and(|e| e == "json") {
             let text = std::fs::read_to_string(&p).unwrap();
             let value: serde_json::Value = serde_json::from_str(&text).unwrap();
             if value["surfaces"].is_array() {
                 // A blend scene: G1 to both surfaces to rounding.
-                let input = fairsurf_io::BlendInput::from_text(&text, &examples()).unwrap();
+                let input = fairsurf_io::BlendInput::from_text(&text, &cad).unwrap();
                 let b = input.blend().unwrap();
                 g1_to_rounding(&b.report.solve, &b.report.sides, &p);
                 n += 1;
