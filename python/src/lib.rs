@@ -731,10 +731,8 @@ fn blend(
         }
     }
     if let Some(b) = bulge {
-        if b.iter().any(|&x| !(x > 0.0 && x <= 10.0)) {
-            return Err(PyValueError::new_err(format!(
-                "bulge {b:?}: expected two numbers > 0 and ≤ 10"
-            )));
+        if let Err((k, why)) = fairsurf_io::check_bulge(b) {
+            return Err(PyValueError::new_err(format!("bulge[{k}]: {why}")));
         }
     }
     if elevate.is_some_and(|e| e > 10) {
@@ -744,7 +742,7 @@ fn blend(
         let mut input = fairsurf_io::BlendInput::from_text(&text, &folder)?;
         let o = &mut input.options;
         if let Some(b) = bulge {
-            o.bulge = b;
+            o.bulge = fairsurf::fill::Bulge::Fixed(b);
         }
         if let Some(w) = normal_weight {
             o.fill.normal_weight = w;

@@ -24,7 +24,8 @@ pub struct Args {
     #[command(flatten)]
     energy: EnergyArgs,
     /// The tangent lengths across at A's and B's edge, relative to the gap
-    /// (overrides the scene's `bulge`): two numbers > 0 and ≤ 10.
+    /// (overrides the scene's `bulge`): two numbers > 0 and ≤ 10. Default:
+    /// the pair with the least W.
     #[arg(long, value_name = "A,B", value_delimiter = ',')]
     bulge: Option<Vec<f64>>,
     /// Also draw the surfaces and the blend, coloured by |H| (PNG).
@@ -39,12 +40,16 @@ pub fn run(a: Args) -> Result<(), Failure> {
     let mut input = BlendInput::read(&a.input).map_err(with_file(&a.input))?;
     a.energy.apply(&mut input.options.fill)?;
     if let Some(b) = &a.bulge {
-        if b.len() != 2 || b.iter().any(|&x| !(x > 0.0 && x <= 10.0)) {
+        let pair = match b[..] {
+            [x, y] => fairsurf_io::check_bulge([x, y]).ok(),
+            _ => None,
+        };
+        let Some(pair) = pair else {
             return Err(Failure::input(format!(
                 "--bulge: expected two numbers > 0 and ≤ 10 (A,B), got {b:?}"
             )));
-        }
-        input.options.bulge = [b[0], b[1]];
+        };
+        input.options.bulge = fairsurf::fill::Bulge::Fixed(pair);
     }
     let blend = input.blend().map_err(with_file(&a.input))?;
     let surfaces = input.surfaces(&blend);
@@ -90,6 +95,17 @@ pub fn run(a: Args) -> Result<(), Failure> {
         r.solve.energy_error,
         1e3 * (r.seconds.setup + r.seconds.solve + r.seconds.measure)
     ));
+    match r.bulge_search {
+        Some(s) => lines.push(format!(
+            "  bulge [{:.4}, {:.4}] chosen by W ({} blends, {:.0} ms; W at [1, 1]: {:.6})",
+            r.bulge[0],
+            r.bulge[1],
+            s.evaluations,
+            1e3 * s.seconds,
+            s.w_at_one
+        )),
+        None => lines.push(format!("  bulge [{}, {}] as given", r.bulge[0], r.bulge[1])),
+    }
     lines.push(format!(
         "{}: {} faces",
         a.output.display(),

@@ -1514,7 +1514,10 @@ fn blend_joins_two_surfaces_and_writes_them_sewn() {
     assert_eq!(r["sides"][1]["face"], 1);
     assert_eq!(r["sides"][0]["edge"], "u1");
     assert_eq!(r["sides"][1]["edge"], "u0");
-    assert_eq!(r["bulge"], serde_json::json!([1.0, 1.0]));
+    // The bulges were chosen by W: no higher than with both 1.
+    let search = &r["bulge_search"];
+    assert!(search["evaluations"].as_u64().unwrap() >= 4, "{r}");
+    assert!(r["curvature_w"].as_f64().unwrap() <= search["curvature_w_at_one"].as_f64().unwrap());
     assert!(r["curvature_w"].as_f64().unwrap() > 0.0);
     let text = std::fs::read_to_string(&out).unwrap();
     assert_eq!(text.matches("=ADVANCED_FACE(").count(), 3);
@@ -1522,17 +1525,22 @@ fn blend_joins_two_surfaces_and_writes_them_sewn() {
     assert_eq!(text.matches("=VERTEX_POINT(").count(), 8);
     assert!(std::fs::metadata(&png).unwrap().len() > 1000);
     // --bulge changes α by its factor; the summary says the figures.
-    let o = fairsurf(&[
-        "blend",
-        scene.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--bulge",
-        "2,0.5",
-        "--json",
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let r2: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let with_bulge = |b: &str| {
+        let o = fairsurf(&[
+            "blend",
+            scene.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--bulge",
+            b,
+            "--json",
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        serde_json::from_slice::<serde_json::Value>(&o.stdout).unwrap()
+    };
+    let (r, r2) = (with_bulge("1,1"), with_bulge("2,0.5"));
+    assert_eq!(r["bulge"], serde_json::json!([1.0, 1.0]));
+    assert_eq!(r["bulge_search"], serde_json::Value::Null);
     for (k, f) in [(0, 2.0), (1, 0.5)] {
         let (a, b) = (
             r["alpha"][k].as_f64().unwrap(),

@@ -9,7 +9,7 @@ use crate::fill::{patch_json, side_json, FaceSpec, FillSpec};
 use crate::{CadSurface, Error, Result};
 use fairsurf::analysis::Edge;
 use fairsurf::bspline::BSplineSurface;
-use fairsurf::fill::{blend, Blend, BlendOptions};
+use fairsurf::fill::{blend, Blend, BlendOptions, Bulge};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
@@ -30,7 +30,8 @@ pub struct BlendScene {
     /// (A, v = 0 of the blend) or ends (B, v = 1) on.
     pub surfaces: Vec<BlendSurfaceSpec>,
     /// `[A, B]`: the tangent length across at each edge, relative to the
-    /// gap between the edges (default `[1, 1]`; > 0, at most 10).
+    /// gap between the edges (> 0, at most 10). Default: the pair with the
+    /// least W = ∫∫ κ₁² + κ₂² dA (each in [1/4, 4]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bulge: Option<[f64; 2]>,
     /// Also fix the made sides' cross derivatives (clamped on all four
@@ -116,20 +117,28 @@ impl BlendScene {
 
     /// The options; errors name `bulge[k]` or `fill.<field>`.
     pub fn options(&self) -> Result<BlendOptions> {
-        let bulge = self.bulge.unwrap_or([1.0, 1.0]);
-        for (k, &b) in bulge.iter().enumerate() {
-            if !(b > 0.0 && b <= MAX_BULGE) {
-                return Err(Error::scene(
-                    format!("bulge[{k}]"),
-                    format!("expected a number > 0 and ≤ {MAX_BULGE}, got {b}"),
-                ));
-            }
-        }
+        let bulge = match self.bulge {
+            Some(b) => Bulge::Fixed(
+                check_bulge(b).map_err(|(k, why)| Error::scene(format!("bulge[{k}]"), why))?,
+            ),
+            None => Bulge::Least,
+        };
         Ok(BlendOptions {
             fill: self.fill.options()?,
             bulge,
             clamp_sides: self.clamp_sides.unwrap_or(false),
         })
+    }
+}
+
+/// The pair if both are > 0 and ≤ 10; else which is not, and why.
+pub fn check_bulge(b: [f64; 2]) -> std::result::Result<[f64; 2], (usize, String)> {
+    match b.iter().position(|&x| !(x > 0.0 && x <= MAX_BULGE)) {
+        Some(k) => Err((
+            k,
+            format!("expected a number > 0 and ≤ {MAX_BULGE}, got {}", b[k]),
+        )),
+        None => Ok(b),
     }
 }
 
@@ -281,7 +290,12 @@ pub fn blend_json(input: &BlendInput, blend: &Blend) -> Value {
     out["faces"] = json!(input.faces.len());
     out["flipped"] = json!(r.flipped);
     out["alpha"] = json!(r.alpha);
-    out["bulge"] = json!(input.options.bulge);
+    out["bulge"] = json!(r.bulge);
+    out["bulge_search"] = json!(r.bulge_search.map(|b| json!({
+        "evaluations": b.evaluations,
+        "curvature_w_at_one": b.w_at_one,
+        "seconds": b.seconds,
+    })));
     out["clamp_sides"] = json!(input.options.clamp_sides);
     out["fairsurf_version"] = json!(env!("CARGO_PKG_VERSION"));
     out

@@ -47,7 +47,7 @@ mod validate;
 
 pub use analysis::Measures;
 pub use atomic::{remove_temporaries, write_atomic, Batch};
-pub use blend::{blend_json, BlendInput, BlendScene, BlendSurfaceSpec, EdgeName};
+pub use blend::{blend_json, check_bulge, BlendInput, BlendScene, BlendSurfaceSpec, EdgeName};
 pub use bspline_scene::{
     BSplineEnergySpec, BSplineGuideSpec, BSplineKind, BSplineScene, BSplineSpec, SolvedBSplineScene,
 };

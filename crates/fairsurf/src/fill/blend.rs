@@ -18,8 +18,10 @@
 //!    fixed (a made side has no neighbour to be tangent to), unless
 //!    [`BlendOptions::clamp_sides`] fixes their cross derivatives too.
 //! 3. **α** — the tangent length across, Rhino's "bulge": α_k = bulge_k ·
-//!    mean over the edge of |B(t) − A(t)| / |D_k(t)| (nine t), so the
-//!    crossing speed matches the gap the blend spans; bulge 1 by default.
+//!    mean over the edge of |B(t) − A(t)| / |D_k(t)| (nine t), so that
+//!    with bulge 1 the crossing speed matches the gap the blend spans. By
+//!    default the two bulges are those with the least W ([`Bulge::Least`]):
+//!    W depends on them more than on anything else.
 //!    For a ruled S(u, v) = a(u) + v·b(u) cut in three this is exactly the
 //!    missing piece's speed, and the blend reproduces the piece.
 //! 4. **Fair inside**, as a fill: thin plate guided by the normals of the
@@ -39,15 +41,31 @@ use crate::vec3::{add, cross, dist, dot, norm, scale, sub};
 use crate::{Error, Result, Vec3};
 use std::time::Instant;
 
-/// How to blend: the fill's energy options and one bulge per surface.
+/// The tangent lengths across at A's and at B's edge (Rhino's "bulge"),
+/// relative to the gap between the edges.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Bulge {
+    /// These two (1: the gap); > 0.
+    Fixed([f64; 2]),
+    /// The pair with the least W = ∫∫ κ₁² + κ₂² dA, each in [1/4, 4]:
+    /// Nelder–Mead on their logarithms from (1, 1), until the simplex's W
+    /// agree to 1e-7 of W or after 60 blends.
+    Least,
+}
+
+/// The bounds of [`Bulge::Least`]'s search.
+const BULGE_RANGE: [f64; 2] = [0.25, 4.0];
+/// Blends [`Bulge::Least`] makes at most.
+const BULGE_EVALUATIONS: usize = 60;
+
+/// How to blend: the fill's energy options and the bulges.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BlendOptions {
     /// Degrees, elevation, energy weights, normal field, Willmore steps —
     /// as for a fill; `elevate` raises the across direction's cubic too.
     pub fill: FillOptions,
-    /// The tangent length across at A's and at B's edge, relative to the
-    /// gap between the edges (1: the gap); > 0.
-    pub bulge: [f64; 2],
+    /// The tangent lengths across; by default the pair with the least W.
+    pub bulge: Bulge,
     /// Fix the made sides' cross derivatives too (the Hermite interpolants
     /// of the corner tangents and twists) instead of leaving them to the
     /// energy: a blend clamped on all four sides, as Wu & Yang's examples
@@ -59,7 +77,7 @@ impl Default for BlendOptions {
     fn default() -> Self {
         Self {
             fill: FillOptions::default(),
-            bulge: [1.0, 1.0],
+            bulge: Bulge::Least,
             clamp_sides: false,
         }
     }
@@ -82,6 +100,11 @@ pub struct BlendReport {
     pub corners: CornerMismatch,
     /// α of A and of B (the blend's cross derivative over the surface's).
     pub alpha: [f64; 2],
+    /// The bulges used (given, or chosen by W).
+    pub bulge: [f64; 2],
+    /// When the bulges were chosen: the blends made, and W at (1, 1) for
+    /// comparison.
+    pub bulge_search: Option<BulgeSearch>,
     /// W = ∫∫ κ₁² + κ₂² dA of the blend.
     pub curvature: TotalCurvature,
     /// W after the solve and after each linearized Willmore step tried.
@@ -90,6 +113,18 @@ pub struct BlendReport {
     pub normal_weight: f64,
     /// Where the time went.
     pub seconds: FillSeconds,
+}
+
+/// How [`Bulge::Least`] went.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BulgeSearch {
+    /// Blends made (each a solve and its W).
+    pub evaluations: usize,
+    /// W with both bulges 1.
+    pub w_at_one: f64,
+    /// Seconds the search took, every blend included (the report's
+    /// `seconds` are the chosen blend's own).
+    pub seconds: f64,
 }
 
 /// A blend.
@@ -156,8 +191,103 @@ pub fn blend(
     edge_b: Edge,
     options: &BlendOptions,
 ) -> Result<Blend> {
+    let with = |bulge: [f64; 2]| blend_with(a, edge_a, b, edge_b, options, bulge);
+    match options.bulge {
+        Bulge::Fixed(bulge) => with(bulge),
+        Bulge::Least => least_w(with),
+    }
+}
+
+/// Nelder–Mead over x = ln(bulge) in the box ln [`BULGE_RANGE`]²: the
+/// blend with the least W found.
+fn least_w(with: impl Fn([f64; 2]) -> Result<Blend>) -> Result<Blend> {
     let t0 = Instant::now();
-    for (k, &x) in options.bulge.iter().enumerate() {
+    let first = with([1.0, 1.0])?;
+    let w_at_one = first.report.curvature.value;
+    let (lo, hi) = (BULGE_RANGE[0].ln(), BULGE_RANGE[1].ln());
+    let mut evaluations = 1;
+    let mut best = first;
+    // W at x; a blend that fails (e.g. a fold) counts as infinitely unfair.
+    let eval = |x: [f64; 2], best: &mut Blend, evaluations: &mut usize| -> f64 {
+        let x = x.map(|c| c.clamp(lo, hi));
+        *evaluations += 1;
+        match with(x.map(f64::exp)) {
+            Ok(b) => {
+                let w = b.report.curvature.value;
+                if w < best.report.curvature.value {
+                    *best = b;
+                }
+                w
+            }
+            Err(_) => f64::INFINITY,
+        }
+    };
+    let mut simplex: Vec<([f64; 2], f64)> = vec![([0.0, 0.0], w_at_one)];
+    for x in [[0.25, 0.0], [0.0, 0.25]] {
+        let w = eval(x, &mut best, &mut evaluations);
+        simplex.push((x, w));
+    }
+    while evaluations < BULGE_EVALUATIONS {
+        simplex.sort_by(|p, q| p.1.total_cmp(&q.1));
+        let (b, w) = (simplex[0].1, simplex[2].1);
+        if w - b <= 1e-7 * b.abs() {
+            break;
+        }
+        let c = [
+            0.5 * (simplex[0].0[0] + simplex[1].0[0]),
+            0.5 * (simplex[0].0[1] + simplex[1].0[1]),
+        ];
+        let along = |t: f64| {
+            [
+                (c[0] + t * (simplex[2].0[0] - c[0])).clamp(lo, hi),
+                (c[1] + t * (simplex[2].0[1] - c[1])).clamp(lo, hi),
+            ]
+        };
+        let xr = along(-1.0);
+        let wr = eval(xr, &mut best, &mut evaluations);
+        if wr < simplex[0].1 {
+            let xe = along(-2.0);
+            let we = eval(xe, &mut best, &mut evaluations);
+            simplex[2] = if we < wr { (xe, we) } else { (xr, wr) };
+        } else if wr < simplex[1].1 {
+            simplex[2] = (xr, wr);
+        } else {
+            let xc = along(0.5);
+            let wc = eval(xc, &mut best, &mut evaluations);
+            if wc < simplex[2].1 {
+                simplex[2] = (xc, wc);
+            } else {
+                // Shrink towards the best.
+                let x0 = simplex[0].0;
+                for k in 1..3 {
+                    let x = [
+                        0.5 * (x0[0] + simplex[k].0[0]),
+                        0.5 * (x0[1] + simplex[k].0[1]),
+                    ];
+                    simplex[k] = (x, eval(x, &mut best, &mut evaluations));
+                }
+            }
+        }
+    }
+    best.report.bulge_search = Some(BulgeSearch {
+        evaluations,
+        w_at_one,
+        seconds: t0.elapsed().as_secs_f64(),
+    });
+    Ok(best)
+}
+
+/// The blend with the bulges `bulge`.
+fn blend_with(
+    a: &BSplineSurface,
+    edge_a: Edge,
+    b: &BSplineSurface,
+    edge_b: Edge,
+    options: &BlendOptions,
+    bulge: [f64; 2],
+) -> Result<Blend> {
+    let t0 = Instant::now();
+    for (k, &x) in bulge.iter().enumerate() {
         if !(x > 0.0 && x.is_finite()) {
             return Err(Error::Fill {
                 why: format!("bulge {k} is {x}; it must be a positive number"),
@@ -225,7 +355,7 @@ pub fn blend(
             }
             sum += dist(s0.at(t).pos, s2.at(t).pos) / d;
         }
-        alpha[k] = options.bulge[k] * sum / 9.0;
+        alpha[k] = bulge[k] * sum / 9.0;
     }
     let (s0, s2) = (s0.scaled(alpha[0]), s2.scaled(alpha[1]));
     let (s3, s1) = (made_side(&s0, &s2, 0.0), made_side(&s0, &s2, 1.0));
@@ -264,6 +394,8 @@ pub fn blend(
             flipped,
             corners: faired.corners,
             alpha,
+            bulge,
+            bulge_search: None,
             curvature: faired.curvature,
             willmore: faired.willmore,
             normal_weight: options.fill.normal_weight,
@@ -349,8 +481,8 @@ mod tests {
                     normal_weight: weight,
                     ..plain()
                 },
+                bulge: Bulge::Fixed([1.0, 1.0]),
                 clamp_sides: true,
-                ..BlendOptions::default()
             };
             let bl = blend(&a, Edge::V1, &b, Edge::V0, &options).unwrap();
             assert!(!bl.report.flipped);
@@ -380,6 +512,7 @@ mod tests {
         let (a, _, b) = ruled_in_three();
         let options = BlendOptions {
             fill: plain(),
+            bulge: Bulge::Fixed([1.0, 1.0]),
             ..BlendOptions::default()
         };
         let bl = blend(&a, Edge::V1, &b, Edge::V0, &options).unwrap();
@@ -454,7 +587,11 @@ mod tests {
             .unwrap()
             .elevated(1, 2)
             .unwrap();
-        let bl = blend(&a, Edge::V1, &b2, Edge::V0, &BlendOptions::default()).unwrap();
+        let one = BlendOptions {
+            bulge: Bulge::Fixed([1.0, 1.0]),
+            ..BlendOptions::default()
+        };
+        let bl = blend(&a, Edge::V1, &b2, Edge::V0, &one).unwrap();
         assert!(bl.report.flipped);
         // B's edge runs along A's now: traversed along u (not against it,
         // a hole's convention for side 2) where the unmirrored one is not.
@@ -470,7 +607,7 @@ mod tests {
             (bl.report.curvature.value - w.iter().cloned().fold(f64::MAX, f64::min)).abs() < 1e-15
         );
         // B unmirrored: not flipped, its edge traversed against u.
-        let same = blend(&a, Edge::V1, &b, Edge::V0, &BlendOptions::default()).unwrap();
+        let same = blend(&a, Edge::V1, &b, Edge::V0, &one).unwrap();
         assert!(!same.report.flipped);
         assert_eq!(
             (same.sides[0].reversed, same.sides[1].reversed),
@@ -478,11 +615,56 @@ mod tests {
         );
     }
 
+    /// The default bulges are W's least: no lower than at (1, 1), and
+    /// moving either by 5% does not lower W by more than the search's
+    /// tolerance.
+    #[test]
+    fn the_default_bulges_have_the_least_w() {
+        let (a, _, b) = ruled_in_three();
+        // A bent B: the blend must turn, and W depends on the bulges.
+        let (ku, kv) = b.knots();
+        let pts = b
+            .points()
+            .iter()
+            .map(|p| [p[0], p[1], p[2] + 0.6 * (p[1] - 2.0)])
+            .collect();
+        let b = BSplineSurface::new(ku.clone(), kv.clone(), pts).unwrap();
+        let opts = |bulge| BlendOptions {
+            fill: FillOptions {
+                willmore_steps: 0,
+                ..FillOptions::default()
+            },
+            bulge,
+            clamp_sides: false,
+        };
+        let least = blend(&a, Edge::V1, &b, Edge::V0, &opts(Bulge::Least)).unwrap();
+        let r = &least.report;
+        let search = r.bulge_search.unwrap();
+        let w = r.curvature.value;
+        assert!(search.evaluations >= 4 && search.evaluations <= BULGE_EVALUATIONS);
+        assert!(w <= search.w_at_one, "{w} {}", search.w_at_one);
+        assert!(
+            w < 0.999 * search.w_at_one,
+            "the search found nothing: {w} {search:?}"
+        );
+        for (k, f) in [(0, 1.05), (0, 0.95), (1, 1.05), (1, 0.95)] {
+            let mut moved = r.bulge;
+            moved[k] *= f;
+            let other = blend(&a, Edge::V1, &b, Edge::V0, &opts(Bulge::Fixed(moved))).unwrap();
+            let wo = other.report.curvature.value;
+            assert!(wo >= w * (1.0 - 1e-6), "bulge {moved:?}: W {wo} < {w}");
+        }
+        // G1 holds whatever the bulges.
+        for f in &r.sides {
+            assert!(f.gap < 1e-12 && f.angle.to_degrees() < 1e-9, "{f:?}");
+        }
+    }
+
     #[test]
     fn bad_blends_are_refused() {
         let (a, m, b) = ruled_in_three();
         let bad_bulge = BlendOptions {
-            bulge: [1.0, 0.0],
+            bulge: Bulge::Fixed([1.0, 0.0]),
             ..BlendOptions::default()
         };
         let e = blend(&a, Edge::V1, &b, Edge::V0, &bad_bulge).unwrap_err();

@@ -57,7 +57,7 @@ mod strip;
 mod tests;
 mod willmore;
 
-pub use blend::{blend, Blend, BlendOptions, BlendReport};
+pub use blend::{blend, Blend, BlendOptions, BlendReport, Bulge, BulgeSearch};
 pub use fan::{fill_fan, FanFill, FanReport};
 pub use holes::{edge_point, find_holes, surface_param, tolerance, Hole, Side};
 pub use measure::{side_fit, total_curvature, SideFit, TotalCurvature, SIDE_SAMPLES};
