@@ -128,13 +128,13 @@ def test_the_python_fill_gives_what_the_command_line_gives(cli: Path, tmp_path: 
         r["solve"].pop("timings_s")
     assert ours == theirs["fills"][0]
     assert filled.report["holes"] == theirs["holes"]
-    # A dict works too, and a hole whose sides are several edges is a SolveError.
+    # A dict works too, and the rim of the sheet (faces outside it) is a SolveError.
     as_dict = json.loads(scene.read_text())
     again = fairsurf.fill(as_dict, willmore_steps=0)
     assert again.report["fills"][0]["willmore_w"] == [again.report["fills"][0]["curvature_w"]]
     import pytest
 
-    with pytest.raises(fairsurf.SolveError, match="hole 0: sides 0 and 1 of the hole continue each other"):
+    with pytest.raises(fairsurf.SolveError, match="hole 0: at the corner where side 0 starts"):
         fairsurf.fill(as_dict, holes=[0])
     with pytest.raises(fairsurf.SceneError, match=r"faces\[0\]\.degree\[0\]") as e:
         fairsurf.fill({"faces": [{"type": "tensor", "degree": [0, 1], "control_points": []}]})
@@ -224,3 +224,43 @@ def test_polygonal_holes_are_filled_by_sewn_g1_fans(cli: Path, tmp_path: Path):
         sewn_step(polygon_faces(n), step_in)
         fill = check_fan(cli, step_in, tmp_path, n)
         assert fill["solve"]["conditions_dropped"] == []
+
+
+def test_a_hole_two_faces_wide_is_filled_by_one_sewn_patch(cli: Path, tmp_path: Path):
+    """A wavy Bezier patch cut 4 x 4 by Open CASCADE (Segment), the centre
+    2 x 2 faces removed: each side of the hole is two edges; one fill meets
+    all eight, G1, and the shell sews with only the rim free."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+    from OCP.collections import Array2_gp_Pnt
+    from OCP.Geom import Geom_BezierSurface
+    from OCP.gp import gp_Pnt
+
+    poles = Array2_gp_Pnt(1, 6, 1, 6)
+    for i in range(6):
+        for j in range(6):
+            x, y = 3 * i / 5, 3 * j / 5
+            poles.SetValue(i + 1, j + 1, gp_Pnt(
+                x + 0.1 * y, y, 0.3 * math.sin(1.3 * x) * math.cos(0.9 * y) + 0.05 * x * y))
+    cuts = [0.0, 0.2, 0.45, 0.7, 1.0]
+    faces = []
+    for i in range(4):
+        for j in range(4):
+            if i in (1, 2) and j in (1, 2):
+                continue
+            s = Geom_BezierSurface(poles)
+            s.Segment(cuts[i], cuts[i + 1], cuts[j], cuts[j + 1])
+            faces.append(BRepBuilderAPI_MakeFace(s, 1e-7).Face())
+    step_in = tmp_path / "wide.step"
+    sewn_step(faces, step_in)
+    out = tmp_path / "filled.step"
+    run = subprocess.run([str(cli), "fill", str(step_in), "-o", str(out), "--json"],
+                         check=True, capture_output=True, text=True)
+    fill = json.loads(run.stdout)["fills"][0]
+    assert fill["kind"] == "patch" and len(fill["sides"]) == 8
+    assert fill["max_angle_deg"] < 1e-9 and fill["max_gap"] < 1e-12
+    shape = read_step(out)
+    assert count(shape, TopAbs_FACE) == 13
+    assert free_edges_after_sewing(shape) == 16  # the rim only
+    across = [s for s in seams(shape) if 12 in s[0]]
+    assert len(across) == 8
+    assert max(s[1] for s in across) < 1e-9 and max(s[2] for s in across) < 1e-12

@@ -1438,9 +1438,8 @@ fn bad_fills_exit_2_and_write_nothing() {
     assert!(
         run(&[s, "--hole", "7"]).contains("--hole: there is no hole 7: the faces have 2 (0 to 1)")
     );
-    // The rim's sides continue each other at 8 of its 12 corners.
-    assert!(run(&[s, "--hole", "0"])
-        .contains("hole 0: sides 0 and 1 of the hole continue each other at corner 1"));
+    // The rim: 12 edges, 4 corners, the faces outside it.
+    assert!(run(&[s, "--hole", "0"]).contains("hole 0: at the corner where side 0 starts"));
     assert!(run(&[s, "--lambda=-1"]).contains("--lambda: expected a number ≥ 0, got -1"));
     let text: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&scene).unwrap()).unwrap();

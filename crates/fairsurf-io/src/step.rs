@@ -262,7 +262,11 @@ impl Data {
         for (side, forward, knots) in &sides {
             let pts: Vec<Vec3> = side.iter().map(|&(i, j)| s.point(i, j)).collect();
             let ids: Vec<usize> = side.iter().map(|&(i, j)| id(i, j)).collect();
-            if let Some((edge, same)) = self.edge(&pts, &ids, *knots) {
+            let mut edges = self.edges_along(&pts, &ids, *knots);
+            if !forward {
+                edges.reverse();
+            }
+            for (edge, same) in edges {
                 let sense = if same == *forward { ".T." } else { ".F." };
                 oriented.push(self.add(format!("ORIENTED_EDGE('',*,*,#{edge},{sense})")));
             }
@@ -278,51 +282,126 @@ impl Data {
         self.add(format!("ADVANCED_FACE('',(#{outer}),#{surface},.T.)"))
     }
 
-    /// The EDGE_CURVE along the control polygon `pts` (CARTESIAN_POINTs
-    /// `ids`) of degree d with distinct knots and multiplicities, and
-    /// whether it runs the same way, or `None` if the polygon is a single
-    /// point (a collapsed boundary). Curves are shared when their points
-    /// and knots agree (reversed: points reversed and knots mirrored).
-    fn edge(
+    /// The EDGE_CURVEs along one side (in its parameter order, each with
+    /// whether it runs that way): the side's own edge, shared when another
+    /// face wrote it; or, when vertices written before lie
+    /// inside the side (neighbours whose edges cover parts of it, e.g. two
+    /// faces along one side of a fill), one edge between each two
+    /// consecutive vertices on the side's curve, shared with an edge
+    /// written before that joins the same vertices along the same curve.
+    /// Empty for a collapsed side.
+    fn edges_along(
+        &mut self,
+        pts: &[Vec3],
+        ids: &[usize],
+        curve: (usize, &Vec<f64>, &Vec<usize>, &Vec<f64>),
+    ) -> Vec<(usize, bool)> {
+        if pts.iter().all(|&p| bits(p) == bits(pts[0])) {
+            return Vec::new();
+        }
+        let (d, knots, mults, full) = curve;
+        if let Some(found) = self.known_edge(pts, curve) {
+            return vec![found];
+        }
+        let Ok(kv) = fairsurf::bspline::KnotVector::new(d, full.clone()) else {
+            return vec![self.new_edge(pts, ids, curve)];
+        };
+        let tol = self.tol;
+        let last = pts.len() - 1;
+        let (a, b) = kv.domain();
+        // Vertices written before that lie inside the side.
+        let mut inside: Vec<(f64, usize)> = self
+            .vertex_points
+            .iter()
+            .filter(|(q, _)| dist(*q, pts[0]) > tol && dist(*q, pts[last]) > tol)
+            .filter_map(|&(q, v)| {
+                let t = project(&kv, pts, q)?;
+                (t > a && t < b && dist(curve_point(&kv, pts, t), q) <= tol).then_some((t, v))
+            })
+            .collect();
+        if inside.is_empty() {
+            return vec![self.new_edge(pts, ids, curve)];
+        }
+        inside.sort_by(|x, y| x.0.total_cmp(&y.0));
+        let start = self.vertex(pts[0], ids[0]);
+        let end = self.vertex(pts[last], ids[last]);
+        let mut chain = vec![(a, start)];
+        chain.extend(inside);
+        chain.push((b, end));
+        let mut curve_id = None;
+        let mut out = Vec::new();
+        for w in chain.windows(2) {
+            let ((ta, va), (tb, vb)) = (w[0], w[1]);
+            let samples: [Vec3; EDGE_SAMPLES] = std::array::from_fn(|k| {
+                curve_point(
+                    &kv,
+                    pts,
+                    ta + (tb - ta) * k as f64 / (EDGE_SAMPLES - 1) as f64,
+                )
+            });
+            if let Some(found) = self.matching_edge(&samples) {
+                out.push(found);
+                continue;
+            }
+            let c = *curve_id.get_or_insert_with(|| {
+                self.add(format!(
+                    "B_SPLINE_CURVE_WITH_KNOTS('',{d},({}),.UNSPECIFIED.,.F.,.F.,({}),({}),\
+                     .UNSPECIFIED.)",
+                    refs(ids),
+                    ints(mults),
+                    reals(knots)
+                ))
+            });
+            let e = self.add(format!("EDGE_CURVE('',#{va},#{vb},#{c},.T.)"));
+            self.edge_samples.push((samples, e));
+            out.push((e, true));
+        }
+        out
+    }
+
+    /// An edge written before along the same curve as `pts` (by its
+    /// points and knots, or by its samples), and whether it runs the same
+    /// way.
+    fn known_edge(
+        &self,
+        pts: &[Vec3],
+        (d, knots, mults, full): (usize, &Vec<f64>, &Vec<usize>, &Vec<f64>),
+    ) -> Option<(usize, bool)> {
+        for (reversed, same) in [(false, true), (true, false)] {
+            if let Some(&e) = self.edges.get(&edge_key(pts, knots, mults, reversed)) {
+                return Some((e, same));
+            }
+        }
+        self.matching_edge(&curve_samples(d, full, pts)?)
+    }
+
+    /// An edge written before through `samples` (first to last, or last to
+    /// first), and whether it runs the same way.
+    fn matching_edge(&self, samples: &[Vec3; EDGE_SAMPLES]) -> Option<(usize, bool)> {
+        let tol = self.tol;
+        let close = |a: &[Vec3], b: &mut dyn Iterator<Item = Vec3>| {
+            a.iter().zip(b).all(|(p, q)| dist(*p, q) <= tol)
+        };
+        for (other, e) in &self.edge_samples {
+            if close(other, &mut samples.iter().copied()) {
+                return Some((*e, true));
+            }
+            if close(other, &mut samples.iter().rev().copied()) {
+                return Some((*e, false));
+            }
+        }
+        None
+    }
+
+    /// A new EDGE_CURVE along the control polygon `pts` (CARTESIAN_POINTs
+    /// `ids`) of degree d with distinct knots and multiplicities, from the
+    /// polygon's first point to its last, registered for sharing.
+    fn new_edge(
         &mut self,
         pts: &[Vec3],
         ids: &[usize],
         (d, knots, mults, full): (usize, &Vec<f64>, &Vec<usize>, &Vec<f64>),
-    ) -> Option<(usize, bool)> {
-        if pts.iter().all(|&p| bits(p) == bits(pts[0])) {
-            return None;
-        }
-        let (a, b) = (knots[0], knots[knots.len() - 1]);
-        let mut key: Vec<[u64; 3]> = pts.iter().map(|&p| bits(p)).collect();
-        key.extend(knots.iter().map(|&t| bits([t - a, 0.0, 0.0])));
-        key.extend(mults.iter().map(|&k| [k as u64, 0, 0]));
-        if let Some(&e) = self.edges.get(&key) {
-            return Some((e, true));
-        }
-        let mut reversed: Vec<[u64; 3]> = pts.iter().rev().map(|&p| bits(p)).collect();
-        reversed.extend(knots.iter().rev().map(|&t| bits([b - t, 0.0, 0.0])));
-        reversed.extend(mults.iter().rev().map(|&k| [k as u64, 0, 0]));
-        if let Some(&e) = self.edges.get(&reversed) {
-            return Some((e, false));
-        }
-        let samples = curve_samples(d, full, pts);
-        if let Some(samples) = samples {
-            let tol = self.tol;
-            let close = |a: &[Vec3], b: &mut dyn Iterator<Item = Vec3>| {
-                a.iter().zip(b).all(|(p, q)| {
-                    let d = [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
-                    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() <= tol
-                })
-            };
-            for (other, e) in &self.edge_samples {
-                if close(other, &mut samples.iter().copied()) {
-                    return Some((*e, true));
-                }
-                if close(other, &mut samples.iter().rev().copied()) {
-                    return Some((*e, false));
-                }
-            }
-        }
+    ) -> (usize, bool) {
         let curve = self.add(format!(
             "B_SPLINE_CURVE_WITH_KNOTS('',{d},({}),.UNSPECIFIED.,.F.,.F.,({}),({}),.UNSPECIFIED.)",
             refs(ids),
@@ -333,11 +412,11 @@ impl Data {
         let start = self.vertex(pts[0], ids[0]);
         let end = self.vertex(pts[last], ids[last]);
         let e = self.add(format!("EDGE_CURVE('',#{start},#{end},#{curve},.T.)"));
-        self.edges.insert(key, e);
-        if let Some(samples) = samples {
+        self.edges.insert(edge_key(pts, knots, mults, false), e);
+        if let Some(samples) = curve_samples(d, full, pts) {
             self.edge_samples.push((samples, e));
         }
-        Some((e, true))
+        (e, true)
     }
 
     /// The VERTEX_POINT at `p` (a CARTESIAN_POINT `point`), shared by all
@@ -347,10 +426,7 @@ impl Data {
             return v;
         }
         let tol = self.tol;
-        let near = self.vertex_points.iter().find(|(q, _)| {
-            let d = [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
-            (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() <= tol
-        });
+        let near = self.vertex_points.iter().find(|(q, _)| dist(p, *q) <= tol);
         if let Some(&(_, v)) = near {
             return v;
         }
@@ -359,6 +435,74 @@ impl Data {
         self.vertex_points.push((p, v));
         v
     }
+}
+
+/// The key of a control polygon with its knots (relative to the first)
+/// and multiplicities; `reversed`: of the same curve run backwards.
+fn edge_key(pts: &[Vec3], knots: &[f64], mults: &[usize], reversed: bool) -> Vec<[u64; 3]> {
+    let (a, b) = (knots[0], knots[knots.len() - 1]);
+    if reversed {
+        let mut key: Vec<[u64; 3]> = pts.iter().rev().map(|&p| bits(p)).collect();
+        key.extend(knots.iter().rev().map(|&t| bits([b - t, 0.0, 0.0])));
+        key.extend(mults.iter().rev().map(|&k| [k as u64, 0, 0]));
+        key
+    } else {
+        let mut key: Vec<[u64; 3]> = pts.iter().map(|&p| bits(p)).collect();
+        key.extend(knots.iter().map(|&t| bits([t - a, 0.0, 0.0])));
+        key.extend(mults.iter().map(|&k| [k as u64, 0, 0]));
+        key
+    }
+}
+
+fn dist(p: Vec3, q: Vec3) -> f64 {
+    let d = [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
+    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+}
+
+/// The curve (degree and knots `kv`, control points `pts`) and its first
+/// derivative at t.
+fn curve_derivs(kv: &fairsurf::bspline::KnotVector, pts: &[Vec3], t: f64) -> [Vec3; 2] {
+    let d = kv.degree();
+    let k = kv.span(t);
+    let n = kv.basis_derivatives(k, t, 1);
+    std::array::from_fn(|r| {
+        (0..=d).fold([0.0; 3], |acc, i| {
+            let (p, w) = (pts[k - d + i], n[r][i]);
+            [acc[0] + w * p[0], acc[1] + w * p[1], acc[2] + w * p[2]]
+        })
+    })
+}
+
+fn curve_point(kv: &fairsurf::bspline::KnotVector, pts: &[Vec3], t: f64) -> Vec3 {
+    curve_derivs(kv, pts, t)[0]
+}
+
+/// The parameter of the curve's point nearest to q: the best of 64
+/// samples, then Newton steps on (C(t) − q)·C′(t) = 0 (first order, kept
+/// in the domain).
+fn project(kv: &fairsurf::bspline::KnotVector, pts: &[Vec3], q: Vec3) -> Option<f64> {
+    let (a, b) = kv.domain();
+    let mut t = (0..=64)
+        .map(|k| a + (b - a) * k as f64 / 64.0)
+        .min_by(|&x, &y| {
+            dist(curve_point(kv, pts, x), q).total_cmp(&dist(curve_point(kv, pts, y), q))
+        })?;
+    for _ in 0..20 {
+        let [c, dc] = curve_derivs(kv, pts, t);
+        let r = [c[0] - q[0], c[1] - q[1], c[2] - q[2]];
+        let g = r[0] * dc[0] + r[1] * dc[1] + r[2] * dc[2];
+        let h = dc[0] * dc[0] + dc[1] * dc[1] + dc[2] * dc[2];
+        if h == 0.0 {
+            break;
+        }
+        let next = (t - g / h).clamp(a, b);
+        if (next - t).abs() <= 1e-15 * (b - a) {
+            t = next;
+            break;
+        }
+        t = next;
+    }
+    t.is_finite().then_some(t)
 }
 
 fn ints(v: &[usize]) -> String {

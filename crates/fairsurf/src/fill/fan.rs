@@ -30,7 +30,7 @@
 
 use super::holes::Hole;
 use super::measure::{
-    compare, neighbour_param, side_parameters, total_curvature, SideFit, TotalCurvature,
+    compare, neighbour_derivatives, side_parameters, total_curvature, SideFit, TotalCurvature,
 };
 use super::strip::Strip;
 use super::{faces_like_side_0, side_face, CornerMismatch, FillOptions, FillSeconds};
@@ -187,7 +187,7 @@ pub fn fill_fan(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) ->
             return Err(Error::Fill {
                 why: format!(
                     "sides {} and {k} of the hole continue each other at corner {k} ({:.4}°): \
-                     a hole side made of several face edges is not filled yet",
+                     a side made of several face edges is filled only in 4-sided holes so far",
                     (k + count - 1) % count,
                     gamma.to_degrees()
                 ),
@@ -337,12 +337,5 @@ fn fan_side_fit(
         .iter()
         .map(|&t| patch.derivatives([0.0, 1.0 - t, t]))
         .collect();
-    let db: Vec<_> = ts
-        .iter()
-        .map(|&t| {
-            let (u, v) = neighbour_param(face, side, t);
-            face.derivatives(u, v)
-        })
-        .collect();
-    compare(&da, &db, side, false)
+    compare(&da, &neighbour_derivatives(face, side, &ts), side, false)
 }

@@ -60,6 +60,44 @@ pub(crate) fn side_fit_facing(
     compare(&da, &db, side, flipped)
 }
 
+/// The fill's side k on [span₀, span₁] of its parameter (along the hole's
+/// traversal) against the neighbour `face` along the whole of `side`: one
+/// edge of a side made of several.
+pub(crate) fn piece_fit(
+    fill: &BSplineSurface,
+    k: usize,
+    span: [f64; 2],
+    face: &BSplineSurface,
+    side: Side,
+) -> SideFit {
+    if span == [0.0, 1.0] {
+        return side_fit(fill, k, face, side);
+    }
+    let ts = side_parameters();
+    let da: Vec<SurfaceDerivatives> = ts
+        .iter()
+        .map(|&t| {
+            let (u, v) = super::fill_param(k, span[0] + (span[1] - span[0]) * t);
+            fill.derivatives(u, v)
+        })
+        .collect();
+    compare(&da, &neighbour_derivatives(face, side, &ts), side, false)
+}
+
+/// The neighbour's derivatives at parameters `ts` of the hole's side.
+pub(crate) fn neighbour_derivatives(
+    face: &BSplineSurface,
+    side: Side,
+    ts: &[f64],
+) -> Vec<SurfaceDerivatives> {
+    ts.iter()
+        .map(|&t| {
+            let (u, v) = neighbour_param(face, side, t);
+            face.derivatives(u, v)
+        })
+        .collect()
+}
+
 /// The [`SIDE_SAMPLES`] parameters on [0, 1] a side is compared at:
 /// Chebyshev–Lobatto points, clustered at the corners.
 pub(crate) fn side_parameters() -> Vec<f64> {

@@ -66,8 +66,9 @@ use crate::bspline::{BSplineProblem, BSplineReport, BSplineSurface, KnotVector};
 use crate::energy::SampleGrid;
 use crate::vec3::{add, cross, dist, dot, scale};
 use crate::{Error, Result, Vec3};
+use std::ops::Range;
 use std::time::Instant;
-use strip::{unify, Strip};
+use strip::{concat, unify, Strip, CONTINUES};
 
 /// λ of the default fill's normal field, per unit parameter area. On the
 /// test holes (a C¹ bi-quintic network, a bicubic B-spline sheet) W of the
@@ -136,8 +137,8 @@ pub struct CornerMismatch {
 pub struct FillReport {
     /// The solve's own report (energy, its check, gradient, timings).
     pub solve: BSplineReport,
-    /// Per side, in the hole's order: gap and normal angle measured on the
-    /// returned surface against the neighbour.
+    /// Per edge of the hole, in its order: gap and normal angle measured
+    /// on the returned surface against the neighbour.
     pub sides: Vec<SideFit>,
     /// The corner blocks' disagreements.
     pub corners: CornerMismatch,
@@ -170,12 +171,16 @@ pub struct FillSeconds {
 pub struct Fill {
     /// The fill, parameters on [0, 1]²; its v = 0, u = 1, v = 1, u = 0
     /// boundaries are the hole's sides 0, 1, 2, 3 (sides 2 and 3
-    /// traversed backwards), and its normal R_u × R_v agrees with side 0's
-    /// neighbour.
+    /// traversed backwards; a side is one edge or several that continue
+    /// each other, see `groups`), and its normal R_u × R_v agrees with side
+    /// 0's neighbour.
     pub surface: BSplineSurface,
     /// The hole as filled (possibly traversed the other way than given, to
-    /// agree with the neighbours' orientation).
+    /// agree with the neighbours' orientation, and starting at a corner).
     pub hole: Hole,
+    /// The hole's edges making each of the fill's four sides (one each
+    /// unless edges continue each other).
+    pub groups: Vec<Range<usize>>,
     /// How good it is.
     pub report: FillReport,
 }
@@ -193,10 +198,14 @@ pub enum HoleFill {
 }
 
 impl HoleFill {
-    /// Fills `hole`: [`fill_hole`] for four sides, [`fill_fan`] for three,
-    /// five or more.
+    /// Fills `hole`: [`fill_hole`] for four sides (each one edge or several
+    /// that continue each other), [`fill_fan`] otherwise.
     pub fn new(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -> Result<Self> {
-        if hole.sides.len() == 4 {
+        let four = match grouped(faces, hole) {
+            Ok((_, groups)) => groups.len() == 4,
+            Err(_) => false,
+        };
+        if four {
             fill_hole(faces, hole, options).map(Self::Patch)
         } else {
             fill_fan(faces, hole, options).map(Self::Fan)
@@ -266,17 +275,71 @@ fn side_face<'a>(faces: &'a [BSplineSurface], hole: &Hole, k: usize) -> Result<&
     })
 }
 
+/// The hole's edges grouped into sides: a new side starts where the
+/// boundary turns (tangent directions further apart than [`CONTINUES`]),
+/// the hole rotated so that its first edge starts one. Errors: a smooth
+/// loop without corners.
+fn grouped(faces: &[BSplineSurface], hole: &Hole) -> Result<(Hole, Vec<Range<usize>>)> {
+    let n = hole.sides.len();
+    let strips: Vec<Strip> = (0..n)
+        .map(|k| {
+            let s = hole.sides[k];
+            Strip::from_side(side_face(faces, hole, k)?, s.edge, s.reversed)
+        })
+        .collect::<Result<_>>()?;
+    let corner: Vec<bool> = (0..n)
+        .map(|k| {
+            let (end, start) = (strips[(k + n - 1) % n].at(1.0), strips[k].at(0.0));
+            let turn = crate::vec3::angle(end.dpos, start.dpos);
+            turn.is_nan() || turn > CONTINUES
+        })
+        .collect();
+    let Some(first) = corner.iter().position(|&c| c) else {
+        return Err(Error::Fill {
+            why: "the hole's boundary turns nowhere: a smooth closed loop has no sides to fill \
+                  between"
+                .into(),
+        });
+    };
+    let mut hole = hole.clone();
+    hole.sides.rotate_left(first);
+    let starts: Vec<usize> = (0..n).filter(|&k| corner[(k + first) % n]).collect();
+    let groups = starts
+        .iter()
+        .enumerate()
+        .map(|(g, &a)| a..starts.get(g + 1).copied().unwrap_or(n))
+        .collect();
+    Ok((hole, groups))
+}
+
 /// The four sides' boundary data in the fill's frame: the u-sides (0, 2)
 /// and v-sides (3, 1) as strips along increasing u resp. v, D pointing
-/// into the hole (not yet scaled by α).
-fn frame(faces: &[BSplineSurface], hole: &Hole) -> Result<[Strip; 4]> {
-    let strip = |k: usize| -> Result<Strip> {
-        let s = hole.sides[k];
-        let st = Strip::from_side(side_face(faces, hole, k)?, s.edge, s.reversed)?;
+/// into the hole (not yet scaled by α); and each side's breakpoints
+/// between its edges, along the hole's traversal.
+fn frame(
+    faces: &[BSplineSurface],
+    hole: &Hole,
+    groups: &[Range<usize>],
+) -> Result<([Strip; 4], [Vec<f64>; 4])> {
+    let strip = |k: usize| -> Result<(Strip, Vec<f64>)> {
+        let pieces: Vec<Strip> = groups[k]
+            .clone()
+            .map(|e| {
+                let s = hole.sides[e];
+                Strip::from_side(side_face(faces, hole, e)?, s.edge, s.reversed)
+            })
+            .collect::<Result<_>>()?;
+        let (st, breaks) = concat(&pieces).map_err(|e| match e {
+            Error::Fill { why } => Error::Fill {
+                why: format!("side {k}: {why}"),
+            },
+            e => e,
+        })?;
         // Sides 2 and 3 run against the fill's u resp. v.
-        Ok(if k >= 2 { st.reversed() } else { st })
+        Ok((if k >= 2 { st.reversed() } else { st }, breaks))
     };
-    Ok([strip(0)?, strip(1)?, strip(2)?, strip(3)?])
+    let [a, b, c, d] = [strip(0)?, strip(1)?, strip(2)?, strip(3)?];
+    Ok(([a.0, b.0, c.0, d.0], [a.1, b.1, c.1, d.1]))
 }
 
 /// α for side k from its two corners: the least-squares c with
@@ -501,22 +564,23 @@ fn fair(s: &[Strip; 4], across: [bool; 4], options: &FillOptions, t0: Instant) -
 /// whose knots cannot be merged; and the solve's own refusals.
 pub fn fill_hole(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -> Result<Fill> {
     let t0 = Instant::now();
-    if hole.sides.len() != 4 {
+    let (mut hole, mut groups) = grouped(faces, hole)?;
+    if groups.len() != 4 {
         return Err(Error::Fill {
             why: format!(
-                "the hole has {} sides; one patch fills a 4-sided hole (a fan of triangular \
-                 patches fills others: fill_fan)",
+                "the hole has {} sides ({} edges); one patch fills a 4-sided hole (a fan of \
+                 triangular patches fills others: fill_fan)",
+                groups.len(),
                 hole.sides.len()
             ),
         });
     }
     // Orientation: the fill's normal R_u × R_v at side 0 agrees with the
     // neighbour's; else traverse the loop the other way.
-    let mut hole = hole.clone();
-    let mut s = frame(faces, &hole)?;
+    let (mut s, mut breaks) = frame(faces, &hole, &groups)?;
     if !faces_like_side_0(faces, &hole, &s[0]) {
-        hole = hole.reversed();
-        s = frame(faces, &hole)?;
+        (hole, groups) = grouped(faces, &hole.reversed())?;
+        (s, breaks) = frame(faces, &hole, &groups)?;
     }
     let alpha = alphas(&s)?;
     let s: [Strip; 4] = std::array::from_fn(|k| s[k].scaled(alpha[k]));
@@ -524,13 +588,25 @@ pub fn fill_hole(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -
     let faired = fair(&s, [true; 4], options, t0)?;
     let t2 = Instant::now();
     let surface = faired.surface;
-    let sides: Vec<SideFit> = (0..4)
-        .map(|k| side_fit(&surface, k, &faces[hole.sides[k].face], hole.sides[k]))
-        .collect();
+    let mut sides: Vec<SideFit> = Vec::with_capacity(hole.sides.len());
+    for (k, g) in groups.iter().enumerate() {
+        for (j, e) in g.clone().enumerate() {
+            let side = hole.sides[e];
+            let span = [breaks[k][j], breaks[k][j + 1]];
+            sides.push(measure::piece_fit(
+                &surface,
+                k,
+                span,
+                &faces[side.face],
+                side,
+            ));
+        }
+    }
     let measure = t2.elapsed().as_secs_f64();
     Ok(Fill {
         surface,
         hole,
+        groups,
         report: FillReport {
             solve: faired.solve,
             sides,

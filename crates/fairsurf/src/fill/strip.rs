@@ -7,7 +7,7 @@
 
 use crate::analysis::Edge;
 use crate::bspline::{BSplineSurface, KnotVector};
-use crate::vec3::{add, scale, sub};
+use crate::vec3::{add, norm, scale, sub};
 use crate::{Error, Result, Vec3};
 
 /// Knots closer than this (on [0, 1]) are one knot when two sides meet.
@@ -193,6 +193,206 @@ impl Strip {
         }
         out
     }
+}
+
+/// Tangent directions closer than this (radians) continue each other: two
+/// hole edges meeting so are one side of the fill, and their neighbours'
+/// cross derivatives must agree in direction as closely.
+pub(crate) const CONTINUES: f64 = 1e-6;
+
+/// Consecutive edges of one side of a hole as one strip on [0, 1]: each
+/// piece on [t_j, t_{j+1}] with lengths making P′ continuous at the
+/// junctions (L_{j+1}/L_j = |P′_{j+1}(0)|/|P′_j(1)|: pieces of one C¹
+/// surface get their original parameter back), each D scaled to meet the
+/// previous one (the neighbours must agree on the cross direction there),
+/// joined with a knot of multiplicity p (C⁰, exact). Returns the strip and
+/// the breakpoints t_0 = 0 … t_m = 1.
+pub(crate) fn concat(pieces: &[Strip]) -> Result<(Strip, Vec<f64>)> {
+    if pieces.len() == 1 {
+        return Ok((pieces[0].clone(), vec![0.0, 1.0]));
+    }
+    let p = pieces.iter().map(Strip::degree).max().unwrap_or(1);
+    let pieces: Vec<Strip> = pieces
+        .iter()
+        .map(|s| s.elevated_to(p))
+        .collect::<Result<_>>()?;
+    let mut lengths = vec![1.0];
+    let mut scales = vec![1.0];
+    for j in 1..pieces.len() {
+        let (end, start) = (pieces[j - 1].at(1.0), pieces[j].at(0.0));
+        let (de, ds) = (norm(end.der), norm(start.der));
+        let turn = crate::vec3::angle(end.der, start.der);
+        if !(turn <= CONTINUES && de > 0.0 && ds > 0.0) {
+            return Err(Error::Fill {
+                why: format!(
+                    "where edges {} and {j} of a side meet, their faces' cross-boundary \
+                     derivatives differ in direction by {:.2e}°: a side made of such edges is not \
+                     filled yet",
+                    j - 1,
+                    turn.to_degrees()
+                ),
+            });
+        }
+        lengths.push(lengths[j - 1] * norm(start.dpos) / norm(end.dpos));
+        scales.push(scales[j - 1] * de / ds);
+    }
+    let total: f64 = lengths.iter().sum();
+    let mut breaks = vec![0.0];
+    for l in &lengths {
+        let last = *breaks.last().expect("a break");
+        breaks.push(last + l / total);
+    }
+    *breaks.last_mut().expect("a break") = 1.0;
+    let mut knots = vec![0.0; p + 1];
+    let (mut pos, mut der): (Vec<Vec3>, Vec<Vec3>) = (Vec::new(), Vec::new());
+    for (j, piece) in pieces.iter().enumerate() {
+        let (a, b) = (breaks[j], breaks[j + 1]);
+        let k = piece.knots.knots();
+        knots.extend(k[p + 1..k.len() - p - 1].iter().map(|&t| a + (b - a) * t));
+        knots.extend(std::iter::repeat_n(
+            b,
+            if j + 1 == pieces.len() { p + 1 } else { p },
+        ));
+        let d: Vec<Vec3> = piece.der.iter().map(|&x| scale(x, scales[j])).collect();
+        if j == 0 {
+            pos.extend(&piece.pos);
+            der.extend(&d);
+        } else {
+            // The junction's point once: the two pieces' agree (their
+            // mean, to rounding).
+            let (lp, ld) = (pos.len() - 1, der.len() - 1);
+            pos[lp] = scale(add(pos[lp], piece.pos[0]), 0.5);
+            der[ld] = scale(add(der[ld], d[0]), 0.5);
+            pos.extend(&piece.pos[1..]);
+            der.extend(&d[1..]);
+        }
+    }
+    let mut strip = Strip {
+        knots: KnotVector::new(p, knots)?,
+        pos,
+        der,
+    };
+    // Each junction's knot as rarely as the curves allow: pieces of one
+    // C^(p−1) surface join with a simple knot, so the fill stays smooth
+    // across the line from the junction.
+    for &b in &breaks[1..breaks.len() - 1] {
+        strip = strip.with_fewer(b);
+    }
+    Ok((strip, breaks))
+}
+
+impl Strip {
+    /// The same curves with the knot `b` of the fewest multiplicity (≥ 1)
+    /// that still holds them: interpolation at the Greville abscissae of
+    /// the smaller knot vector, kept when it reproduces both curves to
+    /// 1e-12 of their size at 8 points per span (exact up to rounding when
+    /// the curves are that smooth there).
+    fn with_fewer(&self, b: f64) -> Strip {
+        let p = self.degree();
+        let have = self.knots.multiplicity(b);
+        let size = self
+            .pos
+            .iter()
+            .chain(&self.der)
+            .map(|&x| norm(x))
+            .fold(0.0, f64::max)
+            .max(f64::MIN_POSITIVE);
+        let samples: Vec<f64> = self
+            .knots
+            .spans()
+            .iter()
+            .flat_map(|&(_, a, z)| (0..=8).map(move |i| a + (z - a) * i as f64 / 8.0))
+            .collect();
+        let want: Vec<StripPoint> = samples.iter().map(|&t| self.at(t)).collect();
+        for m in 1..have {
+            let mut knots = self.knots.knots().to_vec();
+            let at = knots.iter().position(|&t| t == b).expect("the knot");
+            knots.drain(at..at + (have - m));
+            let Ok(k) = KnotVector::new(p, knots) else {
+                continue;
+            };
+            let Some(fit) = interpolate(&k, self) else {
+                continue;
+            };
+            let good = samples.iter().zip(&want).all(|(&t, w)| {
+                let x = fit.at(t);
+                norm(sub(x.pos, w.pos)) <= 1e-12 * size && norm(sub(x.der, w.der)) <= 1e-12 * size
+            });
+            if good {
+                return fit;
+            }
+        }
+        self.clone()
+    }
+}
+
+/// The strip on `knots` through `s`'s points at the Greville abscissae of
+/// `knots` (a square, well-conditioned collocation system), or None when
+/// it is singular.
+fn interpolate(knots: &KnotVector, s: &Strip) -> Option<Strip> {
+    let p = knots.degree();
+    let n = knots.count();
+    let t: Vec<f64> = (0..n)
+        .map(|i| knots.knots()[i + 1..=i + p].iter().sum::<f64>() / p as f64)
+        .collect();
+    let mut a = vec![vec![0.0; n]; n];
+    for (r, &x) in t.iter().enumerate() {
+        let span = knots.span(x);
+        let basis = knots.basis_derivatives(span, x, 0);
+        for i in 0..=p {
+            a[r][span - p + i] = basis[0][i];
+        }
+    }
+    let rhs: Vec<[f64; 6]> = t
+        .iter()
+        .map(|&x| {
+            let q = s.at(x);
+            [q.pos[0], q.pos[1], q.pos[2], q.der[0], q.der[1], q.der[2]]
+        })
+        .collect();
+    let x = solve_dense(a, rhs)?;
+    let (pos, der) = x
+        .iter()
+        .map(|c| ([c[0], c[1], c[2]], [c[3], c[4], c[5]]))
+        .unzip();
+    Some(Strip {
+        knots: knots.clone(),
+        pos,
+        der,
+    })
+}
+
+/// Gaussian elimination with partial pivoting on n × n, six right-hand
+/// sides; None for a (numerically) singular matrix.
+fn solve_dense(mut a: Vec<Vec<f64>>, mut b: Vec<[f64; 6]>) -> Option<Vec<[f64; 6]>> {
+    let n = a.len();
+    for c in 0..n {
+        let piv = (c..n).max_by(|&x, &y| a[x][c].abs().total_cmp(&a[y][c].abs()))?;
+        if a[piv][c].abs() < 1e-14 {
+            return None;
+        }
+        a.swap(c, piv);
+        b.swap(c, piv);
+        for r in c + 1..n {
+            let f = a[r][c] / a[c][c];
+            if f != 0.0 {
+                for k in c..n {
+                    a[r][k] -= f * a[c][k];
+                }
+                for k in 0..6 {
+                    b[r][k] -= f * b[c][k];
+                }
+            }
+        }
+    }
+    let mut x = vec![[0.0; 6]; n];
+    for c in (0..n).rev() {
+        for k in 0..6 {
+            let s: f64 = (c + 1..n).map(|j| a[c][j] * x[j][k]).sum();
+            x[c][k] = (b[c][k] - s) / a[c][c];
+        }
+    }
+    Some(x)
 }
 
 /// Two opposite sides on one degree (at least `min_degree`) and one knot

@@ -69,6 +69,27 @@ fn centre_hole(faces: &[BSplineSurface]) -> Hole {
     holes[1].clone()
 }
 
+/// The two outer rings of `a` and of `b` are the same points (in any
+/// order: the fill's orientation may differ), each within `tol`.
+fn same_rings(a: &BSplineSurface, b: &BSplineSurface, tol: f64) {
+    let rings = |s: &BSplineSurface| -> Vec<Vec3> {
+        let (cu, cv) = s.counts();
+        (0..cu * cv)
+            .filter(|&k| {
+                let (i, j) = (k / cv, k % cv);
+                i < 2 || j < 2 || i + 2 >= cu || j + 2 >= cv
+            })
+            .map(|k| s.points()[k])
+            .collect()
+    };
+    let (got, want) = (rings(a), rings(b));
+    assert_eq!(got.len(), want.len());
+    for p in &got {
+        let near = want.iter().map(|q| dist(*p, *q)).fold(f64::MAX, f64::min);
+        assert!(near < tol, "{p:?}: {near}");
+    }
+}
+
 fn exact_options() -> FillOptions {
     FillOptions {
         elevate: 0,
@@ -102,21 +123,7 @@ fn a_c1_quintic_network_is_filled_exactly() {
     }
     // The rings as control points: the fill's two outer rings, mapped
     // through the fill's orientation, are the centre's.
-    let rings = |s: &BSplineSurface| {
-        let (cu, cv) = s.counts();
-        let mut pts: Vec<Vec3> = (0..cu * cv)
-            .filter(|&k| {
-                let (i, j) = (k / cv, k % cv);
-                i < 2 || j < 2 || i + 2 >= cu || j + 2 >= cv
-            })
-            .map(|k| s.points()[k])
-            .collect();
-        pts.sort_by(|a, b| a.partial_cmp(b).unwrap());
-        pts
-    };
-    for (a, b) in rings(&fill.surface).iter().zip(rings(&centre)) {
-        assert!(dist(*a, b) < 1e-13, "{a:?} {b:?}");
-    }
+    same_rings(&fill.surface, &centre, 1e-13);
     assert!(fill.report.solve.energy_error < 1e-10);
     assert!(
         fill.report.curvature.value > 0.0
@@ -172,18 +179,21 @@ fn orientation_follows_the_neighbours() {
 
 #[test]
 fn a_hole_with_other_than_four_sides_is_refused() {
-    let (faces, _) = quintic_network();
-    let rim = find_holes(&faces).unwrap().remove(0);
-    let e = fill_hole(&faces, &rim, &FillOptions::default()).unwrap_err();
+    let (faces, hole) = polygon_hole(5, 3, cubic);
+    let e = fill_hole(&faces, &hole, &FillOptions::default()).unwrap_err();
     assert!(
-        e.to_string().contains("the hole has 12 sides; one patch"),
+        e.to_string()
+            .contains("the hole has 5 sides (5 edges); one patch"),
         "{e}"
     );
-    // A fan takes N sides, but not sides that continue each other (the
-    // rim's sides are three face edges each).
-    let e = HoleFill::new(&faces, &rim, &FillOptions::default()).unwrap_err();
+    // The rim of an open sheet: 12 edges, 4 corners, but the faces lie
+    // outside it, their cross derivatives pointing away at the corners.
+    let (faces, _) = quintic_network();
+    let rim = find_holes(&faces).unwrap().remove(0);
+    assert_eq!(rim.sides.len(), 12);
+    let e = fill_hole(&faces, &rim, &FillOptions::default()).unwrap_err();
     assert!(
-        e.to_string().contains("continue each other at corner"),
+        e.to_string().contains("does not point into the hole"),
         "{e}"
     );
     let mut bad = centre_hole(&faces);
@@ -499,4 +509,106 @@ fn a_fan_refuses_multi_span_sides() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("is a B-spline of 2 spans"), "{e}");
+}
+
+/// The wavy bi-quintic of [`quintic_network`] cut 4 × 4, the centre 2 × 2
+/// faces left out: a 4-sided hole whose every side is two edges, and the
+/// missing region (one Bézier patch).
+fn two_by_two_hole() -> (Vec<BSplineSurface>, BSplineSurface) {
+    let whole = TensorPatch::from_fn(5, 5, |i, j| {
+        let (x, y) = (3.0 * i as f64 / 5.0, 3.0 * j as f64 / 5.0);
+        [
+            x + 0.1 * y,
+            y,
+            0.3 * (1.3 * x).sin() * (0.9 * y).cos() + 0.05 * x * y,
+        ]
+    });
+    let s = BSplineSurface::from_bezier(&whole);
+    // Cut at absolute parameters (split keeps the domain), unevenly.
+    let cuts = [0.2, 0.45, 0.7];
+    let strips =
+        |s: BSplineSurface,
+         split: &dyn Fn(&BSplineSurface, f64) -> (BSplineSurface, BSplineSurface)| {
+            let mut out = Vec::new();
+            let mut rest = s;
+            for &c in &cuts {
+                let (a, b) = split(&rest, c);
+                out.push(a);
+                rest = b;
+            }
+            out.push(rest);
+            out
+        };
+    let columns = strips(s.clone(), &|x, c| x.split_u(c).unwrap());
+    let pieces: Vec<Vec<BSplineSurface>> = columns
+        .into_iter()
+        .map(|col| strips(col, &|x, c| x.split_v(c).unwrap()))
+        .collect();
+    let (_, centre) = s.split_u(0.2).unwrap();
+    let (centre, _) = centre.split_u(0.7).unwrap();
+    let (_, centre) = centre.split_v(0.2).unwrap();
+    let (centre, _) = centre.split_v(0.7).unwrap();
+    let faces = pieces
+        .into_iter()
+        .enumerate()
+        .flat_map(|(i, row)| {
+            row.into_iter()
+                .enumerate()
+                .filter(move |&(j, _)| !((1..3).contains(&i) && (1..3).contains(&j)))
+                .map(|(_, f)| f)
+        })
+        .collect();
+    (faces, centre)
+}
+
+/// A hole whose sides are two edges each is one 4-sided patch: the edges
+/// of a side joined exactly (their junction knot reduced to a simple knot:
+/// the pieces of one polynomial), G¹ to all eight neighbour edges to
+/// rounding, and the rings are the missing region's.
+#[test]
+fn a_hole_of_two_edges_a_side_is_filled_by_one_patch() {
+    let (faces, centre) = two_by_two_hole();
+    let holes = find_holes(&faces).unwrap();
+    let hole = holes.iter().find(|h| h.sides.len() == 8).unwrap();
+    let fill = fill_hole(&faces, hole, &exact_options()).unwrap();
+    assert_eq!(fill.groups.len(), 4);
+    assert!(
+        fill.groups.iter().all(|g| g.len() == 2),
+        "{:?}",
+        fill.groups
+    );
+    assert_eq!(fill.report.sides.len(), 8);
+    for f in &fill.report.sides {
+        assert!(f.gap < 1e-12 && f.angle.to_degrees() < 1e-9, "{f:?}");
+    }
+    let c = fill.report.corners;
+    assert!(
+        c.position < 1e-14 && c.tangent < 1e-12 && c.twist < 1e-12,
+        "{c:?}"
+    );
+    // One simple interior knot each way (the junctions), so the fill is
+    // C⁴ across them.
+    let (ku, kv) = fill.surface.knots();
+    for k in [ku, kv] {
+        let interior: Vec<f64> = k.knots()[6..k.knots().len() - 6].to_vec();
+        assert_eq!(interior.len(), 1, "{:?}", k.knots());
+    }
+    // The rings are the centre's, written on the fill's knots: the
+    // junction at 0.45 of [0.2, 0.7], i.e. 0.5.
+    let (ku, kv) = (ku.knots()[6], kv.knots()[6]);
+    assert!(
+        (ku - 0.5).abs() < 1e-14 && (kv - 0.5).abs() < 1e-14,
+        "{ku} {kv}"
+    );
+    let want = centre
+        .insert_knot_u(0.45)
+        .unwrap()
+        .insert_knot_v(0.45)
+        .unwrap();
+    same_rings(&fill.surface, &want, 1e-12);
+    // And the default fill too is G¹ to every edge.
+    let fill = HoleFill::new(&faces, hole, &FillOptions::default()).unwrap();
+    for f in fill.sides() {
+        assert!(f.gap < 1e-12 && f.angle.to_degrees() < 1e-9, "{f:?}");
+    }
 }
