@@ -309,10 +309,18 @@ impl Data {
         let tol = self.tol;
         let last = pts.len() - 1;
         let (a, b) = kv.domain();
-        // Vertices written before that lie inside the side.
+        // Vertices written before that lie inside the side: within the
+        // control polygon's box (the curve lies in it), off its ends.
+        let (lo, hi) = pts.iter().fold(([f64::MAX; 3], [f64::MIN; 3]), |(lo, hi), p| {
+            (
+                std::array::from_fn(|c| lo[c].min(p[c] - tol)),
+                std::array::from_fn(|c| hi[c].max(p[c] + tol)),
+            )
+        });
         let mut inside: Vec<(f64, usize)> = self
             .vertex_points
             .iter()
+            .filter(|(q, _)| (0..3).all(|c| q[c] >= lo[c] && q[c] <= hi[c]))
             .filter(|(q, _)| dist(*q, pts[0]) > tol && dist(*q, pts[last]) > tol)
             .filter_map(|&(q, v)| {
                 let t = project(&kv, pts, q)?;
