@@ -160,11 +160,10 @@ def faces_of(shape):
     return out
 
 
-def hole_edges(shape):
-    """(edge, its face) for the free edges of the hole: the free edges that
-    are not on the rim (the rim is the longer loop; the hole's 4 edges are
-    the free edges with both ends at vertices of exactly 2 free edges ...
-    found here as the free edges of the centre: nearest to the centroid)."""
+def hole_edges(shape, count=4):
+    """(edge, its face) for the `count` free edges of the hole: the free
+    edges not on the rim, found as those nearest to the centroid of all
+    free edges' midpoints (the rim lies further out)."""
     m = EdgeFaces()
     TopExp.MapShapesAndAncestors_s(shape, TopAbs_EDGE, TopAbs_FACE, m)
     free = []
@@ -176,7 +175,7 @@ def hole_edges(shape):
             free.append((e, TopoDS.Face(m.FindFromIndex(i).First()), mid))
     centre = np.mean([[p.X(), p.Y(), p.Z()] for _, _, p in free], axis=0)
     free.sort(key=lambda t: np.linalg.norm(np.array([t[2].X(), t[2].Y(), t[2].Z()]) - centre))
-    return [(e, f) for e, f, _ in free[:4]]
+    return [(e, f) for e, f, _ in free[:count]]
 
 
 def seam(fill_face, edges, samples=65):

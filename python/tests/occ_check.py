@@ -153,3 +153,33 @@ def bspline_surface(net, uk, um, vk, vm, p: int, q: int):
             poles.SetValue(i + 1, j + 1, gp_Pnt(*pt))
     return Geom_BSplineSurface(poles, array(uk, Array1_double), array(vk, Array1_double),
                                array(um, Array1_int), array(vm, Array1_int), p, q)
+
+
+def polygon_network(n: int):
+    """A regular n-gon hole (circumradius 1) in the graph of a cubic, ringed
+    by n bicubic Bezier faces (each the graph over the quad between a hole
+    side and the polygon of radius 2), as Open CASCADE faces."""
+    import numpy as np
+    from math import comb
+
+    def f(x, y):
+        return 0.3 * x * x - 0.2 * x * y + 0.15 * y * y + 0.1 * x + 0.06 * x**3 - 0.05 * x * y * y
+
+    def corner(k, r):
+        a = 2 * math.pi * k / n + 0.3
+        return np.array([r * math.cos(a), r * math.sin(a)])
+
+    t = np.linspace(0.0, 1.0, 4)
+    b = np.array([[comb(3, i) * x**i * (1 - x) ** (3 - i) for i in range(4)] for x in t])
+    inv = np.linalg.inv(b)
+    faces = []
+    for k in range(n):
+        c0, c1, o0, o1 = corner(k, 1), corner(k + 1, 1), corner(k, 2), corner(k + 1, 2)
+        vals = np.zeros((4, 4, 3))
+        for i, s in enumerate(t):
+            for j, w in enumerate(t):
+                xy = (1 - w) * ((1 - s) * c0 + s * c1) + w * ((1 - s) * o0 + s * o1)
+                vals[i, j] = [xy[0], xy[1], f(*xy)]
+        net = np.einsum("ia,jb,abc->ijc", inv, inv, vals)
+        faces.append(bezier_face(net.tolist()))
+    return faces

@@ -11,6 +11,7 @@ from pathlib import Path
 
 from occ_check import (
     bezier_face,
+    polygon_network,
     bspline_surface,
     count,
     free_edges_after_sewing,
@@ -159,36 +160,6 @@ def test_an_open_cascade_shape_is_filled_and_sewn():
     assert filled.report["fills"][0]["max_angle_deg"] < 1e-9
 
 
-def polygon_faces(n: int):
-    """A regular n-gon hole (circumradius 1) in the graph of a cubic, ringed
-    by n bicubic Bezier faces (each the graph over the quad between a hole
-    side and the polygon of radius 2), as Open CASCADE faces."""
-    import numpy as np
-    from math import comb
-
-    def f(x, y):
-        return 0.3 * x * x - 0.2 * x * y + 0.15 * y * y + 0.1 * x + 0.06 * x**3 - 0.05 * x * y * y
-
-    def corner(k, r):
-        a = 2 * math.pi * k / n + 0.3
-        return np.array([r * math.cos(a), r * math.sin(a)])
-
-    t = np.linspace(0.0, 1.0, 4)
-    b = np.array([[comb(3, i) * x**i * (1 - x) ** (3 - i) for i in range(4)] for x in t])
-    inv = np.linalg.inv(b)
-    faces = []
-    for k in range(n):
-        c0, c1, o0, o1 = corner(k, 1), corner(k + 1, 1), corner(k, 2), corner(k + 1, 2)
-        vals = np.zeros((4, 4, 3))
-        for i, s in enumerate(t):
-            for j, w in enumerate(t):
-                xy = (1 - w) * ((1 - s) * c0 + s * c1) + w * ((1 - s) * o0 + s * o1)
-                vals[i, j] = [xy[0], xy[1], f(*xy)]
-        net = np.einsum("ia,jb,abc->ijc", inv, inv, vals)
-        faces.append(bezier_face(net.tolist()))
-    return faces
-
-
 def check_fan(cli: Path, step_in: Path, tmp_path: Path, n: int) -> dict:
     """fairsurf fill on an n-gon hole; Open CASCADE reads the n faces and
     the fan of n patches, sews them (only the outer rim stays free) and
@@ -221,7 +192,7 @@ def test_polygonal_holes_are_filled_by_sewn_g1_fans(cli: Path, tmp_path: Path):
     check_fan(cli, EXAMPLES / "fill_pentagon.json", tmp_path, 5)
     for n in (3, 6):
         step_in = tmp_path / f"polygon{n}.step"
-        sewn_step(polygon_faces(n), step_in)
+        sewn_step(polygon_network(n), step_in)
         fill = check_fan(cli, step_in, tmp_path, n)
         assert fill["solve"]["conditions_dropped"] == []
 
