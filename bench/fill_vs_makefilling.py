@@ -191,9 +191,11 @@ def seam(fill_face, edges, samples=65):
             p = c.Value(a + (b - a) * k / (samples - 1))
             n1, q1 = normal_at(fs, *foot(fs, p))
             n2, _ = normal_at(ns, *foot(ns, p))
+            gap = max(gap, q1.Distance(p))
+            if n1 is None or n2 is None:
+                continue  # a collapsed side's point: no normal there
             angle = max(angle, math.degrees(math.atan2(n1.Crossed(n2).Magnitude(),
                                                        abs(n1.Dot(n2)))))
-            gap = max(gap, q1.Distance(p))
     return angle, gap
 
 

@@ -6,7 +6,8 @@ by n bicubic Bezier faces built by Open CASCADE (python/tests/occ_check.py,
 polygon_network), sewn and written as STEP. MakeFilling (its defaults) gets
 the n hole edges with G1 constraints to their faces, in this process;
 `fairsurf fill` reads the STEP file in its own process and fills the hole
-with a fan of n triangular patches (written as collapsed tensor patches).
+with a fan of n triangular patches, or a 3-sided one with a single
+triangular patch when that is fairer (written as collapsed tensor patches).
 Both are measured by Open CASCADE: the largest normal angle and gap across
 the hole's edges (65 points per edge, Newton-refined foot points, as in
 bench/fill_vs_makefilling.py), and W = integral of k1^2 + k2^2 dA — over
@@ -168,7 +169,8 @@ def run(args):
                 ptimes.append(time.perf_counter() - t)
                 report = json.loads(run.stdout)["fills"][0]
                 ltimes.append(report["seconds"]["total"])
-            fan = fb.faces_of(fb.read_step(out))[-n:]
+            fan = fb.faces_of(fb.read_step(out))[n:]
+            assert len(fan) == report["patches"]
             fs_angle = fs_gap = fs_w = 0.0
             for e, nb in edges:
                 a, g = fb.seam(nearest_face(fan, e), [(e, nb)])

@@ -39,8 +39,13 @@ def count(shape, kind) -> int:
 
 def foot(surface, p: gp_Pnt) -> tuple[float, float]:
     """(u, v) of the point of `surface` nearest to p: Open CASCADE's
-    projection, then Newton steps to rounding."""
+    projection, then Newton steps to rounding, kept in the parameter
+    rectangle (at a collapsed side the Jacobian is singular and a free step
+    would leave it); a step that does not bring the point closer ends
+    them."""
+    u0, u1, v0, v1 = surface.Bounds()
     u, v = GeomAPI_ProjectPointOnSurf(p, surface).LowerDistanceParameters()
+    best = surface.Value(u, v).Distance(p)
     for _ in range(4):
         q, su, sv, suu, svv, suv = gp_Pnt(), gp_Vec(), gp_Vec(), gp_Vec(), gp_Vec(), gp_Vec()
         surface.D2(u, v, q, su, sv, suu, svv, suv)
@@ -48,7 +53,14 @@ def foot(surface, p: gp_Pnt) -> tuple[float, float]:
         f1, f2 = d.Dot(su), d.Dot(sv)
         a11, a12, a22 = su.Dot(su) + d.Dot(suu), su.Dot(sv) + d.Dot(suv), sv.Dot(sv) + d.Dot(svv)
         det = a11 * a22 - a12 * a12
-        u, v = u - (a22 * f1 - a12 * f2) / det, v - (a11 * f2 - a12 * f1) / det
+        if det == 0.0:
+            break
+        nu = min(max(u - (a22 * f1 - a12 * f2) / det, u0), u1)
+        nv = min(max(v - (a11 * f2 - a12 * f1) / det, v0), v1)
+        dist = surface.Value(nu, nv).Distance(p)
+        if dist > best:
+            break
+        u, v, best = nu, nv, dist
     return u, v
 
 

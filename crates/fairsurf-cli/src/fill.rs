@@ -165,21 +165,30 @@ fn summary(
             }
             HoleFill::Fan(f) => {
                 let r = &f.report;
-                lines.push(format!(
-                    "  hole {h}: {} triangular patches of degree {} around a centre; {fit}; between \
-                     the patches {:.1e}°, {} of {} G1 conditions dropped; {:.1} ms",
-                    f.surface.patch_count(),
-                    f.surface.degree(),
-                    r.inner_angle.to_degrees(),
-                    r.solve.dropped.len(),
-                    r.solve.rows,
-                    1e3 * (r.seconds.setup + r.seconds.solve + r.seconds.measure)
-                ));
+                let ms =
+                    1e3 * (r.seconds.setup + r.seconds.solve + r.seconds.measure + r.other_seconds);
+                let (n, degree) = (f.surface.patch_count(), f.surface.degree());
+                lines.push(if n == 1 {
+                    format!(
+                        "  hole {h}: one triangular patch of degree {degree} (fairer than a fan); \
+                         {fit}; {ms:.1} ms"
+                    )
+                } else {
+                    format!(
+                        "  hole {h}: {n} triangular patches of degree {degree} around a centre; \
+                         {fit}; between the patches {:.1e}°, {} of {} G1 conditions dropped; \
+                         {ms:.1} ms",
+                        r.inner_angle.to_degrees(),
+                        r.solve.dropped.len(),
+                        r.solve.rows,
+                    )
+                });
                 let c = &r.corners;
-                if c.position > 0.0 || c.tangent > 1e-12 {
+                if c.position > 0.0 || c.tangent > 1e-12 || c.twist > 1e-12 {
                     lines.push(format!(
-                        "    corners: sides disagree by {:.1e} in position, {:.1e} in tangent",
-                        c.position, c.tangent
+                        "    corners: sides disagree by {:.1e} in position, {:.1e} in tangent, \
+                         {:.1e} in twist",
+                        c.position, c.tangent, c.twist
                     ));
                 }
             }

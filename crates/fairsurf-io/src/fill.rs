@@ -463,7 +463,8 @@ pub fn fill_json(hole: usize, fill: &HoleFill) -> Value {
     }
 }
 
-/// A fan's report: as a patch's, with the fan's own G¹ (the largest
+/// A fan's report (one triangular patch for a 3-sided hole when that is
+/// fairer: `"patches": 1`): as a patch's, with the fan's own G¹ (the largest
 /// normal angle between its patches, the conditions kept and dropped) and
 /// the triangular solve's check.
 fn fan_fill_json(hole: usize, fan: &FanFill) -> Value {
@@ -483,6 +484,7 @@ fn fan_fill_json(hole: usize, fan: &FanFill) -> Value {
         "corners": {
             "position": r.corners.position,
             "tangent": r.corners.tangent,
+            "twist": r.corners.twist,
         },
         "curvature_w": r.curvature.value,
         "curvature_w_error": r.curvature.error,
@@ -507,7 +509,8 @@ fn fan_fill_json(hole: usize, fan: &FanFill) -> Value {
             "setup": r.seconds.setup,
             "solve": r.seconds.solve,
             "measure": r.seconds.measure,
-            "total": r.seconds.setup + r.seconds.solve + r.seconds.measure,
+            "other_candidate": r.other_seconds,
+            "total": r.seconds.setup + r.seconds.solve + r.seconds.measure + r.other_seconds,
         },
     })
 }

@@ -311,12 +311,14 @@ impl Data {
         let (a, b) = kv.domain();
         // Vertices written before that lie inside the side: within the
         // control polygon's box (the curve lies in it), off its ends.
-        let (lo, hi) = pts.iter().fold(([f64::MAX; 3], [f64::MIN; 3]), |(lo, hi), p| {
-            (
-                std::array::from_fn(|c| lo[c].min(p[c] - tol)),
-                std::array::from_fn(|c| hi[c].max(p[c] + tol)),
-            )
-        });
+        let (lo, hi) = pts
+            .iter()
+            .fold(([f64::MAX; 3], [f64::MIN; 3]), |(lo, hi), p| {
+                (
+                    std::array::from_fn(|c| lo[c].min(p[c] - tol)),
+                    std::array::from_fn(|c| hi[c].max(p[c] + tol)),
+                )
+            });
         let mut inside: Vec<(f64, usize)> = self
             .vertex_points
             .iter()

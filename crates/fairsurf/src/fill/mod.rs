@@ -40,8 +40,9 @@
 //! A hole of 3, 5 or more sides, each one Bézier piece of a neighbour, is
 //! filled by a fan of triangular patches around a free centre
 //! ([`fill_fan`]: G¹ to the neighbours exactly by the same two rows, G¹
-//! between the fan's patches by Veltkamp & Wesselink's conditions);
-//! [`HoleFill::new`] picks by the number of sides.
+//! between the fan's patches by Veltkamp & Wesselink's conditions), a
+//! 3-sided one also by a single triangular patch ([`fill_triangle`]);
+//! [`HoleFill::new`] picks by the number of sides and, for three, by W.
 //!
 //! The same rings and fairing make a transition surface between two
 //! surfaces along one edge of each ([`blend`], Wu & Yang Fig. 5): two sides
@@ -58,7 +59,7 @@ mod tests;
 mod willmore;
 
 pub use blend::{blend, Blend, BlendOptions, BlendReport, Bulge, BulgeSearch};
-pub use fan::{fill_fan, FanFill, FanReport};
+pub use fan::{fill_fan, fill_triangle, FanFill, FanReport};
 pub use holes::{edge_point, find_holes, surface_param, tolerance, Hole, Side};
 pub use measure::{side_fit, total_curvature, SideFit, TotalCurvature, SIDE_SAMPLES};
 
@@ -199,16 +200,38 @@ pub enum HoleFill {
 
 impl HoleFill {
     /// Fills `hole`: [`fill_hole`] for four sides (each one edge or several
-    /// that continue each other), [`fill_fan`] otherwise.
+    /// that continue each other); for three, [`fill_triangle`] or
+    /// [`fill_fan`], whichever gives the lower W; [`fill_fan`] otherwise.
     pub fn new(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -> Result<Self> {
         let four = match grouped(faces, hole) {
             Ok((_, groups)) => groups.len() == 4,
             Err(_) => false,
         };
         if four {
-            fill_hole(faces, hole, options).map(Self::Patch)
-        } else {
-            fill_fan(faces, hole, options).map(Self::Fan)
+            return fill_hole(faces, hole, options).map(Self::Patch);
+        }
+        let fan = fill_fan(faces, hole, options);
+        if hole.sides.len() != 3 {
+            return fan.map(Self::Fan);
+        }
+        // Three sides: one triangle or a fan of three, whichever is
+        // fairer by W (either, when the other cannot be made).
+        let one = fill_triangle(faces, hole, options);
+        let total = |f: &FanFill| {
+            let s = f.report.seconds;
+            s.setup + s.solve + s.measure
+        };
+        match (fan, one) {
+            (Ok(mut f), Ok(t)) if t.report.curvature.value > f.report.curvature.value => {
+                f.report.other_seconds = total(&t);
+                Ok(Self::Fan(f))
+            }
+            (Ok(f), Ok(mut t)) => {
+                t.report.other_seconds = total(&f);
+                Ok(Self::Fan(t))
+            }
+            (Err(_), Ok(t)) => Ok(Self::Fan(t)),
+            (fan, Err(_)) => fan.map(Self::Fan),
         }
     }
 

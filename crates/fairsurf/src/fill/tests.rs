@@ -612,3 +612,48 @@ fn a_hole_of_two_edges_a_side_is_filled_by_one_patch() {
         assert!(f.gap < 1e-12 && f.angle.to_degrees() < 1e-9, "{f:?}");
     }
 }
+
+/// A triangular hole as one triangular patch: G¹ to the three neighbours
+/// to rounding, the rows meeting at the corners (the twist points the two
+/// rows give agree: one smooth graph), a planar hole filled by its plane;
+/// and on the cubic graph far fairer than the fan of three, so the
+/// default fill takes it.
+#[test]
+fn a_triangular_hole_is_one_patch_when_that_is_fairer() {
+    let plane = |x: f64, y: f64| 0.3 * x - 0.2 * y + 0.1;
+    let (faces, hole) = polygon_hole(3, 1, plane);
+    let one = fill_triangle(&faces, &hole, &exact_options()).unwrap();
+    assert_eq!(one.surface.patch_count(), 1);
+    for p in one.surface.points() {
+        assert!((p[2] - plane(p[0], p[1])).abs() < 1e-13, "{p:?}");
+    }
+    let (faces, hole) = polygon_hole(3, 3, cubic);
+    let one = fill_triangle(&faces, &hole, &FillOptions::default()).unwrap();
+    let r = &one.report;
+    for f in &r.sides {
+        assert!(f.gap < 1e-12 && f.angle.to_degrees() < 1e-9, "{f:?}");
+    }
+    let c = r.corners;
+    assert!(
+        c.position < 1e-14 && c.tangent < 1e-11 && c.twist < 1e-11,
+        "{c:?}"
+    );
+    assert!(r.solve.check.as_ref().unwrap().energy_error < 1e-10);
+    let fan = fill_fan(&faces, &hole, &FillOptions::default()).unwrap();
+    let (w1, w3) = (r.curvature.value, fan.report.curvature.value);
+    assert!(w1 < 0.9 * w3, "one patch {w1}, fan {w3}");
+    let chosen = HoleFill::new(&faces, &hole, &FillOptions::default()).unwrap();
+    let HoleFill::Fan(chosen) = chosen else {
+        panic!("a 3-sided hole is triangular patches")
+    };
+    assert_eq!(chosen.surface.patch_count(), 1);
+    assert_eq!(chosen.report.curvature.value, w1);
+    // Not three sides: refused by name.
+    let (faces, hole) = polygon_hole(5, 3, cubic);
+    let e = fill_triangle(&faces, &hole, &FillOptions::default()).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("the hole has 5 sides; one triangular patch"),
+        "{e}"
+    );
+}
