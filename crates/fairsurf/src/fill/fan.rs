@@ -70,8 +70,8 @@ pub struct FanReport {
     pub curvature: TotalCurvature,
     /// Seconds: rows, solve, measurements.
     pub seconds: FillSeconds,
-    /// Seconds spent on the candidate not kept (a 3-sided hole: the fan
-    /// or the single patch), 0 otherwise.
+    /// Seconds spent on the candidates not kept ([`super::HoleFill::new`]
+    /// tries two degrees, and for three sides one triangle too).
     pub other_seconds: f64,
 }
 

@@ -200,8 +200,9 @@ pub enum HoleFill {
 
 impl HoleFill {
     /// Fills `hole`: [`fill_hole`] for four sides (each one edge or several
-    /// that continue each other); for three, [`fill_triangle`] or
-    /// [`fill_fan`], whichever gives the lower W; [`fill_fan`] otherwise.
+    /// that continue each other); otherwise [`fill_fan`] (and for three
+    /// sides [`fill_triangle`]) at the asked degree and at the least,
+    /// keeping the one with the lowest W.
     pub fn new(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -> Result<Self> {
         let four = match grouped(faces, hole) {
             Ok((_, groups)) => groups.len() == 4,
@@ -210,28 +211,52 @@ impl HoleFill {
         if four {
             return fill_hole(faces, hole, options).map(Self::Patch);
         }
-        let fan = fill_fan(faces, hole, options);
-        if hole.sides.len() != 3 {
-            return fan.map(Self::Fan);
+        // Triangular patches: a fan, and for three sides one triangle,
+        // each at the asked degree and at the least (the thin plate in
+        // barycentric parameters is not W: more degree can raise W); the
+        // one with the lowest W is kept, the others' time reported.
+        let mut degrees = vec![options.clone()];
+        if options.elevate > 0 {
+            degrees.push(FillOptions {
+                elevate: 0,
+                ..options.clone()
+            });
         }
-        // Three sides: one triangle or a fan of three, whichever is
-        // fairer by W (either, when the other cannot be made).
-        let one = fill_triangle(faces, hole, options);
+        let mut tried: Vec<Result<FanFill>> = Vec::new();
+        for o in &degrees {
+            tried.push(fill_fan(faces, hole, o));
+            if hole.sides.len() == 3 {
+                tried.push(fill_triangle(faces, hole, o));
+            }
+        }
         let total = |f: &FanFill| {
             let s = f.report.seconds;
             s.setup + s.solve + s.measure
         };
-        match (fan, one) {
-            (Ok(mut f), Ok(t)) if t.report.curvature.value > f.report.curvature.value => {
-                f.report.other_seconds = total(&t);
+        let spent: f64 = tried.iter().flatten().map(total).sum();
+        let mut first_error = None;
+        let mut best: Option<FanFill> = None;
+        for t in tried {
+            match t {
+                Ok(f) => {
+                    if best
+                        .as_ref()
+                        .is_none_or(|b| f.report.curvature.value < b.report.curvature.value)
+                    {
+                        best = Some(f);
+                    }
+                }
+                Err(e) => {
+                    first_error.get_or_insert(e);
+                }
+            }
+        }
+        match best {
+            Some(mut f) => {
+                f.report.other_seconds = spent - total(&f);
                 Ok(Self::Fan(f))
             }
-            (Ok(f), Ok(mut t)) => {
-                t.report.other_seconds = total(&f);
-                Ok(Self::Fan(t))
-            }
-            (Err(_), Ok(t)) => Ok(Self::Fan(t)),
-            (fan, Err(_)) => fan.map(Self::Fan),
+            None => Err(first_error.expect("a candidate")),
         }
     }
 
