@@ -184,7 +184,7 @@ fn summary(
                     )
                 });
                 let c = &r.corners;
-                if c.position > 0.0 || c.tangent > 1e-12 || c.twist > 1e-12 {
+                if c.position > 1e-12 || c.tangent > 1e-10 || c.twist > 1e-10 {
                     lines.push(format!(
                         "    corners: sides disagree by {:.1e} in position, {:.1e} in tangent, \
                          {:.1e} in twist",

@@ -1403,7 +1403,7 @@ fn fill_fills_a_pentagonal_hole_with_a_fan() {
     let o = fairsurf(&["fill", scene.to_str().unwrap(), "-o", out.to_str().unwrap()]);
     let s = String::from_utf8_lossy(&o.stdout);
     assert!(
-        s.contains("5 triangular patches of degree 7 around a centre"),
+        s.contains("5 triangular patches of degree 5 around a centre"),
         "{s}"
     );
 }
