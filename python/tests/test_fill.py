@@ -238,3 +238,14 @@ def test_a_hole_two_faces_wide_is_filled_by_one_sewn_patch(cli: Path, tmp_path: 
     across = [s for s in seams(shape) if 12 in s[0]]
     assert len(across) == 8
     assert max(s[1] for s in across) < 1e-9 and max(s[2] for s in across) < 1e-12
+
+
+def test_the_python_fill_of_a_pentagon_is_a_triangular_surface(tmp_path: Path):
+    import fairsurf
+
+    filled = fairsurf.fill(EXAMPLES / "fill_pentagon.json")
+    (fan,) = filled.fills
+    assert fan.surface_type == "triangular"
+    assert filled.report["fills"][0]["kind"] == "fan"
+    filled.write(tmp_path / "fan.step")
+    assert count(read_step(tmp_path / "fan.step"), TopAbs_FACE) == 10
