@@ -648,7 +648,11 @@ fn a_triangular_hole_is_one_patch_when_that_is_fairer() {
     };
     assert_eq!(chosen.surface.patch_count(), 1);
     // (Also tried at the least degree: no higher W than the default's.)
-    assert!(chosen.report.curvature.value <= w1, "{} {w1}", chosen.report.curvature.value);
+    assert!(
+        chosen.report.curvature.value <= w1,
+        "{} {w1}",
+        chosen.report.curvature.value
+    );
     assert!(chosen.report.other_seconds > 0.0);
     // Not three sides: refused by name.
     let (faces, hole) = polygon_hole(5, 3, cubic);
