@@ -2,7 +2,7 @@
 //! edge of each (a JSON blend scene), written with the surfaces, sewn, as
 //! STEP.
 
-use crate::fill::{write_step_and_picture, EnergyArgs};
+use crate::fill::{EnergyArgs, OutputArgs};
 use crate::input::with_file;
 use crate::Failure;
 use fairsurf::bspline::BSplineSurface;
@@ -23,17 +23,13 @@ pub struct Args {
     json: bool,
     #[command(flatten)]
     energy: EnergyArgs,
+    #[command(flatten)]
+    outputs: OutputArgs,
     /// The tangent lengths across at A's and B's edge, relative to the gap
     /// (overrides the scene's `bulge`): two numbers > 0 and ≤ 10. Default:
     /// the pair with the least W.
     #[arg(long, value_name = "A,B", value_delimiter = ',')]
     bulge: Option<Vec<f64>>,
-    /// Also draw the surfaces and the blend, coloured by |H| (PNG).
-    #[arg(long, value_name = "PNG")]
-    render: Option<PathBuf>,
-    /// Reflection-line stripes in the picture instead of curvature colours.
-    #[arg(long)]
-    zebra: bool,
 }
 
 pub fn run(a: Args) -> Result<(), Failure> {
@@ -54,7 +50,7 @@ pub fn run(a: Args) -> Result<(), Failure> {
     let blend = input.blend().map_err(with_file(&a.input))?;
     let surfaces = input.surfaces(&blend);
     let shown: Vec<&BSplineSurface> = input.faces.iter().chain([&blend.surface]).collect();
-    write_step_and_picture(&a.output, &surfaces, a.render.as_deref(), &shown, a.zebra)?;
+    a.outputs.write(&a.output, &surfaces, &shown, &shown, &[])?;
     let mut out = blend_json(&input, &blend);
     if a.json {
         out["input"] = json!(a.input.display().to_string());

@@ -5,8 +5,10 @@ use crate::input::with_file;
 use crate::Failure;
 use fairsurf::bspline::BSplineSurface;
 use fairsurf::fill::{FillOptions, HoleFill};
+use fairsurf::triangle::TriSurface;
 use fairsurf_io::{
     fill_report_json, fill_surfaces, write_atomic, Batch, CadSurface, FillInput, HoleChoice,
+    SurfaceMesh,
 };
 use fairsurf_render::{render, ColourBy, Panel, Range, RenderOptions};
 use serde_json::json;
@@ -34,12 +36,8 @@ pub struct Args {
     json: bool,
     #[command(flatten)]
     energy: EnergyArgs,
-    /// Also draw the faces and the fills, coloured by |H| (PNG).
-    #[arg(long, value_name = "PNG")]
-    render: Option<PathBuf>,
-    /// Reflection-line stripes in the picture instead of curvature colours.
-    #[arg(long)]
-    zebra: bool,
+    #[command(flatten)]
+    outputs: OutputArgs,
 }
 
 pub fn run(a: Args) -> Result<(), Failure> {
@@ -93,9 +91,20 @@ pub fn run(a: Args) -> Result<(), Failure> {
         .as_deref()
         .expect("clap requires -o without --list");
     let surfaces = fill_surfaces(&input.faces, &fills);
+    // The picture takes every patch; the mesh the four-sided fills as
+    // B-splines and the fans as triangular surfaces (no collapsed corners).
     let patches: Vec<BSplineSurface> = fills.iter().flat_map(HoleFill::patches).collect();
-    let shown: Vec<&BSplineSurface> = input.faces.iter().chain(&patches).collect();
-    write_step_and_picture(output, &surfaces, a.render.as_deref(), &shown, a.zebra)?;
+    let pictured: Vec<&BSplineSurface> = input.faces.iter().chain(&patches).collect();
+    let mut meshed: Vec<&BSplineSurface> = input.faces.iter().collect();
+    let mut fans: Vec<&TriSurface> = Vec::new();
+    for f in &fills {
+        match f {
+            HoleFill::Patch(p) => meshed.push(&p.surface),
+            HoleFill::Fan(t) => fans.push(&t.surface),
+        }
+    }
+    a.outputs
+        .write(output, &surfaces, &pictured, &meshed, &fans)?;
     if a.json {
         let mut out = fill_report_json(input.faces.len(), &choice, &fills);
         out["input"] = json!(a.input.display().to_string());
@@ -202,6 +211,79 @@ fn summary(
     lines.join("\n")
 }
 
+/// The other files a fill and a blend write beside the STEP file.
+#[derive(clap::Args)]
+pub struct OutputArgs {
+    /// Also draw the faces and the new surfaces, coloured by |H| (PNG).
+    #[arg(long, value_name = "PNG")]
+    render: Option<PathBuf>,
+    /// Reflection-line stripes in the picture instead of curvature colours.
+    #[arg(long)]
+    zebra: bool,
+    /// Also write the faces and the new surfaces as one triangle mesh
+    /// (.obj, .ply with curvature, .stl, .glb, .gltf).
+    #[arg(long, value_name = "FILE")]
+    mesh: Option<PathBuf>,
+    /// Mesh resolution: quads per parameter direction of each face (each
+    /// triangular patch: subdivisions per side).
+    #[arg(long, default_value_t = 24, value_parser = clap::value_parser!(u32).range(1..=512))]
+    resolution: u32,
+}
+
+impl OutputArgs {
+    /// Writes `surfaces` as STEP to `output` and, when asked, the picture
+    /// of `pictured` and the mesh of `meshed` and `triangular` — made in
+    /// memory first, written together (all or none).
+    pub fn write(
+        &self,
+        output: &Path,
+        surfaces: &[CadSurface],
+        pictured: &[&BSplineSurface],
+        meshed: &[&BSplineSurface],
+        triangular: &[&TriSurface],
+    ) -> Result<(), Failure> {
+        crate::solve::ensure_parent(output)?;
+        let picture = self
+            .render
+            .as_ref()
+            .map(|p| picture(pictured, self.zebra).map(|png| (p, png)))
+            .transpose()?;
+        if let Some((path, _)) = &picture {
+            crate::solve::ensure_parent(path)?;
+        }
+        let mesh = match &self.mesh {
+            Some(path) => {
+                fairsurf_io::MeshFormat::from_path(path)?;
+                crate::solve::ensure_parent(path)?;
+                let r = self.resolution as usize;
+                let parts = meshed
+                    .iter()
+                    .map(|s| {
+                        let (ku, kv) = s.knots();
+                        SurfaceMesh::from_bspline(s, r * ku.spans().len(), r * kv.spans().len())
+                    })
+                    .chain(
+                        triangular
+                            .iter()
+                            .map(|t| SurfaceMesh::from_tri_surface(t, r)),
+                    );
+                Some((path, SurfaceMesh::joined(parts)))
+            }
+            None => None,
+        };
+        let batch = Batch::begin();
+        fairsurf_io::write_step_surfaces(output, surfaces)?;
+        if let Some((path, png)) = &picture {
+            write_atomic(path, |w| w.write_all(png))?;
+        }
+        if let Some((path, mesh)) = &mesh {
+            fairsurf_io::write_mesh(path, mesh)?;
+        }
+        batch.commit()?;
+        Ok(())
+    }
+}
+
 /// Energy options a fill and a blend take from the command line.
 #[derive(clap::Args)]
 pub struct EnergyArgs {
@@ -235,32 +317,6 @@ impl EnergyArgs {
         }
         Ok(())
     }
-}
-
-/// Writes `surfaces` as STEP to `output` and, when asked, the picture of
-/// `shown` to `render` — made in memory first, written together (both or
-/// neither).
-pub fn write_step_and_picture(
-    output: &Path,
-    surfaces: &[CadSurface],
-    render: Option<&Path>,
-    shown: &[&BSplineSurface],
-    zebra: bool,
-) -> Result<(), Failure> {
-    crate::solve::ensure_parent(output)?;
-    let picture = render
-        .map(|p| picture(shown, zebra).map(|png| (p, png)))
-        .transpose()?;
-    if let Some((path, _)) = &picture {
-        crate::solve::ensure_parent(path)?;
-    }
-    let batch = Batch::begin();
-    fairsurf_io::write_step_surfaces(output, surfaces)?;
-    if let Some((path, png)) = &picture {
-        write_atomic(path, |w| w.write_all(png))?;
-    }
-    batch.commit()?;
-    Ok(())
 }
 
 /// The surfaces in one panel, coloured by |H| or striped.

@@ -1380,14 +1380,24 @@ fn fill_fills_a_pentagonal_hole_with_a_fan() {
     let d = tmpdir("fill-fan");
     let out = d.join("fan.step");
     let scene = examples().join("cad/fill_pentagon.json");
+    let mesh = d.join("fan.ply");
     let o = fairsurf(&[
         "fill",
         scene.to_str().unwrap(),
         "-o",
         out.to_str().unwrap(),
         "--json",
+        "--mesh",
+        mesh.to_str().unwrap(),
+        "--resolution",
+        "8",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
+    // The mesh: five bicubic faces at 9 × 9 vertices, the fan's five
+    // triangles at 45 each.
+    let ply = std::fs::read(&mesh).unwrap();
+    let head = String::from_utf8_lossy(&ply[..200]);
+    assert!(head.contains("element vertex 630"), "{head}");
     let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let fill = &r["fills"][0];
     assert_eq!(fill["kind"], "fan");
@@ -1523,6 +1533,26 @@ fn blend_joins_two_surfaces_and_writes_them_sewn() {
     assert_eq!(text.matches("=EDGE_CURVE(").count(), 10);
     assert_eq!(text.matches("=VERTEX_POINT(").count(), 8);
     assert!(std::fs::metadata(&png).unwrap().len() > 1000);
+    // A mesh of the three surfaces: A has three spans in u.
+    let obj = d.join("sub/blend.obj");
+    let o = fairsurf(&[
+        "blend",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--bulge",
+        "1,1",
+        "--mesh",
+        obj.to_str().unwrap(),
+        "--resolution",
+        "4",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&obj).unwrap();
+    assert_eq!(
+        text.lines().filter(|l| l.starts_with("v ")).count(),
+        13 * 5 + 25 + 25
+    );
     // --bulge changes α by its factor; the summary says the figures.
     let with_bulge = |b: &str| {
         let o = fairsurf(&[
@@ -1570,6 +1600,10 @@ fn bad_blends_exit_2_and_write_nothing() {
     let out = d.join("x.step");
     let run = |args: &[&str]| exits_2("blend", &out, args);
     let s = scene.to_str().unwrap();
+    let mesh = d.join("x.xyz");
+    let e = run(&[s, "--mesh", mesh.to_str().unwrap()]);
+    assert!(e.contains("--mesh: cannot tell the mesh format"), "{e}");
+    assert!(!mesh.exists());
     assert!(run(&[s, "--bulge", "1"]).contains("--bulge: expected two numbers > 0"));
     assert!(run(&[s, "--bulge", "1,-1"]).contains("--bulge: expected two numbers > 0"));
     assert!(run(&[s, "--lambda=-1"]).contains("--lambda: expected a number ≥ 0"));

@@ -52,6 +52,31 @@ impl SurfaceMesh {
         Self { mesh, curvature }
     }
 
+    /// Several meshes as one (each part's vertices and triangles in turn;
+    /// no vertices merged).
+    pub fn joined(parts: impl IntoIterator<Item = SurfaceMesh>) -> Self {
+        let mut out = SurfaceMesh {
+            mesh: TriMesh {
+                positions: Vec::new(),
+                normals: Vec::new(),
+                uvs: Vec::new(),
+                triangles: Vec::new(),
+            },
+            curvature: Vec::new(),
+        };
+        for part in parts {
+            let offset = out.mesh.positions.len() as u32;
+            out.mesh.positions.extend(&part.mesh.positions);
+            out.mesh.normals.extend(&part.mesh.normals);
+            out.mesh.uvs.extend(&part.mesh.uvs);
+            out.mesh
+                .triangles
+                .extend(part.mesh.triangles.iter().map(|t| t.map(|i| i + offset)));
+            out.curvature.extend(part.curvature);
+        }
+        out
+    }
+
     /// Any mesh of `patch` (its `uvs` are parameters of `patch`), with the
     /// curvature of `patch` evaluated at each vertex's (u, v).
     pub fn on_patch(patch: &TensorPatch, mesh: TriMesh) -> Self {
