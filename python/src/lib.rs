@@ -571,13 +571,18 @@ fn schema(py: Python<'_>, kind: &str) -> PyResult<String> {
 #[pyclass(module = "fairsurf._fairsurf", frozen, name = "Filled")]
 struct PyFilled {
     faces: Vec<fairsurf::bspline::BSplineSurface>,
+    /// Per face, the rational surface it stands in for (written as that).
+    rational: Vec<Option<std::sync::Arc<fairsurf::bspline::RationalSurface>>>,
+    /// Vertices and edges closer than this are shared in the STEP file.
+    sew_within: f64,
     fills: Vec<fairsurf::fill::HoleFill>,
     report: String,
 }
 
 #[pymethods]
 impl PyFilled {
-    /// The input faces (B-spline surfaces).
+    /// The input faces (B-spline surfaces; a rational face such as a
+    /// cylinder as its polynomial stand-in, see the report's `stand_ins`).
     fn faces(&self) -> Vec<PySurface> {
         self.faces
             .iter()
@@ -609,8 +614,8 @@ impl PyFilled {
 
     /// Writes the faces and the fills as one sewn STEP shell.
     fn write_step(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
-        let surfaces = fairsurf_io::fill_surfaces(&self.faces, &self.fills);
-        py.detach(|| fairsurf_io::write_step_surfaces(&path, &surfaces))
+        let surfaces = fairsurf_io::fill_surfaces(&self.faces, &self.rational, &self.fills);
+        py.detach(|| fairsurf_io::write_step_sewn(&path, &surfaces, self.sew_within))
             .map_err(|e| to_py(py, e))
     }
 }
@@ -654,13 +659,16 @@ fn fill(
             options.willmore_steps = s;
         }
         let asked = holes.or(input.holes.clone());
-        let choice = fairsurf_io::HoleChoice::new(&input.faces, asked.as_deref())?;
+        let choice = fairsurf_io::HoleChoice::of(&input, asked.as_deref())?;
         let fills = choice.fill(&input.faces, &options)?;
-        let report = fairsurf_io::fill_report_json(input.faces.len(), &choice, &fills).to_string();
+        let mut report = fairsurf_io::fill_report_json(input.faces.len(), &choice, &fills);
+        report["stand_ins"] = input.stand_ins_json();
         Ok(PyFilled {
+            sew_within: input.hole_tolerance(),
+            rational: options.rational_faces,
             faces: input.faces,
             fills,
-            report,
+            report: report.to_string(),
         })
     })
     .map_err(|e| to_py(py, e))

@@ -96,7 +96,7 @@ def test_an_open_cascade_network_of_bspline_faces_is_filled(cli: Path, tmp_path:
     assert report["fills"][0]["spans"][0] >= 2
 
 
-def test_a_cylinder_neighbour_is_refused(cli: Path, tmp_path: Path):
+def test_a_closed_cylinder_is_refused_by_its_discs(cli: Path, tmp_path: Path):
     from OCP.BRepPrimAPI import BRepPrimAPI_MakeCylinder
 
     step_in = tmp_path / "cylinder.step"
@@ -105,8 +105,59 @@ def test_a_cylinder_neighbour_is_refused(cli: Path, tmp_path: Path):
     run = subprocess.run([str(cli), "fill", str(step_in), "-o", str(out)],
                          capture_output=True, text=True)
     assert run.returncode == 2, run.stderr
-    assert "elementary surface" in run.stderr or "swept surface" in run.stderr, run.stderr
+    assert "a plane face bounded by 1 edge, not straight" in run.stderr, run.stderr
     assert not out.exists()
+
+
+def test_a_hole_next_to_cylinders_is_filled_within_tolerance(cli: Path, tmp_path: Path):
+    """The approximate case: a filleted corner written by Open CASCADE
+    (PLANE and CYLINDRICAL_SURFACE faces, CIRCLE and LINE edges) with the
+    middle cylinder face missing. The fill meets the planes exactly and the
+    cylinders within the stand-in's tolerance (reported as not exact); Open
+    CASCADE reads the output, sews it with no free edge where the hole was,
+    measures the same angles, and finds the written cylinders on the
+    cylinder."""
+    out = tmp_path / "filled.step"
+    run = subprocess.run(
+        [str(cli), "fill", str(EXAMPLES / "fillet_hole.step"), "-o", str(out), "--json"],
+        check=True, capture_output=True, text=True,
+    )
+    report = json.loads(run.stdout)
+    assert [s["kind"] for s in report["stand_ins"]] == ["cylinder", "cylinder"]
+    fill = report["fills"][0]
+    exact = {s["face"]: s["exact"] for s in fill["sides"]}
+    assert sorted(k for k, e in exact.items() if not e) == [s["face"] for s in report["stand_ins"]]
+    for s in fill["sides"]:
+        assert s["gap"] <= 1e-6 and s["angle_deg"] <= 0.01, s
+    # W of the quarter cylinder it replaces is its area / r² = pi/2.
+    assert abs(fill["curvature_w"] / (math.pi / 2) - 1) < 0.01, fill["curvature_w"]
+    shape = read_step(out)
+    assert count(shape, TopAbs_FACE) == 9
+    assert free_edges_after_sewing(shape) == 12  # the rim: 3 + 3 + 3 + 3 edges
+    across = [s for s in seams(shape) if 8 in s[0]]
+    assert len(across) == 4
+    measured = max(s[1] for s in across)
+    assert abs(measured - fill["max_angle_deg"]) <= 0.2 * fill["max_angle_deg"] + 1e-9, (
+        measured, fill["max_angle_deg"])
+    assert max(s[2] for s in across) <= 1e-6
+    # The cylinders are written exactly (rational): points on radius 1 about
+    # the axis (x = 0, z = 1).
+    from OCP.BRep import BRep_Tool
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+
+    ex, k, worst = TopExp_Explorer(shape, TopAbs_FACE), 0, 0.0
+    while ex.More():
+        if k in [c["face"] for c in report["stand_ins"]]:
+            s = BRep_Tool.Surface_s(TopoDS.Face(ex.Current()))
+            u0, u1, v0, v1 = s.Bounds()
+            for i in range(11):
+                for j in range(3):
+                    p = s.Value(u0 + (u1 - u0) * i / 10, v0 + (v1 - v0) * j / 2)
+                    worst = max(worst, abs(math.hypot(p.X(), p.Z() - 1.0) - 1.0))
+        ex.Next()
+        k += 1
+    assert worst < 1e-12, worst
 
 
 def test_the_python_fill_gives_what_the_command_line_gives(cli: Path, tmp_path: Path):

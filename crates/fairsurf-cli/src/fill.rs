@@ -3,7 +3,7 @@
 
 use crate::input::with_file;
 use crate::Failure;
-use fairsurf::bspline::BSplineSurface;
+use fairsurf::bspline::{BSplineSurface, FitTolerance};
 use fairsurf::fill::{FillOptions, HoleFill};
 use fairsurf::triangle::TriSurface;
 use fairsurf_io::{
@@ -34,6 +34,14 @@ pub struct Args {
     /// Print the report as JSON on standard output instead of the summary.
     #[arg(long)]
     json: bool,
+    /// Rational faces (cylinders, cones, rational B-splines) are met
+    /// through a polynomial stand-in within this distance along their
+    /// sides (at the same parameter).
+    #[arg(long, value_name = "DISTANCE", default_value_t = 1e-6)]
+    tolerance: f64,
+    /// … and within this normal angle, degrees.
+    #[arg(long, value_name = "DEGREES", default_value_t = 0.01)]
+    angle_tolerance: f64,
     #[command(flatten)]
     energy: EnergyArgs,
     #[command(flatten)]
@@ -41,13 +49,30 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), Failure> {
-    let input = FillInput::read(&a.input).map_err(with_file(&a.input))?;
+    for (name, x) in [
+        ("--tolerance", a.tolerance),
+        ("--angle-tolerance", a.angle_tolerance),
+    ] {
+        if !(x.is_finite() && x > 0.0) {
+            return Err(Failure::input(format!(
+                "{name}: expected a positive number, got {x}"
+            )));
+        }
+    }
+    let mut input = FillInput::read(&a.input).map_err(with_file(&a.input))?;
+    let fit = FitTolerance {
+        position: a.tolerance,
+        angle: a.angle_tolerance.to_radians(),
+    };
+    if fit != FitTolerance::default() {
+        input.refit(fit).map_err(with_file(&a.input))?;
+    }
     let asked = if a.holes.is_empty() {
         input.holes.clone()
     } else {
         Some(a.holes.clone())
     };
-    let choice = HoleChoice::new(&input.faces, asked.as_deref()).map_err(|e| match e {
+    let choice = HoleChoice::of(&input, asked.as_deref()).map_err(|e| match e {
         fairsurf_io::Error::Scene { message, .. } if !a.holes.is_empty() => {
             Failure::input(format!("--hole: {message}"))
         }
@@ -90,7 +115,7 @@ pub fn run(a: Args) -> Result<(), Failure> {
         .output
         .as_deref()
         .expect("clap requires -o without --list");
-    let surfaces = fill_surfaces(&input.faces, &fills);
+    let surfaces = fill_surfaces(&input.faces, &input.options.rational_faces, &fills);
     // The picture takes every patch; the mesh the four-sided fills as
     // B-splines and the fans as triangular surfaces (no collapsed corners).
     let patches: Vec<BSplineSurface> = fills.iter().flat_map(HoleFill::patches).collect();
@@ -103,32 +128,37 @@ pub fn run(a: Args) -> Result<(), Failure> {
             HoleFill::Fan(t) => fans.push(&t.surface),
         }
     }
-    a.outputs
-        .write(output, &surfaces, &pictured, &meshed, &fans)?;
+    a.outputs.write(
+        output,
+        &surfaces,
+        input.hole_tolerance(),
+        &pictured,
+        &meshed,
+        &fans,
+    )?;
     if a.json {
         let mut out = fill_report_json(input.faces.len(), &choice, &fills);
+        out["stand_ins"] = input.stand_ins_json();
         out["input"] = json!(a.input.display().to_string());
         out["output"] = json!(output.display().to_string());
         crate::say!("{}", serde_json::to_string_pretty(&out).expect("JSON"));
     } else {
-        crate::say!(
-            "{}",
-            summary(&a.input, output, input.faces.len(), &choice, &fills)
-        );
+        crate::say!("{}", summary(&a.input, output, &input, &choice, &fills));
     }
     Ok(())
 }
 
 fn summary(
-    input: &Path,
+    path: &Path,
     output: &Path,
-    faces: usize,
+    input: &FillInput,
     choice: &HoleChoice,
     fills: &[HoleFill],
 ) -> String {
+    let faces = input.faces.len();
     let mut lines = vec![format!(
         "{}: {faces} faces, {} holes; filled {:?}{}",
-        input.display(),
+        path.display(),
         choice.holes.len(),
         choice.chosen,
         choice
@@ -137,6 +167,27 @@ fn summary(
             .map(|r| format!(" (hole {r}, the longest, taken as the outer rim)"))
             .unwrap_or_default()
     )];
+    let rational: Vec<String> = input
+        .stand_ins
+        .iter()
+        .enumerate()
+        .filter_map(|(k, s)| {
+            s.map(|(gap, angle)| {
+                format!(
+                    "{k} ({}: stand-in within {gap:.1e}, {:.1e}°)",
+                    input.kinds[k],
+                    angle.to_degrees()
+                )
+            })
+        })
+        .collect();
+    if !rational.is_empty() {
+        lines.push(format!(
+            "  rational faces, met through polynomial stand-ins (G1 there to the stand-in's \
+             tolerance, not exact): {}",
+            rational.join(", ")
+        ));
+    }
     for (&h, fill) in choice.chosen.iter().zip(fills) {
         let gap = fill.sides().iter().map(|s| s.gap).fold(0.0, f64::max);
         let angle = fill
@@ -238,6 +289,7 @@ impl OutputArgs {
         &self,
         output: &Path,
         surfaces: &[CadSurface],
+        sew_within: f64,
         pictured: &[&BSplineSurface],
         meshed: &[&BSplineSurface],
         triangular: &[&TriSurface],
@@ -272,7 +324,7 @@ impl OutputArgs {
             None => None,
         };
         let batch = Batch::begin();
-        fairsurf_io::write_step_surfaces(output, surfaces)?;
+        fairsurf_io::write_step_sewn(output, surfaces, sew_within)?;
         if let Some((path, png)) = &picture {
             write_atomic(path, |w| w.write_all(png))?;
         }

@@ -1451,6 +1451,15 @@ fn bad_fills_exit_2_and_write_nothing() {
     // The rim: 12 edges, 4 corners, the faces outside it.
     assert!(run(&[s, "--hole", "0"]).contains("hole 0: at the corner where side 0 starts"));
     assert!(run(&[s, "--lambda=-1"]).contains("--lambda: expected a number ≥ 0, got -1"));
+    assert!(
+        run(&[s, "--tolerance", "0"]).contains("--tolerance: expected a positive number, got 0")
+    );
+    assert!(run(&[s, "--angle-tolerance=-1"])
+        .contains("--angle-tolerance: expected a positive number, got -1"));
+    // A tolerance the stand-ins cannot reach (in double precision) is refused.
+    let fillet = examples().join("cad/fillet_hole.step");
+    assert!(run(&[fillet.to_str().unwrap(), "--tolerance", "1e-30"])
+        .contains("could not be approximated by a polynomial one within 1e-30"));
     let text: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&scene).unwrap()).unwrap();
     let write = |name: &str, v: &serde_json::Value| write_json(&d, name, v);

@@ -20,6 +20,9 @@ pub struct CadSurface {
     pub counts: (usize, usize),
     /// The control points, row-major.
     pub points: Vec<Vec3>,
+    /// A rational surface's weights, row-major as the points (`None`: a
+    /// polynomial one).
+    pub weights: Option<Vec<f64>>,
 }
 
 impl From<&TensorPatch> for CadSurface {
@@ -35,6 +38,7 @@ impl From<&TensorPatch> for CadSurface {
             knots: [clamped(n), clamped(m)],
             counts: (n + 1, m + 1),
             points: p.points().to_vec(),
+            weights: None,
         }
     }
 }
@@ -47,6 +51,16 @@ impl From<&BSplineSurface> for CadSurface {
             knots: [u.knots().to_vec(), v.knots().to_vec()],
             counts: s.counts(),
             points: s.points().to_vec(),
+            weights: None,
+        }
+    }
+}
+
+impl From<&fairsurf::bspline::RationalSurface> for CadSurface {
+    fn from(r: &fairsurf::bspline::RationalSurface) -> Self {
+        Self {
+            weights: Some(r.weights().to_vec()),
+            ..Self::from(r.net())
         }
     }
 }
@@ -55,6 +69,13 @@ impl CadSurface {
     /// P_ij.
     pub fn point(&self, i: usize, j: usize) -> Vec3 {
         self.points[i * self.counts.1 + j]
+    }
+
+    /// w_ij (1 for a polynomial surface).
+    pub fn weight(&self, i: usize, j: usize) -> f64 {
+        self.weights
+            .as_ref()
+            .map_or(1.0, |w| w[i * self.counts.1 + j])
     }
 
     /// The distinct knots of direction `k` (0 = u) and their multiplicities.
@@ -88,7 +109,7 @@ impl CadSurface {
 pub(crate) fn write_cad_text(
     path: &Path,
     patches: &[CadSurface],
-    text: fn(&str, &[CadSurface]) -> String,
+    text: impl Fn(&str, &[CadSurface]) -> String,
 ) -> Result<()> {
     check_patches(path, patches)?;
     let name = path

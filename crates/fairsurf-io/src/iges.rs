@@ -45,7 +45,7 @@ pub fn write_iges(path: &Path, patches: &[TensorPatch]) -> Result<()> {
 
 /// Writes B-spline surfaces as [`write_iges`] does: each one entity 128
 /// with K1 = rows − 1, K2 = columns − 1, its degrees, its full knot vectors
-/// and its parameter domain.
+/// and its parameter domain; a rational one with PROP3 = 0 and its weights.
 pub fn write_iges_surfaces(path: &Path, surfaces: &[CadSurface]) -> Result<()> {
     write_cad_text(path, surfaces, iges_text)
 }
@@ -197,11 +197,18 @@ fn global_section(file_name: &str, patches: &[CadSurface]) -> Vec<String> {
 fn surface_128(s: &CadSurface) -> Vec<String> {
     let ((n, m), (cu, cv)) = (s.degree, s.counts);
     let ints = |v: &[usize]| v.iter().map(|k| k.to_string()).collect::<Vec<_>>();
-    // K1, K2, M1, M2, PROP1..PROP5 (not closed, polynomial, not periodic).
-    let mut p = ints(&[128, cu - 1, cv - 1, n, m, 0, 0, 1, 0, 0]);
+    // K1, K2, M1, M2, PROP1..PROP5 (not closed, polynomial unless there
+    // are weights, not periodic).
+    let polynomial = usize::from(s.weights.is_none());
+    let mut p = ints(&[128, cu - 1, cv - 1, n, m, 0, 0, polynomial, 0, 0]);
     p.extend(s.knots[0].iter().map(|&t| real(t)));
     p.extend(s.knots[1].iter().map(|&t| real(t)));
-    p.extend((0..cu * cv).map(|_| real(1.0)));
+    // Weights and points with the u index running fastest.
+    for j in 0..cv {
+        for i in 0..cu {
+            p.push(real(s.weight(i, j)));
+        }
+    }
     for j in 0..cv {
         for i in 0..cu {
             p.extend(s.point(i, j).map(real));

@@ -65,14 +65,29 @@ pub fn write_step_surfaces(path: &Path, surfaces: &[CadSurface]) -> Result<()> {
     write_cad_text(path, surfaces, step_text)
 }
 
+/// [`write_step_surfaces`] with vertices and edges closer than `tol` taken
+/// as one and shared (at least 1e-9 of the surfaces' size): faces that
+/// meet only to a tolerance (a fill along a rational neighbour's
+/// polynomial stand-in) are still sewn in the file.
+pub fn write_step_sewn(path: &Path, surfaces: &[CadSurface], tol: f64) -> Result<()> {
+    write_cad_text(path, surfaces, |name, patches| {
+        step_text_within(name, patches, tol)
+    })
+}
+
 /// The whole file.
 pub(crate) fn step_text(file_name: &str, patches: &[CadSurface]) -> String {
+    step_text_within(file_name, patches, 0.0)
+}
+
+/// The whole file, points closer than `tol` (or 1e-9 of the size) one.
+fn step_text_within(file_name: &str, patches: &[CadSurface], tol: f64) -> String {
     let all: Vec<Vec3> = patches
         .iter()
         .flat_map(|p| p.points.iter().copied())
         .collect();
     let mut d = Data {
-        tol: 1e-9 * fairsurf::vector::bounding_diagonal(&all),
+        tol: (1e-9 * fairsurf::vector::bounding_diagonal(&all)).max(tol),
         ..Data::default()
     };
     let context = d.header_entities();
@@ -130,20 +145,80 @@ struct Data {
 /// Points compared per edge when matching edges by their geometry.
 const EDGE_SAMPLES: usize = 9;
 
-/// The curve of degree d with the full knot vector `knots` and control
-/// points `pts` at `EDGE_SAMPLES` parameters spread evenly over its domain.
-fn curve_samples(d: usize, knots: &[f64], pts: &[Vec3]) -> Option<[Vec3; EDGE_SAMPLES]> {
-    let kv = fairsurf::bspline::KnotVector::new(d, knots.to_vec()).ok()?;
-    let (a, b) = kv.domain();
-    Some(std::array::from_fn(|s| {
-        let t = a + (b - a) * s as f64 / (EDGE_SAMPLES - 1) as f64;
-        let k = kv.span(t);
-        let n = kv.basis_derivatives(k, t, 0);
-        (0..=d).fold([0.0; 3], |acc, i| {
-            let (p, w) = (pts[k - d + i], n[0][i]);
-            [acc[0] + w * p[0], acc[1] + w * p[1], acc[2] + w * p[2]]
-        })
-    }))
+/// A side of a face as a curve: degree, distinct knots and
+/// multiplicities, the full knot vector, and the side's weights when the
+/// face is rational.
+struct SideCurve<'a> {
+    d: usize,
+    knots: &'a Vec<f64>,
+    mults: &'a Vec<usize>,
+    full: &'a Vec<f64>,
+    weights: Option<Vec<f64>>,
+}
+
+impl SideCurve<'_> {
+    /// The curve through control points `pts` at `EDGE_SAMPLES` parameters
+    /// spread evenly over its domain.
+    fn samples(&self, pts: &[Vec3]) -> Option<[Vec3; EDGE_SAMPLES]> {
+        let kv = fairsurf::bspline::KnotVector::new(self.d, self.full.to_vec()).ok()?;
+        let (a, b) = kv.domain();
+        let w = self.weights.as_deref();
+        Some(std::array::from_fn(|s| {
+            curve_point(
+                &kv,
+                pts,
+                w,
+                a + (b - a) * s as f64 / (EDGE_SAMPLES - 1) as f64,
+            )
+        }))
+    }
+
+    /// The curve entity on CARTESIAN_POINTs `ids`.
+    fn entity(&self, ids: &[usize]) -> String {
+        let d = self.d;
+        match &self.weights {
+            None => format!(
+                "B_SPLINE_CURVE_WITH_KNOTS('',{d},({}),.UNSPECIFIED.,.F.,.F.,({}),({}),\
+                 .UNSPECIFIED.)",
+                refs(ids),
+                ints(self.mults),
+                reals(self.knots)
+            ),
+            Some(w) => format!(
+                "(BOUNDED_CURVE() B_SPLINE_CURVE({d},({}),.UNSPECIFIED.,.F.,.F.) \
+                 B_SPLINE_CURVE_WITH_KNOTS(({}),({}),.UNSPECIFIED.) CURVE() \
+                 GEOMETRIC_REPRESENTATION_ITEM() RATIONAL_B_SPLINE_CURVE(({})) \
+                 REPRESENTATION_ITEM(''))",
+                refs(ids),
+                ints(self.mults),
+                reals(self.knots),
+                reals(w)
+            ),
+        }
+    }
+
+    /// The key of the curve on control points `pts`: points, knots
+    /// (relative to the first), multiplicities and weights; `reversed`: of
+    /// the same curve run backwards.
+    fn key(&self, pts: &[Vec3], reversed: bool) -> Vec<[u64; 3]> {
+        let (knots, mults) = (self.knots, self.mults);
+        let (a, b) = (knots[0], knots[knots.len() - 1]);
+        let ones = vec![1.0; pts.len()];
+        let w = self.weights.as_deref().unwrap_or(&ones);
+        let mut key: Vec<[u64; 3]>;
+        if reversed {
+            key = pts.iter().rev().map(|&p| bits(p)).collect();
+            key.extend(knots.iter().rev().map(|&t| bits([b - t, 0.0, 0.0])));
+            key.extend(mults.iter().rev().map(|&k| [k as u64, 0, 0]));
+            key.extend(w.iter().rev().map(|&x| bits([x, 0.0, 0.0])));
+        } else {
+            key = pts.iter().map(|&p| bits(p)).collect();
+            key.extend(knots.iter().map(|&t| bits([t - a, 0.0, 0.0])));
+            key.extend(mults.iter().map(|&k| [k as u64, 0, 0]));
+            key.extend(w.iter().map(|&x| bits([x, 0.0, 0.0])));
+        }
+        key
+    }
 }
 
 /// The entities the geometry refers to.
@@ -239,30 +314,67 @@ impl Data {
             .collect();
         let (ku, mu) = s.distinct_knots(0);
         let (kv, mv) = s.distinct_knots(1);
-        let surface = self.add(format!(
-            "B_SPLINE_SURFACE_WITH_KNOTS('',{n},{m},({}),.UNSPECIFIED.,.F.,.F.,.F.,\
-             ({}),({}),({}),({}),.UNSPECIFIED.)",
-            rows.join(","),
-            ints(&mu),
-            ints(&mv),
-            reals(&ku),
-            reals(&kv)
-        ));
+        let surface = match &s.weights {
+            None => self.add(format!(
+                "B_SPLINE_SURFACE_WITH_KNOTS('',{n},{m},({}),.UNSPECIFIED.,.F.,.F.,.F.,\
+                 ({}),({}),({}),({}),.UNSPECIFIED.)",
+                rows.join(","),
+                ints(&mu),
+                ints(&mv),
+                reals(&ku),
+                reals(&kv)
+            )),
+            // A complex instance, its partial entities in alphabetical order
+            // (ISO 10303-21 §11.2.5.3), as Open CASCADE writes it.
+            Some(w) => {
+                let weights: Vec<String> = (0..cu)
+                    .map(|i| format!("({})", reals(&w[i * cv..(i + 1) * cv])))
+                    .collect();
+                self.add(format!(
+                    "(BOUNDED_SURFACE() B_SPLINE_SURFACE({n},{m},({}),.UNSPECIFIED.,.F.,.F.,.F.) \
+                     B_SPLINE_SURFACE_WITH_KNOTS(({}),({}),({}),({}),.UNSPECIFIED.) \
+                     GEOMETRIC_REPRESENTATION_ITEM() RATIONAL_B_SPLINE_SURFACE(({})) \
+                     REPRESENTATION_ITEM('') SURFACE())",
+                    rows.join(","),
+                    ints(&mu),
+                    ints(&mv),
+                    reals(&ku),
+                    reals(&kv),
+                    weights.join(",")
+                ))
+            }
+        };
         // Counter-clockwise in (u, v): v = 0 and u = 1 along their parameter,
         // v = 1 and u = 0 against it. Each side: (i, j) in parameter order,
         // with the knots of its direction.
-        let (u_curve, v_curve) = ((n, &ku, &mu, &s.knots[0]), (m, &kv, &mv, &s.knots[1]));
-        let sides: [(Vec<(usize, usize)>, bool, _); 4] = [
-            ((0..cu).map(|i| (i, 0)).collect(), true, u_curve),
-            ((0..cv).map(|j| (cu - 1, j)).collect(), true, v_curve),
-            ((0..cu).map(|i| (i, cv - 1)).collect(), false, u_curve),
-            ((0..cv).map(|j| (0, j)).collect(), false, v_curve),
+        // (i, j) of each side in parameter order, forward or not, direction.
+        type Side = (Vec<(usize, usize)>, bool, usize);
+        let sides: [Side; 4] = [
+            ((0..cu).map(|i| (i, 0)).collect(), true, 0),
+            ((0..cv).map(|j| (cu - 1, j)).collect(), true, 1),
+            ((0..cu).map(|i| (i, cv - 1)).collect(), false, 0),
+            ((0..cv).map(|j| (0, j)).collect(), false, 1),
         ];
         let mut oriented = Vec::new();
-        for (side, forward, knots) in &sides {
+        for (side, forward, dir) in &sides {
             let pts: Vec<Vec3> = side.iter().map(|&(i, j)| s.point(i, j)).collect();
             let ids: Vec<usize> = side.iter().map(|&(i, j)| id(i, j)).collect();
-            let mut edges = self.edges_along(&pts, &ids, *knots);
+            let (d, knots, mults) = if *dir == 0 {
+                (n, &ku, &mu)
+            } else {
+                (m, &kv, &mv)
+            };
+            let curve = SideCurve {
+                d,
+                knots,
+                mults,
+                full: &s.knots[*dir],
+                weights: s
+                    .weights
+                    .as_ref()
+                    .map(|_| side.iter().map(|&(i, j)| s.weight(i, j)).collect()),
+            };
+            let mut edges = self.edges_along(&pts, &ids, &curve);
             if !forward {
                 edges.reverse();
             }
@@ -294,18 +406,18 @@ impl Data {
         &mut self,
         pts: &[Vec3],
         ids: &[usize],
-        curve: (usize, &Vec<f64>, &Vec<usize>, &Vec<f64>),
+        curve: &SideCurve,
     ) -> Vec<(usize, bool)> {
         if pts.iter().all(|&p| bits(p) == bits(pts[0])) {
             return Vec::new();
         }
-        let (d, knots, mults, full) = curve;
         if let Some(found) = self.known_edge(pts, curve) {
             return vec![found];
         }
-        let Ok(kv) = fairsurf::bspline::KnotVector::new(d, full.clone()) else {
+        let Ok(kv) = fairsurf::bspline::KnotVector::new(curve.d, curve.full.clone()) else {
             return vec![self.new_edge(pts, ids, curve)];
         };
+        let w = curve.weights.as_deref();
         let tol = self.tol;
         let last = pts.len() - 1;
         let (a, b) = kv.domain();
@@ -325,8 +437,8 @@ impl Data {
             .filter(|(q, _)| (0..3).all(|c| q[c] >= lo[c] && q[c] <= hi[c]))
             .filter(|(q, _)| dist(*q, pts[0]) > tol && dist(*q, pts[last]) > tol)
             .filter_map(|&(q, v)| {
-                let t = project(&kv, pts, q)?;
-                (t > a && t < b && dist(curve_point(&kv, pts, t), q) <= tol).then_some((t, v))
+                let t = project(&kv, pts, w, q)?;
+                (t > a && t < b && dist(curve_point(&kv, pts, w, t), q) <= tol).then_some((t, v))
             })
             .collect();
         if inside.is_empty() {
@@ -340,12 +452,13 @@ impl Data {
         chain.push((b, end));
         let mut curve_id = None;
         let mut out = Vec::new();
-        for w in chain.windows(2) {
-            let ((ta, va), (tb, vb)) = (w[0], w[1]);
+        for pair in chain.windows(2) {
+            let ((ta, va), (tb, vb)) = (pair[0], pair[1]);
             let samples: [Vec3; EDGE_SAMPLES] = std::array::from_fn(|k| {
                 curve_point(
                     &kv,
                     pts,
+                    w,
                     ta + (tb - ta) * k as f64 / (EDGE_SAMPLES - 1) as f64,
                 )
             });
@@ -353,15 +466,7 @@ impl Data {
                 out.push(found);
                 continue;
             }
-            let c = *curve_id.get_or_insert_with(|| {
-                self.add(format!(
-                    "B_SPLINE_CURVE_WITH_KNOTS('',{d},({}),.UNSPECIFIED.,.F.,.F.,({}),({}),\
-                     .UNSPECIFIED.)",
-                    refs(ids),
-                    ints(mults),
-                    reals(knots)
-                ))
-            });
+            let c = *curve_id.get_or_insert_with(|| self.add(curve.entity(ids)));
             let e = self.add(format!("EDGE_CURVE('',#{va},#{vb},#{c},.T.)"));
             self.edge_samples.push((samples, e));
             out.push((e, true));
@@ -372,17 +477,13 @@ impl Data {
     /// An edge written before along the same curve as `pts` (by its
     /// points and knots, or by its samples), and whether it runs the same
     /// way.
-    fn known_edge(
-        &self,
-        pts: &[Vec3],
-        (d, knots, mults, full): (usize, &Vec<f64>, &Vec<usize>, &Vec<f64>),
-    ) -> Option<(usize, bool)> {
+    fn known_edge(&self, pts: &[Vec3], curve: &SideCurve) -> Option<(usize, bool)> {
         for (reversed, same) in [(false, true), (true, false)] {
-            if let Some(&e) = self.edges.get(&edge_key(pts, knots, mults, reversed)) {
+            if let Some(&e) = self.edges.get(&curve.key(pts, reversed)) {
                 return Some((e, same));
             }
         }
-        self.matching_edge(&curve_samples(d, full, pts)?)
+        self.matching_edge(&curve.samples(pts)?)
     }
 
     /// An edge written before through `samples` (first to last, or last to
@@ -406,24 +507,14 @@ impl Data {
     /// A new EDGE_CURVE along the control polygon `pts` (CARTESIAN_POINTs
     /// `ids`) of degree d with distinct knots and multiplicities, from the
     /// polygon's first point to its last, registered for sharing.
-    fn new_edge(
-        &mut self,
-        pts: &[Vec3],
-        ids: &[usize],
-        (d, knots, mults, full): (usize, &Vec<f64>, &Vec<usize>, &Vec<f64>),
-    ) -> (usize, bool) {
-        let curve = self.add(format!(
-            "B_SPLINE_CURVE_WITH_KNOTS('',{d},({}),.UNSPECIFIED.,.F.,.F.,({}),({}),.UNSPECIFIED.)",
-            refs(ids),
-            ints(mults),
-            reals(knots)
-        ));
+    fn new_edge(&mut self, pts: &[Vec3], ids: &[usize], side: &SideCurve) -> (usize, bool) {
+        let curve = self.add(side.entity(ids));
         let last = pts.len() - 1;
         let start = self.vertex(pts[0], ids[0]);
         let end = self.vertex(pts[last], ids[last]);
         let e = self.add(format!("EDGE_CURVE('',#{start},#{end},#{curve},.T.)"));
-        self.edges.insert(edge_key(pts, knots, mults, false), e);
-        if let Some(samples) = curve_samples(d, full, pts) {
+        self.edges.insert(side.key(pts, false), e);
+        if let Some(samples) = side.samples(pts) {
             self.edge_samples.push((samples, e));
         }
         (e, true)
@@ -447,58 +538,64 @@ impl Data {
     }
 }
 
-/// The key of a control polygon with its knots (relative to the first)
-/// and multiplicities; `reversed`: of the same curve run backwards.
-fn edge_key(pts: &[Vec3], knots: &[f64], mults: &[usize], reversed: bool) -> Vec<[u64; 3]> {
-    let (a, b) = (knots[0], knots[knots.len() - 1]);
-    if reversed {
-        let mut key: Vec<[u64; 3]> = pts.iter().rev().map(|&p| bits(p)).collect();
-        key.extend(knots.iter().rev().map(|&t| bits([b - t, 0.0, 0.0])));
-        key.extend(mults.iter().rev().map(|&k| [k as u64, 0, 0]));
-        key
-    } else {
-        let mut key: Vec<[u64; 3]> = pts.iter().map(|&p| bits(p)).collect();
-        key.extend(knots.iter().map(|&t| bits([t - a, 0.0, 0.0])));
-        key.extend(mults.iter().map(|&k| [k as u64, 0, 0]));
-        key
-    }
-}
-
 fn dist(p: Vec3, q: Vec3) -> f64 {
     let d = [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
     (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
 }
 
-/// The curve (degree and knots `kv`, control points `pts`) and its first
-/// derivative at t.
-fn curve_derivs(kv: &fairsurf::bspline::KnotVector, pts: &[Vec3], t: f64) -> [Vec3; 2] {
+/// The curve (degree and knots `kv`, control points `pts`, weights `w` when
+/// rational) and its first derivative at t; rational by the quotient rule
+/// on the homogeneous curve.
+fn curve_derivs(
+    kv: &fairsurf::bspline::KnotVector,
+    pts: &[Vec3],
+    w: Option<&[f64]>,
+    t: f64,
+) -> [Vec3; 2] {
     let d = kv.degree();
     let k = kv.span(t);
     let n = kv.basis_derivatives(k, t, 1);
-    std::array::from_fn(|r| {
+    let weight = |i: usize| w.map_or(1.0, |w| w[i]);
+    // A = Σ N w P and W = Σ N w, and their derivatives.
+    let a: [Vec3; 2] = std::array::from_fn(|r| {
         (0..=d).fold([0.0; 3], |acc, i| {
-            let (p, w) = (pts[k - d + i], n[r][i]);
-            [acc[0] + w * p[0], acc[1] + w * p[1], acc[2] + w * p[2]]
+            let j = k - d + i;
+            let (p, c) = (pts[j], n[r][i] * weight(j));
+            [acc[0] + c * p[0], acc[1] + c * p[1], acc[2] + c * p[2]]
         })
-    })
+    });
+    let ws: [f64; 2] = std::array::from_fn(|r| (0..=d).map(|i| n[r][i] * weight(k - d + i)).sum());
+    let c = a[0].map(|x| x / ws[0]);
+    let dc = std::array::from_fn(|x| (a[1][x] - ws[1] * c[x]) / ws[0]);
+    [c, dc]
 }
 
-fn curve_point(kv: &fairsurf::bspline::KnotVector, pts: &[Vec3], t: f64) -> Vec3 {
-    curve_derivs(kv, pts, t)[0]
+fn curve_point(
+    kv: &fairsurf::bspline::KnotVector,
+    pts: &[Vec3],
+    w: Option<&[f64]>,
+    t: f64,
+) -> Vec3 {
+    curve_derivs(kv, pts, w, t)[0]
 }
 
 /// The parameter of the curve's point nearest to q: the best of 64
 /// samples, then Newton steps on (C(t) − q)·C′(t) = 0 (first order, kept
 /// in the domain).
-fn project(kv: &fairsurf::bspline::KnotVector, pts: &[Vec3], q: Vec3) -> Option<f64> {
+fn project(
+    kv: &fairsurf::bspline::KnotVector,
+    pts: &[Vec3],
+    w: Option<&[f64]>,
+    q: Vec3,
+) -> Option<f64> {
     let (a, b) = kv.domain();
     let mut t = (0..=64)
         .map(|k| a + (b - a) * k as f64 / 64.0)
         .min_by(|&x, &y| {
-            dist(curve_point(kv, pts, x), q).total_cmp(&dist(curve_point(kv, pts, y), q))
+            dist(curve_point(kv, pts, w, x), q).total_cmp(&dist(curve_point(kv, pts, w, y), q))
         })?;
     for _ in 0..20 {
-        let [c, dc] = curve_derivs(kv, pts, t);
+        let [c, dc] = curve_derivs(kv, pts, w, t);
         let r = [c[0] - q[0], c[1] - q[1], c[2] - q[2]];
         let g = r[0] * dc[0] + r[1] * dc[1] + r[2] * dc[2];
         let h = dc[0] * dc[0] + dc[1] * dc[1] + dc[2] * dc[2];

@@ -6,10 +6,14 @@
 //! sides: every other face is refused by name, nothing is dropped silently.
 
 use crate::{Error, Result};
-use fairsurf::bspline::{BSplineSurface, KnotVector};
+use fairsurf::bspline::{BSplineSurface, KnotVector, RationalSurface};
 use fairsurf::Vec3;
-use truck_stepio::r#in::alias::Surface as StepSurface;
+use truck_stepio::r#in::alias::{
+    Curve3D, ElementarySurface, ParametricCurve, ParametricSurface, ParametricSurface3D, Point3,
+    SearchNearestParameter, Surface as StepSurface, Vector3, D2,
+};
 use truck_stepio::r#in::Table;
+use truck_topology::compress::{CompressedEdgeIndex, CompressedFace, CompressedShell};
 
 /// The error for a STEP file's content (as a scene error with the entity
 /// or face as its path).
@@ -17,14 +21,72 @@ fn bad(path: impl Into<String>, message: impl Into<String>) -> Error {
     Error::scene(path, message)
 }
 
-/// The B-spline and Bézier faces of every shell in a STEP file's text, in
-/// the order of the shells' entity numbers and their faces in each.
+/// A face's surface, exactly as the file gives it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum FaceSurface {
+    /// A polynomial B-spline (Bézier faces, B-spline faces, rational ones
+    /// with equal weights, planes bounded by four straight edges).
+    Polynomial(BSplineSurface),
+    /// A rational B-spline (rational faces with unequal weights, cylinders
+    /// and cones bounded by two arcs and two rulings).
+    Rational(RationalSurface),
+}
+
+/// A face of a STEP file bounded by four sides of its surface.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StepFace {
+    /// What the file's surface is: "B-spline", "rational B-spline",
+    /// "plane", "cylinder" or "cone".
+    pub kind: &'static str,
+    /// The surface, whose four sides are the face's boundary.
+    pub surface: FaceSurface,
+}
+
+impl StepFace {
+    /// The surface as a polynomial B-spline, when it is one.
+    pub fn polynomial(&self) -> Option<&BSplineSurface> {
+        match &self.surface {
+            FaceSurface::Polynomial(s) => Some(s),
+            FaceSurface::Rational(_) => None,
+        }
+    }
+}
+
+/// The polynomial faces of every shell in a STEP file's text ([`read_step`]
+/// with every face polynomial); a rational face (a cylinder, …) is an
+/// error naming it.
+pub fn read_step_faces(text: &str) -> Result<Vec<BSplineSurface>> {
+    read_step(text)?
+        .into_iter()
+        .enumerate()
+        .map(|(k, f)| match f.surface {
+            FaceSurface::Polynomial(s) => Ok(s),
+            FaceSurface::Rational(_) => Err(bad(
+                format!("face {k}"),
+                format!(
+                    "a {} face (a rational surface): only polynomial faces are taken here",
+                    f.kind
+                ),
+            )),
+        })
+        .collect()
+}
+
+/// The faces of every shell in a STEP file's text, in the order of the
+/// shells' entity numbers and their faces in each, each exactly as a
+/// polynomial or rational B-spline bounded by its four sides:
+/// B-spline and Bézier faces (rational or not) whose boundary is their
+/// surface's four sides; planes bounded by four straight edges (a
+/// bilinear patch); cylinders and cones bounded by two circular arcs and
+/// two rulings (rational quadratic in the arcs' direction, The NURBS Book
+/// §7.5) — each conversion checked against the file's own surface and
+/// edges.
 ///
 /// Errors name what is wrong: not STEP (with the parser's message), no
-/// shell, a face that is not a B-spline surface (a plane, cylinder, …), a
-/// rational face with unequal weights, a face whose boundary is not its
-/// surface's four sides (trimmed), a face the reader could not convert.
-pub fn read_step_faces(text: &str) -> Result<Vec<BSplineSurface>> {
+/// shell, a face of another kind (sphere, torus, swept surface), a face
+/// with holes or with a boundary that is not four sides of its surface
+/// (trimmed), a face the reader could not convert.
+pub fn read_step(text: &str) -> Result<Vec<StepFace>> {
     let exchange = ruststep::parser::parse(text).map_err(|e| {
         bad(
             "",
@@ -48,9 +110,16 @@ pub fn read_step_faces(text: &str) -> Result<Vec<BSplineSurface>> {
     shells.sort_by_key(|(id, _)| **id);
     let mut faces = Vec::new();
     for (id, shell) in shells {
-        let compressed = table
-            .to_compressed_shell(shell)
-            .map_err(|e| bad(format!("#{id}"), format!("cannot read the shell: {e}")))?;
+        let compressed = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            table.to_compressed_shell(shell)
+        }))
+        .map_err(|_| {
+            bad(
+                format!("#{id}"),
+                "the STEP reader (truck-stepio) failed on the shell",
+            )
+        })?
+        .map_err(|e| bad(format!("#{id}"), format!("cannot read the shell: {e}")))?;
         if compressed.faces.len() != shell.cfs_faces.len() {
             return Err(bad(
                 format!("#{id}"),
@@ -64,110 +133,213 @@ pub fn read_step_faces(text: &str) -> Result<Vec<BSplineSurface>> {
         }
         for (k, face) in compressed.faces.iter().enumerate() {
             let path = format!("#{id} face {k}");
-            let surface = surface(&face.surface).map_err(|m| bad(&path, m))?;
-            // The face is its whole surface: one boundary loop whose
-            // vertices are all corners of the surface.
-            if face.boundaries.len() != 1 {
-                return Err(bad(
-                    &path,
-                    format!(
-                        "the face has {} boundary loops: faces with holes in them are not filled \
-                         around yet",
-                        face.boundaries.len()
-                    ),
-                ));
-            }
-            let corners = corner_points(&surface);
-            let tol = fairsurf::fill::tolerance(std::slice::from_ref(&surface));
-            for e in &face.boundaries[0] {
-                let edge = &compressed.edges[e.index];
-                for v in [edge.vertices.0, edge.vertices.1] {
-                    let p = compressed.vertices[v];
-                    let p = [p.x, p.y, p.z];
-                    if !corners.iter().any(|c| dist(*c, p) <= tol) {
-                        return Err(bad(
-                            &path,
-                            format!(
-                                "the face is trimmed: its boundary has a vertex at ({}, {}, {}) \
-                                 that is not a corner of its surface; trimmed faces are not \
-                                 filled around yet",
-                                p[0], p[1], p[2]
-                            ),
-                        ));
-                    }
-                }
-            }
-            faces.push(surface);
+            let f = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                step_face(face, &compressed)
+            }))
+            .unwrap_or_else(|_| Err("the face's geometry could not be evaluated".into()))
+            .map_err(|m| bad(&path, m))?;
+            faces.push(f);
         }
     }
     Ok(faces)
+}
+
+type Shell = CompressedShell<Point3, Curve3D, StepSurface>;
+type Face = CompressedFace<StepSurface>;
+
+fn v3(p: Point3) -> Vec3 {
+    [p.x, p.y, p.z]
 }
 
 fn dist(a: Vec3, b: Vec3) -> f64 {
     fairsurf::vector::norm(fairsurf::vector::sub(a, b))
 }
 
-/// The four corner points of a surface.
-fn corner_points(s: &BSplineSurface) -> [Vec3; 4] {
-    let (cu, cv) = s.counts();
-    [
-        s.point(0, 0),
-        s.point(cu - 1, 0),
-        s.point(0, cv - 1),
-        s.point(cu - 1, cv - 1),
-    ]
+/// One face as a polynomial or rational B-spline bounded by its four
+/// sides, or why not.
+fn step_face(face: &Face, shell: &Shell) -> std::result::Result<StepFace, String> {
+    if face.boundaries.len() != 1 {
+        return Err(format!(
+            "the face has {} boundary loops: faces with holes in them are not filled around yet",
+            face.boundaries.len()
+        ));
+    }
+    let edges: Vec<LoopEdge> = face.boundaries[0]
+        .iter()
+        .map(|e| LoopEdge::new(shell, *e))
+        .collect::<std::result::Result<_, String>>()?;
+    let (kind, surface) = match &face.surface {
+        StepSurface::BSplineSurface(_) | StepSurface::NurbsSurface(_) => {
+            let (kind, surface) = spline(&face.surface)?;
+            untrimmed(&surface, &edges)?;
+            (kind, surface)
+        }
+        StepSurface::ElementarySurface(e) => match e.as_ref() {
+            ElementarySurface::Plane(_) => ("plane", plane(&edges)?),
+            ElementarySurface::CylindricalSurface(_) => ("cylinder", ruled(&edges)?),
+            ElementarySurface::ConicalSurface(_) => ("cone", ruled(&edges)?),
+            ElementarySurface::Sphere(_) => {
+                return Err("a sphere face: not filled around yet".into())
+            }
+            ElementarySurface::ToroidalSurface(_) => {
+                return Err("a torus face: not filled around yet".into())
+            }
+        },
+        StepSurface::SweptCurve(_) => {
+            return Err("a swept surface (extrusion or revolution): not filled around yet".into())
+        }
+    };
+    // A B-spline face is the file's surface itself; a converted one is
+    // checked against it.
+    let converted = !matches!(kind, "B-spline" | "rational B-spline");
+    let surface = oriented_like(surface, face, &edges, converted)?;
+    Ok(StepFace { kind, surface })
 }
 
-/// A STEP face's surface as a B-spline, or why not.
-fn surface(s: &StepSurface) -> std::result::Result<BSplineSurface, String> {
+/// An edge of a face's loop, as the loop runs.
+struct LoopEdge {
+    curve: Curve3D,
+    /// The curve's parameters at the loop's start and end of the edge.
+    range: (f64, f64),
+    start: Vec3,
+    end: Vec3,
+}
+
+impl LoopEdge {
+    fn new(shell: &Shell, e: CompressedEdgeIndex) -> std::result::Result<Self, String> {
+        let edge = shell
+            .edges
+            .get(e.index)
+            .ok_or("a loop names an edge the shell does not have")?;
+        let (front, back) = (
+            v3(shell.vertices[edge.vertices.0]),
+            v3(shell.vertices[edge.vertices.1]),
+        );
+        let curve = edge.curve.clone();
+        let (t0, t1) = curve
+            .try_range_tuple()
+            .ok_or("an edge whose curve is unbounded")?;
+        let size = dist(front, back).max(1.0);
+        if dist(v3(curve.subs(t0)), front) > 1e-7 * size
+            || dist(v3(curve.subs(t1)), back) > 1e-7 * size
+        {
+            return Err("an edge whose curve does not run between its vertices".into());
+        }
+        Ok(if e.orientation {
+            Self {
+                curve,
+                range: (t0, t1),
+                start: front,
+                end: back,
+            }
+        } else {
+            Self {
+                curve,
+                range: (t1, t0),
+                start: back,
+                end: front,
+            }
+        })
+    }
+
+    /// The point at s ∈ [0, 1] along the loop, and the derivative by s.
+    fn at(&self, s: f64) -> (Vec3, Vec3) {
+        let (a, b) = self.range;
+        let t = a + (b - a) * s;
+        let d = self.curve.der(t);
+        (
+            v3(self.curve.subs(t)),
+            [d.x * (b - a), d.y * (b - a), d.z * (b - a)],
+        )
+    }
+
+    /// Whether the edge is a straight segment (points at nine parameters
+    /// on its chord, within `tol`).
+    fn straight(&self, tol: f64) -> bool {
+        (1..8).all(|k| {
+            let s = k as f64 / 8.0;
+            let p = self.at(s).0;
+            let q = fairsurf::vector::add(
+                self.start,
+                fairsurf::vector::scale(fairsurf::vector::sub(self.end, self.start), s),
+            );
+            dist(p, q) <= tol
+        })
+    }
+
+    /// The distance from p to the edge's curve: the nearest of 33
+    /// samples, then Newton steps on (C(t) − p)·C′(t) = 0 kept in the
+    /// edge's range.
+    fn distance(&self, p: Vec3) -> f64 {
+        let (a, b) = self.range;
+        let (lo, hi) = (a.min(b), a.max(b));
+        let (mut best, mut t) = (f64::MAX, lo);
+        for k in 0..=32 {
+            let x = lo + (hi - lo) * k as f64 / 32.0;
+            let d = dist(v3(self.curve.subs(x)), p);
+            if d < best {
+                (best, t) = (d, x);
+            }
+        }
+        for _ in 0..30 {
+            let c = v3(self.curve.subs(t));
+            let (d1, d2) = (self.curve.der(t), self.curve.der2(t));
+            let (d1, d2) = ([d1.x, d1.y, d1.z], [d2.x, d2.y, d2.z]);
+            let r = fairsurf::vector::sub(c, p);
+            let dot = fairsurf::vector::dot;
+            let h = dot(d1, d1) + dot(r, d2);
+            if h <= 0.0 {
+                break;
+            }
+            let next = (t - dot(r, d1) / h).clamp(lo, hi);
+            let d = dist(v3(self.curve.subs(next)), p);
+            if d >= best {
+                break;
+            }
+            (best, t) = (d, next);
+        }
+        best
+    }
+}
+
+/// 1e-9 of the size of the loop's vertices, at least 1e-7.
+fn loop_tolerance(edges: &[LoopEdge]) -> f64 {
+    let pts: Vec<Vec3> = edges.iter().map(|e| e.start).collect();
+    (1e-9 * fairsurf::vector::bounding_diagonal(&pts)).max(1e-7)
+}
+
+/// A B-spline or NURBS surface of the file.
+fn spline(s: &StepSurface) -> std::result::Result<(&'static str, FaceSurface), String> {
     type Net = Vec<Vec<Vec3>>;
-    let (knots, points): ((Vec<f64>, Vec<f64>), Net) = match s {
+    type Knots = (Vec<f64>, Vec<f64>);
+    let (knots, points, weights): (Knots, Net, Option<Vec<f64>>) = match s {
         StepSurface::BSplineSurface(b) => (
             (b.uknot_vec().to_vec(), b.vknot_vec().to_vec()),
             b.control_points()
                 .iter()
-                .map(|row| row.iter().map(|p| [p.x, p.y, p.z]).collect())
+                .map(|row| row.iter().map(|p| v3(*p)).collect())
                 .collect(),
+            None,
         ),
         StepSurface::NurbsSurface(n) => {
             let b = n.non_rationalized();
-            let w0 = b.control_points()[0][0].w;
-            let equal = b
-                .control_points()
-                .iter()
-                .flatten()
-                .all(|p| (p.w - w0).abs() <= 1e-12 * w0.abs());
-            if !equal || w0 == 0.0 {
-                return Err(
-                    "a rational B-spline face with unequal weights: only polynomial faces are \
-                     filled around so far"
-                        .into(),
-                );
+            let cp = b.control_points();
+            if cp.iter().flatten().any(|p| !(p.w.is_finite() && p.w > 0.0)) {
+                return Err("a rational B-spline face with a weight that is not positive".into());
             }
             (
                 (b.uknot_vec().to_vec(), b.vknot_vec().to_vec()),
-                b.control_points()
-                    .iter()
+                cp.iter()
                     .map(|row| {
                         row.iter()
                             .map(|p| [p.x / p.w, p.y / p.w, p.z / p.w])
                             .collect()
                     })
                     .collect(),
+                Some(cp.iter().flatten().map(|p| p.w).collect()),
             )
         }
-        StepSurface::ElementarySurface(_) => return Err(
-            "an elementary surface (plane, cylinder, cone, sphere or torus): only B-spline and \
-                 Bézier faces are filled around so far"
-                .into(),
-        ),
-        StepSurface::SweptCurve(_) => {
-            return Err(
-                "a swept surface (extrusion or revolution): only B-spline and Bézier faces are \
-                 filled around so far"
-                    .into(),
-            )
-        }
+        _ => unreachable!("called for B-spline surfaces"),
     };
     let (cu, cv) = (points.len(), points.first().map_or(0, Vec::len));
     if cu < 2 || cv < 2 || points.iter().any(|r| r.len() != cv) {
@@ -184,7 +356,300 @@ fn surface(s: &StepSurface) -> std::result::Result<BSplineSurface, String> {
     };
     let u = kv(p, knots.0, "u")?;
     let v = kv(q, knots.1, "v")?;
-    BSplineSurface::new(u, v, points.into_iter().flatten().collect()).map_err(|e| e.to_string())
+    let net = BSplineSurface::new(u, v, points.into_iter().flatten().collect())
+        .map_err(|e| e.to_string())?;
+    match weights {
+        None => Ok(("B-spline", FaceSurface::Polynomial(net))),
+        Some(w) => {
+            let r = RationalSurface::new(net, w).map_err(|e| e.to_string())?;
+            Ok(if r.is_polynomial() {
+                ("B-spline", FaceSurface::Polynomial(r.net().clone()))
+            } else {
+                ("rational B-spline", FaceSurface::Rational(r))
+            })
+        }
+    }
+}
+
+fn eval(s: &FaceSurface, u: f64, v: f64) -> Vec3 {
+    match s {
+        FaceSurface::Polynomial(b) => b.eval(u, v),
+        FaceSurface::Rational(r) => r.eval(u, v),
+    }
+}
+
+fn net(s: &FaceSurface) -> &BSplineSurface {
+    match s {
+        FaceSurface::Polynomial(b) => b,
+        FaceSurface::Rational(r) => r.net(),
+    }
+}
+
+/// The face is its whole surface: every vertex of its loop is a corner of
+/// the surface.
+fn untrimmed(s: &FaceSurface, edges: &[LoopEdge]) -> std::result::Result<(), String> {
+    let (ku, kv) = net(s).knots();
+    let ((a, b), (c, d)) = (ku.domain(), kv.domain());
+    let corners = [eval(s, a, c), eval(s, b, c), eval(s, a, d), eval(s, b, d)];
+    let tol = fairsurf::fill::tolerance(std::slice::from_ref(net(s)));
+    for e in edges {
+        let p = e.start;
+        if !corners.iter().any(|c| dist(*c, p) <= tol) {
+            return Err(format!(
+                "the face is trimmed: its boundary has a vertex at ({}, {}, {}) that is not a \
+                 corner of its surface; trimmed faces are not filled around yet",
+                p[0], p[1], p[2]
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// A plane face bounded by four straight edges: the bilinear patch of its
+/// corners (exactly the face when the quadrilateral is convex).
+fn plane(edges: &[LoopEdge]) -> std::result::Result<FaceSurface, String> {
+    let tol = loop_tolerance(edges);
+    let straight = edges.iter().filter(|e| e.straight(tol)).count();
+    if edges.len() != 4 || straight != 4 {
+        let n = edges.len();
+        return Err(format!(
+            "a plane face bounded by {n} edge{}{}: only planes bounded by four straight edges \
+             are filled around so far",
+            if n == 1 { "" } else { "s" },
+            match (n, straight) {
+                (1, 0) => ", not straight".to_string(),
+                (n, s) if s < n => format!(", {} not straight", n - s),
+                _ => String::new(),
+            }
+        ));
+    }
+    let c: Vec<Vec3> = edges.iter().map(|e| e.start).collect();
+    // A convex quadrilateral: the turn at every corner the same way.
+    let turn = |k: usize| {
+        let (a, b, d) = (c[(k + 3) % 4], c[k], c[(k + 1) % 4]);
+        fairsurf::vector::cross(fairsurf::vector::sub(b, a), fairsurf::vector::sub(d, b))
+    };
+    let n0 = turn(0);
+    if (1..4).any(|k| fairsurf::vector::dot(turn(k), n0) <= 0.0) {
+        return Err("a plane face whose four corners are not a convex quadrilateral".into());
+    }
+    let net = BSplineSurface::new(
+        KnotVector::bezier(1),
+        KnotVector::bezier(1),
+        vec![c[0], c[3], c[1], c[2]],
+    )
+    .map_err(|e| e.to_string())?;
+    Ok(FaceSurface::Polynomial(net))
+}
+
+/// Control points, weights and full knot vector of a rational curve.
+type Arc = (Vec<Vec3>, Vec<f64>, Vec<f64>);
+
+/// A circular arc as a rational quadratic B-spline (The NURBS Book
+/// §7.5): pieces of at most 90°, each with its end points, the meeting
+/// point of its end tangents, and weights 1, cos(φ/2), 1; double interior
+/// knots. Control points, weights, full knot vector.
+fn arc(e: &LoopEdge) -> std::result::Result<Arc, String> {
+    let turning: f64 = (0..16)
+        .map(|k| {
+            let (a, b) = (e.at(k as f64 / 16.0).1, e.at((k + 1) as f64 / 16.0).1);
+            fairsurf::vector::angle(a, b)
+        })
+        .sum();
+    let pieces = ((turning / std::f64::consts::FRAC_PI_2) - 1e-9)
+        .ceil()
+        .max(1.0) as usize;
+    let (mut points, mut weights) = (vec![e.start], vec![1.0]);
+    let mut knots = vec![0.0; 3];
+    for k in 0..pieces {
+        let (s0, s1) = (k as f64 / pieces as f64, (k + 1) as f64 / pieces as f64);
+        let ((p0, t0), (p2, t2)) = (e.at(s0), e.at(s1));
+        // p0 + a t0 = p2 - b t2, least squares in (a, b).
+        let r = fairsurf::vector::sub(p2, p0);
+        let dot = fairsurf::vector::dot;
+        let (g11, g12, g22) = (dot(t0, t0), dot(t0, t2), dot(t2, t2));
+        let (r1, r2) = (dot(t0, r), dot(t2, r));
+        let det = g11 * g22 - g12 * g12;
+        if det.abs() <= 1e-12 * g11 * g22 {
+            return Err("an edge that is neither straight nor an arc of less than 360°".into());
+        }
+        let a = (r1 * g22 - r2 * g12) / det;
+        let p1 = fairsurf::vector::add(p0, fairsurf::vector::scale(t0, a));
+        let phi = fairsurf::vector::angle(t0, t2);
+        points.extend([p1, p2]);
+        weights.extend([(phi / 2.0).cos(), 1.0]);
+        let t = s1;
+        knots.extend(if k + 1 == pieces {
+            vec![1.0; 3]
+        } else {
+            vec![t, t]
+        });
+    }
+    Ok((points, weights, knots))
+}
+
+/// A cylinder or cone face bounded by two circular arcs and two straight
+/// rulings: the rational ruled surface between the two arcs (exact when
+/// the arcs are coaxial circles, checked against the face's edges).
+fn ruled(edges: &[LoopEdge]) -> std::result::Result<FaceSurface, String> {
+    let tol = loop_tolerance(edges);
+    let straight: Vec<bool> = edges.iter().map(|e| e.straight(tol)).collect();
+    let refuse = || {
+        format!(
+            "a cylinder or cone face bounded by {} edges that are not two arcs and two rulings, \
+             alternating: only such faces are filled around so far",
+            edges.len()
+        )
+    };
+    if edges.len() != 4 {
+        return Err(refuse());
+    }
+    let Some(first) = (0..4).find(|&k| !straight[k] && straight[(k + 1) % 4]) else {
+        return Err(refuse());
+    };
+    if straight[(first + 2) % 4] || !straight[(first + 3) % 4] {
+        return Err(refuse());
+    }
+    let a = &edges[first];
+    let b = &edges[(first + 2) % 4];
+    let (pa, wa, knots) = arc(a)?;
+    // B runs against A in the loop: its arc from its end to its start.
+    let reversed = LoopEdge {
+        curve: b.curve.clone(),
+        range: (b.range.1, b.range.0),
+        start: b.end,
+        end: b.start,
+    };
+    let (pb, wb, kb) = arc(&reversed)?;
+    if pa.len() != pb.len() || kb != knots || wa.iter().zip(&wb).any(|(x, y)| (x - y).abs() > 1e-9)
+    {
+        return Err("a cylinder or cone face whose two arcs do not turn by the same angle".into());
+    }
+    let points: Vec<Vec3> = pa.iter().zip(&pb).flat_map(|(p, q)| [*p, *q]).collect();
+    let weights: Vec<f64> = wa.iter().flat_map(|&w| [w, w]).collect();
+    let u = KnotVector::new(2, knots).map_err(|e| e.to_string())?;
+    let net = BSplineSurface::new(u, KnotVector::bezier(1), points).map_err(|e| e.to_string())?;
+    let r = RationalSurface::new(net, weights).map_err(|e| e.to_string())?;
+    // The arcs as built lie on the file's edges.
+    for k in 0..=16 {
+        let u = k as f64 / 16.0;
+        for (v, e) in [(0.0, a), (1.0, b)] {
+            let d = e.distance(r.eval(u, v));
+            if d > tol {
+                return Err(format!(
+                    "a face edge that is not a circular arc (off the arc through its ends and \
+                     tangents by {d:e})"
+                ));
+            }
+        }
+    }
+    Ok(FaceSurface::Rational(r))
+}
+
+/// The surface turned (u and v exchanged) when its normal R_u × R_v does
+/// not agree with the face's (the file's surface normal, which the reader
+/// has turned for a face of opposite sense, reversed again for an oriented
+/// face used backwards); when `converted`, first checked to lie on the
+/// file's surface.
+fn oriented_like(
+    s: FaceSurface,
+    face: &Face,
+    edges: &[LoopEdge],
+    converted: bool,
+) -> std::result::Result<FaceSurface, String> {
+    if !converted {
+        return turned(s, face.orientation);
+    }
+    let tol = loop_tolerance(edges);
+    let (ku, kv) = net(&s).knots();
+    let ((a, b), (c, d)) = (ku.domain(), kv.domain());
+    let mid = ((a + b) / 2.0, (c + d) / 2.0);
+    let der = match &s {
+        FaceSurface::Polynomial(p) => p.derivatives(mid.0, mid.1),
+        FaceSurface::Rational(r) => r.derivatives(mid.0, mid.1),
+    };
+    let ours = fairsurf::vector::cross(der.du, der.dv);
+    let file = &face.surface;
+    // The file's nearest point: its own search, then Newton steps on
+    // (S − p)·S_u = (S − p)·S_v = 0 to rounding.
+    let on = |p: Vec3| -> Option<((f64, f64), f64)> {
+        let q = Point3::new(p[0], p[1], p[2]);
+        let (mut u, mut v) =
+            SearchNearestParameter::<D2>::search_nearest_parameter(file, q, None, 100)?;
+        let mut best = dist(v3(file.subs(u, v)), p);
+        let dot = |a: Vector3, b: Vector3| a.x * b.x + a.y * b.y + a.z * b.z;
+        for _ in 0..30 {
+            let r = file.subs(u, v) - q;
+            let (su, sv) = (file.uder(u, v), file.vder(u, v));
+            let (suu, suv, svv) = (file.uuder(u, v), file.uvder(u, v), file.vvder(u, v));
+            let (f1, f2) = (dot(r, su), dot(r, sv));
+            let a11 = dot(su, su) + dot(r, suu);
+            let a12 = dot(su, sv) + dot(r, suv);
+            let a22 = dot(sv, sv) + dot(r, svv);
+            let det = a11 * a22 - a12 * a12;
+            if det == 0.0 {
+                break;
+            }
+            let (nu, nv) = (
+                u - (a22 * f1 - a12 * f2) / det,
+                v - (a11 * f2 - a12 * f1) / det,
+            );
+            let d = dist(v3(file.subs(nu, nv)), p);
+            if d.is_nan() || d >= best {
+                break;
+            }
+            (u, v, best) = (nu, nv, d);
+        }
+        Some(((u, v), best))
+    };
+    // Points of the converted surface lie on the file's.
+    for i in 0..=4 {
+        for j in 0..=4 {
+            let (u, v) = (a + (b - a) * i as f64 / 4.0, c + (d - c) * j as f64 / 4.0);
+            let p = eval(&s, u, v);
+            match on(p) {
+                Some((_, e)) if e <= tol => {}
+                Some((_, e)) => {
+                    return Err(format!(
+                        "the face as a B-spline is off the file's surface by {e:e} at ({}, {}, {})",
+                        p[0], p[1], p[2]
+                    ))
+                }
+                None => {
+                    return Err("the file's surface could not be evaluated near the face".into())
+                }
+            }
+        }
+    }
+    let Some(((u, v), _)) = on(der.point) else {
+        return Err("the file's surface could not be evaluated near the face".into());
+    };
+    let n = file.normal(u, v);
+    let theirs = [n.x, n.y, n.z];
+    let agree = fairsurf::vector::dot(ours, theirs) > 0.0;
+    turned(s, agree == face.orientation)
+}
+
+/// `s`, or with u and v exchanged (its normal reversed) unless `keep`.
+fn turned(s: FaceSurface, keep: bool) -> std::result::Result<FaceSurface, String> {
+    Ok(if keep {
+        s
+    } else {
+        match s {
+            FaceSurface::Polynomial(p) => FaceSurface::Polynomial(p.transposed()),
+            FaceSurface::Rational(r) => {
+                let (cu, cv) = r.net().counts();
+                let w = r.weights();
+                let weights = (0..cv)
+                    .flat_map(|j| (0..cu).map(move |i| w[i * cv + j]))
+                    .collect();
+                FaceSurface::Rational(
+                    RationalSurface::new(r.net().transposed(), weights)
+                        .map_err(|e| e.to_string())?,
+                )
+            }
+        }
+    })
 }
 
 #[cfg(test)]
@@ -227,20 +692,86 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("no shell"), "{e}");
-        // The surface made a plane through the file's own placement.
+        // The surface made another through the file's own placement.
         let axes = text
             .lines()
             .find(|l| l.contains("=AXIS2_PLACEMENT_3D("))
             .and_then(|l| l.split('=').next())
             .unwrap();
-        let plane: String = text
+        let with = |entity: &str| -> String {
+            text.lines()
+                .map(|l| match l.split_once("=B_SPLINE_SURFACE_WITH_KNOTS(") {
+                    Some((id, _)) => format!("{id}={entity};\n"),
+                    None => format!("{l}\n"),
+                })
+                .collect()
+        };
+        // A plane through the square's corners: read as the bilinear patch.
+        let faces = read_step(&with(&format!("PLANE('',{axes})"))).unwrap();
+        assert_eq!(faces[0].kind, "plane");
+        let FaceSurface::Polynomial(s) = &faces[0].surface else {
+            panic!("a plane is polynomial")
+        };
+        assert_eq!(
+            s.points(),
+            &[[0.0; 3], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]]
+        );
+        let e = read_step(&with(&format!("SPHERICAL_SURFACE('',{axes},1.)")))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("a sphere face"), "{e}");
+        // A plane the face's edges are not on.
+        let tilted = text.replace("DIRECTION('',(0.,0.,1.))", "DIRECTION('',(0.,0.6,0.8))");
+        let (id, _) = tilted
             .lines()
-            .map(|l| match l.split_once("=B_SPLINE_SURFACE_WITH_KNOTS(") {
-                Some((id, _)) => format!("{id}=PLANE('',{axes});\n"),
-                None => format!("{l}\n"),
+            .find_map(|l| l.split_once("=B_SPLINE_SURFACE_WITH_KNOTS("))
+            .unwrap();
+        let tilted: String = tilted
+            .lines()
+            .map(|l| {
+                if l.starts_with(&format!("{id}=")) {
+                    format!("{id}=PLANE('',{axes});\n")
+                } else {
+                    format!("{l}\n")
+                }
             })
             .collect();
-        let e = read_step_faces(&plane).unwrap_err().to_string();
-        assert!(e.contains("an elementary surface (plane"), "{e}");
+        let e = read_step(&tilted).unwrap_err().to_string();
+        assert!(e.contains("off the file's surface"), "{e}");
+    }
+
+    /// A rational surface written reads back as the same rational surface,
+    /// and as an error where only polynomial faces are taken.
+    #[test]
+    fn a_rational_face_reads_back() {
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let net = BSplineSurface::new(
+            KnotVector::bezier(2),
+            KnotVector::bezier(1),
+            vec![
+                [1.0, 0.0, 0.0],
+                [1.0, 0.0, 1.0],
+                [1.0, 1.0, 0.0],
+                [1.0, 1.0, 1.0],
+                [0.0, 1.0, 0.0],
+                [0.0, 1.0, 1.0],
+            ],
+        )
+        .unwrap();
+        let r = RationalSurface::new(net, vec![1.0, 1.0, h, h, 1.0, 1.0]).unwrap();
+        let text = crate::step::step_text("x.step", &[(&r).into()]);
+        assert!(text.contains("RATIONAL_B_SPLINE_SURFACE("), "{text}");
+        assert!(text.contains("RATIONAL_B_SPLINE_CURVE("), "{text}");
+        let faces = read_step(&text).unwrap();
+        assert_eq!(faces[0].kind, "rational B-spline");
+        let FaceSurface::Rational(back) = &faces[0].surface else {
+            panic!("rational")
+        };
+        assert_eq!(back.net(), r.net());
+        for (a, b) in back.weights().iter().zip(r.weights()) {
+            assert!((a - b).abs() < 1e-15);
+        }
+        let e = read_step_faces(&text).unwrap_err().to_string();
+        assert!(e.contains("a rational B-spline face"), "{e}");
     }
 }

@@ -94,6 +94,32 @@ impl KnotVector {
         Self { degree, knots }
     }
 
+    /// The Greville abscissae (t_{i+1} + … + t_{i+p}) / p, one per basis
+    /// function: where interpolation is well posed (Schoenberg–Whitney).
+    pub fn greville(&self) -> Vec<f64> {
+        let p = self.degree().max(1);
+        let t = self.knots();
+        (0..self.count())
+            .map(|i| t[i + 1..=i + p].iter().sum::<f64>() / p as f64)
+            .collect()
+    }
+
+    /// The collocation matrix N_j(x_i) (row i, column j).
+    pub fn collocation(&self, xs: &[f64]) -> Vec<Vec<f64>> {
+        let (n, p) = (self.count(), self.degree());
+        xs.iter()
+            .map(|&x| {
+                let mut row = vec![0.0; n];
+                let span = self.span(x);
+                let basis = self.basis_derivatives(span, x, 0);
+                for (i, b) in basis[0].iter().enumerate().take(p + 1) {
+                    row[span - p + i] = *b;
+                }
+                row
+            })
+            .collect()
+    }
+
     /// The degree p.
     pub fn degree(&self) -> usize {
         self.degree

@@ -35,12 +35,51 @@
 mod energy;
 mod guidance;
 mod knots;
+mod rational;
 mod solve;
 mod surface;
 
 pub use knots::KnotVector;
+pub use rational::{FitTolerance, RationalSurface, StandIn};
 pub use solve::{BSplineProblem, BSplineReport, BSplineSolution, ENERGY_TOLERANCE};
 pub use surface::{BSplineSurface, BezierPiece};
+
+/// Gaussian elimination with partial pivoting on a small dense system
+/// with right-hand sides of K components (collocation systems); None when
+/// a pivot falls below 1e-14 (singular for these well-scaled matrices).
+pub(crate) fn solve_dense<const K: usize>(
+    mut a: Vec<Vec<f64>>,
+    mut b: Vec<[f64; K]>,
+) -> Option<Vec<[f64; K]>> {
+    let n = a.len();
+    for c in 0..n {
+        let piv = (c..n).max_by(|&x, &y| a[x][c].abs().total_cmp(&a[y][c].abs()))?;
+        if a[piv][c].abs() < 1e-14 {
+            return None;
+        }
+        a.swap(c, piv);
+        b.swap(c, piv);
+        for r in c + 1..n {
+            let f = a[r][c] / a[c][c];
+            if f != 0.0 {
+                for k in c..n {
+                    a[r][k] -= f * a[c][k];
+                }
+                for k in 0..K {
+                    b[r][k] -= f * b[c][k];
+                }
+            }
+        }
+    }
+    let mut x = vec![[0.0; K]; n];
+    for c in (0..n).rev() {
+        for k in 0..K {
+            let s: f64 = (c + 1..n).map(|j| a[c][j] * x[j][k]).sum();
+            x[c][k] = (b[c][k] - s) / a[c][c];
+        }
+    }
+    Some(x)
+}
 
 #[cfg(test)]
 mod tests;

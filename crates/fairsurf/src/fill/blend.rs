@@ -403,8 +403,22 @@ fn blend_with(
         },
     ];
     let fits = [
-        side_fit_facing(&faired.surface, 0, a, sides[0], false),
-        side_fit_facing(&faired.surface, 2, b, sides[1], flipped),
+        side_fit_facing(
+            &faired.surface,
+            0,
+            a,
+            options.fill.rational(0),
+            sides[0],
+            false,
+        ),
+        side_fit_facing(
+            &faired.surface,
+            2,
+            b,
+            options.fill.rational(1),
+            sides[1],
+            flipped,
+        ),
     ];
     let measure = t2.elapsed().as_secs_f64();
     Ok(Blend {

@@ -40,7 +40,7 @@ use super::measure::{
 };
 use super::strip::Strip;
 use super::{faces_like_side_0, side_face, CornerMismatch, FillOptions, FillSeconds};
-use crate::bspline::BSplineSurface;
+use crate::bspline::{BSplineSurface, RationalSurface};
 use crate::constraint::Constraint;
 use crate::curve::elevate_points;
 use crate::triangle::{Continuity, InternalEnergy, TriProblem, TriReport, TriSurface};
@@ -197,7 +197,7 @@ pub fn fill_fan(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) ->
         &mut corners,
     );
     // Corner 0 is C: T_u × T_v is the normal of (C, V_k, V_{k+1}).
-    let fan = finish(problem, faces, hole.clone(), corners, t0, |k| {
+    let fan = finish(problem, faces, options, hole.clone(), corners, t0, |k| {
         (k, Box::new(|t: f64| [0.0, 1.0 - t, t]))
     })?;
     Ok(fan)
@@ -397,6 +397,7 @@ type SideMap = (usize, Box<dyn Fn(f64) -> [f64; 3]>);
 fn finish(
     problem: TriProblem,
     faces: &[BSplineSurface],
+    options: &FillOptions,
     hole: Hole,
     corners: CornerMismatch,
     t0: Instant,
@@ -416,6 +417,7 @@ fn finish(
                 patch,
                 &bary,
                 &faces[hole.sides[k].face],
+                options.rational(hole.sides[k].face),
                 hole.sides[k],
             )
         })
@@ -516,7 +518,7 @@ pub fn fill_triangle(
         }
     }
     let problem = fixed_problem(surface, &fixed, options, Continuity::none(), &mut corners);
-    finish(problem, faces, hole, corners, t0, |k| {
+    finish(problem, faces, options, hole, corners, t0, |k| {
         (
             0,
             Box::new(move |t: f64| {
@@ -537,10 +539,12 @@ fn patch_side_fit(
     patch: usize,
     bary: &dyn Fn(f64) -> [f64; 3],
     face: &BSplineSurface,
+    exact: Option<&RationalSurface>,
     side: super::Side,
 ) -> SideFit {
     let patch = surface.patch(patch);
     let ts = side_parameters();
     let da: Vec<_> = ts.iter().map(|&t| patch.derivatives(bary(t))).collect();
-    compare(&da, &neighbour_derivatives(face, side, &ts), side, false)
+    let db = neighbour_derivatives(face, exact, side, &ts);
+    compare(&da, &db, side, false, exact.is_none())
 }

@@ -98,7 +98,12 @@ struct BoundaryEdge {
 /// when free edges do not close into loops (the faces do not form
 /// surfaces with boundaries made of whole face edges).
 pub fn find_holes(faces: &[BSplineSurface]) -> Result<Vec<Hole>> {
-    let tol = tolerance(faces);
+    find_holes_within(faces, tolerance(faces))
+}
+
+/// [`find_holes`] with points closer than `tol` taken as one (faces that
+/// stand in for rational ones meet only within their fit).
+pub fn find_holes_within(faces: &[BSplineSurface], tol: f64) -> Result<Vec<Hole>> {
     let mut edges = Vec::new();
     for (f, face) in faces.iter().enumerate() {
         for edge in [Edge::V0, Edge::U1, Edge::V1, Edge::U0] {

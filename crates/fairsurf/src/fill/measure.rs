@@ -4,7 +4,7 @@
 use super::holes::{surface_param, Side};
 use crate::analysis::curvature_from;
 use crate::basis::GaussLegendre;
-use crate::bspline::BSplineSurface;
+use crate::bspline::{BSplineSurface, RationalSurface};
 use crate::vec3::{angle, cross, dist, norm};
 use crate::SurfaceDerivatives;
 
@@ -27,11 +27,21 @@ pub struct SideFit {
     pub samples: usize,
     /// Samples where a normal did not exist (a collapsed corner).
     pub singular: usize,
+    /// Whether the fill's boundary data came from the neighbour exactly (a
+    /// polynomial neighbour: G¹ to rounding), or from a polynomial stand-in
+    /// of a rational one ([`RationalSurface::polynomial`]): then the gap
+    /// and angle above are measured against the rational surface itself
+    /// and are as small as the stand-in's tolerance, not zero.
+    pub exact: bool,
 }
+
+/// A surface's derivatives on a grid of (u, v) (as
+/// [`BSplineSurface::derivatives_on`]).
+type GridEval<'a> = &'a dyn Fn(&[f64], &[f64]) -> Vec<SurfaceDerivatives>;
 
 /// Compares the fill's side `k` with the neighbour `face` along `side`.
 pub fn side_fit(fill: &BSplineSurface, k: usize, face: &BSplineSurface, side: Side) -> SideFit {
-    side_fit_facing(fill, k, face, side, false)
+    side_fit_facing(fill, k, face, None, side, false)
 }
 
 /// [`side_fit`], the neighbour's normal turned around when `flipped` (a
@@ -40,24 +50,31 @@ pub(crate) fn side_fit_facing(
     fill: &BSplineSurface,
     k: usize,
     face: &BSplineSurface,
+    exact: Option<&RationalSurface>,
     side: Side,
     flipped: bool,
 ) -> SideFit {
     let ts = side_parameters();
     // Both sides are lines of constant u or v: one grid evaluation each.
-    let line = |s: &BSplineSurface, at: &dyn Fn(f64) -> (f64, f64)| {
+    let line = |grid: GridEval, at: &dyn Fn(f64) -> (f64, f64)| {
         let pts: Vec<(f64, f64)> = ts.iter().map(|&t| at(t)).collect();
         if pts.iter().all(|p| p.0 == pts[0].0) {
             let vs: Vec<f64> = pts.iter().map(|p| p.1).collect();
-            s.derivatives_on(&[pts[0].0], &vs)
+            grid(&[pts[0].0], &vs)
         } else {
             let us: Vec<f64> = pts.iter().map(|p| p.0).collect();
-            s.derivatives_on(&us, &[pts[0].1])
+            grid(&us, &[pts[0].1])
         }
     };
-    let da = line(fill, &|t| super::fill_param(k, t));
-    let db = line(face, &|t| neighbour_param(face, side, t));
-    compare(&da, &db, side, flipped)
+    let da = line(&|u, v| fill.derivatives_on(u, v), &|t| {
+        super::fill_param(k, t)
+    });
+    let on = |t| neighbour_param(face, side, t);
+    let db = match exact {
+        Some(r) => line(&|u, v| r.derivatives_on(u, v), &on),
+        None => line(&|u, v| face.derivatives_on(u, v), &on),
+    };
+    compare(&da, &db, side, flipped, exact.is_none())
 }
 
 /// The fill's side k on [span₀, span₁] of its parameter (along the hole's
@@ -68,10 +85,11 @@ pub(crate) fn piece_fit(
     k: usize,
     span: [f64; 2],
     face: &BSplineSurface,
+    exact: Option<&RationalSurface>,
     side: Side,
 ) -> SideFit {
     if span == [0.0, 1.0] {
-        return side_fit(fill, k, face, side);
+        return side_fit_facing(fill, k, face, exact, side, false);
     }
     let ts = side_parameters();
     let da: Vec<SurfaceDerivatives> = ts
@@ -81,19 +99,25 @@ pub(crate) fn piece_fit(
             fill.derivatives(u, v)
         })
         .collect();
-    compare(&da, &neighbour_derivatives(face, side, &ts), side, false)
+    let db = neighbour_derivatives(face, exact, side, &ts);
+    compare(&da, &db, side, false, exact.is_none())
 }
 
-/// The neighbour's derivatives at parameters `ts` of the hole's side.
+/// The neighbour's derivatives at parameters `ts` of the hole's side: of
+/// the rational surface `exact` when the face stands in for one.
 pub(crate) fn neighbour_derivatives(
     face: &BSplineSurface,
+    exact: Option<&RationalSurface>,
     side: Side,
     ts: &[f64],
 ) -> Vec<SurfaceDerivatives> {
     ts.iter()
         .map(|&t| {
             let (u, v) = neighbour_param(face, side, t);
-            face.derivatives(u, v)
+            match exact {
+                Some(r) => r.derivatives(u, v),
+                None => face.derivatives(u, v),
+            }
         })
         .collect()
 }
@@ -119,6 +143,7 @@ pub(crate) fn compare(
     db: &[SurfaceDerivatives],
     side: Side,
     flipped: bool,
+    exact: bool,
 ) -> SideFit {
     let (mut gap, mut ang, mut singular) = (0.0f64, 0.0f64, 0usize);
     for (a, b) in da.iter().zip(db) {
@@ -139,6 +164,7 @@ pub(crate) fn compare(
         angle: ang,
         samples: da.len(),
         singular,
+        exact,
     }
 }
 

@@ -60,14 +60,15 @@ mod willmore;
 
 pub use blend::{blend, Blend, BlendOptions, BlendReport, Bulge, BulgeSearch};
 pub use fan::{fill_fan, fill_triangle, FanFill, FanReport};
-pub use holes::{edge_point, find_holes, surface_param, tolerance, Hole, Side};
+pub use holes::{edge_point, find_holes, find_holes_within, surface_param, tolerance, Hole, Side};
 pub use measure::{side_fit, total_curvature, SideFit, TotalCurvature, SIDE_SAMPLES};
 
-use crate::bspline::{BSplineProblem, BSplineReport, BSplineSurface, KnotVector};
+use crate::bspline::{BSplineProblem, BSplineReport, BSplineSurface, KnotVector, RationalSurface};
 use crate::energy::SampleGrid;
 use crate::vec3::{add, cross, dist, dot, scale};
 use crate::{Error, Result, Vec3};
 use std::ops::Range;
+use std::sync::Arc;
 use std::time::Instant;
 use strip::{concat, unify, Strip, CONTINUES};
 
@@ -102,6 +103,19 @@ pub struct FillOptions {
     /// `willmore`): at most this many, each kept only if it lowers W,
     /// stopping once one lowers it by less than 1e-6 of itself; 0 for none.
     pub willmore_steps: usize,
+    /// Per face index, the rational surface that face is a polynomial
+    /// stand-in for ([`RationalSurface::polynomial`]): the fill takes its
+    /// boundary data from the stand-in and measures its sides against the
+    /// rational surface (reported as not exact). Empty, or `None` for a
+    /// face: the face is exact.
+    pub rational_faces: Vec<Option<Arc<RationalSurface>>>,
+}
+
+impl FillOptions {
+    /// The rational surface face `face` stands in for, if any.
+    pub fn rational(&self, face: usize) -> Option<&RationalSurface> {
+        self.rational_faces.get(face).and_then(|r| r.as_deref())
+    }
 }
 
 impl Default for FillOptions {
@@ -114,6 +128,7 @@ impl Default for FillOptions {
             normal_weight: DEFAULT_NORMAL_WEIGHT,
             samples: 3,
             willmore_steps: 4,
+            rational_faces: Vec::new(),
         }
     }
 }
@@ -646,6 +661,7 @@ pub fn fill_hole(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -
                 k,
                 span,
                 &faces[side.face],
+                options.rational(side.face),
                 side,
             ));
         }

@@ -330,19 +330,8 @@ impl Strip {
 /// `knots` (a square, well-conditioned collocation system), or None when
 /// it is singular.
 fn interpolate(knots: &KnotVector, s: &Strip) -> Option<Strip> {
-    let p = knots.degree();
-    let n = knots.count();
-    let t: Vec<f64> = (0..n)
-        .map(|i| knots.knots()[i + 1..=i + p].iter().sum::<f64>() / p as f64)
-        .collect();
-    let mut a = vec![vec![0.0; n]; n];
-    for (r, &x) in t.iter().enumerate() {
-        let span = knots.span(x);
-        let basis = knots.basis_derivatives(span, x, 0);
-        for i in 0..=p {
-            a[r][span - p + i] = basis[0][i];
-        }
-    }
+    let t = knots.greville();
+    let a = knots.collocation(&t);
     let rhs: Vec<[f64; 6]> = t
         .iter()
         .map(|&x| {
@@ -350,7 +339,7 @@ fn interpolate(knots: &KnotVector, s: &Strip) -> Option<Strip> {
             [q.pos[0], q.pos[1], q.pos[2], q.der[0], q.der[1], q.der[2]]
         })
         .collect();
-    let x = solve_dense(a, rhs)?;
+    let x = crate::bspline::solve_dense(a, rhs)?;
     let (pos, der) = x
         .iter()
         .map(|c| ([c[0], c[1], c[2]], [c[3], c[4], c[5]]))
@@ -360,39 +349,6 @@ fn interpolate(knots: &KnotVector, s: &Strip) -> Option<Strip> {
         pos,
         der,
     })
-}
-
-/// Gaussian elimination with partial pivoting on n × n, six right-hand
-/// sides; None for a (numerically) singular matrix.
-fn solve_dense(mut a: Vec<Vec<f64>>, mut b: Vec<[f64; 6]>) -> Option<Vec<[f64; 6]>> {
-    let n = a.len();
-    for c in 0..n {
-        let piv = (c..n).max_by(|&x, &y| a[x][c].abs().total_cmp(&a[y][c].abs()))?;
-        if a[piv][c].abs() < 1e-14 {
-            return None;
-        }
-        a.swap(c, piv);
-        b.swap(c, piv);
-        for r in c + 1..n {
-            let f = a[r][c] / a[c][c];
-            if f != 0.0 {
-                for k in c..n {
-                    a[r][k] -= f * a[c][k];
-                }
-                for k in 0..6 {
-                    b[r][k] -= f * b[c][k];
-                }
-            }
-        }
-    }
-    let mut x = vec![[0.0; 6]; n];
-    for c in (0..n).rev() {
-        for k in 0..6 {
-            let s: f64 = (c + 1..n).map(|j| a[c][j] * x[j][k]).sum();
-            x[c][k] = (b[c][k] - s) / a[c][c];
-        }
-    }
-    Some(x)
 }
 
 /// Two opposite sides on one degree (at least `min_degree`) and one knot

@@ -1,0 +1,414 @@
+//! Rational B-spline (NURBS) surfaces
+//! R(u, v) = Σ w_ij N_i^p(u) N_j^q(v) P_ij / Σ w_ij N_i^p(u) N_j^q(v):
+//! how CAD systems write cylinders, cones, spheres and tori exactly (Piegl
+//! & Tiller, *The NURBS Book*, ch. 4 and 7). fairsurf's energies are
+//! polynomial; a rational surface enters only as a neighbour of a hole or a
+//! blend, through a polynomial stand-in fitted to a tolerance
+//! ([`RationalSurface::polynomial`]) and measured against the exact
+//! surface.
+
+use super::{solve_dense, BSplineSurface, KnotVector};
+use crate::vec3::{add, angle, dist, scale, sub, Vec3};
+use crate::{Error, Result, SurfaceDerivatives};
+
+/// A rational B-spline surface: a [`BSplineSurface`] net P_ij and one
+/// positive weight w_ij per control point (row-major as the points).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RationalSurface {
+    surface: BSplineSurface,
+    weights: Vec<f64>,
+    /// Σ w N N P as a polynomial surface (points w_ij P_ij).
+    numerator: BSplineSurface,
+    /// Σ w N N as a polynomial surface (points (w_ij, 0, 0)).
+    denominator: BSplineSurface,
+}
+
+/// How close a polynomial stand-in must come to a rational surface along
+/// its four sides.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FitTolerance {
+    /// Largest distance between the two at the same parameter.
+    pub position: f64,
+    /// Largest angle between their unit normals, radians.
+    pub angle: f64,
+}
+
+impl Default for FitTolerance {
+    /// 1e-6 in position, 0.01° in angle.
+    fn default() -> Self {
+        Self {
+            position: 1e-6,
+            angle: 0.01f64.to_radians(),
+        }
+    }
+}
+
+/// A polynomial B-spline standing in for a rational surface along its
+/// sides, and how far from it it is.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StandIn {
+    /// The polynomial surface, on the same parameter rectangle.
+    pub surface: BSplineSurface,
+    /// Largest distance to the rational surface along the four sides (at
+    /// the same parameter).
+    pub position: f64,
+    /// Largest normal angle to it along the four sides, radians.
+    pub angle: f64,
+}
+
+/// Parameters compared per side when measuring a stand-in.
+const SIDE_SAMPLES: usize = 129;
+/// The most spans a stand-in gets in one direction.
+const MAX_SPANS: usize = 512;
+
+impl RationalSurface {
+    /// The surface of net `surface` and `weights` (one per control point,
+    /// finite and positive).
+    pub fn new(surface: BSplineSurface, weights: Vec<f64>) -> Result<Self> {
+        let n = surface.points().len();
+        if weights.len() != n {
+            return Err(Error::Mismatch {
+                what: "rational B-spline weights".into(),
+                expected: format!("{n} (one per control point)"),
+                got: weights.len().to_string(),
+            });
+        }
+        if let Some(k) = weights.iter().position(|w| !(w.is_finite() && *w > 0.0)) {
+            let cv = surface.counts().1;
+            return Err(Error::Fill {
+                why: format!(
+                    "weight ({}, {}) is {}: weights must be finite and positive",
+                    k / cv,
+                    k % cv,
+                    weights[k]
+                ),
+            });
+        }
+        let (u, v) = surface.knots();
+        let numerator = BSplineSurface::new(
+            u.clone(),
+            v.clone(),
+            surface
+                .points()
+                .iter()
+                .zip(&weights)
+                .map(|(p, w)| scale(*p, *w))
+                .collect(),
+        )?;
+        let denominator = BSplineSurface::new(
+            u.clone(),
+            v.clone(),
+            weights.iter().map(|w| [*w, 0.0, 0.0]).collect(),
+        )?;
+        Ok(Self {
+            surface,
+            weights,
+            numerator,
+            denominator,
+        })
+    }
+
+    /// The net (knots, degrees, points P_ij).
+    pub fn net(&self) -> &BSplineSurface {
+        &self.surface
+    }
+
+    /// The weights, row-major.
+    pub fn weights(&self) -> &[f64] {
+        &self.weights
+    }
+
+    /// Whether every weight is the same (the surface is then its net's
+    /// polynomial B-spline).
+    pub fn is_polynomial(&self) -> bool {
+        let w0 = self.weights[0];
+        self.weights.iter().all(|w| (w - w0).abs() <= 1e-14 * w0)
+    }
+
+    /// R(u, v).
+    pub fn eval(&self, u: f64, v: f64) -> Vec3 {
+        scale(
+            self.numerator.eval(u, v),
+            1.0 / self.denominator.eval(u, v)[0],
+        )
+    }
+
+    /// R and its first and second derivatives at (u, v), by the quotient
+    /// rule on the homogeneous form A = w R (The NURBS Book, eq. 4.20).
+    pub fn derivatives(&self, u: f64, v: f64) -> SurfaceDerivatives {
+        quotient(
+            &self.numerator.derivatives(u, v),
+            &self.denominator.derivatives(u, v),
+        )
+    }
+
+    /// [`derivatives`](Self::derivatives) on the grid `us` × `vs`
+    /// (u-major, as [`BSplineSurface::derivatives_on`]).
+    pub fn derivatives_on(&self, us: &[f64], vs: &[f64]) -> Vec<SurfaceDerivatives> {
+        let a = self.numerator.derivatives_on(us, vs);
+        let w = self.denominator.derivatives_on(us, vs);
+        a.iter().zip(&w).map(|(a, w)| quotient(a, w)).collect()
+    }
+
+    /// A polynomial B-spline on the same parameter rectangle within
+    /// `tolerance` of this surface along its four sides: interpolation at
+    /// the Greville abscissae; in a direction where the weights do not
+    /// vary the net's own knots and degree (exact there), in the others
+    /// degree max(p + 3, 5) on uniform spans, doubled until the sides are
+    /// within tolerance. Errors when 512 spans are not enough.
+    pub fn polynomial(&self, tolerance: FitTolerance) -> Result<StandIn> {
+        let (ku, kv) = self.surface.knots();
+        let (cu, cv) = self.surface.counts();
+        let w = |i: usize, j: usize| self.weights[i * cv + j];
+        let same = |a: f64, b: f64| (a - b).abs() <= 1e-14 * a.max(b);
+        let varies_u = (0..cu).any(|i| (0..cv).any(|j| !same(w(i, j), w(0, j))));
+        let varies_v = (0..cu).any(|i| (0..cv).any(|j| !same(w(i, j), w(i, 0))));
+        let start = |k: &KnotVector| k.spans().len().max(2);
+        let (mut su, mut sv) = (start(ku), start(kv));
+        loop {
+            let knots = |k: &KnotVector, varies: bool, spans: usize| -> Result<KnotVector> {
+                if !varies {
+                    return Ok(k.clone());
+                }
+                let d = (k.degree() + 3).max(5);
+                let (a, b) = k.domain();
+                let mut t = vec![a; d + 1];
+                t.extend((1..spans).map(|s| a + (b - a) * s as f64 / spans as f64));
+                t.extend(std::iter::repeat_n(b, d + 1));
+                KnotVector::new(d, t)
+            };
+            let (nu, nv) = (knots(ku, varies_u, su)?, knots(kv, varies_v, sv)?);
+            let surface = self.interpolate(nu, nv)?;
+            let (position, angle) = self.side_deviation(&surface);
+            if position <= tolerance.position && angle <= tolerance.angle {
+                return Ok(StandIn {
+                    surface,
+                    position,
+                    angle,
+                });
+            }
+            if su.max(sv) >= MAX_SPANS || !(varies_u || varies_v) {
+                return Err(Error::Fill {
+                    why: format!(
+                        "a rational face could not be approximated by a polynomial one within \
+                         {:e} in position and {:e}° in angle (reached {position:e} and {:e}° \
+                         at {su} × {sv} spans)",
+                        tolerance.position,
+                        tolerance.angle.to_degrees(),
+                        angle.to_degrees()
+                    ),
+                });
+            }
+            if varies_u {
+                su *= 2;
+            }
+            if varies_v {
+                sv *= 2;
+            }
+        }
+    }
+
+    /// The polynomial surface on `u` × `v` through this one's points at
+    /// their Greville abscissae.
+    fn interpolate(&self, u: KnotVector, v: KnotVector) -> Result<BSplineSurface> {
+        let (gu, gv) = (u.greville(), v.greville());
+        let (nu, nv) = (gu.len(), gv.len());
+        let mut data: Vec<Vec3> = gu
+            .iter()
+            .flat_map(|&a| gv.iter().map(move |&b| (a, b)))
+            .map(|(a, b)| self.eval(a, b))
+            .collect();
+        // Rows of the collocation systems: B_u X = D along u for each j,
+        // then along v for each i.
+        let bu = u.collocation(&gu);
+        let bv = v.collocation(&gv);
+        let singular = || Error::Fill {
+            why: "the collocation system of a rational face's stand-in is singular".into(),
+        };
+        for j in 0..nv {
+            let column: Vec<Vec3> = (0..nu).map(|i| data[i * nv + j]).collect();
+            let x = solve_dense(bu.clone(), column).ok_or_else(singular)?;
+            for (i, p) in x.into_iter().enumerate() {
+                data[i * nv + j] = p;
+            }
+        }
+        for i in 0..nu {
+            let row = data[i * nv..(i + 1) * nv].to_vec();
+            let x = solve_dense(bv.clone(), row).ok_or_else(singular)?;
+            data[i * nv..(i + 1) * nv].copy_from_slice(&x);
+        }
+        BSplineSurface::new(u, v, data)
+    }
+
+    /// Largest distance and normal angle between `s` and this surface
+    /// along the four sides, at Chebyshev–Lobatto parameters.
+    fn side_deviation(&self, s: &BSplineSurface) -> (f64, f64) {
+        let ((a, b), (c, d)) = {
+            let (ku, kv) = self.surface.knots();
+            (ku.domain(), kv.domain())
+        };
+        let cheb = |lo: f64, hi: f64| -> Vec<f64> {
+            let n = SIDE_SAMPLES - 1;
+            (0..=n)
+                .map(|i| {
+                    let x = 0.5 - 0.5 * (std::f64::consts::PI * i as f64 / n as f64).cos();
+                    lo + (hi - lo) * x
+                })
+                .collect()
+        };
+        let (us, vs) = (cheb(a, b), cheb(c, d));
+        let (mut gap, mut ang) = (0.0f64, 0.0f64);
+        for (gu, gv) in [(us.clone(), vec![c, d]), (vec![a, b], vs.clone())] {
+            let x = self.derivatives_on(&gu, &gv);
+            let y = s.derivatives_on(&gu, &gv);
+            for (x, y) in x.iter().zip(&y) {
+                gap = gap.max(dist(x.point, y.point));
+                if let (Some(n), Some(m)) = (x.normal(), y.normal()) {
+                    ang = ang.max(angle(n, m));
+                }
+            }
+        }
+        (gap, ang)
+    }
+}
+
+/// R's derivatives from those of A = w R and w (w in the first
+/// coordinate of `w`).
+fn quotient(a: &SurfaceDerivatives, w: &SurfaceDerivatives) -> SurfaceDerivatives {
+    let (w0, wu, wv) = (w.point[0], w.du[0], w.dv[0]);
+    let (wuu, wuv, wvv) = (w.duu[0], w.duv[0], w.dvv[0]);
+    let r = 1.0 / w0;
+    let point = scale(a.point, r);
+    let du = scale(sub(a.du, scale(point, wu)), r);
+    let dv = scale(sub(a.dv, scale(point, wv)), r);
+    let duu = scale(sub(a.duu, add(scale(du, 2.0 * wu), scale(point, wuu))), r);
+    let dvv = scale(sub(a.dvv, add(scale(dv, 2.0 * wv), scale(point, wvv))), r);
+    let duv = scale(
+        sub(
+            a.duv,
+            add(add(scale(du, wv), scale(dv, wu)), scale(point, wuv)),
+        ),
+        r,
+    );
+    SurfaceDerivatives {
+        point,
+        du,
+        dv,
+        duu,
+        duv,
+        dvv,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::vec3::norm;
+
+    /// A quarter of the cylinder x² + z² = r² (|y| ≤ h), as CAD writes it:
+    /// rational quadratic in u (weights 1, √½, 1), linear in v.
+    pub(crate) fn quarter_cylinder(r: f64, h: f64) -> RationalSurface {
+        let s = std::f64::consts::FRAC_1_SQRT_2;
+        let arc = [[r, 0.0], [r, r], [0.0, r]];
+        let points = arc
+            .iter()
+            .flat_map(|&[x, z]| [[x, -h, z], [x, h, z]])
+            .collect();
+        let net =
+            BSplineSurface::new(KnotVector::bezier(2), KnotVector::bezier(1), points).unwrap();
+        RationalSurface::new(net, vec![1.0, 1.0, s, s, 1.0, 1.0]).unwrap()
+    }
+
+    #[test]
+    fn a_rational_quarter_cylinder_is_on_the_cylinder() {
+        let c = quarter_cylinder(2.0, 1.0);
+        for k in 0..=20 {
+            for l in 0..=4 {
+                let p = c.eval(k as f64 / 20.0, l as f64 / 4.0);
+                assert!((p[0].hypot(p[2]) - 2.0).abs() < 1e-14, "{p:?}");
+            }
+        }
+        assert!(!c.is_polynomial());
+    }
+
+    #[test]
+    fn derivatives_match_finite_differences() {
+        let c = quarter_cylinder(1.5, 0.7);
+        // Uneven weights in both directions too.
+        let net = c.net().elevated(1, 1).unwrap();
+        let weights: Vec<f64> = (0..net.points().len())
+            .map(|k| 1.0 + 0.3 * ((k * 7) % 5) as f64 / 5.0)
+            .collect();
+        for s in [c, RationalSurface::new(net, weights).unwrap()] {
+            let (u, v, h) = (0.37, 0.61, 1e-5);
+            let d = s.derivatives(u, v);
+            let fd = |f: &dyn Fn(f64, f64) -> Vec3, du: f64, dv: f64| {
+                scale(sub(f(u + du, v + dv), f(u - du, v - dv)), 0.5 / h)
+            };
+            let e = |a: Vec3, b: Vec3| norm(sub(a, b));
+            let p = |a, b| s.eval(a, b);
+            assert!(e(d.du, fd(&p, h, 0.0)) < 1e-8);
+            assert!(e(d.dv, fd(&p, 0.0, h)) < 1e-8);
+            let su = |a, b| s.derivatives(a, b).du;
+            let sv = |a, b| s.derivatives(a, b).dv;
+            assert!(e(d.duu, fd(&su, h, 0.0)) < 1e-7);
+            assert!(e(d.duv, fd(&su, 0.0, h)) < 1e-7);
+            assert!(e(d.duv, fd(&sv, h, 0.0)) < 1e-7);
+            assert!(e(d.dvv, fd(&sv, 0.0, h)) < 1e-7);
+            let g = s.derivatives_on(&[u], &[v])[0];
+            for (a, b) in [
+                (g.point, d.point),
+                (g.du, d.du),
+                (g.dvv, d.dvv),
+                (g.duv, d.duv),
+            ] {
+                assert!(e(a, b) < 1e-13);
+            }
+        }
+    }
+
+    #[test]
+    fn a_stand_in_meets_its_tolerance_and_tighter_needs_more_spans() {
+        let c = quarter_cylinder(1.0, 1.0);
+        let loose = c.polynomial(FitTolerance::default()).unwrap();
+        assert!(loose.position <= 1e-6 && loose.angle <= 0.01f64.to_radians());
+        // Linear along the cylinder's axis: the v direction is kept.
+        assert_eq!(loose.surface.degree().1, 1);
+        let tight = c
+            .polynomial(FitTolerance {
+                position: 1e-12,
+                angle: 1e-10,
+            })
+            .unwrap();
+        assert!(tight.position <= 1e-12 && tight.angle <= 1e-10);
+        let spans = |s: &StandIn| s.surface.knots().0.spans().len();
+        assert!(
+            spans(&tight) > spans(&loose),
+            "{} {}",
+            spans(&tight),
+            spans(&loose)
+        );
+        // Independently of the measure: points inside are on the cylinder.
+        for k in 0..=50 {
+            let p = tight.surface.eval(k as f64 / 50.0, 0.3);
+            assert!((p[0].hypot(p[2]) - 1.0).abs() < 1e-11, "{p:?}");
+        }
+        // A polynomial surface in rational form is reproduced exactly.
+        let net = c.net().clone();
+        let flat = RationalSurface::new(net.clone(), vec![2.0; 6]).unwrap();
+        assert!(flat.is_polynomial());
+        let s = flat.polynomial(FitTolerance::default()).unwrap();
+        assert!(s.position < 1e-15, "{}", s.position);
+        assert_eq!(s.surface.knots(), net.knots());
+    }
+
+    #[test]
+    fn bad_weights_are_refused() {
+        let net = quarter_cylinder(1.0, 1.0).net().clone();
+        assert!(RationalSurface::new(net.clone(), vec![1.0; 5]).is_err());
+        let e = RationalSurface::new(net, vec![1.0, 1.0, 0.0, 1.0, 1.0, 1.0])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("weight (1, 0) is 0"), "{e}");
+    }
+}
