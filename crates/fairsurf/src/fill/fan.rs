@@ -61,7 +61,10 @@ pub struct FanReport {
     /// Disagreements at the corners: `position` between the two sides'
     /// corner points, `tangent` between the spoke's first point as the two
     /// sides' tangent planes give it (0 when the neighbours share the
-    /// tangent plane at the corner); no twists (the rows 2 are free).
+    /// tangent plane at the corner), or between a row 1 and the next
+    /// side's boundary (which wins); `twist` only for one triangular patch
+    /// ([`fill_triangle`]): between the corner twist points two rows 1
+    /// give (a fan's rows 2 are free).
     pub corners: CornerMismatch,
     /// The largest normal angle (radians) between two patches of the fan,
     /// along the spokes (65 samples each).
@@ -195,6 +198,7 @@ pub fn fill_fan(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) ->
         options,
         Continuity::default(),
         &mut corners,
+        false,
     );
     // Corner 0 is C: T_u × T_v is the normal of (C, V_k, V_{k+1}).
     let fan = finish(problem, faces, options, hole.clone(), corners, t0, |k| {
@@ -245,7 +249,7 @@ fn prepare(
         s = strips(&hole)?;
     }
     for (k, st) in s.iter().enumerate() {
-        let spans = st.knots.count() - st.degree();
+        let spans = st.knots.spans().len();
         if spans != 1 {
             return Err(Error::Fill {
                 why: format!(
@@ -285,6 +289,16 @@ fn prepare(
                 why: format!(
                     "the hole's sides {} and {k} fold back on each other at corner {k}",
                     (k + count - 1) % count
+                ),
+            });
+        }
+        // The bisector of da and db points into the hole at a convex
+        // corner; at a concave one (inside angle above 180°) out of it.
+        if dot(add(da, db), s[k].at(0.0).der) <= 0.0 {
+            return Err(Error::Fill {
+                why: format!(
+                    "corner {k} of the hole is concave (its inside angle is above 180°): a fan \
+                     around a centre cannot fill it"
                 ),
             });
         }
@@ -350,33 +364,56 @@ fn second_row(
         .collect())
 }
 
-/// The problem of `surface` with the points `fixed` holds (each the mean
-/// of what the rows give it; disagreements between two rows 1 go to
-/// `corners.twist`, others to `corners.tangent`) and the energy.
+/// The problem of `surface` with the points `fixed` holds and the energy.
+/// A point given by a boundary row (rows 0: `false`) takes that row's
+/// value — the position wins, so the fill stays on its neighbours — the
+/// mean when two boundary rows give it (their distance goes to
+/// `corners.position`), and a row 1 that disagrees goes to
+/// `corners.tangent`; a point only rows 1 give takes their mean, the
+/// disagreement going to `corners.twist` when `twist` (the triangle's
+/// corner twists), else to `corners.tangent` (a fan's spoke points, given
+/// by two sides' tangent planes).
 fn fixed_problem(
     mut surface: TriSurface,
     fixed: &BTreeMap<usize, Vec<(bool, Vec3)>>,
     options: &FillOptions,
     continuity: Continuity,
     corners: &mut CornerMismatch,
+    twist: bool,
 ) -> TriProblem {
+    let mean = |v: &[Vec3]| {
+        scale(
+            v.iter().fold([0.0; 3], |a, &b| add(a, b)),
+            1.0 / v.len() as f64,
+        )
+    };
     let mut held = Vec::with_capacity(fixed.len());
     for (&g, values) in fixed {
-        let mean = scale(
-            values.iter().fold([0.0; 3], |a, &(_, b)| add(a, b)),
-            1.0 / values.len() as f64,
-        );
-        let twist = values.len() > 1 && values.iter().all(|&(second, _)| second);
-        for &(_, x) in values {
-            let d = dist(x, mean);
-            if twist {
-                corners.twist = corners.twist.max(2.0 * d);
-            } else {
-                corners.tangent = corners.tangent.max(d);
+        let boundary: Vec<Vec3> = values.iter().filter(|v| !v.0).map(|v| v.1).collect();
+        let rows1: Vec<Vec3> = values.iter().filter(|v| v.0).map(|v| v.1).collect();
+        let value = if boundary.is_empty() {
+            let m = mean(&rows1);
+            for &x in &rows1 {
+                let d = dist(x, m);
+                if twist && rows1.len() > 1 {
+                    corners.twist = corners.twist.max(2.0 * d);
+                } else {
+                    corners.tangent = corners.tangent.max(d);
+                }
             }
-        }
-        surface.set_point(g, mean);
-        held.push((g, mean));
+            m
+        } else {
+            let m = mean(&boundary);
+            for &x in &boundary {
+                corners.position = corners.position.max(2.0 * dist(x, m));
+            }
+            for &x in &rows1 {
+                corners.tangent = corners.tangent.max(dist(x, m));
+            }
+            m
+        };
+        surface.set_point(g, value);
+        held.push((g, value));
     }
     let mut problem = TriProblem::new(surface, InternalEnergy::new(options.stretch, options.bend))
         .with_continuity(continuity);
@@ -456,8 +493,10 @@ fn finish(
 /// 0 and 1 of every side from its neighbour; at each corner W(0) is the
 /// previous side's tangent turned back and W(1) the next side's tangent
 /// plus this side's, so the rows meet the neighbouring sides' boundary
-/// points exactly; the corner "twist" points, which two rows 1 give, take
-/// the mean (their disagreement is reported). The inside points (all three
+/// points exactly; where a row 1 and a neighbouring side's boundary give
+/// the same point the boundary wins (the fill stays on the neighbour);
+/// the corner "twist" points, which two rows 1 give, take the mean (their
+/// disagreement is reported). The inside points (all three
 /// indices ≥ 2; degree ≥ 6) minimize the thin plate. Errors as
 /// [`fill_fan`]'s.
 pub fn fill_triangle(
@@ -517,7 +556,14 @@ pub fn fill_triangle(
                 .push((true, x));
         }
     }
-    let problem = fixed_problem(surface, &fixed, options, Continuity::none(), &mut corners);
+    let problem = fixed_problem(
+        surface,
+        &fixed,
+        options,
+        Continuity::none(),
+        &mut corners,
+        true,
+    );
     finish(problem, faces, options, hole, corners, t0, |k| {
         (
             0,

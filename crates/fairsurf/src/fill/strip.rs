@@ -33,10 +33,23 @@ pub(crate) struct StripPoint {
 /// A knot vector's knots mapped affinely onto [0, 1] (the ends exactly).
 fn unit_knots(k: &KnotVector) -> Result<KnotVector> {
     let (a, b) = k.domain();
-    KnotVector::new(
-        k.degree(),
-        k.knots().iter().map(|&t| (t - a) / (b - a)).collect(),
-    )
+    let unit: Vec<f64> = k.knots().iter().map(|&t| (t - a) / (b - a)).collect();
+    // Interior knots must stay inside (0, 1) both ways round (a strip may
+    // be reversed, t → 1 − t): one closer to an end than rounding is not.
+    let p = k.degree();
+    let interior = &unit[p + 1..unit.len() - p - 1];
+    if let Some(t) = interior
+        .iter()
+        .find(|&&t| !(t > 0.0 && t < 1.0 && 1.0 - t > 0.0 && 1.0 - t < 1.0))
+    {
+        return Err(Error::Fill {
+            why: format!(
+                "a boundary's interior knot at {t:e} of its domain is closer to an end than \
+                 double precision resolves"
+            ),
+        });
+    }
+    KnotVector::new(p, unit)
 }
 
 impl Strip {
@@ -83,7 +96,8 @@ impl Strip {
         knots.reverse();
         let rev = |v: &[Vec3]| v.iter().rev().copied().collect();
         Self {
-            knots: KnotVector::new(self.knots.degree(), knots).expect("a mirrored knot vector"),
+            knots: KnotVector::new(self.knots.degree(), knots)
+                .expect("interior knots inside (0, 1) both ways round (unit_knots)"),
             pos: rev(&self.pos),
             der: rev(&self.der),
         }

@@ -394,8 +394,19 @@ fn invert(m: &[Vec<f64>]) -> Vec<Vec<f64>> {
 /// directions for f of degree d). One smooth graph: the neighbours share
 /// tangent planes everywhere, and every hole side is one Bézier piece.
 fn polygon_hole(n: usize, d: usize, f: impl Fn(f64, f64) -> f64) -> (Vec<BSplineSurface>, Hole) {
+    polygon_hole_pulled(n, d, f, 1.0)
+}
+
+/// [`polygon_hole`] with the hole's corner 0 at radius `r0` instead of 1.
+fn polygon_hole_pulled(
+    n: usize,
+    d: usize,
+    f: impl Fn(f64, f64) -> f64,
+    r0: f64,
+) -> (Vec<BSplineSurface>, Hole) {
     let corner = |k: usize, r: f64| {
         let a = 2.0 * std::f64::consts::PI * k as f64 / n as f64 + 0.3;
+        let r = if k % n == 0 && r == 1.0 { r0 } else { r };
         [r * a.cos(), r * a.sin()]
     };
     let faces: Vec<BSplineSurface> = (0..n)
@@ -662,4 +673,58 @@ fn a_triangular_hole_is_one_patch_when_that_is_fairer() {
             .contains("the hole has 5 sides; one triangular patch"),
         "{e}"
     );
+}
+
+/// Neighbours creased at a corner (their tangent planes differ there): the
+/// one-patch fill of a triangular hole keeps its boundary on the
+/// neighbours (a boundary point wins over the row 1 that also gives it),
+/// and reports the corner's disagreement instead of hiding it.
+#[test]
+fn a_creased_corner_leaves_the_triangle_on_its_neighbours() {
+    let (s, c) = (0.3f64.sin(), 0.3f64.cos());
+    // A tilt on one side of the radial line through corner 0.
+    let creased = |x: f64, y: f64| cubic(x, y) + 0.3 * (c * y - s * x).max(0.0);
+    let (faces, hole) = polygon_hole(3, 3, creased);
+    let one = fill_triangle(&faces, &hole, &FillOptions::default()).unwrap();
+    let r = &one.report;
+    for f in &r.sides {
+        assert!(f.gap < 1e-12, "{f:?}");
+    }
+    assert!(r.corners.tangent > 1e-3, "{:?}", r.corners);
+    assert!(r.corners.position < 1e-14, "{:?}", r.corners);
+}
+
+/// A concave corner (a pentagon with one corner pulled in past its
+/// neighbours' chord) is refused by name, not blamed on the faces.
+#[test]
+fn a_concave_corner_is_refused_by_name() {
+    let (faces, hole) = polygon_hole_pulled(5, 3, cubic, 0.2);
+    let e = fill_fan(&faces, &hole, &FillOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("is concave (its inside angle is above 180°)"),
+        "{e}"
+    );
+}
+
+/// A neighbour whose boundary has an interior knot closer to its end than
+/// double precision resolves when mirrored is an error, not a panic.
+#[test]
+fn a_knot_at_rounding_distance_from_an_end_is_an_error() {
+    let v = KnotVector::new(3, vec![0., 0., 0., 0., 1e-17, 1., 1., 1., 1.]).unwrap();
+    let face = BSplineSurface::new(
+        KnotVector::bezier(1),
+        v,
+        (0..10)
+            .map(|k| [(k / 5) as f64, (k % 5) as f64, 0.0])
+            .collect(),
+    )
+    .unwrap();
+    for reversed in [false, true] {
+        let e = strip::Strip::from_side(&face, Edge::U0, reversed)
+            .expect_err("refused")
+            .to_string();
+        assert!(e.contains("closer to an end than double precision"), "{e}");
+    }
 }
