@@ -712,7 +712,8 @@ impl PyBlended {
     /// Writes the faces and the blend as one sewn STEP shell.
     fn write_step(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         let surfaces = self.input.surfaces(&self.blend);
-        py.detach(|| fairsurf_io::write_step_surfaces(&path, &surfaces))
+        let within = self.input.sew_within();
+        py.detach(|| fairsurf_io::write_step_sewn(&path, &surfaces, within))
             .map_err(|e| to_py(py, e))
     }
 }

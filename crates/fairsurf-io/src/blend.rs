@@ -5,15 +5,19 @@
 //!
 //! Field docs here become the descriptions in `fairsurf schema --type blend`.
 
-use crate::fill::{patch_json, side_json, FaceSpec, FillSpec};
+use crate::fill::{
+    patch_json, sew_tolerance, side_json, stand_in, stand_ins_json, FaceSpec, FillSpec,
+};
+use crate::step_read::FaceSurface;
 use crate::{CadSurface, Error, Result};
 use fairsurf::analysis::Edge;
-use fairsurf::bspline::BSplineSurface;
+use fairsurf::bspline::{BSplineSurface, FitTolerance, RationalSurface};
 use fairsurf::fill::{blend, Blend, BlendOptions, Bulge};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// A blend scene: a transition surface between two surfaces along one
 /// edge of each, G¹ to both (Wu & Yang 2015, Fig. 5).
@@ -93,8 +97,17 @@ pub struct BlendSurfaceSpec {
 #[derive(Clone, Debug)]
 pub struct BlendInput {
     /// The inline faces and every face of the STEP files named, each file
-    /// once, in the order first named.
+    /// once, in the order first named; a rational face (a cylinder, …) by
+    /// its polynomial stand-in (within the default [`FitTolerance`]).
     pub faces: Vec<BSplineSurface>,
+    /// What each face is ("B-spline", "plane", "cylinder", …).
+    pub kinds: Vec<&'static str>,
+    /// Per face, the rational surface a stand-in stands for (written as
+    /// that, and what A or B is measured against).
+    pub rational: Vec<Option<Arc<RationalSurface>>>,
+    /// Per rational face, its stand-in's distance from it along its sides
+    /// (position, angle in radians).
+    pub stand_ins: Vec<Option<(f64, f64)>>,
     /// A's and B's indices in `faces`, and their edges.
     pub ends: [(usize, Edge); 2],
     /// How to blend.
@@ -167,6 +180,9 @@ impl BlendInput {
         }
         let options = scene.options()?;
         let mut faces: Vec<BSplineSurface> = Vec::new();
+        let mut kinds: Vec<&'static str> = Vec::new();
+        let mut rational: Vec<Option<Arc<RationalSurface>>> = Vec::new();
+        let mut stand_ins: Vec<Option<(f64, f64)>> = Vec::new();
         // Each STEP file once: (its path, the index of its first face).
         let mut files: Vec<(PathBuf, usize, usize)> = Vec::new();
         let mut ends = [(0, Edge::U0); 2];
@@ -175,10 +191,15 @@ impl BlendInput {
             let index = match (&s.face, &s.step, s.index) {
                 (Some(f), None, None) => {
                     faces.push(f.surface(&format!("{path}.face"))?);
+                    kinds.push("B-spline");
+                    rational.push(None);
+                    stand_ins.push(None);
                     faces.len() - 1
                 }
                 (None, Some(step), Some(i)) => {
+                    // One file however its path is spelled.
                     let file = folder.join(step);
+                    let file = file.canonicalize().unwrap_or(file);
                     let (first, count) = match files.iter().find(|f| f.0 == file) {
                         Some(&(_, first, count)) => (first, count),
                         None => {
@@ -190,7 +211,7 @@ impl BlendInput {
                                     )
                                 })
                                 .and_then(|t| {
-                                    crate::step_read::read_step_faces(&t).map_err(|e| {
+                                    crate::step_read::read_step(&t).map_err(|e| {
                                         Error::scene(
                                             format!("{path}.step"),
                                             format!("{}: {e}", file.display()),
@@ -198,7 +219,28 @@ impl BlendInput {
                                     })
                                 })?;
                             let (first, count) = (faces.len(), read.len());
-                            faces.extend(read);
+                            for (j, f) in read.into_iter().enumerate() {
+                                kinds.push(f.kind);
+                                match f.surface {
+                                    FaceSurface::Polynomial(s) => {
+                                        faces.push(s);
+                                        rational.push(None);
+                                        stand_ins.push(None);
+                                    }
+                                    FaceSurface::Rational(r) => {
+                                        let s = stand_in(&r, FitTolerance::default(), j, f.kind)
+                                            .map_err(|e| {
+                                                Error::scene(
+                                                    format!("{path}.step"),
+                                                    format!("{}: {e}", file.display()),
+                                                )
+                                            })?;
+                                        faces.push(s.surface);
+                                        rational.push(Some(Arc::new(r)));
+                                        stand_ins.push(Some((s.position, s.angle)));
+                                    }
+                                }
+                            }
                             files.push((file.clone(), first, count));
                             (first, count)
                         }
@@ -206,11 +248,15 @@ impl BlendInput {
                     if i >= count {
                         return Err(Error::scene(
                             format!("{path}.index"),
-                            format!(
-                                "{} has {count} faces (0 to {}), not {i}",
-                                file.display(),
-                                count.saturating_sub(1)
-                            ),
+                            if count == 0 {
+                                format!("{} has no faces", file.display())
+                            } else {
+                                format!(
+                                    "{} has {count} faces (0 to {}), not {i}",
+                                    file.display(),
+                                    count - 1
+                                )
+                            },
                         ));
                     }
                     first + i
@@ -238,30 +284,36 @@ impl BlendInput {
         }
         Ok(BlendInput {
             faces,
+            kinds,
+            rational,
+            stand_ins,
             ends,
             options,
         })
     }
 
-    /// The blend.
+    /// The blend: a rational A or B through its stand-in, measured against
+    /// the rational surface.
     pub fn blend(&self) -> Result<Blend> {
         let [(a, ea), (b, eb)] = self.ends;
-        Ok(blend(
-            &self.faces[a],
-            ea,
-            &self.faces[b],
-            eb,
-            &self.options,
-        )?)
+        let mut options = self.options.clone();
+        options.fill.rational_faces = vec![self.rational[a].clone(), self.rational[b].clone()];
+        Ok(blend(&self.faces[a], ea, &self.faces[b], eb, &options)?)
     }
 
-    /// Every face and the blend, for the CAD writers.
+    /// Every face (a rational one as it is) and the blend, for the CAD
+    /// writers.
     pub fn surfaces(&self, blend: &Blend) -> Vec<CadSurface> {
-        self.faces
-            .iter()
-            .chain([&blend.surface])
-            .map(CadSurface::from)
+        crate::fill::fill_surfaces(&self.faces, &self.rational, &[])
+            .into_iter()
+            .chain([CadSurface::from(&blend.surface)])
             .collect()
+    }
+
+    /// Under this distance vertices and edges are shared in the STEP file
+    /// (the stand-ins' fit; see `fill`'s hole tolerance).
+    pub fn sew_within(&self) -> f64 {
+        sew_tolerance(&self.faces, &self.stand_ins)
     }
 }
 
@@ -288,6 +340,7 @@ pub fn blend_json(input: &BlendInput, blend: &Blend) -> Value {
         &r.seconds,
     );
     out["faces"] = json!(input.faces.len());
+    out["stand_ins"] = stand_ins_json(&input.kinds, &input.stand_ins);
     out["flipped"] = json!(r.flipped);
     out["alpha"] = json!(r.alpha);
     out["bulge"] = json!(r.bulge);
@@ -437,5 +490,33 @@ mod tests {
         let input = BlendInput::from_text(&w.to_string(), &dir).unwrap();
         let e = input.blend().unwrap_err().to_string();
         assert!(e.contains("meet at their"), "{e}");
+    }
+
+    /// A blend between two cylinder faces of a STEP file (rational faces,
+    /// through their stand-ins): within the tolerance of both, measured
+    /// against the cylinders and reported as not exact; the file read once
+    /// however its path is spelled; the cylinders written as rational
+    /// surfaces.
+    #[test]
+    fn a_blend_between_cylinders_is_within_tolerance() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cad");
+        let text = r#"{"surfaces": [
+            {"step": "fillet_hole.step", "index": 1, "edge": "v1"},
+            {"step": "./fillet_hole.step", "index": 6, "edge": "v0"}]}"#;
+        let input = BlendInput::from_text(text, &dir).unwrap();
+        assert_eq!(input.faces.len(), 8);
+        assert_eq!((input.kinds[1], input.kinds[6]), ("cylinder", "cylinder"));
+        let b = input.blend().unwrap();
+        for f in &b.report.sides {
+            assert!(!f.exact, "{f:?}");
+            assert!(f.gap <= 1e-6 && f.angle.to_degrees() <= 0.01, "{f:?}");
+        }
+        let cad = input.surfaces(&b);
+        assert_eq!(cad.len(), 9);
+        assert!(cad[1].weights.is_some() && cad[6].weights.is_some());
+        assert!(cad[0].weights.is_none() && cad[8].weights.is_none());
+        let json = blend_json(&input, &b);
+        assert_eq!(json["stand_ins"].as_array().unwrap().len(), 2, "{json}");
+        assert!(input.sew_within() >= 4.0 * input.stand_ins[1].unwrap().0);
     }
 }

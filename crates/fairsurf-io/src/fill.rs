@@ -315,9 +315,7 @@ impl FillInput {
     pub fn refit(&mut self, fit: FitTolerance) -> Result<()> {
         for (k, r) in self.options.rational_faces.iter().enumerate() {
             if let Some(r) = r {
-                let s = r.polynomial(fit).map_err(|e| {
-                    Error::scene(format!("face {k}"), format!("a {}: {e}", self.kinds[k]))
-                })?;
+                let s = stand_in(r, fit, k, self.kinds[k])?;
                 self.stand_ins[k] = Some((s.position, s.angle));
                 self.faces[k] = s.surface;
             }
@@ -330,35 +328,55 @@ impl FillInput {
     /// from its face when that is larger (two stand-ins of one edge may
     /// differ by twice that).
     pub fn hole_tolerance(&self) -> f64 {
-        let fit = self
-            .stand_ins
-            .iter()
-            .flatten()
-            .map(|s| s.0)
-            .fold(0.0, f64::max);
-        tolerance(&self.faces).max(4.0 * fit)
+        sew_tolerance(&self.faces, &self.stand_ins)
     }
 
-    /// The rational faces and their stand-ins, as JSON: face, kind, and
-    /// the stand-in's largest gap and angle along the face's sides.
+    /// The rational faces and their stand-ins, as JSON ([`stand_ins_json`]).
     pub fn stand_ins_json(&self) -> Value {
-        Value::Array(
-            self.stand_ins
-                .iter()
-                .enumerate()
-                .filter_map(|(k, s)| {
-                    s.map(|(gap, angle)| {
-                        json!({
-                            "face": k,
-                            "kind": self.kinds[k],
-                            "gap": gap,
-                            "angle_deg": angle.to_degrees(),
-                        })
+        stand_ins_json(&self.kinds, &self.stand_ins)
+    }
+}
+
+/// A rational face's stand-in within `fit`; errors name face `k` and its
+/// kind.
+pub(crate) fn stand_in(
+    r: &RationalSurface,
+    fit: FitTolerance,
+    k: usize,
+    kind: &str,
+) -> Result<fairsurf::bspline::StandIn> {
+    r.polynomial(fit)
+        .map_err(|e| Error::scene(format!("face {k}"), format!("a {kind}: {e}")))
+}
+
+/// [`tolerance`] of `faces`, or four times the largest stand-in's
+/// distance from its face when that is larger (two stand-ins of one edge
+/// may differ by twice that): under it, points are one when finding holes
+/// and sharing edges in the STEP file.
+pub(crate) fn sew_tolerance(faces: &[BSplineSurface], stand_ins: &[Option<(f64, f64)>]) -> f64 {
+    let fit = stand_ins.iter().flatten().map(|s| s.0).fold(0.0, f64::max);
+    tolerance(faces).max(4.0 * fit)
+}
+
+/// The rational faces and their stand-ins, as JSON: face, kind, and the
+/// stand-in's largest gap and angle along the face's sides.
+pub(crate) fn stand_ins_json(kinds: &[&str], stand_ins: &[Option<(f64, f64)>]) -> Value {
+    Value::Array(
+        stand_ins
+            .iter()
+            .enumerate()
+            .filter_map(|(k, s)| {
+                s.map(|(gap, angle)| {
+                    json!({
+                        "face": k,
+                        "kind": kinds[k],
+                        "gap": gap,
+                        "angle_deg": angle.to_degrees(),
                     })
                 })
-                .collect(),
-        )
-    }
+            })
+            .collect(),
+    )
 }
 
 /// The holes of a set of faces and which of them to fill.
