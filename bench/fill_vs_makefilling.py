@@ -35,6 +35,7 @@ write STEP).
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import json
 import math
 import statistics
@@ -129,6 +130,12 @@ def bezier_holes():
             for j in range(6)] for i in range(6)]
     yield "dome", network(lambda: Geom_BezierSurface(poles(cap)), [0, 1 / 3, 2 / 3, 1],
                           [0, 1 / 3, 2 / 3, 1])
+    # The approximate case: examples/cad/fillet_hole.step's planes and
+    # cylinders (fairsurf meets the cylinders through polynomial stand-ins).
+    spec = importlib.util.spec_from_file_location("fillet", ROOT / "examples/cad/fillet_hole.py")
+    fillet = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(fillet)
+    yield "fillet", fillet.faces()
 
 
 def sew(faces):

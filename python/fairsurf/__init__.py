@@ -423,7 +423,12 @@ class Filled:
     """Holes filled between faces (:func:`fill`): the input ``faces``, the
     ``fills`` (:class:`Surface` objects, one per filled hole: B-spline for a
     4-sided hole, triangular (a fan around a centre) otherwise; G1 to
-    their neighbours) and the ``report`` (``fairsurf fill --json``)."""
+    their neighbours) and the ``report`` (``fairsurf fill --json``).
+    A rational face of a STEP file (a cylinder, a cone, a NURBS face) is
+    in ``faces`` as its polynomial stand-in (``report["stand_ins"]`` says
+    how far it is from the face; the fill's sides along it are measured
+    against the face itself and have ``"exact": False``); :meth:`write`
+    writes the rational face itself."""
 
     def __init__(self, native: Any) -> None:
         self._native = native

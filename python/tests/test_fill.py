@@ -195,6 +195,19 @@ def test_the_python_fill_gives_what_the_command_line_gives(cli: Path, tmp_path: 
     assert count(read_step(tmp_path / "py.step"), TopAbs_FACE) == 9
 
 
+def test_the_python_fill_next_to_cylinders_is_sewn_like_the_command_line(tmp_path: Path):
+    import fairsurf
+
+    filled = fairsurf.fill(EXAMPLES / "fillet_hole.step")
+    assert [s["kind"] for s in filled.report["stand_ins"]] == ["cylinder", "cylinder"]
+    assert sorted(s["exact"] for s in filled.report["fills"][0]["sides"]) == [False, False, True,
+                                                                             True]
+    filled.write(tmp_path / "py.step")
+    shape = read_step(tmp_path / "py.step")
+    assert count(shape, TopAbs_FACE) == 9
+    assert free_edges_after_sewing(shape) == 12
+
+
 def test_an_open_cascade_shape_is_filled_and_sewn():
     from fairsurf import occ
 

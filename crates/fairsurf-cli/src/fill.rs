@@ -16,9 +16,11 @@ use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// The faces: a STEP file (.step/.stp: B-spline and Bézier faces, as
-    /// Open CASCADE, CadQuery or FreeCAD write them) or a JSON fill scene
-    /// (`fairsurf schema --type fill`).
+    /// The faces: a STEP file (.step/.stp, as Open CASCADE, CadQuery or
+    /// FreeCAD write them: B-spline and Bézier faces, rational or not,
+    /// planes bounded by four straight edges, cylinders and cones bounded
+    /// by two arcs and two rulings) or a JSON fill scene (`fairsurf schema
+    /// --type fill`).
     input: PathBuf,
     /// The STEP file to write: the input faces and the fills, sewn.
     #[arg(short, long, required_unless_present = "list")]

@@ -331,7 +331,8 @@ impl FillInput {
         sew_tolerance(&self.faces, &self.stand_ins)
     }
 
-    /// The rational faces and their stand-ins, as JSON ([`stand_ins_json`]).
+    /// The rational faces and their stand-ins, as JSON: face, kind, and the
+    /// stand-in's largest gap and angle along the face's sides.
     pub fn stand_ins_json(&self) -> Value {
         stand_ins_json(&self.kinds, &self.stand_ins)
     }

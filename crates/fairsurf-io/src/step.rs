@@ -91,6 +91,18 @@ fn step_text_within(file_name: &str, patches: &[CadSurface], tol: f64) -> String
         ..Data::default()
     };
     let context = d.header_entities();
+    // Every surface's corners, each once: a side is split at the corners
+    // lying inside it, whichever face comes first in the file.
+    let mut seen = std::collections::HashSet::new();
+    for p in patches {
+        let (cu, cv) = p.counts;
+        for (i, j) in [(0, 0), (cu - 1, 0), (0, cv - 1), (cu - 1, cv - 1)] {
+            let c = p.point(i, j);
+            if seen.insert(bits(c)) {
+                d.corners.push(c);
+            }
+        }
+    }
     let faces: Vec<usize> = patches.iter().map(|p| d.face(p)).collect();
     let shell = d.add(format!("OPEN_SHELL('',({}))", refs(&faces)));
     let model = d.add(format!("SHELL_BASED_SURFACE_MODEL('',(#{shell}))"));
@@ -140,6 +152,9 @@ struct Data {
     edge_samples: Vec<([Vec3; EDGE_SAMPLES], usize)>,
     /// Points closer than this are one.
     tol: f64,
+    /// Every surface's corner points (a VERTEX_POINT is made for one when
+    /// a side is split there before its own face is written).
+    corners: Vec<Vec3>,
 }
 
 /// Points compared per edge when matching edges by their geometry.
@@ -431,20 +446,42 @@ impl Data {
                     std::array::from_fn(|c| hi[c].max(p[c] + tol)),
                 )
             });
-        let mut inside: Vec<(f64, usize)> = self
+        // Vertices written, and corners of faces still to come.
+        let candidates = self
             .vertex_points
             .iter()
+            .map(|&(q, v)| (q, Some(v)))
+            .chain(self.corners.iter().map(|&q| (q, None)));
+        let mut found: Vec<(f64, Vec3, Option<usize>)> = candidates
             .filter(|(q, _)| (0..3).all(|c| q[c] >= lo[c] && q[c] <= hi[c]))
             .filter(|(q, _)| dist(*q, pts[0]) > tol && dist(*q, pts[last]) > tol)
-            .filter_map(|&(q, v)| {
+            .filter_map(|(q, v)| {
                 let t = project(&kv, pts, w, q)?;
-                (t > a && t < b && dist(curve_point(&kv, pts, w, t), q) <= tol).then_some((t, v))
+                (t > a && t < b && dist(curve_point(&kv, pts, w, t), q) <= tol).then_some((t, q, v))
             })
             .collect();
-        if inside.is_empty() {
+        // Written vertices first, then by parameter, each point once.
+        found.sort_by_key(|x| x.2.is_none());
+        let mut unique: Vec<(f64, Vec3, Option<usize>)> = Vec::new();
+        for f in found {
+            if !unique.iter().any(|u| dist(u.1, f.1) <= tol) {
+                unique.push(f);
+            }
+        }
+        if unique.is_empty() {
             return vec![self.new_edge(pts, ids, curve)];
         }
-        inside.sort_by(|x, y| x.0.total_cmp(&y.0));
+        unique.sort_by(|x, y| x.0.total_cmp(&y.0));
+        let inside: Vec<(f64, usize)> = unique
+            .into_iter()
+            .map(|(t, q, v)| {
+                let v = v.unwrap_or_else(|| {
+                    let point = self.add(format!("CARTESIAN_POINT('',{})", coords(q)));
+                    self.vertex(q, point)
+                });
+                (t, v)
+            })
+            .collect();
         let start = self.vertex(pts[0], ids[0]);
         let end = self.vertex(pts[last], ids[last]);
         let mut chain = vec![(a, start)];
@@ -694,5 +731,33 @@ mod tests {
     #[test]
     fn labels_are_escaped() {
         assert_eq!(string("it's a\\b é"), "it''s a\\\\b _");
+    }
+
+    /// A side that two later faces each cover half of is split at their
+    /// common corner and shares its halves with them, whichever order the
+    /// faces come in.
+    #[test]
+    fn a_side_is_split_at_corners_of_faces_written_later() {
+        let quad = |x0: f64, x1: f64, y0: f64, y1: f64| {
+            TensorPatch::from_fn(1, 1, |i, j| {
+                [
+                    if i == 0 { x0 } else { x1 },
+                    if j == 0 { y0 } else { y1 },
+                    0.0,
+                ]
+            })
+        };
+        let (a, b, c) = (
+            quad(0.0, 2.0, -1.0, 0.0),
+            quad(0.0, 1.0, 0.0, 1.0),
+            quad(1.0, 2.0, 0.0, 1.0),
+        );
+        for order in [[&a, &b, &c], [&b, &c, &a], [&b, &a, &c]] {
+            let surfaces: Vec<CadSurface> = order.iter().map(|p| CadSurface::from(*p)).collect();
+            let t = step_text("x.step", &surfaces);
+            assert_eq!(count(&t, "EDGE_CURVE"), 10, "{t}");
+            assert_eq!(count(&t, "VERTEX_POINT"), 8, "{t}");
+            assert_eq!(count(&t, "ORIENTED_EDGE"), 13, "{t}");
+        }
     }
 }

@@ -1,9 +1,11 @@
-//! Reading STEP files (ISO 10303-21) for `fill`: the faces of every shell
-//! (OPEN_SHELL, CLOSED_SHELL, in whichever representation holds them), by
-//! the `truck-stepio` crate (ruststep's parser). The faces must be B-spline
-//! surfaces (`B_SPLINE_SURFACE_WITH_KNOTS`, `BEZIER_SURFACE`, … or a
-//! rational one whose weights are all equal) bounded by their own four
-//! sides: every other face is refused by name, nothing is dropped silently.
+//! Reading STEP files (ISO 10303-21) for `fill` and `blend`: the faces of
+//! every shell (OPEN_SHELL, CLOSED_SHELL, in whichever representation holds
+//! them), by the `truck-stepio` crate (ruststep's parser), each as a
+//! polynomial or rational B-spline bounded by its four sides
+//! ([`read_step`]): B-spline and Bézier faces (rational or not), planes
+//! bounded by four straight edges, cylinders and cones bounded by two arcs
+//! and two rulings. Every other face is refused by name, nothing is
+//! dropped silently.
 
 use crate::{Error, Result};
 use fairsurf::bspline::{BSplineSurface, KnotVector, RationalSurface};

@@ -44,6 +44,12 @@
 //! 3-sided one also by a single triangular patch ([`fill_triangle`]);
 //! [`HoleFill::new`] picks by the number of sides and, for three, by W.
 //!
+//! A rational neighbour (a cylinder, a NURBS face) enters through a
+//! polynomial stand-in within a tolerance ([`RationalSurface::polynomial`],
+//! [`FillOptions::rational_faces`]): the fill is G¹ to the stand-in
+//! exactly and its sides there are measured against the rational surface
+//! itself and reported as not exact ([`SideFit::exact`]).
+//!
 //! The same rings and fairing make a transition surface between two
 //! surfaces along one edge of each ([`blend`], Wu & Yang Fig. 5): two sides
 //! from the surfaces, two made as cubic Hermite curves.
