@@ -451,11 +451,14 @@ def fill(
     normal_weight: Optional[float] = None,
     elevate: Optional[int] = None,
     willmore_steps: Optional[int] = None,
+    descent_steps: Optional[int] = None,
 ) -> Filled:
     """Fills the holes between faces: ``faces`` is a STEP file's path
     (``.step``/``.stp``), or a JSON fill scene as a path, text or dict
     (``schema("fill")``). ``holes`` chooses holes by index (longest loop
-    first; default: all but the outer rim). Raises :class:`SceneError` for
+    first; default: all but the outer rim). ``normal_weight``, ``elevate``,
+    ``willmore_steps`` and ``descent_steps`` (steps of L-BFGS on W itself;
+    0 for none) override the scene's ``fill`` options. Raises :class:`SceneError` for
     bad input (with ``.path``), :class:`SolveError` for a hole that cannot be
     filled (e.g. an N-sided hole whose sides have interior knots). For Open CASCADE shapes see
     :func:`fairsurf.occ.fill_shape`."""
@@ -466,7 +469,7 @@ def fill(
     try:
         native = _fairsurf.fill(
             text, step, None if holes is None else list(holes), normal_weight, elevate,
-            willmore_steps,
+            willmore_steps, descent_steps,
         )
     except SceneError as e:
         raise _located(e, faces) from None

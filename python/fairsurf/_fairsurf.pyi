@@ -57,6 +57,7 @@ def fill(
     normal_weight: Optional[float] = None,
     elevate: Optional[int] = None,
     willmore_steps: Optional[int] = None,
+    descent_steps: Optional[int] = None,
 ) -> Filled: ...
 class Blended:
     def faces(self) -> List[Surface]: ...

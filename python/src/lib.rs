@@ -624,7 +624,7 @@ impl PyFilled {
 /// JSON fill scene's, the GIL released; `holes` and the options override
 /// the scene's.
 #[pyfunction]
-#[pyo3(signature = (text, step, holes = None, normal_weight = None, elevate = None, willmore_steps = None))]
+#[pyo3(signature = (text, step, holes = None, normal_weight = None, elevate = None, willmore_steps = None, descent_steps = None))]
 fn fill(
     py: Python<'_>,
     text: String,
@@ -633,6 +633,7 @@ fn fill(
     normal_weight: Option<f64>,
     elevate: Option<usize>,
     willmore_steps: Option<usize>,
+    descent_steps: Option<usize>,
 ) -> PyResult<PyFilled> {
     if let Some(w) = normal_weight {
         if !(w >= 0.0 && w.is_finite()) {
@@ -641,9 +642,12 @@ fn fill(
             )));
         }
     }
-    if elevate.is_some_and(|e| e > 10) || willmore_steps.is_some_and(|s| s > 50) {
+    if elevate.is_some_and(|e| e > 10)
+        || willmore_steps.is_some_and(|s| s > 50)
+        || descent_steps.is_some_and(|s| s > 10_000)
+    {
         return Err(PyValueError::new_err(
-            "elevate is 0 to 10 and willmore_steps 0 to 50",
+            "elevate is 0 to 10, willmore_steps 0 to 50 and descent_steps 0 to 10000",
         ));
     }
     py.detach(|| {
@@ -657,6 +661,9 @@ fn fill(
         }
         if let Some(s) = willmore_steps {
             options.willmore_steps = s;
+        }
+        if let Some(s) = descent_steps {
+            options.descent_steps = s;
         }
         let asked = holes.or(input.holes.clone());
         let choice = fairsurf_io::HoleChoice::of(&input, asked.as_deref())?;

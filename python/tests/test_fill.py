@@ -182,7 +182,7 @@ def test_the_python_fill_gives_what_the_command_line_gives(cli: Path, tmp_path: 
     assert filled.report["holes"] == theirs["holes"]
     # A dict works too, and the rim of the sheet (faces outside it) is a SolveError.
     as_dict = json.loads(scene.read_text())
-    again = fairsurf.fill(as_dict, willmore_steps=0)
+    again = fairsurf.fill(as_dict, willmore_steps=0, descent_steps=0)
     assert again.report["fills"][0]["willmore_w"] == [again.report["fills"][0]["curvature_w"]]
     import pytest
 

@@ -1478,6 +1478,12 @@ fn bad_fills_exit_2_and_write_nothing() {
     let p = write("elevate.json", &bad);
     assert!(run(&[p.to_str().unwrap()]).contains("fill.elevate: expected 0 to 10, got 11"));
     let mut bad = text.clone();
+    bad["fill"] = serde_json::json!({"descent_steps": 10001});
+    let p = write("descent.json", &bad);
+    assert!(
+        run(&[p.to_str().unwrap()]).contains("fill.descent_steps: expected 0 to 10000, got 10001")
+    );
+    let mut bad = text.clone();
     bad["fill"] = serde_json::json!({"bend": 0});
     let p = write("no_energy.json", &bad);
     assert!(run(&[p.to_str().unwrap()]).contains("stretch and bend are both 0"));

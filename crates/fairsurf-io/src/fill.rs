@@ -102,6 +102,11 @@ pub struct FillSpec {
     /// lowers W (default 4; 0 to 50).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub willmore_steps: Option<usize>,
+    /// Then at most this many steps lowering W itself (L-BFGS), stopping
+    /// after three in a row that each gain less than 1e-8 of W (default 200;
+    /// 0 to 10000).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub descent_steps: Option<usize>,
 }
 
 /// The largest degree of a face (Open CASCADE reads up to 25).
@@ -139,6 +144,13 @@ impl FillSpec {
                 format!("expected 0 to 50, got {willmore_steps}"),
             ));
         }
+        let descent_steps = self.descent_steps.unwrap_or(d.descent_steps);
+        if descent_steps > 10_000 {
+            return Err(Error::scene(
+                "fill.descent_steps",
+                format!("expected 0 to 10000, got {descent_steps}"),
+            ));
+        }
         let samples = self.samples.unwrap_or(d.samples);
         if !(1..=16).contains(&samples) {
             return Err(Error::scene(
@@ -154,6 +166,7 @@ impl FillSpec {
             normal_weight: weight("normal_weight", self.normal_weight, d.normal_weight)?,
             samples,
             willmore_steps,
+            descent_steps,
             rational_faces: Vec::new(),
         };
         if options.stretch == 0.0 && options.bend == 0.0 {
@@ -767,9 +780,13 @@ mod tests {
                     assert!(s.gap < 1e-14, "{s:?}");
                 }
             }
+            // Fairer than the quarter cylinder it replaces (W = area/r² = π/2:
+            // the descent on W takes it 0.02% below), and near it.
             let w = f.report.curvature.value;
-            assert!((w / std::f64::consts::FRAC_PI_2 - 1.0).abs() < 3e-3, "{w}");
-            // Not the cylinder itself (W is 0.15% above its π/2), but near it.
+            assert!(
+                w < std::f64::consts::FRAC_PI_2 && w > 0.999 * std::f64::consts::FRAC_PI_2,
+                "{w}"
+            );
             assert!(off(&f) < 5e-3, "{}", off(&f));
         }
     }

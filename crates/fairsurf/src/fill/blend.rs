@@ -197,18 +197,20 @@ pub fn blend(
         Bulge::Fixed(bulge) => with(options, bulge),
         Bulge::Least => {
             // The search compares thin-plate blends; the Willmore steps
-            // (kept only where W falls) then polish the chosen one.
+            // and the descent on W (each only where W falls) then polish
+            // the chosen one.
             let t0 = Instant::now();
             let plain = BlendOptions {
                 fill: FillOptions {
                     willmore_steps: 0,
+                    descent_steps: 0,
                     ..options.fill.clone()
                 },
                 ..options.clone()
             };
             let found = least_w(|bulge| with(&plain, bulge))?;
             let mut search = found.report.bulge_search.expect("a search");
-            let mut chosen = if options.fill.willmore_steps > 0 {
+            let mut chosen = if options.fill.willmore_steps > 0 || options.fill.descent_steps > 0 {
                 with(options, found.report.bulge)?
             } else {
                 found
@@ -481,6 +483,7 @@ mod tests {
         FillOptions {
             normal_weight: 0.0,
             willmore_steps: 0,
+            descent_steps: 0,
             ..FillOptions::default()
         }
     }
@@ -671,9 +674,11 @@ mod tests {
             .map(|p| [p[0], p[1], p[2] + 0.6 * (p[1] - 2.0)])
             .collect();
         let b = BSplineSurface::new(ku.clone(), kv.clone(), pts).unwrap();
+        // The search compares thin-plate blends: so do these.
         let opts = |bulge| BlendOptions {
             fill: FillOptions {
                 willmore_steps: 0,
+                descent_steps: 0,
                 ..FillOptions::default()
             },
             bulge,

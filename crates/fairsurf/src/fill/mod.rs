@@ -31,7 +31,11 @@
 //!    samples each) — see [`FillOptions`]. Then a few linearized Willmore
 //!    steps lower W further: with the boundary's tangent planes fixed,
 //!    ∫∫ K dA is fixed (Gauss–Bonnet), so W falls exactly as ∫∫ 4H² dA does,
-//!    and ∫∫ |Δ_g R|² dA with the metric frozen is quadratic.
+//!    and ∫∫ |Δ_g R|² dA with the metric frozen is quadratic. Their fixed
+//!    point is not W's minimum (the frozen metric drops W's variation
+//!    through the metric), so L-BFGS on W itself follows, its exact
+//!    gradient by forward differentiation of the integrand at the Gauss
+//!    nodes, the frozen-metric operator as its first inverse Hessian.
 //! 4. **Measured.** Every side's gap and normal angle on the returned
 //!    surface against the neighbour, at 129 parameters clustered towards
 //!    the corners (Chebyshev–Lobatto), and W = ∫∫ κ₁² + κ₂² dA of the fill
@@ -85,6 +89,9 @@ use strip::{concat, unify, Strip, CONTINUES};
 /// both.
 pub const DEFAULT_NORMAL_WEIGHT: f64 = 100.0;
 
+/// The default budget of steps on W itself ([`FillOptions::descent_steps`]).
+pub const DESCENT_STEPS: usize = 200;
+
 /// How to fill.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FillOptions {
@@ -109,6 +116,11 @@ pub struct FillOptions {
     /// `willmore`): at most this many, each kept only if it lowers W,
     /// stopping once one lowers it by less than 1e-6 of itself; 0 for none.
     pub willmore_steps: usize,
+    /// Then at most this many steps that lower W itself (L-BFGS on W
+    /// with the linearized step as its start, see the module `willmore`),
+    /// stopping after three steps in a row that each lower W by less than
+    /// 1e-8 of itself; 0 for none.
+    pub descent_steps: usize,
     /// Per face index, the rational surface that face is a polynomial
     /// stand-in for ([`RationalSurface::polynomial`]): the fill takes its
     /// boundary data from the stand-in and measures its sides against the
@@ -134,6 +146,7 @@ impl Default for FillOptions {
             normal_weight: DEFAULT_NORMAL_WEIGHT,
             samples: 3,
             willmore_steps: 4,
+            descent_steps: DESCENT_STEPS,
             rational_faces: Vec::new(),
         }
     }
@@ -612,6 +625,16 @@ fn fair(s: &[Strip; 4], across: [bool; 4], options: &FillOptions, t0: Instant) -
         if done {
             break;
         }
+    }
+    if options.descent_steps > 0 {
+        let (s, steps) =
+            willmore::descend(surface, curvature.value, &free, options.descent_steps, 1e-8);
+        surface = s;
+        if let Some(&w) = steps.last() {
+            curvature = total_curvature(&surface);
+            debug_assert!((curvature.value - w).abs() <= 1e-12 * w.abs().max(1.0));
+        }
+        history.extend(steps);
     }
     Ok(Faired {
         surface,

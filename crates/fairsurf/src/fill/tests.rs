@@ -291,6 +291,7 @@ fn the_willmore_steps_find_a_minimal_surface() {
         &hole,
         &FillOptions {
             willmore_steps: 0,
+            descent_steps: 0,
             ..FillOptions::default()
         },
     )
