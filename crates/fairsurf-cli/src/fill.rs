@@ -208,12 +208,12 @@ fn summary(
         match fill {
             HoleFill::Patch(f) => {
                 let r = &f.report;
-                let steps = r.willmore.windows(2).take_while(|w| w[1] < w[0]).count();
+                let steps = crate::fill::steps_kept(&r.willmore);
                 let (p, q) = f.surface.degree();
                 let (cu, cv) = f.surface.counts();
                 lines.push(format!(
                     "  hole {h}: degree {p}×{q}, {cu}×{cv} control points; {fit}; thin-plate solve \
-                     checked to {:.0e}, Willmore steps: {steps}; {:.1} ms",
+                     checked to {:.0e}, W-lowering steps kept: {steps}; {:.1} ms",
                     r.solve.energy_error,
                     1e3 * (r.seconds.setup + r.seconds.solve + r.seconds.measure)
                 ));
@@ -262,6 +262,22 @@ fn summary(
         faces + fills.iter().map(|f| f.patches().len()).sum::<usize>()
     ));
     lines.join("\n")
+}
+
+/// How many of the steps after the thin plate lowered W (each a new least
+/// W in `history`, which begins with the thin plate's and lists every
+/// step tried).
+pub fn steps_kept(history: &[f64]) -> usize {
+    let mut least = history.first().copied().unwrap_or(f64::INFINITY);
+    history
+        .iter()
+        .skip(1)
+        .filter(|&&w| {
+            let lower = w < least;
+            least = least.min(w);
+            lower
+        })
+        .count()
 }
 
 /// The other files a fill and a blend write beside the STEP file.
