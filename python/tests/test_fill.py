@@ -96,6 +96,64 @@ def test_an_open_cascade_network_of_bspline_faces_is_filled(cli: Path, tmp_path:
     assert report["fills"][0]["spans"][0] >= 2
 
 
+def test_faces_restricted_to_parameter_rectangles_are_filled_exactly(cli: Path, tmp_path: Path):
+    """The same sheet, but every face the WHOLE surface restricted to a
+    parameter rectangle (BRepBuilderAPI_MakeFace(surface, u0, u1, v0, v1):
+    a trimmed face in STEP, its surface the big one). fairsurf cuts the
+    surface to the rectangle exactly (knot insertion): the fill is G1 to
+    rounding as with Segment-cut faces. A face trimmed otherwise (a
+    triangle of the sheet) is refused by name."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakePolygon
+    from OCP.gp import gp_Pnt
+
+    uk, um = [0.0, 0.5, 1.0, 1.7, 2.0, 2.4, 3.0], [4, 1, 1, 1, 1, 1, 4]
+    vk, vm = [0.0, 0.8, 1.2, 1.5, 2.1, 3.0], [4, 1, 1, 1, 1, 4]
+    cu, cv = sum(um) - 4, sum(vm) - 4
+    net = [[(0.4 * i, 0.45 * j + 0.02 * i, 0.4 * math.cos(0.44 * i) * math.sin(0.63 * j))
+            for j in range(cv)] for i in range(cu)]
+    s = bspline_surface(net, uk, um, vk, vm, 3, 3)
+    faces = []
+    for a, b in [(0.0, 0.9), (0.9, 2.2), (2.2, 3.0)]:
+        for c, d in [(0.0, 1.3), (1.3, 2.0), (2.0, 3.0)]:
+            if (a, c) != (0.9, 1.3):
+                faces.append(BRepBuilderAPI_MakeFace(s, a, b, c, d, 1e-7).Face())
+    step_in = tmp_path / "restricted.step"
+    sewn_step(faces, step_in)
+    fill_and_check(cli, step_in, tmp_path, 8)
+
+    # A triangle of the plane z = 0 is a plane face with three edges.
+    poly = BRepBuilderAPI_MakePolygon(gp_Pnt(0, 0, 0), gp_Pnt(1, 0, 0), gp_Pnt(0, 1, 0), True)
+    step_in = tmp_path / "triangle.step"
+    sewn_step([BRepBuilderAPI_MakeFace(poly.Wire()).Face()], step_in)
+    out = tmp_path / "x.step"
+    run = subprocess.run([str(cli), "fill", str(step_in), "-o", str(out)],
+                         capture_output=True, text=True)
+    assert run.returncode == 2 and "a plane face bounded by 3 edges" in run.stderr, run.stderr
+    assert not out.exists()
+    # A B-spline face trimmed to a triangle of its parameters.
+    from OCP.Geom2d import Geom2d_Line
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeWire
+    from OCP.BRepLib import BRepLib
+    from OCP.gp import gp_Pnt2d, gp_Dir2d
+
+    corners = [(0.5, 0.5), (2.5, 0.5), (0.5, 2.5)]
+    wire = BRepBuilderAPI_MakeWire()
+    for k in range(3):
+        (u0, v0), (u1, v1) = corners[k], corners[(k + 1) % 3]
+        length = math.hypot(u1 - u0, v1 - v0)
+        line = Geom2d_Line(gp_Pnt2d(u0, v0), gp_Dir2d(u1 - u0, v1 - v0))
+        wire.Add(BRepBuilderAPI_MakeEdge(line, s, 0.0, length).Edge())
+    face = BRepBuilderAPI_MakeFace(s, wire.Wire(), True).Face()
+    BRepLib.BuildCurves3d_s(face)
+    step_in = tmp_path / "trimmed.step"
+    sewn_step([face], step_in)
+    run = subprocess.run([str(cli), "fill", str(step_in), "-o", str(out)],
+                         capture_output=True, text=True)
+    assert run.returncode == 2 and "the face is trimmed (its loop has 3 edges)" in run.stderr, (
+        run.stderr)
+    assert not out.exists()
+
+
 def test_a_closed_cylinder_is_refused_by_its_discs(cli: Path, tmp_path: Path):
     from OCP.BRepPrimAPI import BRepPrimAPI_MakeCylinder
 

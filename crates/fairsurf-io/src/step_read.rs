@@ -173,8 +173,7 @@ fn step_face(face: &Face, shell: &Shell) -> std::result::Result<StepFace, String
     let (kind, surface) = match &face.surface {
         StepSurface::BSplineSurface(_) | StepSurface::NurbsSurface(_) => {
             let (kind, surface) = spline(&face.surface)?;
-            untrimmed(&surface, &edges)?;
-            (kind, surface)
+            (kind, restricted(surface, &edges)?)
         }
         StepSurface::ElementarySurface(e) => match e.as_ref() {
             ElementarySurface::Plane(_) => ("plane", plane(&edges)?),
@@ -218,14 +217,27 @@ impl LoopEdge {
             v3(shell.vertices[edge.vertices.1]),
         );
         let curve = edge.curve.clone();
-        let (t0, t1) = curve
+        let (r0, r1) = curve
             .try_range_tuple()
             .ok_or("an edge whose curve is unbounded")?;
         let size = dist(front, back).max(1.0);
-        if dist(v3(curve.subs(t0)), front) > 1e-7 * size
-            || dist(v3(curve.subs(t1)), back) > 1e-7 * size
-        {
-            return Err("an edge whose curve does not run between its vertices".into());
+        // The curve's parameters at the vertices: its ends, or where the
+        // vertices lie on it when the curve runs further (a closed or
+        // extended curve).
+        let at = |p: Vec3, end: f64| -> std::result::Result<f64, String> {
+            if dist(v3(curve.subs(end)), p) <= 1e-7 * size {
+                return Ok(end);
+            }
+            let (t, off) = nearest_on(&curve, (r0, r1), p);
+            if off <= 1e-7 * size {
+                Ok(t)
+            } else {
+                Err(format!("an edge whose vertex is {off:e} off its curve"))
+            }
+        };
+        let (t0, t1) = (at(front, r0)?, at(back, r1)?);
+        if t0 == t1 {
+            return Err("an edge whose curve is a single point between its vertices".into());
         }
         Ok(if e.orientation {
             Self {
@@ -269,39 +281,43 @@ impl LoopEdge {
         })
     }
 
-    /// The distance from p to the edge's curve: the nearest of 33
-    /// samples, then Newton steps on (C(t) − p)·C′(t) = 0 kept in the
-    /// edge's range.
+    /// The distance from p to the edge's curve (within the edge).
     fn distance(&self, p: Vec3) -> f64 {
-        let (a, b) = self.range;
-        let (lo, hi) = (a.min(b), a.max(b));
-        let (mut best, mut t) = (f64::MAX, lo);
-        for k in 0..=32 {
-            let x = lo + (hi - lo) * k as f64 / 32.0;
-            let d = dist(v3(self.curve.subs(x)), p);
-            if d < best {
-                (best, t) = (d, x);
-            }
-        }
-        for _ in 0..30 {
-            let c = v3(self.curve.subs(t));
-            let (d1, d2) = (self.curve.der(t), self.curve.der2(t));
-            let (d1, d2) = ([d1.x, d1.y, d1.z], [d2.x, d2.y, d2.z]);
-            let r = fairsurf::vector::sub(c, p);
-            let dot = fairsurf::vector::dot;
-            let h = dot(d1, d1) + dot(r, d2);
-            if h <= 0.0 {
-                break;
-            }
-            let next = (t - dot(r, d1) / h).clamp(lo, hi);
-            let d = dist(v3(self.curve.subs(next)), p);
-            if d >= best {
-                break;
-            }
-            (best, t) = (d, next);
-        }
-        best
+        nearest_on(&self.curve, self.range, p).1
     }
+}
+
+/// The parameter of the point of `curve` on `range` (either order)
+/// nearest to p, and the distance: the nearest of 33 samples, then Newton
+/// steps on (C(t) − p)·C′(t) = 0 kept in the range.
+fn nearest_on(curve: &Curve3D, range: (f64, f64), p: Vec3) -> (f64, f64) {
+    let (lo, hi) = (range.0.min(range.1), range.0.max(range.1));
+    let (mut best, mut t) = (f64::MAX, lo);
+    for k in 0..=32 {
+        let x = lo + (hi - lo) * k as f64 / 32.0;
+        let d = dist(v3(curve.subs(x)), p);
+        if d < best {
+            (best, t) = (d, x);
+        }
+    }
+    for _ in 0..30 {
+        let c = v3(curve.subs(t));
+        let (d1, d2) = (curve.der(t), curve.der2(t));
+        let (d1, d2) = ([d1.x, d1.y, d1.z], [d2.x, d2.y, d2.z]);
+        let r = fairsurf::vector::sub(c, p);
+        let dot = fairsurf::vector::dot;
+        let h = dot(d1, d1) + dot(r, d2);
+        if h <= 0.0 {
+            break;
+        }
+        let next = (t - dot(r, d1) / h).clamp(lo, hi);
+        let d = dist(v3(curve.subs(next)), p);
+        if d >= best {
+            break;
+        }
+        (best, t) = (d, next);
+    }
+    (t, best)
 }
 
 /// 1e-9 of the size of the loop's vertices, at least 1e-7.
@@ -387,24 +403,198 @@ fn net(s: &FaceSurface) -> &BSplineSurface {
     }
 }
 
-/// The face is its whole surface: every vertex of its loop is a corner of
-/// the surface.
-fn untrimmed(s: &FaceSurface, edges: &[LoopEdge]) -> std::result::Result<(), String> {
+/// Whether the face is its whole surface: every vertex of its loop is a
+/// corner of the surface.
+fn untrimmed(s: &FaceSurface, edges: &[LoopEdge]) -> bool {
     let (ku, kv) = net(s).knots();
     let ((a, b), (c, d)) = (ku.domain(), kv.domain());
     let corners = [eval(s, a, c), eval(s, b, c), eval(s, a, d), eval(s, b, d)];
     let tol = fairsurf::fill::tolerance(std::slice::from_ref(net(s)));
-    for e in edges {
-        let p = e.start;
-        if !corners.iter().any(|c| dist(*c, p) <= tol) {
-            return Err(format!(
-                "the face is trimmed: its boundary has a vertex at ({}, {}, {}) that is not a \
-                 corner of its surface; trimmed faces are not filled around yet",
-                p[0], p[1], p[2]
-            ));
+    edges
+        .iter()
+        .all(|e| corners.iter().any(|c| dist(*c, e.start) <= tol))
+}
+
+fn derivatives(s: &FaceSurface, u: f64, v: f64) -> fairsurf::SurfaceDerivatives {
+    match s {
+        FaceSurface::Polynomial(b) => b.derivatives(u, v),
+        FaceSurface::Rational(r) => r.derivatives(u, v),
+    }
+}
+
+/// The parameters of the point of `s` nearest to p, and the distance: the
+/// best of a 17 × 17 grid, then Newton steps on (S − p)·S_u = (S − p)·S_v
+/// = 0 kept in the domain.
+fn nearest(s: &FaceSurface, p: Vec3) -> ((f64, f64), f64) {
+    let (ku, kv) = net(s).knots();
+    let ((a, b), (c, d)) = (ku.domain(), kv.domain());
+    let (mut best, mut at) = (f64::MAX, (a, c));
+    for i in 0..=16 {
+        for j in 0..=16 {
+            let (u, v) = (a + (b - a) * i as f64 / 16.0, c + (d - c) * j as f64 / 16.0);
+            let e = dist(eval(s, u, v), p);
+            if e < best {
+                (best, at) = (e, (u, v));
+            }
         }
     }
-    Ok(())
+    let dot = fairsurf::vector::dot;
+    for _ in 0..40 {
+        let (u, v) = at;
+        let x = derivatives(s, u, v);
+        let r = fairsurf::vector::sub(x.point, p);
+        let (f1, f2) = (dot(r, x.du), dot(r, x.dv));
+        let a11 = dot(x.du, x.du) + dot(r, x.duu);
+        let a12 = dot(x.du, x.dv) + dot(r, x.duv);
+        let a22 = dot(x.dv, x.dv) + dot(r, x.dvv);
+        let det = a11 * a22 - a12 * a12;
+        if det == 0.0 || det.is_nan() {
+            break;
+        }
+        let next = (
+            (u - (a22 * f1 - a12 * f2) / det).clamp(a, b),
+            (v - (a11 * f2 - a12 * f1) / det).clamp(c, d),
+        );
+        let e = dist(eval(s, next.0, next.1), p);
+        if e.is_nan() || e >= best {
+            break;
+        }
+        (best, at) = (e, next);
+    }
+    (at, best)
+}
+
+/// The face's surface: the whole surface when the loop's vertices are its
+/// corners; else, when the loop is four sides of a parameter rectangle
+/// inside it (Open CASCADE's `MakeFace(surface, u0, u1, v0, v1)`), the
+/// surface cut to that rectangle exactly (knot insertion), checked to be
+/// bounded by the face's edges. Other trimmed faces are refused.
+fn restricted(s: FaceSurface, edges: &[LoopEdge]) -> std::result::Result<FaceSurface, String> {
+    if untrimmed(&s, edges) {
+        return Ok(s);
+    }
+    let tol = fairsurf::fill::tolerance(std::slice::from_ref(net(&s))).max(loop_tolerance(edges));
+    let trimmed = |why: &str| {
+        format!(
+            "the face is trimmed ({why}): only faces bounded by four sides of a parameter \
+             rectangle of their surface are filled around so far"
+        )
+    };
+    if edges.len() != 4 {
+        return Err(trimmed(&format!("its loop has {} edges", edges.len())));
+    }
+    let mut params = Vec::with_capacity(4);
+    for e in edges {
+        let (uv, off) = nearest(&s, e.start);
+        if off > tol {
+            return Err(trimmed(&format!("a vertex {off:e} off its surface")));
+        }
+        params.push(uv);
+    }
+    let (ku, kv) = net(&s).knots();
+    let ((a, b), (c, d)) = (ku.domain(), kv.domain());
+    let range = |pick: fn(&(f64, f64)) -> f64| {
+        let xs: Vec<f64> = params.iter().map(pick).collect();
+        (
+            xs.iter().copied().fold(f64::MAX, f64::min),
+            xs.iter().copied().fold(f64::MIN, f64::max),
+        )
+    };
+    let ((u0, u1), (v0, v1)) = (range(|p| p.0), range(|p| p.1));
+    // Each vertex a corner of [u0, u1] × [v0, v1], every corner once.
+    let (eu, ev) = (1e-8 * (b - a), 1e-8 * (d - c));
+    let mut seen = [false; 4];
+    for &(u, v) in &params {
+        let (i, j) = ((u - u0).abs() > eu, (v - v0).abs() > ev);
+        let on = ((if i { u1 } else { u0 }) - u).abs() <= eu
+            && ((if j { v1 } else { v0 }) - v).abs() <= ev;
+        if !on || seen[2 * usize::from(i) + usize::from(j)] {
+            return Err(trimmed(
+                "its vertices are not the corners of a parameter rectangle",
+            ));
+        }
+        seen[2 * usize::from(i) + usize::from(j)] = true;
+    }
+    let snap = |x: f64, lo: f64, hi: f64, e: f64| {
+        if (x - lo).abs() <= e {
+            lo
+        } else if (x - hi).abs() <= e {
+            hi
+        } else {
+            x
+        }
+    };
+    let (u0, u1) = (snap(u0, a, b, eu), snap(u1, a, b, eu));
+    let (v0, v1) = (snap(v0, c, d, ev), snap(v1, c, d, ev));
+    let cut = |x: &BSplineSurface| -> fairsurf::Result<BSplineSurface> {
+        let mut x = x.clone();
+        if u0 > a {
+            x = x.split_u(u0)?.1;
+        }
+        if u1 < b {
+            x = x.split_u(u1)?.0;
+        }
+        if v0 > c {
+            x = x.split_v(v0)?.1;
+        }
+        if v1 < d {
+            x = x.split_v(v1)?.0;
+        }
+        Ok(x)
+    };
+    let sub = match &s {
+        FaceSurface::Polynomial(p) => FaceSurface::Polynomial(cut(p).map_err(|e| e.to_string())?),
+        FaceSurface::Rational(r) => {
+            // The homogeneous surfaces w·P and w cut alike.
+            let scaled = |f: &dyn Fn(usize) -> Vec3| {
+                BSplineSurface::new(
+                    r.net().knots().0.clone(),
+                    r.net().knots().1.clone(),
+                    (0..r.weights().len()).map(f).collect(),
+                )
+            };
+            let w = r.weights();
+            let pts = r.net().points();
+            let num = scaled(&|k| fairsurf::vector::scale(pts[k], w[k]))
+                .and_then(|x| cut(&x))
+                .map_err(|e| e.to_string())?;
+            let den = scaled(&|k| [w[k], 0.0, 0.0])
+                .and_then(|x| cut(&x))
+                .map_err(|e| e.to_string())?;
+            let weights: Vec<f64> = den.points().iter().map(|p| p[0]).collect();
+            let points = num
+                .points()
+                .iter()
+                .zip(&weights)
+                .map(|(p, w)| fairsurf::vector::scale(*p, 1.0 / w))
+                .collect();
+            let (nu, nv) = num.knots();
+            let net =
+                BSplineSurface::new(nu.clone(), nv.clone(), points).map_err(|e| e.to_string())?;
+            FaceSurface::Rational(RationalSurface::new(net, weights).map_err(|e| e.to_string())?)
+        }
+    };
+    // Its four sides lie on the face's edges.
+    let (ku, kv) = net(&sub).knots();
+    let ((a, b), (c, d)) = (ku.domain(), kv.domain());
+    for k in 0..=8 {
+        let t = k as f64 / 8.0;
+        for (u, v) in [
+            (a + (b - a) * t, c),
+            (a + (b - a) * t, d),
+            (a, c + (d - c) * t),
+            (b, c + (d - c) * t),
+        ] {
+            let p = eval(&sub, u, v);
+            let off = edges.iter().map(|e| e.distance(p)).fold(f64::MAX, f64::min);
+            if off > tol {
+                return Err(trimmed(&format!(
+                    "its edges are not the sides of a parameter rectangle (off by {off:e})"
+                )));
+            }
+        }
+    }
+    Ok(sub)
 }
 
 /// A plane face bounded by four straight edges: the bilinear patch of its
