@@ -154,6 +154,57 @@ def test_faces_restricted_to_parameter_rectangles_are_filled_exactly(cli: Path, 
     assert not out.exists()
 
 
+def test_restricted_rational_faces_are_filled_within_tolerance(cli: Path, tmp_path: Path):
+    """A rational biquadratic sheet (unequal weights) whose 8 faces are all
+    the one surface restricted to parameter rectangles: each cut exactly
+    (w·P and w alike), met through a polynomial stand-in; the fill is
+    within the default tolerance along every side, as Open CASCADE
+    measures it too, and sewn."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+    from OCP.collections import Array1_double, Array1_int, Array2_double, Array2_gp_Pnt
+    from OCP.Geom import Geom_BSplineSurface
+    from OCP.gp import gp_Pnt
+
+    n = 5
+    poles, weights = Array2_gp_Pnt(1, n, 1, n), Array2_double(1, n, 1, n)
+    for i in range(n):
+        for j in range(n):
+            poles.SetValue(i + 1, j + 1, gp_Pnt(i, j, 0.3 * math.sin(i) * math.cos(0.8 * j)))
+            weights.SetValue(i + 1, j + 1, 1.0 + 0.25 * ((i * 3 + j * 2) % 4))
+
+    def arr(values, kind):
+        a = kind(1, len(values))
+        for k, x in enumerate(values):
+            a.SetValue(k + 1, x)
+        return a
+
+    knots, mults = [0.0, 1.0, 2.0, 3.0], [3, 1, 1, 3]
+    s = Geom_BSplineSurface(poles, weights, arr(knots, Array1_double), arr(knots, Array1_double),
+                            arr(mults, Array1_int), arr(mults, Array1_int), 2, 2)
+    faces = []
+    for a, b in [(0.0, 1.1), (1.1, 1.9), (1.9, 3.0)]:
+        for c, d in [(0.0, 0.9), (0.9, 2.1), (2.1, 3.0)]:
+            if (a, c) != (1.1, 0.9):
+                faces.append(BRepBuilderAPI_MakeFace(s, a, b, c, d, 1e-7).Face())
+    step_in = tmp_path / "rational.step"
+    sewn_step(faces, step_in)
+    out = tmp_path / "filled.step"
+    run = subprocess.run([str(cli), "fill", str(step_in), "-o", str(out), "--json"],
+                         check=True, capture_output=True, text=True)
+    report = json.loads(run.stdout)
+    assert {x["kind"] for x in report["stand_ins"]} == {"rational B-spline"}
+    assert len(report["stand_ins"]) == 8
+    fill = report["fills"][0]
+    for side in fill["sides"]:
+        assert not side["exact"] and side["gap"] <= 1e-6 and side["angle_deg"] <= 0.01, side
+    shape = read_step(out)
+    assert count(shape, TopAbs_FACE) == 9
+    assert free_edges_after_sewing(shape) == 12
+    across = [x for x in seams(shape) if 8 in x[0]]
+    assert len(across) == 4
+    assert max(x[1] for x in across) <= 0.01 and max(x[2] for x in across) <= 1e-6
+
+
 def test_a_closed_cylinder_is_refused_by_its_discs(cli: Path, tmp_path: Path):
     from OCP.BRepPrimAPI import BRepPrimAPI_MakeCylinder
 

@@ -225,11 +225,12 @@ impl LoopEdge {
         // vertices lie on it when the curve runs further (a closed or
         // extended curve).
         let at = |p: Vec3, end: f64| -> std::result::Result<f64, String> {
-            if dist(v3(curve.subs(end)), p) <= 1e-7 * size {
+            let tol = (1e-8 * size).max(EDGE_TOLERANCE);
+            if dist(v3(curve.subs(end)), p) <= tol {
                 return Ok(end);
             }
             let (t, off) = nearest_on(&curve, (r0, r1), p);
-            if off <= 1e-7 * size {
+            if off <= tol {
                 Ok(t)
             } else {
                 Err(format!("an edge whose vertex is {off:e} off its curve"))
@@ -318,6 +319,18 @@ fn nearest_on(curve: &Curve3D, range: (f64, f64), p: Vec3) -> (f64, f64) {
         (best, t) = (d, next);
     }
     (t, best)
+}
+
+/// How far a file's vertices and edge curves may lie from the faces they
+/// bound (at least; 1e-8 of the face's size when larger): CAD systems write
+/// edge curves that approximate their faces' boundaries (Open CASCADE's
+/// edges of a rational face's iso-lines were 1.1e-7 off in a test).
+const EDGE_TOLERANCE: f64 = 1e-6;
+
+/// [`EDGE_TOLERANCE`], or 1e-8 of the size of the loop's vertices.
+fn edge_tolerance(edges: &[LoopEdge]) -> f64 {
+    let pts: Vec<Vec3> = edges.iter().map(|e| e.start).collect();
+    (1e-8 * fairsurf::vector::bounding_diagonal(&pts)).max(EDGE_TOLERANCE)
 }
 
 /// 1e-9 of the size of the loop's vertices, at least 1e-7.
@@ -409,7 +422,7 @@ fn untrimmed(s: &FaceSurface, edges: &[LoopEdge]) -> bool {
     let (ku, kv) = net(s).knots();
     let ((a, b), (c, d)) = (ku.domain(), kv.domain());
     let corners = [eval(s, a, c), eval(s, b, c), eval(s, a, d), eval(s, b, d)];
-    let tol = fairsurf::fill::tolerance(std::slice::from_ref(net(s)));
+    let tol = edge_tolerance(edges);
     edges
         .iter()
         .all(|e| corners.iter().any(|c| dist(*c, e.start) <= tol))
@@ -473,7 +486,7 @@ fn restricted(s: FaceSurface, edges: &[LoopEdge]) -> std::result::Result<FaceSur
     if untrimmed(&s, edges) {
         return Ok(s);
     }
-    let tol = fairsurf::fill::tolerance(std::slice::from_ref(net(&s))).max(loop_tolerance(edges));
+    let tol = edge_tolerance(edges);
     let trimmed = |why: &str| {
         format!(
             "the face is trimmed ({why}): only faces bounded by four sides of a parameter \
@@ -502,7 +515,7 @@ fn restricted(s: FaceSurface, edges: &[LoopEdge]) -> std::result::Result<FaceSur
     };
     let ((u0, u1), (v0, v1)) = (range(|p| p.0), range(|p| p.1));
     // Each vertex a corner of [u0, u1] × [v0, v1], every corner once.
-    let (eu, ev) = (1e-8 * (b - a), 1e-8 * (d - c));
+    let (eu, ev) = (1e-6 * (b - a), 1e-6 * (d - c));
     let mut seen = [false; 4];
     for &(u, v) in &params {
         let (i, j) = ((u - u0).abs() > eu, (v - v0).abs() > ev);

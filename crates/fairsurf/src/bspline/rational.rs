@@ -58,7 +58,7 @@ pub struct StandIn {
 
 /// Parameters compared per side when measuring a stand-in.
 const SIDE_SAMPLES: usize = 129;
-/// The most spans a stand-in gets in one direction.
+/// The most pieces a stand-in cuts its domain into, in one direction.
 const MAX_SPANS: usize = 512;
 
 impl RationalSurface {
@@ -154,8 +154,10 @@ impl RationalSurface {
     /// `tolerance` of this surface along its four sides: interpolation at
     /// the Greville abscissae; in a direction where the weights do not
     /// vary the net's own knots and degree (exact there), in the others
-    /// degree max(p + 3, 5) on uniform spans, doubled until the sides are
-    /// within tolerance. Errors when 512 spans are not enough.
+    /// degree max(p + 3, 5), the net's knots kept (with the multiplicity
+    /// that allows its continuity) and its spans cut in pieces of about
+    /// equal length, their number doubled until the sides are within
+    /// tolerance. Errors when 512 pieces are not enough.
     pub fn polynomial(&self, tolerance: FitTolerance) -> Result<StandIn> {
         let (ku, kv) = self.surface.knots();
         let (cu, cv) = self.surface.counts();
@@ -163,17 +165,33 @@ impl RationalSurface {
         let same = |a: f64, b: f64| (a - b).abs() <= 1e-14 * a.max(b);
         let varies_u = (0..cu).any(|i| (0..cv).any(|j| !same(w(i, j), w(0, j))));
         let varies_v = (0..cu).any(|i| (0..cv).any(|j| !same(w(i, j), w(i, 0))));
-        let start = |k: &KnotVector| k.spans().len().max(2);
+        // Pieces over the whole domain (each span of the net gets its share
+        // by length, at least one): at first two.
+        let start = |_: &KnotVector| 2;
         let (mut su, mut sv) = (start(ku), start(kv));
         loop {
-            let knots = |k: &KnotVector, varies: bool, spans: usize| -> Result<KnotVector> {
+            // Degree d = max(p + 3, 5); the net's own knots kept with the
+            // multiplicity that allows its continuity there (C^(p−m) at a
+            // knot of multiplicity m: d − p + m), each of its spans cut in
+            // equal pieces about (b − a)/`pieces` long. A stand-in across a
+            // knot of the net would converge as slowly as the net is smooth
+            // there.
+            let knots = |k: &KnotVector, varies: bool, pieces: usize| -> Result<KnotVector> {
                 if !varies {
                     return Ok(k.clone());
                 }
-                let d = (k.degree() + 3).max(5);
+                let (p, d) = (k.degree(), (k.degree() + 3).max(5));
                 let (a, b) = k.domain();
                 let mut t = vec![a; d + 1];
-                t.extend((1..spans).map(|s| a + (b - a) * s as f64 / spans as f64));
+                let spans = k.spans();
+                for (n, &(_, x0, x1)) in spans.iter().enumerate() {
+                    let cut = ((x1 - x0) / (b - a) * pieces as f64).ceil().max(1.0) as usize;
+                    t.extend((1..cut).map(|s| x0 + (x1 - x0) * s as f64 / cut as f64));
+                    if n + 1 < spans.len() {
+                        let m = k.multiplicity(x1);
+                        t.extend(std::iter::repeat_n(x1, (d + m).saturating_sub(p).min(d)));
+                    }
+                }
                 t.extend(std::iter::repeat_n(b, d + 1));
                 KnotVector::new(d, t)
             };
@@ -192,7 +210,7 @@ impl RationalSurface {
                     why: format!(
                         "a rational face could not be approximated by a polynomial one within \
                          {:e} in position and {:e}° in angle (reached {position:e} and {:e}° \
-                         at {su} × {sv} spans)",
+                         with {su} × {sv} pieces)",
                         tolerance.position,
                         tolerance.angle.to_degrees(),
                         angle.to_degrees()
@@ -400,6 +418,26 @@ mod tests {
         let s = flat.polynomial(FitTolerance::default()).unwrap();
         assert!(s.position < 1e-15, "{}", s.position);
         assert_eq!(s.surface.knots(), net.knots());
+    }
+
+    /// A net only C¹ at an interior knot: the stand-in keeps that knot
+    /// (multiplicity d − p + 1 = 4 at degree 5) and so needs few pieces.
+    #[test]
+    fn a_stand_in_keeps_the_nets_knots() {
+        let u = KnotVector::new(2, vec![0.0, 0.0, 0.0, 0.3, 1.0, 1.0, 1.0]).unwrap();
+        let points: Vec<Vec3> = (0..8)
+            .map(|k| {
+                let (i, j) = ((k / 2) as f64, (k % 2) as f64);
+                [i, j, 0.4 * (i * 1.3).sin() + 0.1 * j]
+            })
+            .collect();
+        let net = BSplineSurface::new(u, KnotVector::bezier(1), points).unwrap();
+        let r = RationalSurface::new(net, vec![1.0, 1.0, 0.8, 0.8, 1.1, 1.1, 0.9, 0.9]).unwrap();
+        let s = r.polynomial(FitTolerance::default()).unwrap();
+        let ku = s.surface.knots().0;
+        assert_eq!((ku.degree(), ku.multiplicity(0.3)), (5, 4));
+        assert!(ku.spans().len() <= 20, "{}", ku.spans().len());
+        assert!(s.position <= 1e-6 && s.angle <= 0.01f64.to_radians());
     }
 
     #[test]
