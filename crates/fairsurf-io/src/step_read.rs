@@ -451,10 +451,23 @@ fn nearest(s: &FaceSurface, p: Vec3) -> ((f64, f64), f64) {
             }
         }
     }
+    foot(&|u, v| derivatives(s, u, v), p, at, best, ((a, b), (c, d)))
+}
+
+/// Newton steps on (S − p)·S_u = (S − p)·S_v = 0 from `at` (at `best`
+/// from p), kept in `domain`, while they bring the point closer: the
+/// parameters of the foot of p and its distance.
+fn foot(
+    s: &dyn Fn(f64, f64) -> fairsurf::SurfaceDerivatives,
+    p: Vec3,
+    mut at: (f64, f64),
+    mut best: f64,
+    ((a, b), (c, d)): ((f64, f64), (f64, f64)),
+) -> ((f64, f64), f64) {
     let dot = fairsurf::vector::dot;
     for _ in 0..40 {
         let (u, v) = at;
-        let x = derivatives(s, u, v);
+        let x = s(u, v);
         let r = fairsurf::vector::sub(x.point, p);
         let (f1, f2) = (dot(r, x.du), dot(r, x.dv));
         let a11 = dot(x.du, x.du) + dot(r, x.duu);
@@ -468,7 +481,7 @@ fn nearest(s: &FaceSurface, p: Vec3) -> ((f64, f64), f64) {
             (u - (a22 * f1 - a12 * f2) / det).clamp(a, b),
             (v - (a11 * f2 - a12 * f1) / det).clamp(c, d),
         );
-        let e = dist(eval(s, next.0, next.1), p);
+        let e = dist(s(next.0, next.1).point, p);
         if e.is_nan() || e >= best {
             break;
         }
@@ -779,33 +792,19 @@ fn oriented_like(
     // (S − p)·S_u = (S − p)·S_v = 0 to rounding.
     let on = |p: Vec3| -> Option<((f64, f64), f64)> {
         let q = Point3::new(p[0], p[1], p[2]);
-        let (mut u, mut v) =
-            SearchNearestParameter::<D2>::search_nearest_parameter(file, q, None, 100)?;
-        let mut best = dist(v3(file.subs(u, v)), p);
-        let dot = |a: Vector3, b: Vector3| a.x * b.x + a.y * b.y + a.z * b.z;
-        for _ in 0..30 {
-            let r = file.subs(u, v) - q;
-            let (su, sv) = (file.uder(u, v), file.vder(u, v));
-            let (suu, suv, svv) = (file.uuder(u, v), file.uvder(u, v), file.vvder(u, v));
-            let (f1, f2) = (dot(r, su), dot(r, sv));
-            let a11 = dot(su, su) + dot(r, suu);
-            let a12 = dot(su, sv) + dot(r, suv);
-            let a22 = dot(sv, sv) + dot(r, svv);
-            let det = a11 * a22 - a12 * a12;
-            if det == 0.0 {
-                break;
-            }
-            let (nu, nv) = (
-                u - (a22 * f1 - a12 * f2) / det,
-                v - (a11 * f2 - a12 * f1) / det,
-            );
-            let d = dist(v3(file.subs(nu, nv)), p);
-            if d.is_nan() || d >= best {
-                break;
-            }
-            (u, v, best) = (nu, nv, d);
-        }
-        Some(((u, v), best))
+        let uv = SearchNearestParameter::<D2>::search_nearest_parameter(file, q, None, 100)?;
+        let w = |x: Vector3| [x.x, x.y, x.z];
+        let derivatives = |u: f64, v: f64| fairsurf::SurfaceDerivatives {
+            point: v3(file.subs(u, v)),
+            du: w(file.uder(u, v)),
+            dv: w(file.vder(u, v)),
+            duu: w(file.uuder(u, v)),
+            duv: w(file.uvder(u, v)),
+            dvv: w(file.vvder(u, v)),
+        };
+        let unbounded = ((f64::MIN, f64::MAX), (f64::MIN, f64::MAX));
+        let start = dist(v3(file.subs(uv.0, uv.1)), p);
+        Some(foot(&derivatives, p, uv, start, unbounded))
     };
     // Points of the converted surface lie on the file's.
     for i in 0..=4 {
