@@ -86,10 +86,10 @@ pub fn run(a: Args) -> Result<(), Failure> {
             crate::say!("{}", serde_json::to_string_pretty(&list).expect("JSON"));
         } else {
             crate::say!(
-                "{}: {} faces, {} holes",
+                "{}: {}, {}",
                 a.input.display(),
-                input.faces.len(),
-                choice.holes.len()
+                counted(input.faces.len(), "face"),
+                counted(choice.holes.len(), "hole")
             );
             for h in list.as_array().expect("a list") {
                 crate::say!(
@@ -159,9 +159,10 @@ fn summary(
 ) -> String {
     let faces = input.faces.len();
     let mut lines = vec![format!(
-        "{}: {faces} faces, {} holes; filled {:?}{}",
+        "{}: {}, {}; filled {:?}{}",
         path.display(),
-        choice.holes.len(),
+        counted(faces, "face"),
+        counted(choice.holes.len(), "hole"),
         choice.chosen,
         choice
             .rim
@@ -411,4 +412,9 @@ fn picture(surfaces: &[&BSplineSurface], zebra: bool) -> Result<Vec<u8>, Failure
         .encode_png(&mut png)
         .map_err(|e| Failure::input(e.to_string()))?;
     Ok(png)
+}
+
+/// "1 face", "2 faces".
+fn counted(n: usize, noun: &str) -> String {
+    format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
 }

@@ -200,8 +200,13 @@ fn step_face(face: &Face, shell: &Shell) -> std::result::Result<StepFace, String
 /// An edge of a face's loop, as the loop runs.
 struct LoopEdge {
     curve: Curve3D,
-    /// The curve's parameters at the loop's start and end of the edge.
+    /// The curve's parameters at the loop's start and end of the edge; on
+    /// a closed curve, past the end of its domain when the edge runs
+    /// through the curve's seam.
     range: (f64, f64),
+    /// The domain of a closed curve whose edge runs through its seam
+    /// (parameters past its end wrap to its start).
+    seam: Option<(f64, f64)>,
     start: Vec3,
     end: Vec3,
 }
@@ -216,20 +221,29 @@ impl LoopEdge {
             v3(shell.vertices[edge.vertices.0]),
             v3(shell.vertices[edge.vertices.1]),
         );
-        let curve = edge.curve.clone();
-        let (r0, r1) = curve
+        let (r0, r1) = edge
+            .curve
             .try_range_tuple()
             .ok_or("an edge whose curve is unbounded")?;
+        // The reader turns a curve used against its sense: it runs from
+        // the edge's front vertex to its back one.
+        let mut whole = Self {
+            curve: edge.curve.clone(),
+            range: (r0, r1),
+            seam: None,
+            start: front,
+            end: back,
+        };
         let size = dist(front, back).max(1.0);
+        let tol = (1e-8 * size).max(EDGE_TOLERANCE);
         // The curve's parameters at the vertices: its ends, or where the
         // vertices lie on it when the curve runs further (a closed or
         // extended curve).
         let at = |p: Vec3, end: f64| -> std::result::Result<f64, String> {
-            let tol = (1e-8 * size).max(EDGE_TOLERANCE);
-            if dist(v3(curve.subs(end)), p) <= tol {
+            if dist(whole.point(end), p) <= tol {
                 return Ok(end);
             }
-            let (t, off) = nearest_on(&curve, (r0, r1), p);
+            let (t, off) = whole.nearest(p);
             if off <= tol {
                 Ok(t)
             } else {
@@ -237,30 +251,54 @@ impl LoopEdge {
             }
         };
         let (t0, t1) = (at(front, r0)?, at(back, r1)?);
-        if t0 == t1 {
-            return Err("an edge whose curve is a single point between its vertices".into());
-        }
-        Ok(if e.orientation {
-            Self {
-                curve,
-                range: (t0, t1),
-                start: front,
-                end: back,
-            }
+        let closed = dist(whole.point(r0), whole.point(r1)) <= tol;
+        whole.range = if t0 < t1 {
+            (t0, t1)
+        } else if closed && t0 > t1 {
+            // From the front vertex through the seam to the back one.
+            whole.seam = Some((r0, r1));
+            (t0, t1 + (r1 - r0))
+        } else if t0 > t1 {
+            return Err(format!(
+                "an edge whose curve runs from its end vertex to its start vertex (parameters \
+                 {t0} to {t1})"
+            ));
         } else {
-            Self {
-                curve,
-                range: (t1, t0),
-                start: back,
-                end: front,
-            }
-        })
+            return Err("an edge whose two vertices are one point of its curve".into());
+        };
+        if !e.orientation {
+            whole = whole.reversed();
+        }
+        Ok(whole)
+    }
+
+    /// The same edge run the other way.
+    fn reversed(&self) -> Self {
+        Self {
+            curve: self.curve.clone(),
+            range: (self.range.1, self.range.0),
+            seam: self.seam,
+            start: self.end,
+            end: self.start,
+        }
+    }
+
+    /// The curve's parameter for t (wrapped through the seam).
+    fn wrap(&self, t: f64) -> f64 {
+        match self.seam {
+            Some((lo, hi)) if t > hi => t - (hi - lo),
+            _ => t,
+        }
+    }
+
+    fn point(&self, t: f64) -> Vec3 {
+        v3(self.curve.subs(self.wrap(t)))
     }
 
     /// The point at s ∈ [0, 1] along the loop, and the derivative by s.
     fn at(&self, s: f64) -> (Vec3, Vec3) {
         let (a, b) = self.range;
-        let t = a + (b - a) * s;
+        let t = self.wrap(a + (b - a) * s);
         let d = self.curve.der(t);
         (
             v3(self.curve.subs(t)),
@@ -268,57 +306,53 @@ impl LoopEdge {
         )
     }
 
-    /// Whether the edge is a straight segment (points at nine parameters
-    /// on its chord, within `tol`).
+    /// Whether the edge is a straight segment: points at seven parameters
+    /// inside it within `tol` of its chord, whatever its parameterization.
     fn straight(&self, tol: f64) -> bool {
         (1..8).all(|k| {
-            let s = k as f64 / 8.0;
-            let p = self.at(s).0;
-            let q = fairsurf::vector::add(
-                self.start,
-                fairsurf::vector::scale(fairsurf::vector::sub(self.end, self.start), s),
-            );
-            dist(p, q) <= tol
+            let p = self.at(k as f64 / 8.0).0;
+            fairsurf::vector::segment_distance(p, self.start, self.end) <= tol
         })
     }
 
     /// The distance from p to the edge's curve (within the edge).
     fn distance(&self, p: Vec3) -> f64 {
-        nearest_on(&self.curve, self.range, p).1
+        self.nearest(p).1
     }
-}
 
-/// The parameter of the point of `curve` on `range` (either order)
-/// nearest to p, and the distance: the nearest of 33 samples, then Newton
-/// steps on (C(t) − p)·C′(t) = 0 kept in the range.
-fn nearest_on(curve: &Curve3D, range: (f64, f64), p: Vec3) -> (f64, f64) {
-    let (lo, hi) = (range.0.min(range.1), range.0.max(range.1));
-    let (mut best, mut t) = (f64::MAX, lo);
-    for k in 0..=32 {
-        let x = lo + (hi - lo) * k as f64 / 32.0;
-        let d = dist(v3(curve.subs(x)), p);
-        if d < best {
-            (best, t) = (d, x);
+    /// The parameter of the point of the edge nearest to p, and the
+    /// distance: the nearest of 33 samples, then Newton steps on
+    /// (C(t) − p)·C′(t) = 0 kept in the edge.
+    fn nearest(&self, p: Vec3) -> (f64, f64) {
+        let range = self.range;
+        let (lo, hi) = (range.0.min(range.1), range.0.max(range.1));
+        let (mut best, mut t) = (f64::MAX, lo);
+        for k in 0..=32 {
+            let x = lo + (hi - lo) * k as f64 / 32.0;
+            let d = dist(self.point(x), p);
+            if d < best {
+                (best, t) = (d, x);
+            }
         }
-    }
-    for _ in 0..30 {
-        let c = v3(curve.subs(t));
-        let (d1, d2) = (curve.der(t), curve.der2(t));
-        let (d1, d2) = ([d1.x, d1.y, d1.z], [d2.x, d2.y, d2.z]);
-        let r = fairsurf::vector::sub(c, p);
         let dot = fairsurf::vector::dot;
-        let h = dot(d1, d1) + dot(r, d2);
-        if h <= 0.0 {
-            break;
+        for _ in 0..30 {
+            let w = self.wrap(t);
+            let (d1, d2) = (self.curve.der(w), self.curve.der2(w));
+            let (d1, d2) = ([d1.x, d1.y, d1.z], [d2.x, d2.y, d2.z]);
+            let r = fairsurf::vector::sub(self.point(t), p);
+            let h = dot(d1, d1) + dot(r, d2);
+            if h <= 0.0 {
+                break;
+            }
+            let next = (t - dot(r, d1) / h).clamp(lo, hi);
+            let d = dist(self.point(next), p);
+            if d >= best {
+                break;
+            }
+            (best, t) = (d, next);
         }
-        let next = (t - dot(r, d1) / h).clamp(lo, hi);
-        let d = dist(v3(curve.subs(next)), p);
-        if d >= best {
-            break;
-        }
-        (best, t) = (d, next);
+        (t, best)
     }
-    (t, best)
 }
 
 /// How far a file's vertices and edge curves may lie from the faces they
@@ -373,9 +407,14 @@ fn spline(s: &StepSurface) -> std::result::Result<(&'static str, FaceSurface), S
         _ => unreachable!("called for B-spline surfaces"),
     };
     let (cu, cv) = (points.len(), points.first().map_or(0, Vec::len));
-    if cu < 2 || cv < 2 || points.iter().any(|r| r.len() != cv) {
+    if points.iter().any(|r| r.len() != cv) {
         return Err(format!(
             "a control net of {cu} rows that are not all {cv} long"
+        ));
+    }
+    if cu < 2 || cv < 2 {
+        return Err(format!(
+            "a control net of {cu} × {cv} points: a surface needs at least 2 × 2"
         ));
     }
     let (p, q) = (
@@ -414,18 +453,6 @@ fn net(s: &FaceSurface) -> &BSplineSurface {
         FaceSurface::Polynomial(b) => b,
         FaceSurface::Rational(r) => r.net(),
     }
-}
-
-/// Whether the face is its whole surface: every vertex of its loop is a
-/// corner of the surface.
-fn untrimmed(s: &FaceSurface, edges: &[LoopEdge]) -> bool {
-    let (ku, kv) = net(s).knots();
-    let ((a, b), (c, d)) = (ku.domain(), kv.domain());
-    let corners = [eval(s, a, c), eval(s, b, c), eval(s, a, d), eval(s, b, d)];
-    let tol = edge_tolerance(edges);
-    edges
-        .iter()
-        .all(|e| corners.iter().any(|c| dist(*c, e.start) <= tol))
 }
 
 fn derivatives(s: &FaceSurface, u: f64, v: f64) -> fairsurf::SurfaceDerivatives {
@@ -490,56 +517,64 @@ fn foot(
     (at, best)
 }
 
-/// The face's surface: the whole surface when the loop's vertices are its
-/// corners; else, when the loop is four sides of a parameter rectangle
-/// inside it (Open CASCADE's `MakeFace(surface, u0, u1, v0, v1)`), the
-/// surface cut to that rectangle exactly (knot insertion), checked to be
-/// bounded by the face's edges. Other trimmed faces are refused.
+/// The face's surface cut to the parameter rectangle its loop bounds: the
+/// whole surface when the loop runs around its four sides, else (Open
+/// CASCADE's `MakeFace(surface, u0, u1, v0, v1)`) the surface cut to the
+/// rectangle exactly (knot insertion). A side may be made of several
+/// edges (a writer splits a side where another face's corner lies on it).
+/// Checked: every vertex and edge lies on the rectangle's sides, each of
+/// its corners is a vertex, and its sides lie on the edges. Other trimmed
+/// faces are refused.
 fn restricted(s: FaceSurface, edges: &[LoopEdge]) -> std::result::Result<FaceSurface, String> {
-    if untrimmed(&s, edges) {
-        return Ok(s);
-    }
     let tol = edge_tolerance(edges);
     let trimmed = |why: &str| {
         format!(
-            "the face is trimmed ({why}): only faces bounded by four sides of a parameter \
+            "the face is trimmed ({why}): only faces bounded by the four sides of a parameter \
              rectangle of their surface are filled around so far"
         )
     };
-    if edges.len() != 4 {
+    if edges.len() < 4 {
         return Err(trimmed(&format!("its loop has {} edges", edges.len())));
     }
-    let mut params = Vec::with_capacity(4);
-    for e in edges {
-        let (uv, off) = nearest(&s, e.start);
+    // The parameters of every vertex, and of every edge's midpoint.
+    let mut params = Vec::with_capacity(2 * edges.len());
+    for p in edges.iter().flat_map(|e| [e.start, e.at(0.5).0]) {
+        let (uv, off) = nearest(&s, p);
         if off > tol {
-            return Err(trimmed(&format!("a vertex {off:e} off its surface")));
+            return Err(trimmed(&format!("its boundary is {off:e} off its surface")));
         }
         params.push(uv);
     }
     let (ku, kv) = net(&s).knots();
     let ((a, b), (c, d)) = (ku.domain(), kv.domain());
     let range = |pick: fn(&(f64, f64)) -> f64| {
-        let xs: Vec<f64> = params.iter().map(pick).collect();
+        let xs: Vec<f64> = params.iter().step_by(2).map(pick).collect();
         (
             xs.iter().copied().fold(f64::MAX, f64::min),
             xs.iter().copied().fold(f64::MIN, f64::max),
         )
     };
     let ((u0, u1), (v0, v1)) = (range(|p| p.0), range(|p| p.1));
-    // Each vertex a corner of [u0, u1] × [v0, v1], every corner once.
+    // Every vertex and midpoint on a side of [u0, u1] × [v0, v1], each
+    // corner a vertex once.
     let (eu, ev) = (1e-6 * (b - a), 1e-6 * (d - c));
-    let mut seen = [false; 4];
-    for &(u, v) in &params {
-        let (i, j) = ((u - u0).abs() > eu, (v - v0).abs() > ev);
-        let on = ((if i { u1 } else { u0 }) - u).abs() <= eu
-            && ((if j { v1 } else { v0 }) - v).abs() <= ev;
-        if !on || seen[2 * usize::from(i) + usize::from(j)] {
+    let mut corners = [0; 4];
+    for (k, &(u, v)) in params.iter().enumerate() {
+        let (lo_u, hi_u) = ((u - u0).abs() <= eu, (u - u1).abs() <= eu);
+        let (lo_v, hi_v) = ((v - v0).abs() <= ev, (v - v1).abs() <= ev);
+        if !(lo_u || hi_u || lo_v || hi_v) {
             return Err(trimmed(
-                "its vertices are not the corners of a parameter rectangle",
+                "its boundary does not run along the sides of a parameter rectangle",
             ));
         }
-        seen[2 * usize::from(i) + usize::from(j)] = true;
+        if k % 2 == 0 && (lo_u || hi_u) && (lo_v || hi_v) {
+            corners[2 * usize::from(hi_u) + usize::from(hi_v)] += 1;
+        }
+    }
+    if corners != [1; 4] || u1 - u0 <= eu || v1 - v0 <= ev {
+        return Err(trimmed(
+            "its vertices are not the corners of a parameter rectangle",
+        ));
     }
     let snap = |x: f64, lo: f64, hi: f64, e: f64| {
         if (x - lo).abs() <= e {
@@ -732,13 +767,7 @@ fn ruled(edges: &[LoopEdge]) -> std::result::Result<FaceSurface, String> {
     let b = &edges[(first + 2) % 4];
     let (pa, wa, knots) = arc(a)?;
     // B runs against A in the loop: its arc from its end to its start.
-    let reversed = LoopEdge {
-        curve: b.curve.clone(),
-        range: (b.range.1, b.range.0),
-        start: b.end,
-        end: b.start,
-    };
-    let (pb, wb, kb) = arc(&reversed)?;
+    let (pb, wb, kb) = arc(&b.reversed())?;
     if pa.len() != pb.len() || kb != knots || wa.iter().zip(&wb).any(|(x, y)| (x - y).abs() > 1e-9)
     {
         return Err("a cylinder or cone face whose two arcs do not turn by the same angle".into());
@@ -778,7 +807,7 @@ fn oriented_like(
     if !converted {
         return turned(s, face.orientation);
     }
-    let tol = loop_tolerance(edges);
+    let tol = edge_tolerance(edges);
     let (ku, kv) = net(&s).knots();
     let ((a, b), (c, d)) = (ku.domain(), kv.domain());
     let mid = ((a + b) / 2.0, (c + d) / 2.0);
@@ -942,6 +971,72 @@ mod tests {
             .collect();
         let e = read_step(&tilted).unwrap_err().to_string();
         assert!(e.contains("off the file's surface"), "{e}");
+    }
+
+    /// An edge on a closed curve whose vertices lie on either side of the
+    /// curve's seam runs through the seam (the short way its curve runs),
+    /// not back across the whole curve; on an open curve that order is an
+    /// error.
+    #[test]
+    fn an_edge_runs_through_its_closed_curve_s_seam() {
+        use truck_stepio::r#in::alias::{BSplineCurve, KnotVec};
+        use truck_topology::compress::CompressedEdge;
+        // The unit square's outline, degree 1, from (0, 0) round to (0, 0).
+        let square = [[0., 0.], [1., 0.], [1., 1.], [0., 1.], [0., 0.]]
+            .map(|[x, y]| Point3::new(x, y, 0.0))
+            .to_vec();
+        let knots = KnotVec::from(vec![0., 0., 1., 2., 3., 4., 4.]);
+        let curve = Curve3D::BSplineCurve(BSplineCurve::new(knots.clone(), square.clone()));
+        let shell = |curve: Curve3D, [a, b]: [[f64; 2]; 2]| Shell {
+            vertices: vec![Point3::new(a[0], a[1], 0.0), Point3::new(b[0], b[1], 0.0)],
+            edges: vec![CompressedEdge {
+                vertices: (0, 1),
+                curve,
+            }],
+            faces: vec![],
+        };
+        let s = shell(curve, [[0.0, 0.5], [0.5, 0.0]]);
+        for orientation in [true, false] {
+            let e = LoopEdge::new(&s, CompressedEdgeIndex::from((0, orientation))).unwrap();
+            let mid = e.at(0.5).0;
+            assert!(dist(mid, [0.0; 3]) < 1e-15, "{mid:?}");
+            assert!(e.distance([1.0, 1.0, 0.0]) > 0.7);
+            assert!(e.distance([0.0, 0.25, 0.0]) < 1e-15);
+            assert!(!e.straight(1e-9));
+        }
+        // Vertices in that order on the open curve that stops short of
+        // closing.
+        let open = Curve3D::BSplineCurve(BSplineCurve::new(
+            KnotVec::from(vec![0., 0., 1., 2., 3., 3.]),
+            square[..4].to_vec(),
+        ));
+        let s = shell(open, [[0.5, 1.0], [1.0, 0.5]]);
+        let e = LoopEdge::new(&s, CompressedEdgeIndex::from((0, true))).err();
+        assert!(e.unwrap().contains("from its end vertex to its start"));
+    }
+
+    /// A straight edge is straight whatever its parameterization.
+    #[test]
+    fn a_straight_edge_unevenly_parameterized_is_straight() {
+        use truck_stepio::r#in::alias::{BSplineCurve, KnotVec};
+        use truck_topology::compress::CompressedEdge;
+        let pts = [0.0, 0.1, 0.2, 1.0]
+            .map(|x| Point3::new(x, 2.0 * x, 0.0))
+            .to_vec();
+        let curve = BSplineCurve::new(KnotVec::bezier_knot(3), pts);
+        let s = Shell {
+            vertices: vec![Point3::new(0.0, 0.0, 0.0), Point3::new(1.0, 2.0, 0.0)],
+            edges: vec![CompressedEdge {
+                vertices: (0, 1),
+                curve: Curve3D::BSplineCurve(curve),
+            }],
+            faces: vec![],
+        };
+        let e = LoopEdge::new(&s, CompressedEdgeIndex::from((0, true))).unwrap();
+        assert!(e.straight(1e-12));
+        // Its points are not at equal steps along it.
+        let q = e.at(0.5).0;
+        assert!(dist(q, [0.5, 1.0, 0.0]) > 0.1, "{q:?}");
     }
 
     /// A rational surface written reads back as the same rational surface,

@@ -74,6 +74,7 @@ pub use vec3::Vec3;
 /// Small vector helpers on [`Vec3`].
 pub mod vector {
     pub use crate::vec3::{
-        add, angle, bounding_diagonal, cross, dot, is_finite, norm, normalize, scale, sub,
+        add, angle, bounding_diagonal, cross, dot, is_finite, norm, normalize, scale,
+        segment_distance, sub,
     };
 }

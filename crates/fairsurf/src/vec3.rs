@@ -97,9 +97,33 @@ pub fn bounding_diagonal(points: &[Vec3]) -> f64 {
     norm(sub(hi, lo))
 }
 
+/// The distance from p to the segment [a, b] (to a when the segment is a
+/// point).
+pub fn segment_distance(p: Vec3, a: Vec3, b: Vec3) -> f64 {
+    let d = sub(b, a);
+    let l = dot(d, d);
+    let t = if l > 0.0 {
+        (dot(sub(p, a), d) / l).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    dist(p, add(a, scale(d, t)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Inside the segment the distance is the perpendicular one, past its
+    /// ends the distance to the nearer end.
+    #[test]
+    fn segment_distance_is_perpendicular_inside_and_to_the_ends_outside() {
+        let (a, b) = ([0.0, 0.0, 0.0], [2.0, 0.0, 0.0]);
+        assert_eq!(segment_distance([0.5, 3.0, 4.0], a, b), 5.0);
+        assert_eq!(segment_distance([-3.0, 4.0, 0.0], a, b), 5.0);
+        assert_eq!(segment_distance([5.0, 0.0, 4.0], a, b), 5.0);
+        assert_eq!(segment_distance([3.0, 4.0, 0.0], a, a), 5.0);
+    }
 
     /// Every finite nonzero vector has a direction, however large or small
     /// its coordinates (the fuzz found a director (−0.6, 1e300, 1) whose

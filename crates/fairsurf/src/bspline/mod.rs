@@ -48,37 +48,58 @@ pub use surface::{BSplineSurface, BezierPiece};
 /// with right-hand sides of K components (collocation systems); None when
 /// a pivot falls below 1e-14 (singular for these well-scaled matrices).
 pub(crate) fn solve_dense<const K: usize>(
-    mut a: Vec<Vec<f64>>,
-    mut b: Vec<[f64; K]>,
+    a: Vec<Vec<f64>>,
+    b: Vec<[f64; K]>,
 ) -> Option<Vec<[f64; K]>> {
+    let x = solve_dense_wide(a, b.concat(), K)?;
+    Some(
+        x.chunks_exact(K)
+            .map(|r| std::array::from_fn(|k| r[k]))
+            .collect(),
+    )
+}
+
+/// [`solve_dense`] with `width` right-hand sides at once (`b` row-major,
+/// n × width): one elimination for all of them.
+pub(crate) fn solve_dense_wide(
+    mut a: Vec<Vec<f64>>,
+    mut b: Vec<f64>,
+    width: usize,
+) -> Option<Vec<f64>> {
     let n = a.len();
+    debug_assert_eq!(b.len(), n * width);
     for c in 0..n {
         let piv = (c..n).max_by(|&x, &y| a[x][c].abs().total_cmp(&a[y][c].abs()))?;
         if a[piv][c].abs() < 1e-14 {
             return None;
         }
         a.swap(c, piv);
-        b.swap(c, piv);
-        for r in c + 1..n {
-            let f = a[r][c] / a[c][c];
+        for k in 0..width {
+            b.swap(c * width + k, piv * width + k);
+        }
+        let (top, rest) = a.split_at_mut(c + 1);
+        let pivot_row = &top[c];
+        let (b_top, b_rest) = b.split_at_mut((c + 1) * width);
+        let b_pivot = &b_top[c * width..];
+        for (r, row) in rest.iter_mut().enumerate() {
+            let f = row[c] / pivot_row[c];
             if f != 0.0 {
                 for k in c..n {
-                    a[r][k] -= f * a[c][k];
+                    row[k] -= f * pivot_row[k];
                 }
-                for k in 0..K {
-                    b[r][k] -= f * b[c][k];
+                for (x, y) in b_rest[r * width..(r + 1) * width].iter_mut().zip(b_pivot) {
+                    *x -= f * y;
                 }
             }
         }
     }
-    let mut x = vec![[0.0; K]; n];
     for c in (0..n).rev() {
-        for k in 0..K {
-            let s: f64 = (c + 1..n).map(|j| a[c][j] * x[j][k]).sum();
-            x[c][k] = (b[c][k] - s) / a[c][c];
+        for k in 0..width {
+            let s: f64 = (c + 1..n).map(|j| a[c][j] * b[j * width + k]).sum();
+            b[c * width + k] = (b[c * width + k] - s) / a[c][c];
         }
     }
-    Some(x)
+    Some(b)
 }
 
 #[cfg(test)]

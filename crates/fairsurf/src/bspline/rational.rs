@@ -7,7 +7,7 @@
 //! ([`RationalSurface::polynomial`]) and measured against the exact
 //! surface.
 
-use super::{solve_dense, BSplineSurface, KnotVector};
+use super::{solve_dense_wide, BSplineSurface, KnotVector};
 use crate::vec3::{add, angle, dist, scale, sub, Vec3};
 use crate::{Error, Result, SurfaceDerivatives};
 
@@ -210,10 +210,20 @@ impl RationalSurface {
                     why: format!(
                         "a rational face could not be approximated by a polynomial one within \
                          {:e} in position and {:e}° in angle (reached {position:e} and {:e}° \
-                         with {su} × {sv} pieces)",
+                         with {} pieces in u and {} in v)",
                         tolerance.position,
                         tolerance.angle.to_degrees(),
-                        angle.to_degrees()
+                        angle.to_degrees(),
+                        if varies_u {
+                            su.to_string()
+                        } else {
+                            "the net's".into()
+                        },
+                        if varies_v {
+                            sv.to_string()
+                        } else {
+                            "the net's".into()
+                        },
                     ),
                 });
             }
@@ -243,38 +253,33 @@ impl RationalSurface {
         let singular = || Error::Fill {
             why: "the collocation system of a rational face's stand-in is singular".into(),
         };
-        for j in 0..nv {
-            let column: Vec<Vec3> = (0..nu).map(|i| data[i * nv + j]).collect();
-            let x = solve_dense(bu.clone(), column).ok_or_else(singular)?;
-            for (i, p) in x.into_iter().enumerate() {
-                data[i * nv + j] = p;
-            }
-        }
+        // Along u: the nu × nv data (rows i) for all j at once.
+        let flat: Vec<f64> = data.iter().flatten().copied().collect();
+        let x = solve_dense_wide(bu, flat, 3 * nv).ok_or_else(singular)?;
+        // Along v: the transpose, nv × nu, for all i at once.
+        let x = &x;
+        let transposed: Vec<f64> = (0..nv)
+            .flat_map(|j| (0..nu).flat_map(move |i| (0..3).map(move |c| x[(i * nv + j) * 3 + c])))
+            .collect();
+        let y = solve_dense_wide(bv, transposed, 3 * nu).ok_or_else(singular)?;
         for i in 0..nu {
-            let row = data[i * nv..(i + 1) * nv].to_vec();
-            let x = solve_dense(bv.clone(), row).ok_or_else(singular)?;
-            data[i * nv..(i + 1) * nv].copy_from_slice(&x);
+            for j in 0..nv {
+                let k = (j * nu + i) * 3;
+                data[i * nv + j] = [y[k], y[k + 1], y[k + 2]];
+            }
         }
         BSplineSurface::new(u, v, data)
     }
 
     /// Largest distance and normal angle between `s` and this surface
-    /// along the four sides, at Chebyshev–Lobatto parameters.
+    /// along the four sides, at Chebyshev–Lobatto parameters on every
+    /// span of `s` (at least 9 per span, about 129 per side in all).
     fn side_deviation(&self, s: &BSplineSurface) -> (f64, f64) {
         let ((a, b), (c, d)) = {
             let (ku, kv) = self.surface.knots();
             (ku.domain(), kv.domain())
         };
-        let cheb = |lo: f64, hi: f64| -> Vec<f64> {
-            let n = SIDE_SAMPLES - 1;
-            (0..=n)
-                .map(|i| {
-                    let x = 0.5 - 0.5 * (std::f64::consts::PI * i as f64 / n as f64).cos();
-                    lo + (hi - lo) * x
-                })
-                .collect()
-        };
-        let (us, vs) = (cheb(a, b), cheb(c, d));
+        let (us, vs) = (side_parameters(s.knots().0), side_parameters(s.knots().1));
         let (mut gap, mut ang) = (0.0f64, 0.0f64);
         for (gu, gv) in [(us.clone(), vec![c, d]), (vec![a, b], vs.clone())] {
             let x = self.derivatives_on(&gu, &gv);
@@ -288,6 +293,25 @@ impl RationalSurface {
         }
         (gap, ang)
     }
+}
+
+/// Chebyshev–Lobatto parameters on every span of `k`: at least 9 per
+/// span, about [`SIDE_SAMPLES`] in all (a span's ends once).
+fn side_parameters(k: &KnotVector) -> Vec<f64> {
+    let spans = k.spans();
+    let n = ((SIDE_SAMPLES - 1) / spans.len()).max(8);
+    let mut xs = vec![k.domain().0];
+    for &(_, lo, hi) in &spans {
+        xs.extend((1..=n).map(|i| {
+            let x = 0.5 - 0.5 * (std::f64::consts::PI * i as f64 / n as f64).cos();
+            if i == n {
+                hi
+            } else {
+                lo + (hi - lo) * x
+            }
+        }));
+    }
+    xs
 }
 
 /// R's derivatives from those of A = w R and w (w in the first
@@ -335,6 +359,25 @@ mod tests {
         let net =
             BSplineSurface::new(KnotVector::bezier(2), KnotVector::bezier(1), points).unwrap();
         RationalSurface::new(net, vec![1.0, 1.0, s, s, 1.0, 1.0]).unwrap()
+    }
+
+    /// Sides are compared on every span, however many: at least 9
+    /// parameters per span, its ends among them.
+    #[test]
+    fn sides_are_sampled_on_every_span() {
+        let mut t = vec![0.0; 6];
+        t.extend((1..300).map(|k| k as f64 / 300.0));
+        t.extend([1.0; 6]);
+        let k = KnotVector::new(5, t).unwrap();
+        let xs = side_parameters(&k);
+        for &(_, lo, hi) in &k.spans() {
+            let inside = xs.iter().filter(|&&x| lo <= x && x <= hi).count();
+            assert!(inside >= 9, "{inside} on [{lo}, {hi}]");
+            assert!(xs.contains(&lo) && xs.contains(&hi));
+        }
+        assert!(xs.windows(2).all(|w| w[0] < w[1]));
+        let few = side_parameters(&KnotVector::bezier(3));
+        assert_eq!(few.len(), 129);
     }
 
     #[test]

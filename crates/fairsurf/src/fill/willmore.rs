@@ -162,8 +162,9 @@ fn system(reference: &BSplineSurface, free: &[bool]) -> (Mat<f64>, Mat<f64>, Vec
 /// (Armijo). W and its gradient by the same Gauss rule as
 /// [`super::total_curvature`], so the gradient is exact for the W that is
 /// reported. Stops after `steps` steps, after three steps in a row that
-/// lower W by less than `rel` of itself, or when no step lowers it; returns the surface and W
-/// after each accepted step.
+/// lower W by less than `rel` of itself, or when no step lowers it (along
+/// the L-BFGS direction nor, the pairs forgotten, along −H0 g); returns
+/// the surface and W after each accepted step.
 pub(crate) fn descend(
     start: BSplineSurface,
     w0: f64,
@@ -192,46 +193,58 @@ pub(crate) fn descend(
     let mut pairs: Vec<(Mat<f64>, Mat<f64>, f64)> = Vec::new();
     let mut small = 0;
     for _ in 0..steps {
-        // The two-loop recursion: d = −H g.
-        let mut q = g.clone();
-        let mut alphas = Vec::with_capacity(pairs.len());
-        for (sk, yk, rho) in pairs.iter().rev() {
-            let al = rho * dot(sk, &q);
-            q -= faer::Scale(al) * yk;
-            alphas.push(al);
-        }
-        let mut r = h0(&q);
-        for ((sk, yk, rho), al) in pairs.iter().zip(alphas.iter().rev()) {
-            let be = rho * dot(yk, &r);
-            r += faer::Scale(al - be) * sk;
-        }
-        let mut d = -r;
-        let mut slope = dot(&g, &d);
-        if slope.is_nan() || slope >= 0.0 {
-            // Not a descent direction: forget the pairs.
-            pairs.clear();
-            d = -h0(&g);
-            slope = dot(&g, &d);
-            if slope.is_nan() || slope >= 0.0 {
-                break;
-            }
-        }
-        let mut t = 1.0;
+        // The two-loop recursion: d = −H g; when no step along it lowers W
+        // (or it is not a descent direction) the pairs are forgotten and
+        // −H0 g tried before stopping.
         let mut taken = None;
-        for _ in 0..20 {
-            let points = s
-                .points()
-                .iter()
-                .zip(&slot)
-                .map(|(&pt, sl)| sl.map_or(pt, |r| std::array::from_fn(|k| pt[k] + t * d[(r, k)])))
-                .collect();
-            let cand = s.with_points(points);
-            let wc = super::total_curvature(&cand).value;
-            if wc <= w + 1e-4 * t * slope {
-                taken = Some((cand, wc));
-                break;
+        let mut d = Mat::<f64>::zeros(0, 3);
+        let mut t = 1.0;
+        while taken.is_none() {
+            let mut q = g.clone();
+            let mut alphas = Vec::with_capacity(pairs.len());
+            for (sk, yk, rho) in pairs.iter().rev() {
+                let al = rho * dot(sk, &q);
+                q -= faer::Scale(al) * yk;
+                alphas.push(al);
             }
-            t *= 0.5;
+            let mut r = h0(&q);
+            for ((sk, yk, rho), al) in pairs.iter().zip(alphas.iter().rev()) {
+                let be = rho * dot(yk, &r);
+                r += faer::Scale(al - be) * sk;
+            }
+            d = -r;
+            let slope = dot(&g, &d);
+            if slope.is_nan() || slope >= 0.0 {
+                if pairs.is_empty() {
+                    break;
+                }
+                pairs.clear();
+                continue;
+            }
+            t = 1.0;
+            for _ in 0..20 {
+                let points = s
+                    .points()
+                    .iter()
+                    .zip(&slot)
+                    .map(|(&pt, sl)| {
+                        sl.map_or(pt, |r| std::array::from_fn(|k| pt[k] + t * d[(r, k)]))
+                    })
+                    .collect();
+                let cand = s.with_points(points);
+                let wc = super::total_curvature(&cand).value;
+                if wc <= w + 1e-4 * t * slope {
+                    taken = Some((cand, wc));
+                    break;
+                }
+                t *= 0.5;
+            }
+            if taken.is_none() {
+                if pairs.is_empty() {
+                    break;
+                }
+                pairs.clear();
+            }
         }
         let Some((next, wn)) = taken else {
             break;
