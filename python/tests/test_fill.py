@@ -373,11 +373,9 @@ def test_polygonal_holes_are_filled_by_sewn_g1_fans(cli: Path, tmp_path: Path):
         assert fill["solve"]["conditions_dropped"] == []
 
 
-def test_a_hole_two_faces_wide_is_filled_by_one_sewn_patch(cli: Path, tmp_path: Path):
-    """A wavy Bezier patch cut 4 x 4 by Open CASCADE (Segment), the centre
-    2 x 2 faces removed: each side of the hole is two edges; one fill meets
-    all eight, G1, and the shell sews with only the rim free."""
-    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+def wavy_bezier():
+    """The wavy bi-quintic of examples/cad/fill_network.json over [0, 3]^2,
+    whole, as an Open CASCADE Geom_BezierSurface."""
     from OCP.collections import Array2_gp_Pnt
     from OCP.Geom import Geom_BezierSurface
     from OCP.gp import gp_Pnt
@@ -388,29 +386,68 @@ def test_a_hole_two_faces_wide_is_filled_by_one_sewn_patch(cli: Path, tmp_path: 
             x, y = 3 * i / 5, 3 * j / 5
             poles.SetValue(i + 1, j + 1, gp_Pnt(
                 x + 0.1 * y, y, 0.3 * math.sin(1.3 * x) * math.cos(0.9 * y) + 0.05 * x * y))
-    cuts = [0.0, 0.2, 0.45, 0.7, 1.0]
+    return Geom_BezierSurface(poles)
+
+
+def fill_wavy_pieces(cli: Path, tmp_path: Path, rects):
+    """The pieces `rects` ((u0, u1, v0, v1) each) of the wavy Bezier, cut by
+    Open CASCADE (Segment), sewn and written as STEP, filled by `fairsurf
+    fill`: the fill's report and the shape Open CASCADE reads back."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+
     faces = []
-    for i in range(4):
-        for j in range(4):
-            if i in (1, 2) and j in (1, 2):
-                continue
-            s = Geom_BezierSurface(poles)
-            s.Segment(cuts[i], cuts[i + 1], cuts[j], cuts[j + 1])
-            faces.append(BRepBuilderAPI_MakeFace(s, 1e-7).Face())
-    step_in = tmp_path / "wide.step"
+    for rect in rects:
+        s = wavy_bezier()
+        s.Segment(*rect)
+        faces.append(BRepBuilderAPI_MakeFace(s, 1e-7).Face())
+    step_in = tmp_path / "pieces.step"
     sewn_step(faces, step_in)
     out = tmp_path / "filled.step"
     run = subprocess.run([str(cli), "fill", str(step_in), "-o", str(out), "--json"],
                          check=True, capture_output=True, text=True)
-    fill = json.loads(run.stdout)["fills"][0]
-    assert fill["kind"] == "patch" and len(fill["sides"]) == 8
+    return json.loads(run.stdout)["fills"][0], read_step(out)
+
+
+def check_sewn_patch(fill: dict, shape, faces: int, rim: int, sides: int) -> None:
+    """One patch meeting `sides` edges G1 to rounding, as reported and as
+    Open CASCADE measures it in the shape read back (the `faces` inputs and
+    the fill), which sews with only the `rim` edges free."""
+    assert fill["kind"] == "patch" and len(fill["sides"]) == sides
     assert fill["max_angle_deg"] < 1e-9 and fill["max_gap"] < 1e-12
-    shape = read_step(out)
-    assert count(shape, TopAbs_FACE) == 13
-    assert free_edges_after_sewing(shape) == 16  # the rim only
-    across = [s for s in seams(shape) if 12 in s[0]]
-    assert len(across) == 8
+    assert count(shape, TopAbs_FACE) == faces + 1
+    assert free_edges_after_sewing(shape) == rim
+    across = [s for s in seams(shape) if faces in s[0]]
+    assert len(across) == sides
     assert max(s[1] for s in across) < 1e-9 and max(s[2] for s in across) < 1e-12
+
+
+def test_a_hole_two_faces_wide_is_filled_by_one_sewn_patch(cli: Path, tmp_path: Path):
+    """A wavy Bezier patch cut 4 x 4 by Open CASCADE (Segment), the centre
+    2 x 2 faces removed: each side of the hole is two edges; one fill meets
+    all eight, G1, and the shell sews with only the rim free."""
+    cuts = [0.0, 0.2, 0.45, 0.7, 1.0]
+    rects = [(cuts[i], cuts[i + 1], cuts[j], cuts[j + 1])
+             for i in range(4) for j in range(4) if not (i in (1, 2) and j in (1, 2))]
+    fill, shape = fill_wavy_pieces(cli, tmp_path, rects)
+    check_sewn_patch(fill, shape, faces=12, rim=16, sides=8)
+
+
+def test_a_hole_along_parts_of_long_faces_is_filled_and_sewn(cli: Path, tmp_path: Path):
+    """T-junctions: the wavy Bezier patch cut by Open CASCADE into three
+    columns, the outer two whole and the middle one without its centre
+    third. The hole's left and right sides are the middle thirds of the
+    long faces' sides (Open CASCADE's sewing cuts those edges at the
+    junctions); the fill meets them G1 and the written shell sews with only
+    the rim free."""
+    third = 1 / 3
+    fill, shape = fill_wavy_pieces(cli, tmp_path, [
+        (0, third, 0, 1), (third, 2 * third, 0, third),
+        (third, 2 * third, 2 * third, 1), (2 * third, 1, 0, 1)])
+    check_sewn_patch(fill, shape, faces=4, rim=8, sides=4)
+    parts = sorted(s["range"] for s in fill["sides"] if s["range"] != [0.0, 1.0])
+    assert len(parts) == 2
+    for a, b in parts:
+        assert abs(a - third) < 1e-9 and abs(b - 2 * third) < 1e-9, parts
 
 
 def test_the_python_fill_of_a_pentagon_is_a_triangular_surface(tmp_path: Path):

@@ -80,17 +80,7 @@ impl CadSurface {
 
     /// The distinct knots of direction `k` (0 = u) and their multiplicities.
     pub(crate) fn distinct_knots(&self, k: usize) -> (Vec<f64>, Vec<usize>) {
-        let (mut values, mut mults) = (Vec::new(), Vec::<usize>::new());
-        for &t in &self.knots[k] {
-            match values.last() {
-                Some(&last) if last == t => *mults.last_mut().expect("one per value") += 1,
-                _ => {
-                    values.push(t);
-                    mults.push(1);
-                }
-            }
-        }
-        (values, mults)
+        distinct(&self.knots[k])
     }
 
     /// The parameter domain of direction `k`: [t_p, t_c].
@@ -102,6 +92,21 @@ impl CadSurface {
         };
         (self.knots[k][p], self.knots[k][c])
     }
+}
+
+/// Distinct knots and their multiplicities.
+pub(crate) fn distinct(knots: &[f64]) -> (Vec<f64>, Vec<usize>) {
+    let (mut values, mut mults) = (Vec::new(), Vec::<usize>::new());
+    for &t in knots {
+        match values.last() {
+            Some(&last) if last == t => *mults.last_mut().expect("one per value") += 1,
+            _ => {
+                values.push(t);
+                mults.push(1);
+            }
+        }
+    }
+    (values, mults)
 }
 
 /// Checks the surfaces, builds the file's text from its name and the

@@ -515,6 +515,7 @@ pub(crate) fn side_json(f: &SideFit, face: usize) -> Value {
         "face": face,
         "edge": edge_name(f.side.edge),
         "reversed": f.side.reversed,
+        "range": f.side.range,
         "gap": f.gap,
         "angle_deg": f.angle.to_degrees(),
         "samples": f.samples,

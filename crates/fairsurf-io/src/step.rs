@@ -487,7 +487,6 @@ impl Data {
         let mut chain = vec![(a, start)];
         chain.extend(inside);
         chain.push((b, end));
-        let mut curve_id = None;
         let mut out = Vec::new();
         for pair in chain.windows(2) {
             let ((ta, va), (tb, vb)) = (pair[0], pair[1]);
@@ -503,7 +502,30 @@ impl Data {
                 out.push(found);
                 continue;
             }
-            let c = *curve_id.get_or_insert_with(|| self.add(curve.entity(ids)));
+            // Each piece its own curve, cut exactly at the vertices (a
+            // reader that projects the vertices onto a longer curve finds
+            // their parameters only to its own tolerance: Open CASCADE put
+            // them 3e-8 off).
+            let c = match cut_curve(&kv, pts, w, ta, tb) {
+                Some((k, piece, weights)) => {
+                    let ids: Vec<usize> = piece
+                        .iter()
+                        .map(|&p| self.add(format!("CARTESIAN_POINT('',{})", coords(p))))
+                        .collect();
+                    let (knots, mults) = crate::cad::distinct(k.knots());
+                    self.add(
+                        SideCurve {
+                            d: k.degree(),
+                            knots: &knots,
+                            mults: &mults,
+                            full: &k.knots().to_vec(),
+                            weights,
+                        }
+                        .entity(&ids),
+                    )
+                }
+                None => self.add(curve.entity(ids)),
+            };
             let e = self.add(format!("EDGE_CURVE('',#{va},#{vb},#{c},.T.)"));
             self.edge_samples.push((samples, e));
             out.push((e, true));
@@ -647,6 +669,45 @@ fn project(
         t = next;
     }
     t.is_finite().then_some(t)
+}
+
+/// The part of the curve (knots `kv`, points `pts`, weights `w`) over
+/// [ta, tb], cut by knot insertion (the homogeneous points w·P and the
+/// weights alike): its knots, points and weights.
+#[allow(clippy::type_complexity)]
+fn cut_curve(
+    kv: &fairsurf::bspline::KnotVector,
+    pts: &[Vec3],
+    w: Option<&[f64]>,
+    ta: f64,
+    tb: f64,
+) -> Option<(fairsurf::bspline::KnotVector, Vec<Vec3>, Option<Vec<f64>>)> {
+    use fairsurf::bspline::{BSplineSurface, KnotVector};
+    let weight = |i: usize| w.map_or(1.0, |w| w[i]);
+    // Columns w·P and (w, 0, 0) of a surface linear in v.
+    let net = BSplineSurface::new(
+        kv.clone(),
+        KnotVector::bezier(1),
+        pts.iter()
+            .enumerate()
+            .flat_map(|(i, p)| [p.map(|x| x * weight(i)), [weight(i), 0.0, 0.0]])
+            .collect(),
+    )
+    .ok()?;
+    let (a, b) = kv.domain();
+    let mut cut = net;
+    if ta > a {
+        cut = cut.split_u(ta).ok()?.1;
+    }
+    if tb < b {
+        cut = cut.split_u(tb).ok()?.0;
+    }
+    let n = cut.counts().0;
+    let weights: Vec<f64> = (0..n).map(|i| cut.point(i, 1)[0]).collect();
+    let points = (0..n)
+        .map(|i| cut.point(i, 0).map(|x| x / weights[i]))
+        .collect();
+    Some((cut.knots().0.clone(), points, w.map(|_| weights)))
 }
 
 fn ints(v: &[usize]) -> String {

@@ -395,18 +395,7 @@ fn blend_with(
         cross(mb.dpos, scale(mb.der, -1.0)),
         normal_at(b, edge_b, 0.5),
     ) < 0.0;
-    let sides = [
-        Side {
-            face: 0,
-            edge: edge_a,
-            reversed: ra,
-        },
-        Side {
-            face: 1,
-            edge: edge_b,
-            reversed: rb,
-        },
-    ];
+    let sides = [Side::whole(0, edge_a, ra), Side::whole(1, edge_b, rb)];
     let fits = [
         side_fit_facing(
             &faired.surface,

@@ -234,10 +234,7 @@ fn prepare(
     }
     let strips = |hole: &Hole| -> Result<Vec<Strip>> {
         (0..count)
-            .map(|k| {
-                let s = hole.sides[k];
-                Strip::from_side(side_face(faces, hole, k)?, s.edge, s.reversed)
-            })
+            .map(|k| Strip::of_side(side_face(faces, hole, k)?, hole.sides[k]))
             .collect()
     };
     // Orientation: the patches' normal along side k is P′ × D; it must

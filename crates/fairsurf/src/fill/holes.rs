@@ -1,25 +1,55 @@
 //! Holes in a set of faces: the closed loops of free edges. Each face's four
-//! boundaries (a boundary collapsed to a point has none) are compared with
-//! every other face's at nine parameters; one that no other face shares,
-//! in either direction, is free. Free edges are chained at their end
-//! points into loops.
+//! boundaries (a boundary collapsed to a point has none) are cut where
+//! another boundary's end point lies inside them (a T-junction: a face
+//! bordering only part of a neighbour's side); the pieces are compared
+//! with every other face's: one that no other piece shares (the same end
+//! points, either way round, and points inside on the other's curve) is
+//! free. Free pieces are chained at their end points into loops.
 
 use crate::analysis::Edge;
 use crate::bspline::BSplineSurface;
-use crate::vec3::{bounding_diagonal, dist};
+use crate::vec3::{add, bounding_diagonal, dist, dot, scale, sub};
 use crate::{Error, Result, Vec3};
 
-/// One side of a hole: a whole boundary of one face, traversed from t = 0
-/// to t = 1 along the boundary's parameter (the knot domain mapped onto
-/// [0, 1]), or from 1 to 0 when `reversed`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// One side of a hole: a boundary of one face, or the part `range` of it,
+/// traversed from `range[0]` to `range[1]` along the boundary's parameter t
+/// (the knot domain mapped onto [0, 1]), or back when `reversed`.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Side {
     /// Index of the face.
     pub face: usize,
     /// Which boundary.
     pub edge: Edge,
-    /// Traversed from t = 1 to t = 0.
+    /// Traversed from t = range[1] to t = range[0].
     pub reversed: bool,
+    /// The part of the boundary, 0 ≤ range[0] < range[1] ≤ 1: [0, 1] for
+    /// the whole boundary.
+    pub range: [f64; 2],
+}
+
+impl Side {
+    /// The whole boundary `edge` of `face`.
+    pub fn whole(face: usize, edge: Edge, reversed: bool) -> Self {
+        Self {
+            face,
+            edge,
+            reversed,
+            range: [0.0, 1.0],
+        }
+    }
+
+    /// Whether the side is the face's whole boundary.
+    pub fn is_whole(&self) -> bool {
+        self.range == [0.0, 1.0]
+    }
+
+    /// The boundary's parameter at s ∈ [0, 1] along the side as the hole
+    /// runs.
+    pub fn boundary_t(&self, s: f64) -> f64 {
+        let [a, b] = self.range;
+        let s = if self.reversed { 1.0 - s } else { s };
+        a + (b - a) * s
+    }
 }
 
 /// A closed loop of free edges, in traversal order (side k ends where side
@@ -91,12 +121,34 @@ pub fn tolerance(faces: &[BSplineSurface]) -> f64 {
 struct BoundaryEdge {
     face: usize,
     edge: Edge,
+    range: [f64; 2],
     samples: Vec<Vec3>,
+}
+
+impl BoundaryEdge {
+    fn new(face: &BSplineSurface, f: usize, edge: Edge, range: [f64; 2]) -> Self {
+        let samples = (0..SAMPLES)
+            .map(|k| {
+                let t = range[0] + (range[1] - range[0]) * k as f64 / (SAMPLES - 1) as f64;
+                edge_point(face, edge, t)
+            })
+            .collect();
+        Self {
+            face: f,
+            edge,
+            range,
+            samples,
+        }
+    }
+
+    fn ends(&self) -> (Vec3, Vec3) {
+        (self.samples[0], self.samples[SAMPLES - 1])
+    }
 }
 
 /// Every hole of `faces`: the loops of free edges, longest first. Errors
 /// when free edges do not close into loops (the faces do not form
-/// surfaces with boundaries made of whole face edges).
+/// surfaces with boundaries made of face edges).
 pub fn find_holes(faces: &[BSplineSurface]) -> Result<Vec<Hole>> {
     find_holes_within(faces, tolerance(faces))
 }
@@ -104,34 +156,54 @@ pub fn find_holes(faces: &[BSplineSurface]) -> Result<Vec<Hole>> {
 /// [`find_holes`] with points closer than `tol` taken as one (faces that
 /// stand in for rational ones meet only within their fit).
 pub fn find_holes_within(faces: &[BSplineSurface], tol: f64) -> Result<Vec<Hole>> {
-    let mut edges = Vec::new();
+    let mut whole = Vec::new();
     for (f, face) in faces.iter().enumerate() {
         for edge in [Edge::V0, Edge::U1, Edge::V1, Edge::U0] {
-            let samples: Vec<Vec3> = (0..SAMPLES)
-                .map(|k| edge_point(face, edge, k as f64 / (SAMPLES - 1) as f64))
-                .collect();
-            let length: f64 = samples.windows(2).map(|w| dist(w[0], w[1])).sum();
+            let e = BoundaryEdge::new(face, f, edge, [0.0, 1.0]);
+            let length: f64 = e.samples.windows(2).map(|w| dist(w[0], w[1])).sum();
             if length > tol {
-                edges.push(BoundaryEdge {
-                    face: f,
-                    edge,
-                    samples,
-                });
+                whole.push(e);
             }
         }
     }
+    // Each boundary cut where another's end point lies inside it.
+    let corners: Vec<Vec3> = whole
+        .iter()
+        .flat_map(|e| [e.ends().0, e.ends().1])
+        .collect();
+    let mut edges = Vec::new();
+    for e in &whole {
+        let face = &faces[e.face];
+        let (box_lo, box_hi) = boundary_box(face, e.edge, tol);
+        let (p0, p1) = e.ends();
+        let mut cuts: Vec<f64> = corners
+            .iter()
+            .filter(|c| (0..3).all(|i| box_lo[i] <= c[i] && c[i] <= box_hi[i]))
+            .filter(|c| dist(**c, p0) > tol && dist(**c, p1) > tol)
+            .filter_map(|c| {
+                let (t, d) = nearest_on_boundary(face, e.edge, [0.0, 1.0], *c);
+                (d <= tol && t > 0.0 && t < 1.0).then_some(t)
+            })
+            .collect();
+        cuts.sort_by(f64::total_cmp);
+        cuts.dedup_by(|a, b| {
+            dist(edge_point(face, e.edge, *a), edge_point(face, e.edge, *b)) <= tol
+        });
+        let mut start = 0.0;
+        for t in cuts.into_iter().chain([1.0]) {
+            edges.push(BoundaryEdge::new(face, e.face, e.edge, [start, t]));
+            start = t;
+        }
+    }
+    // Two pieces are one edge when their ends meet (either way round) and
+    // the points inside one lie on the other's curve.
     let same = |a: &BoundaryEdge, b: &BoundaryEdge| {
-        let fwd = a
-            .samples
+        let ((a0, a1), (b0, b1)) = (a.ends(), b.ends());
+        let ends = (dist(a0, b0) <= tol && dist(a1, b1) <= tol)
+            || (dist(a0, b1) <= tol && dist(a1, b0) <= tol);
+        ends && a.samples[1..SAMPLES - 1]
             .iter()
-            .zip(&b.samples)
-            .all(|(p, q)| dist(*p, *q) <= tol);
-        let rev = a
-            .samples
-            .iter()
-            .zip(b.samples.iter().rev())
-            .all(|(p, q)| dist(*p, *q) <= tol);
-        fwd || rev
+            .all(|p| nearest_on_boundary(&faces[b.face], b.edge, b.range, *p).1 <= tol)
     };
     let free: Vec<&BoundaryEdge> = edges
         .iter()
@@ -184,7 +256,7 @@ pub fn find_holes_within(faces: &[BSplineSurface], tol: f64) -> Result<Vec<Hole>
         }
         let length = sides
             .iter()
-            .map(|&(k, _)| polyline_length(&faces[free[k].face], free[k].edge))
+            .map(|&(k, _)| polyline_length(&faces[free[k].face], free[k].edge, free[k].range))
             .sum();
         holes.push(Hole {
             sides: sides
@@ -193,6 +265,7 @@ pub fn find_holes_within(faces: &[BSplineSurface], tol: f64) -> Result<Vec<Hole>
                     face: free[k].face,
                     edge: free[k].edge,
                     reversed,
+                    range: free[k].range,
                 })
                 .collect(),
             length,
@@ -202,10 +275,82 @@ pub fn find_holes_within(faces: &[BSplineSurface], tol: f64) -> Result<Vec<Hole>
     Ok(holes)
 }
 
-/// The length of a polygon through 33 points of the edge.
-fn polyline_length(face: &BSplineSurface, edge: Edge) -> f64 {
+/// The length of a polygon through 33 points of the edge's part `range`.
+fn polyline_length(face: &BSplineSurface, edge: Edge, range: [f64; 2]) -> f64 {
     let pts: Vec<Vec3> = (0..=32)
-        .map(|k| edge_point(face, edge, k as f64 / 32.0))
+        .map(|k| {
+            edge_point(
+                face,
+                edge,
+                range[0] + (range[1] - range[0]) * k as f64 / 32.0,
+            )
+        })
         .collect();
     pts.windows(2).map(|w| dist(w[0], w[1])).sum()
+}
+
+/// The bounding box of the boundary's control points (which hold the
+/// curve), widened by `tol`.
+fn boundary_box(face: &BSplineSurface, edge: Edge, tol: f64) -> (Vec3, Vec3) {
+    let (cu, cv) = face.counts();
+    let points: Vec<Vec3> = match edge {
+        Edge::U0 => (0..cv).map(|j| face.point(0, j)).collect(),
+        Edge::U1 => (0..cv).map(|j| face.point(cu - 1, j)).collect(),
+        Edge::V0 => (0..cu).map(|i| face.point(i, 0)).collect(),
+        Edge::V1 => (0..cu).map(|i| face.point(i, cv - 1)).collect(),
+    };
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in &points {
+        for c in 0..3 {
+            lo[c] = lo[c].min(p[c] - tol);
+            hi[c] = hi[c].max(p[c] + tol);
+        }
+    }
+    (lo, hi)
+}
+
+/// The boundary parameter t in `range` of the point of the boundary
+/// nearest to p, and the distance: the nearest of 33 samples, then Newton
+/// steps on (C(t) − p)·C′(t) = 0 kept in the range while they come closer.
+fn nearest_on_boundary(face: &BSplineSurface, edge: Edge, range: [f64; 2], p: Vec3) -> (f64, f64) {
+    let [lo, hi] = range;
+    let (mut best, mut t) = (f64::MAX, lo);
+    for k in 0..=32 {
+        let x = lo + (hi - lo) * k as f64 / 32.0;
+        let d = dist(edge_point(face, edge, x), p);
+        if d < best {
+            (best, t) = (d, x);
+        }
+    }
+    // dC/dt from the surface's derivatives along the boundary's direction.
+    let (s0, r0) = edge.param(0.0);
+    let (s1, r1) = edge.param(1.0);
+    let (ku, kv) = face.knots();
+    let ((a, b), (c, d)) = (ku.domain(), kv.domain());
+    let (du_dt, dv_dt) = ((s1 - s0) * (b - a), (r1 - r0) * (d - c));
+    for _ in 0..30 {
+        let (u, v) = surface_param(face, edge, t);
+        let x = face.derivatives(u, v);
+        let d1 = add(scale(x.du, du_dt), scale(x.dv, dv_dt));
+        let d2 = add(
+            add(
+                scale(x.duu, du_dt * du_dt),
+                scale(x.duv, 2.0 * du_dt * dv_dt),
+            ),
+            scale(x.dvv, dv_dt * dv_dt),
+        );
+        let r = sub(x.point, p);
+        let h = dot(d1, d1) + dot(r, d2);
+        if h.is_nan() || h <= 0.0 {
+            break;
+        }
+        let next = (t - dot(r, d1) / h).clamp(lo, hi);
+        let e = dist(edge_point(face, edge, next), p);
+        if e.is_nan() || e >= best {
+            break;
+        }
+        (best, t) = (e, next);
+    }
+    (t, best)
 }

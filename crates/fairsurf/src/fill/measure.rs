@@ -133,7 +133,7 @@ pub(crate) fn side_parameters() -> Vec<f64> {
 
 /// The neighbour's (u, v) at parameter t of the hole's side.
 pub(crate) fn neighbour_param(face: &BSplineSurface, side: Side, t: f64) -> (f64, f64) {
-    surface_param(face, side.edge, if side.reversed { 1.0 - t } else { t })
+    surface_param(face, side.edge, side.boundary_t(t))
 }
 
 /// The fit of the fill's derivatives `da` against the neighbour's `db` at

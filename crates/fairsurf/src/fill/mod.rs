@@ -343,7 +343,7 @@ pub fn fill_param(k: usize, t: f64) -> (f64, f64) {
 /// D into the hole) faces the way side 0's neighbour does.
 fn faces_like_side_0(faces: &[BSplineSurface], hole: &Hole, s0: &Strip) -> bool {
     let side0 = hole.sides[0];
-    let (u, v) = surface_param(&faces[side0.face], side0.edge, 0.5);
+    let (u, v) = surface_param(&faces[side0.face], side0.edge, side0.boundary_t(0.5));
     let nb = faces[side0.face].derivatives(u, v);
     let mid = s0.at(0.5);
     dot(cross(mid.dpos, mid.der), cross(nb.du, nb.dv)) >= 0.0
@@ -364,10 +364,7 @@ fn side_face<'a>(faces: &'a [BSplineSurface], hole: &Hole, k: usize) -> Result<&
 fn grouped(faces: &[BSplineSurface], hole: &Hole) -> Result<(Hole, Vec<Range<usize>>)> {
     let n = hole.sides.len();
     let strips: Vec<Strip> = (0..n)
-        .map(|k| {
-            let s = hole.sides[k];
-            Strip::from_side(side_face(faces, hole, k)?, s.edge, s.reversed)
-        })
+        .map(|k| Strip::of_side(side_face(faces, hole, k)?, hole.sides[k]))
         .collect::<Result<_>>()?;
     let corner: Vec<bool> = (0..n)
         .map(|k| {
@@ -406,10 +403,7 @@ fn frame(
     let strip = |k: usize| -> Result<(Strip, Vec<f64>)> {
         let pieces: Vec<Strip> = groups[k]
             .clone()
-            .map(|e| {
-                let s = hole.sides[e];
-                Strip::from_side(side_face(faces, hole, e)?, s.edge, s.reversed)
-            })
+            .map(|e| Strip::of_side(side_face(faces, hole, e)?, hole.sides[e]))
             .collect::<Result<_>>()?;
         let (st, breaks) = concat(&pieces).map_err(|e| match e {
             Error::Fill { why } => Error::Fill {

@@ -90,6 +90,55 @@ impl Strip {
         Ok(if reversed { strip.reversed() } else { strip })
     }
 
+    /// The strip of a hole's side: its face's boundary, the part
+    /// `side.range` of it (cut exactly), as the hole runs.
+    pub fn of_side(surface: &BSplineSurface, side: super::Side) -> Result<Self> {
+        let whole = Self::from_side(surface, side.edge, false)?;
+        let part = whole.part(side.range)?;
+        Ok(if side.reversed { part.reversed() } else { part })
+    }
+
+    /// The part over [a, b] ⊆ [0, 1], its parameter mapped onto [0, 1]:
+    /// the curve cut exactly by knot insertion (a cut within
+    /// [`KNOT_SNAP`] of a knot is made at the knot).
+    pub fn part(&self, [a, b]: [f64; 2]) -> Result<Self> {
+        if a == 0.0 && b == 1.0 {
+            return Ok(self.clone());
+        }
+        let snap = |t: f64| {
+            self.knots
+                .knots()
+                .iter()
+                .copied()
+                .find(|k| (k - t).abs() <= KNOT_SNAP)
+                .unwrap_or(t)
+        };
+        let (a, b) = (snap(a), snap(b));
+        // P and D as the two columns of a surface linear in v, cut in u.
+        let net = BSplineSurface::new(
+            self.knots.clone(),
+            KnotVector::bezier(1),
+            self.pos
+                .iter()
+                .zip(&self.der)
+                .flat_map(|(p, d)| [*p, *d])
+                .collect(),
+        )?;
+        let mut cut = net;
+        if a > 0.0 {
+            cut = cut.split_u(a)?.1;
+        }
+        if b < 1.0 {
+            cut = cut.split_u(b)?.0;
+        }
+        let cu = cut.counts().0;
+        Ok(Self {
+            knots: unit_knots(cut.knots().0)?,
+            pos: (0..cu).map(|i| cut.point(i, 0)).collect(),
+            der: (0..cu).map(|i| cut.point(i, 1)).collect(),
+        })
+    }
+
     /// The same data with t → 1 − t.
     pub fn reversed(&self) -> Self {
         let mut knots: Vec<f64> = self.knots.knots().iter().map(|&t| 1.0 - t).collect();

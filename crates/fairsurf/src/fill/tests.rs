@@ -131,6 +131,60 @@ fn a_c1_quintic_network_is_filled_exactly() {
     );
 }
 
+/// T-junctions: the hole's left and right sides are the middle thirds of
+/// two long faces' sides (the columns left and right of it, uncut); the
+/// sides are cut there exactly and the missing piece comes back as
+/// before (rings to 1e-12, G¹ to rounding).
+#[test]
+fn a_hole_along_part_of_a_face_side_is_filled_exactly() {
+    let (faces, centre) = quintic_network();
+    // Columns: the three left pieces and the three right ones as one face
+    // each (the bi-quintic cut at u = 1/3 and 2/3 only).
+    let big = BSplineSurface::from_bezier(&TensorPatch::from_fn(5, 5, |i, j| {
+        let (x, y) = (3.0 * i as f64 / 5.0, 3.0 * j as f64 / 5.0);
+        [
+            x + 0.1 * y,
+            y,
+            0.3 * (1.3 * x).sin() * (0.9 * y).cos() + 0.05 * x * y,
+        ]
+    }));
+    let (left, rest) = big.split_u(1.0 / 3.0).unwrap();
+    let (_, right) = rest.split_u(2.0 / 3.0).unwrap();
+    // The network's middle column without its centre: pieces 3 and 4.
+    let faces = vec![left, faces[3].clone(), faces[4].clone(), right];
+    let holes = find_holes(&faces).unwrap();
+    assert_eq!(holes.len(), 2, "{holes:?}");
+    assert_eq!(holes[0].sides.len(), 8, "the rim: {:?}", holes[0]);
+    let hole = &holes[1];
+    assert_eq!(hole.sides.len(), 4, "{hole:?}");
+    let mut partial: Vec<(usize, [f64; 2])> = hole
+        .sides
+        .iter()
+        .filter(|s| !s.is_whole())
+        .map(|s| (s.face, s.range))
+        .collect();
+    partial.sort_by_key(|p| p.0);
+    assert_eq!(partial.len(), 2, "{hole:?}");
+    for (k, (face, [a, b])) in partial.into_iter().enumerate() {
+        assert_eq!(face, 3 * k);
+        assert!(
+            (a - 1.0 / 3.0).abs() < 1e-14 && (b - 2.0 / 3.0).abs() < 1e-14,
+            "{a} {b}"
+        );
+    }
+    let fill = fill_hole(&faces, hole, &exact_options()).unwrap();
+    same_rings(&fill.surface, &centre, 1e-12);
+    for f in &fill.report.sides {
+        assert!(f.gap < 1e-13, "{f:?}");
+        assert!(f.angle.to_degrees() < 1e-9, "{f:?}");
+    }
+    // The same network with the columns cut (whole sides) gives the same
+    // hole's length.
+    let (cut, _) = quintic_network();
+    let whole = centre_hole(&cut);
+    assert!((whole.length - hole.length).abs() < 1e-12);
+}
+
 /// The same with neighbours of several spans and different knot vectors.
 #[test]
 fn a_c1_bicubic_network_is_filled_exactly() {
