@@ -24,10 +24,9 @@ u, v = np.meshgrid(np.linspace(0, 1, n + 1), np.linspace(0, 1, n + 1), indexing=
 net = np.stack([u, v, 0.2 * np.sin(3 * u) * np.cos(2 * v)], axis=-1)
 net[1:-1, 1:-1] = np.nan
 
-scene = {
-    "surface": {"type": "tensor", "degree": [n, n], "control_points": net},
-    "energy": {"bend": 1},
-}
+# fairsurf.Problem builds the scene (a dict: print(scene.to_json()) shows it);
+# a plain dict in the scene format works everywhere too.
+scene = fairsurf.Problem(net).bend(1)
 
 # %% Solve. The report says how good the answer is, checked on the net as written.
 r = fairsurf.solve(scene)
@@ -56,13 +55,10 @@ print(f"{out / 'tour.png'}: {len(png)} bytes")
 # (here a field that leans toward +x along u) at the cost of more stretch. (A constant field would change nothing:
 # with N = (0, 0, 1) the term is λ times the Dirichlet energy of z alone, and
 # the stretch minimizer's z is already harmonic.)
-field = {"degree": [1, 0], "control_points": [[[0.0, 0.0, 1.0]], [[0.6, 0.0, 1.0]]]}
-sweep = []
-for lam in [0, 1, 10, 100]:
-    energy = {"stretch": 1}
-    if lam:
-        energy["normal_field"] = {**field, "weight": lam}
-    sweep.append({**scene, "energy": energy})
+# Each Problem step returns a new Problem, so one base serves the sweep.
+field = np.array([[[0.0, 0.0, 1.0]], [[0.6, 0.0, 1.0]]])
+base = fairsurf.Problem(net).stretch(1)
+sweep = [base] + [base.normal_field(lam, field) for lam in [1, 10, 100]]
 for lam, res in zip([0, 1, 10, 100], fairsurf.solve_many(sweep, threads=2)):
     terms = res.report["terms"]
     misfit = terms["normal_field"] / lam if lam else float("nan")
@@ -70,7 +66,7 @@ for lam, res in zip([0, 1, 10, 100], fairsurf.solve_many(sweep, threads=2)):
           f"field term / λ {misfit:.6g}")
 
 # %% Errors name the JSON path.
-bad = {**scene, "energy": {"bend": -1}}
+bad = scene.bend(-1)
 try:
     fairsurf.solve(bad)
 except fairsurf.SceneError as e:

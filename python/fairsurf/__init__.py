@@ -11,6 +11,9 @@ net, a point of three NaNs is a free point, as ``null`` is in the file).
 (6, 6, 3)
 >>> r.report["energy"]                                       # doctest: +SKIP
 
+A scene can also be built from numpy arrays with :class:`Problem`
+(``fairsurf.Problem(net).fix_rings(2).bend(1).solve()``).
+
 Every solve, evaluation, mesh, export and picture releases the GIL, so
 Python threads overlap; :func:`solve_many` spreads scenes over threads.
 Errors are exceptions: :class:`SceneError` (a ``ValueError`` whose ``path``
@@ -32,8 +35,10 @@ import numpy as np
 
 from . import _fairsurf
 from ._errors import ExportError, FairsurfError, SceneError, SolveError, UnverifiedError
+from ._problem import Problem
 
 __all__ = [
+    "Problem",
     "solve",
     "solve_many",
     "load",
