@@ -580,7 +580,165 @@ def fill_pentagon():
     })
 
 
+# Wu & Yang Fig. 1-5 on bicubic B-splines (issue 19): the same setups at a
+# designer's resolution, uniform knots, the net over the Greville abscissae.
+
+def uniform_knots(c, p=3):
+    spans = c - p
+    return [0.0] * (p + 1) + [k / spans for k in range(1, spans)] + [1.0] * (p + 1)
+
+
+def greville(knots, c, p=3):
+    return [sum(knots[i + 1:i + p + 1]) / p for i in range(c)]
+
+
+def bspline_basis(knots, p, c, t):
+    """N_i,p(t) for i < c (Cox-de Boor; t = 1 in the last span)."""
+    t = min(max(t, knots[p]), knots[c])
+    n = [1.0 if (knots[i] <= t < knots[i + 1]) or (t == knots[c] and knots[i] < t == knots[i + 1])
+         else 0.0 for i in range(len(knots) - 1)]
+    for d in range(1, p + 1):
+        n = [((t - knots[i]) / (knots[i + d] - knots[i]) * n[i] if knots[i + d] > knots[i] else 0.0)
+             + ((knots[i + d + 1] - t) / (knots[i + d + 1] - knots[i + 1]) * n[i + 1]
+                if knots[i + d + 1] > knots[i + 1] else 0.0)
+             for i in range(len(knots) - d - 1)]
+    return n[:c]
+
+
+def bspline_point(net, knots, u, v, p=3):
+    c = len(net)
+    bu, bv = bspline_basis(knots, p, c, u), bspline_basis(knots, p, c, v)
+    return [sum(bu[i] * bv[j] * net[i][j][k] for i in range(c) for j in range(c) if bu[i] and bv[j])
+            for k in range(3)]
+
+
+def bspline_normal(net, knots, u, v, h=1e-6):
+    """The unit normal by central differences (one-sided at the domain's ends)."""
+    def d(f, x):
+        a, b = max(x - h, 0.0), min(x + h, 1.0)
+        return [(q - p_) / (b - a) for p_, q in zip(f(a), f(b))]
+    su = d(lambda x: bspline_point(net, knots, x, v), u)
+    sv = d(lambda y: bspline_point(net, knots, u, y), v)
+    return unit(cross(su, sv))
+
+
+def bspline_graph(c, f):
+    """c x c bicubic net over [0, 1]^2: x, y the Greville abscissae, z = f there."""
+    knots = uniform_knots(c)
+    g = greville(knots, c)
+    return knots, [[[g[i], g[j], f(g[i], g[j])] for j in range(c)] for i in range(c)]
+
+
+def bspline_scene(title, description, knots, net, rings, energy):
+    return {
+        "name": title,
+        "description": description,
+        "surface": {"type": "bspline", "degree": [3, 3], "knots": [knots, knots],
+                    "control_points": clean(net)},
+        "fixed_rings": rings,
+        "energy": energy,
+    }
+
+
+def truth_file(name, title, knots, net):
+    """A ground truth as a B-spline scene with every point given (read, not solved)."""
+    write(name, bspline_scene(title, "Every control point given: the surface the fill is "
+                              "measured against.", knots, net, 2, {"bend": 1}))
+
+
+def ringed_truth(c, g, f, slope, fig, title):
+    """A c x c bicubic truth over the graph of f (written to data/ as the fill's
+    ground truth), the net with its two outer rings and the inside on the plane
+    z = slope x, and the truth's unit normals at (g + 1)^2 samples."""
+    knots, truth = bspline_graph(c, f)
+    truth_file(f"data/bspline_wu_yang_{fig}_ground_truth.json", title, knots, truth)
+    init = [[list(q) for q in row] for row in truth]
+    for i in range(2, c - 2):
+        for j in range(2, c - 2):
+            init[i][j][2] = slope * init[i][j][0]
+    normals = [[[r(q) for q in bspline_normal(truth, knots, i / g, j / g)] for j in range(g + 1)]
+               for i in range(g + 1)]
+    return knots, init, normals
+
+
+def bspline_wu_yang():
+    # Fig. 1: the extended membrane with a Bezier field of a ridge, and the guide.
+    c = 16
+    knots, init = bspline_graph(c, lambda x, y: 0.25 * math.sin(math.pi * x) * math.sin(math.pi * y))
+    ridge = graph_net(5, 5, lambda x, y: 0.5 * math.exp(-12 * (x - 0.5) ** 2) * math.sin(math.pi * y))
+    field = [[[r(q) for q in patch_normal(ridge, i / 5, j / 5)] for j in range(6)] for i in range(6)]
+    for lam, gam in [(10, 0), (10, 100)]:
+        energy = {"stretch": 1, "normal_field": {"weight": lam, "degree": [5, 5], "control_points": field}}
+        if gam:
+            energy["guide_surface"] = {"weight": gam}
+        write(f"bspline_wu_yang_fig1_l{lam}_g{gam}.json", bspline_scene(
+            f"Wu & Yang Fig. 1 on a bicubic B-spline (16 x 16): lambda = {lam}, gamma = {gam}",
+            "wu_yang_fig1 at a designer's resolution: 13 x 13 uniform spans, boundary fixed, the "
+            "degree-5 Bezier field of a ridge; the guide (gamma > 0) is the initial dome.",
+            knots, init, 1, energy))
+    # Fig. 2 and 3: the hat with a wavy brim, sampled normals (flat top; a cone's).
+    c, g = 20, 40
+    knots, init = bspline_graph(c, hat)
+    def graph_normal(f, x, y, h=1e-6):
+        fx = (f(x + h, y) - f(x - h, y)) / (2 * h)
+        fy = (f(x, y + h) - f(x, y - h)) / (2 * h)
+        return unit([-fx, -fy, 1.0])
+    flat = [[[r(q) for q in ([0.0, 0.0, 1.0] if math.hypot(i / g - 0.5, j / g - 0.5) < 0.22
+                             else bspline_normal(init, knots, i / g, j / g))]
+             for j in range(g + 1)] for i in range(g + 1)]
+    write("bspline_wu_yang_fig2_l10.json", bspline_scene(
+        "Wu & Yang Fig. 2 on a bicubic B-spline (20 x 20): sampled membrane, lambda = 10",
+        "The hat with a wavy brim at 17 x 17 spans; 41 x 41 sampled unit normals, vertical on "
+        "the top (flatten it), the initial surface's elsewhere.",
+        knots, init, 1,
+        {"stretch": 1, "normal_field": {"weight": 10},
+         "sampling": {"grid": [g, g], "normal_samples": flat}}))
+    cone = lambda x, y: 0.7 * max(0.0, 1 - 2.2 * math.hypot(x - 0.5, y - 0.5))
+    cone_normals = [[[r(q) for q in graph_normal(cone, i / g, j / g)] for j in range(g + 1)]
+                    for i in range(g + 1)]
+    write("bspline_wu_yang_fig3_l50.json", bspline_scene(
+        "Wu & Yang Fig. 3 on a bicubic B-spline (20 x 20): toward a cone, lambda = 50",
+        "The same hat; 41 x 41 sampled unit normals of a cone (its apex's normal taken "
+        "vertical where the slope is undefined).",
+        knots, init, 1,
+        {"stretch": 1, "normal_field": {"weight": 50},
+         "sampling": {"grid": [g, g], "normal_samples": cone_normals}}))
+    # Fig. 4: hole filling; two rings of a ridged truth kept, the inside starts on a plane.
+    c, g = 20, 40
+    truth_f = lambda x, y: (0.5 * math.exp(-30 * (x - y) ** 2) * math.sin(math.pi * x)
+                            * math.sin(math.pi * y) + 0.15 * x)
+    knots, init, normals = ringed_truth(c, g, truth_f, 0.15, "fig4",
+                                        "Wu & Yang Fig. 4 on a bicubic B-spline: the ground truth")
+    for lam in [0, 500]:
+        energy = {"bend": 1}
+        if lam:
+            energy["normal_field"] = {"weight": lam}
+            energy["sampling"] = {"grid": [g, g], "normal_samples": normals}
+        write(f"bspline_wu_yang_fig4_l{lam}.json", bspline_scene(
+            f"Wu & Yang Fig. 4 on a bicubic B-spline (20 x 20): hole filling, lambda = {lam}",
+            "Two outer rings of a ridged truth fixed (G1 to the surroundings), the 16 x 16 "
+            "inside starts on a plane; the truth's sampled normals (41 x 41) guide the fill.",
+            knots, init, 2, energy))
+    # Fig. 5: a transition between a floor and a shelf with a wavy shoulder.
+    c, g = 16, 32
+    step = lambda x, y: 0.5 / (1 + math.exp(-14 * (x - 0.5 - 0.12 * math.sin(2 * math.pi * y))))
+    knots, init, normals = ringed_truth(c, g, step, 0.5, "fig5",
+                                        "Wu & Yang Fig. 5 on a bicubic B-spline: the wavy step")
+    write("bspline_wu_yang_fig5_l500.json", bspline_scene(
+        "Wu & Yang Fig. 5 on a bicubic B-spline (16 x 16): transition, lambda = 500",
+        "Two outer rings fixed (G1 to the floor and the shelf it joins); the wavy step's "
+        "sampled normals (33 x 33) guide the blend.",
+        knots, init, 2,
+        {"bend": 1, "normal_field": {"weight": 500},
+         "sampling": {"grid": [g, g], "normal_samples": normals}}))
+    write("bspline_wu_yang_fig5_thin_plate.json", bspline_scene(
+        "Wu & Yang Fig. 5(b) on a bicubic B-spline (16 x 16): the plain thin plate",
+        "The same transition by the thin-plate energy alone.",
+        knots, init, 2, {"bend": 1}))
+
+
 if __name__ == "__main__":
+    bspline_wu_yang()
     fill_pentagon()
     blend_sheets()
     fill_network()

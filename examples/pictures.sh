@@ -25,6 +25,14 @@ r examples/wu_yang_fig5_l5.json examples/wu_yang_fig5_l500.json examples/wu_yang
 r examples/bspline_hole.json examples/bspline_hole_guided.json examples/bspline_hole_sampled.json \
   -o "$out/bspline_holes.png" --size 1500x480 --colour none --zebra 24
 
+# Wu & Yang Fig. 1-5 on bicubic B-splines (16 x 16 and 20 x 20 control points).
+r examples/bspline_wu_yang_fig1_l10_g0.json examples/bspline_wu_yang_fig1_l10_g100.json \
+  examples/bspline_wu_yang_fig2_l10.json examples/bspline_wu_yang_fig3_l50.json \
+  -o "$out/bspline_wu_yang_fig1_3.png" --size 1600x440 --range 0,4
+r examples/bspline_wu_yang_fig4_l0.json examples/bspline_wu_yang_fig4_l500.json \
+  examples/bspline_wu_yang_fig5_thin_plate.json examples/bspline_wu_yang_fig5_l500.json \
+  -o "$out/bspline_wu_yang_fig4_5.png" --size 1600x440 --colour none --zebra 24
+
 # Monterde & Ugail 2004: the four surfaces of Table 1 with |H| on [0, 1] (their Fig. 8–9).
 r --compare examples/monterde_ugail_model.json -o "$out/monterde_ugail_table1.png" \
   --range 0,1 --size 1600x460
