@@ -86,9 +86,16 @@ class Problem(Mapping[str, Any]):
         if name is not None:
             self._scene["name"] = name
 
-    # The mapping: the scene as a dict.
+    # The mapping: the scene as a dict (copies: a Problem does not change).
     def __getitem__(self, key: str) -> Any:
-        return self._scene[key]
+        return copy.deepcopy(self._scene[key])
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Problem):
+            return NotImplemented
+        return self.to_json() == other.to_json()
+
+    __hash__ = None  # type: ignore[assignment]
 
     def __iter__(self) -> Iterator[str]:
         return iter(self._scene)
@@ -127,9 +134,15 @@ class Problem(Mapping[str, Any]):
         return self._with(lambda s: s.__setitem__("fixed_rings", int(rings)))
 
     def free_points(self, indices: Sequence[Tuple[int, int]]) -> "Problem":
-        """Frees the control points (i, j) listed (on top of NaN points)."""
+        """Frees the control points (i, j) listed, on top of the NaN points
+        and of those freed before."""
         pairs = [[int(i), int(j)] for i, j in indices]
-        return self._with(lambda s: s.__setitem__("free_points", pairs))
+
+        def edit(s: Dict[str, Any]) -> None:
+            have = s.setdefault("free_points", [])
+            have.extend(p for p in pairs if p not in have)
+
+        return self._with(edit)
 
     def stretch(self, weight: float) -> "Problem":
         """The membrane term ∫ |R_u|² + |R_v|² (Wu & Yang eq. 3) with this weight."""
@@ -166,35 +179,53 @@ class Problem(Mapping[str, Any]):
     def refine(self, **fields: Any) -> "Problem":
         """Exact refinement of a B-spline problem before the solve (the
         scene's ``refine``: ``elevate``, ``u``, ``v``, ``split``)."""
-        return self._with(lambda s: s.__setitem__("refine", dict(fields)))
+        self._only("bspline", "refine")
+        return self._with(lambda s: s.__setitem__("refine", copy.deepcopy(dict(fields))))
 
     def method(self, name: str) -> "Problem":
-        """A construction instead of the energy: ``"harmonic"``,
-        ``"biharmonic"``, ``"harmonic_mask"``, ``"biharmonic_mask"``
-        (Monterde & Ugail 2004), or ``"energy"`` (the default)."""
+        """A construction instead of the energy (Bézier problems):
+        ``"harmonic"``, ``"biharmonic"``, ``"harmonic_mask"``,
+        ``"biharmonic_mask"`` (Monterde & Ugail 2004), or ``"minimize"``
+        (the energy; the default)."""
+        self._only("tensor", "method")
         return self._with(lambda s: s.__setitem__("method", str(name)))
 
     def least_squares(self, on: bool = True) -> "Problem":
         """Solve an inconsistent construction in the least-squares sense
-        instead of refusing it."""
+        instead of refusing it (Bézier problems)."""
+        self._only("tensor", "least_squares")
         return self._with(lambda s: s.__setitem__("least_squares", bool(on)))
+
+    def _only(self, kind: str, key: str) -> None:
+        """A SceneError naming `key` unless the surface is of `kind`."""
+        have = self._scene["surface"]["type"]
+        if have != kind:
+            name = {"tensor": "Bézier", "bspline": "B-spline"}
+            err = SceneError(
+                f"{key}: a {name[have]} problem has no {key} (only {name[kind]} problems do)"
+            )
+            err.path = key
+            raise err
 
     def constraint(self, kind: str, **fields: Any) -> "Problem":
         """Adds a constraint (Veltkamp & Wesselink §4.1) held exactly:
         ``kind`` is ``"point"`` (``target``), ``"normal"`` (``normal``),
         ``"in_plane"`` (``normal``, ``offset``), ``"on_line"`` (``point``,
-        ``direction``), each ``at={"uv": [u, v]}``; optional ``name``."""
+        ``direction``), each ``at={"uv": [u, v]}``; optional ``name``
+        (Bézier problems)."""
+        self._only("tensor", "constraints")
         return self._append("constraints", kind, fields)
 
     def operator(self, kind: str, **fields: Any) -> "Problem":
         """Adds an external energy operator (Veltkamp & Wesselink §5):
         ``kind`` is e.g. ``"point_attractor"``, ``"director"``,
         ``"plane_attractor"``, with ``strength`` and the fields the scene
-        format names (``fairsurf.schema()``)."""
+        format names (``fairsurf.schema()``; Bézier problems)."""
+        self._only("tensor", "operators")
         return self._append("operators", kind, fields)
 
     def _append(self, key: str, kind: str, fields: Mapping[str, Any]) -> "Problem":
-        item = {"type": str(kind), **fields}
+        item = {"type": str(kind), **copy.deepcopy(dict(fields))}
 
         def edit(s: Dict[str, Any]) -> None:
             s.setdefault(key, []).append(item)

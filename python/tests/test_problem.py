@@ -116,3 +116,33 @@ def test_mistakes_are_scene_errors_naming_the_path() -> None:
     with pytest.raises(fairsurf.SceneError) as e:
         fairsurf.Problem(flat).fix_rings(1).bend(-1.0).solve()
     assert "energy.bend" in str(e.value), str(e.value)
+
+
+def test_steps_copy_and_compare_and_refuse_what_the_kind_lacks() -> None:
+    """Problems compare by their scenes; nothing a caller holds changes a
+    Problem; free points accumulate; a key the surface kind does not have
+    is refused at the call, naming it."""
+    d = example("wu_yang_fig1_l10_g100.json")
+    a = fairsurf.Problem(net(d["surface"]["control_points"])).fix_rings(1).stretch(1.0)
+    b = fairsurf.Problem(net(d["surface"]["control_points"])).fix_rings(1).stretch(1.0)
+    assert a == b and a != a.bend(1.0)
+    target = [0.5, 0.5, 0.3]
+    c = a.constraint("point", at={"uv": [0.5, 0.5]}, target=target)
+    target[2] = 9.0
+    c["constraints"][0]["target"][2] = 7.0
+    assert c["constraints"][0]["target"] == [0.5, 0.5, 0.3]
+    assert a.free_points([(2, 2)]).free_points([(2, 2), (3, 3)])["free_points"] == [[2, 2], [3, 3]]
+    assert a.method("minimize").solve().report["energy"] == a.solve().report["energy"]
+    h = example("bspline_hole.json")["surface"]
+    spline = fairsurf.Problem(net(h["control_points"]), knots=h["knots"]).fix_rings(2)
+    for step, key in [(lambda p: p.constraint("point", at={"uv": [0.5, 0.5]}), "constraints"),
+                      (lambda p: p.operator("director"), "operators"),
+                      (lambda p: p.method("harmonic"), "method")]:
+        with pytest.raises(fairsurf.SceneError) as e:
+            step(spline)
+        assert e.value.path == key
+    with pytest.raises(fairsurf.SceneError) as e:
+        a.refine(elevate=[1, 1])
+    assert e.value.path == "refine"
+    refined = spline.bend(1.0).refine(elevate=[1, 1]).solve()
+    assert refined.degree == (4, 4)

@@ -319,11 +319,9 @@ impl BSplineScene {
             &format!("{cu} × {cv} control points: both counts must be above"),
         )?;
         let e = &self.energy;
-        let (stretch, bend) = match (e.stretch, e.bend) {
-            (None, None) if self.fixed_rings.unwrap_or(0) >= 2 => (0.0, 1.0),
-            (None, None) => (1.0, 0.0),
-            (s, b) => (s.unwrap_or(0.0), b.unwrap_or(0.0)),
-        };
+        let (stretch, bend, _) =
+            crate::validate::default_weights(e.stretch, e.bend, self.fixed_rings);
+        let (stretch, bend) = (stretch.unwrap_or(0.0), bend.unwrap_or(0.0));
         check_weight("energy.stretch", stretch)?;
         check_weight("energy.bend", bend)?;
         let mut problem = BSplineProblem::new(surface)

@@ -77,4 +77,4 @@ pub use tri_scene::{
     BoundaryAngleSpec, ConstraintKind, ConstraintSpec, ContinuitySpec, DomainPointSpec, EdgesSpec,
     TriEnergySpec, TriScene, TriSurfaceSpec, TriangularKind,
 };
-pub use validate::{Built, Plan};
+pub use validate::{default_weights, Built, Plan};

@@ -533,41 +533,88 @@ fn restricted(s: FaceSurface, edges: &[LoopEdge]) -> std::result::Result<FaceSur
              rectangle of their surface are filled around so far"
         )
     };
+    // The parameters of every vertex and of seven points inside every edge
+    // (each found by Newton steps from the point before it).
+    let (ku, kv) = net(&s).knots();
+    let ((a, b), (c, d)) = (ku.domain(), kv.domain());
+    let mut vertices = Vec::with_capacity(edges.len());
+    let mut inside = Vec::with_capacity(7 * edges.len());
+    for e in edges {
+        let (mut uv, off) = nearest(&s, e.start);
+        if off > tol {
+            return Err(trimmed(&format!("a vertex is {off:e} off its surface")));
+        }
+        vertices.push(uv);
+        for k in 1..8 {
+            let p = e.at(k as f64 / 8.0).0;
+            let start = dist(eval(&s, uv.0, uv.1), p);
+            let ders = |u: f64, v: f64| derivatives(&s, u, v);
+            let (mut q, mut off) = foot(&ders, p, uv, start, ((a, b), (c, d)));
+            if off > tol {
+                (q, off) = nearest(&s, p);
+            }
+            if off > tol {
+                return Err(trimmed(&format!("an edge is {off:e} off its surface")));
+            }
+            inside.push(q);
+            uv = q;
+        }
+    }
+    let (eu, ev) = (1e-6 * (b - a), 1e-6 * (d - c));
+    // Which sides of [u0, u1] × [v0, v1] a parameter pair lies on.
+    let sides = |(u, v): (f64, f64), [u0, u1, v0, v1]: [f64; 4]| {
+        [
+            (u - u0).abs() <= eu,
+            (u - u1).abs() <= eu,
+            (v - v0).abs() <= ev,
+            (v - v1).abs() <= ev,
+        ]
+    };
+    // The whole surface: every vertex a corner of it in space (a side may
+    // be collapsed to a point, and then has no edge) and every edge along
+    // the domain's sides.
+    let corners = [
+        eval(&s, a, c),
+        eval(&s, b, c),
+        eval(&s, a, d),
+        eval(&s, b, d),
+    ];
+    let whole = edges
+        .iter()
+        .all(|e| corners.iter().any(|k| dist(*k, e.start) <= tol))
+        && inside
+            .iter()
+            .all(|&uv| sides(uv, [a, b, c, d]).iter().any(|&on| on));
+    if whole {
+        return Ok(s);
+    }
     if edges.len() < 4 {
         return Err(trimmed(&format!("its loop has {} edges", edges.len())));
     }
-    // The parameters of every vertex, and of every edge's midpoint.
-    let mut params = Vec::with_capacity(2 * edges.len());
-    for p in edges.iter().flat_map(|e| [e.start, e.at(0.5).0]) {
-        let (uv, off) = nearest(&s, p);
-        if off > tol {
-            return Err(trimmed(&format!("its boundary is {off:e} off its surface")));
-        }
-        params.push(uv);
-    }
-    let (ku, kv) = net(&s).knots();
-    let ((a, b), (c, d)) = (ku.domain(), kv.domain());
     let range = |pick: fn(&(f64, f64)) -> f64| {
-        let xs: Vec<f64> = params.iter().step_by(2).map(pick).collect();
+        let xs: Vec<f64> = vertices.iter().map(pick).collect();
         (
             xs.iter().copied().fold(f64::MAX, f64::min),
             xs.iter().copied().fold(f64::MIN, f64::max),
         )
     };
     let ((u0, u1), (v0, v1)) = (range(|p| p.0), range(|p| p.1));
-    // Every vertex and midpoint on a side of [u0, u1] × [v0, v1], each
+    // Every vertex and edge point on a side of [u0, u1] × [v0, v1], each
     // corner a vertex once.
-    let (eu, ev) = (1e-6 * (b - a), 1e-6 * (d - c));
+    let rect = [u0, u1, v0, v1];
+    if inside
+        .iter()
+        .chain(&vertices)
+        .any(|&uv| !sides(uv, rect).iter().any(|&on| on))
+    {
+        return Err(trimmed(
+            "its boundary does not run along the sides of a parameter rectangle",
+        ));
+    }
     let mut corners = [0; 4];
-    for (k, &(u, v)) in params.iter().enumerate() {
-        let (lo_u, hi_u) = ((u - u0).abs() <= eu, (u - u1).abs() <= eu);
-        let (lo_v, hi_v) = ((v - v0).abs() <= ev, (v - v1).abs() <= ev);
-        if !(lo_u || hi_u || lo_v || hi_v) {
-            return Err(trimmed(
-                "its boundary does not run along the sides of a parameter rectangle",
-            ));
-        }
-        if k % 2 == 0 && (lo_u || hi_u) && (lo_v || hi_v) {
+    for &uv in &vertices {
+        let [lo_u, hi_u, lo_v, hi_v] = sides(uv, rect);
+        if (lo_u || hi_u) && (lo_v || hi_v) {
             corners[2 * usize::from(hi_u) + usize::from(hi_v)] += 1;
         }
     }
@@ -913,6 +960,78 @@ mod tests {
         assert_eq!(faces[0], BSplineSurface::from_bezier(&a));
         assert_eq!(faces[1], BSplineSurface::from_bezier(&b));
         assert_eq!(faces[2], s);
+    }
+
+    /// A face with a side collapsed to a point (fairsurf writes no edge
+    /// for it: a loop of three edges) and a face whose side is split in
+    /// two read back whole; a face trimmed inside one side is refused.
+    #[test]
+    fn collapsed_and_split_sides_read_back_and_a_notch_does_not() {
+        // A cone-like patch: row u = 0 all at the apex.
+        let cone = TensorPatch::from_fn(3, 2, |i, j| {
+            let r = i as f64 / 3.0;
+            [r * (j as f64 - 1.0), r * 2.0, r * r]
+        });
+        let text = crate::step::step_text("x.step", &[(&cone).into()]);
+        assert_eq!(text.matches("=ORIENTED_EDGE(").count(), 3, "{text}");
+        let faces = read_step_faces(&text).unwrap();
+        assert_eq!(faces, vec![BSplineSurface::from_bezier(&cone)]);
+        // The unit square bounded by three lines and a fourth edge along
+        // u = 0 that leaves the side at 3/8 of the way (a notch the edge's
+        // midpoint does not see).
+        use truck_stepio::r#in::alias::{BSplineCurve, KnotVec, Line};
+        use truck_topology::compress::CompressedEdge;
+        let square = BSplineSurface::new(
+            KnotVector::bezier(1),
+            KnotVector::bezier(1),
+            vec![[0.0; 3], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]],
+        )
+        .unwrap();
+        let pt = |x: f64, y: f64| Point3::new(x, y, 0.0);
+        let corners = vec![pt(0.0, 0.0), pt(1.0, 0.0), pt(1.0, 1.0), pt(0.0, 1.0)];
+        let line = |a: usize, b: usize| Curve3D::Line(Line(corners[a], corners[b]));
+        let side = |notch: f64| {
+            let pts: Vec<Point3> = (0..=8)
+                .map(|k| pt(if k == 3 { notch } else { 0.0 }, 1.0 - k as f64 / 8.0))
+                .collect();
+            let mut knots = vec![0.0];
+            knots.extend((0..=8).map(|k| k as f64 / 8.0));
+            knots.push(1.0);
+            Curve3D::BSplineCurve(BSplineCurve::new(KnotVec::from(knots), pts))
+        };
+        for (notch, accepted) in [(0.0, true), (0.1, false)] {
+            let shell = Shell {
+                vertices: corners.clone(),
+                edges: vec![
+                    CompressedEdge {
+                        vertices: (0, 1),
+                        curve: line(0, 1),
+                    },
+                    CompressedEdge {
+                        vertices: (1, 2),
+                        curve: line(1, 2),
+                    },
+                    CompressedEdge {
+                        vertices: (2, 3),
+                        curve: line(2, 3),
+                    },
+                    CompressedEdge {
+                        vertices: (3, 0),
+                        curve: side(notch),
+                    },
+                ],
+                faces: vec![],
+            };
+            let edges: Vec<LoopEdge> = (0..4)
+                .map(|k| LoopEdge::new(&shell, CompressedEdgeIndex::from((k, true))).unwrap())
+                .collect();
+            let got = restricted(FaceSurface::Polynomial(square.clone()), &edges);
+            match got {
+                Ok(FaceSurface::Polynomial(s)) => assert!(accepted && s == square),
+                Err(e) => assert!(!accepted && e.contains("does not run along"), "{e}"),
+                other => panic!("{other:?}"),
+            }
+        }
     }
 
     #[test]

@@ -238,20 +238,8 @@ impl TensorScene {
         let [n, m] = self.tensor().degree;
         let grid = sample_grid(e.sampling.as_ref())?;
         let measure = grid.map_or(Measure::Exact, Measure::Grid);
-        let (mut stretch, mut bend) = (e.stretch, e.bend);
-        if stretch.is_none() && bend.is_none() {
-            if self.fixed_rings.unwrap_or(0) >= 2 {
-                bend = Some(1.0);
-                built.notes.push(
-                    "energy.bend defaulted to 1 (no stretch or bend given, fixed_rings ≥ 2)".into(),
-                );
-            } else {
-                stretch = Some(1.0);
-                built
-                    .notes
-                    .push("energy.stretch defaulted to 1 (no stretch or bend given)".into());
-            }
-        }
+        let (stretch, bend, note) = default_weights(e.stretch, e.bend, self.fixed_rings);
+        built.notes.extend(note.map(String::from));
         if let Some(w) = stretch {
             check_weight("energy.stretch", w)?;
             pb.push_term(Box::new(Stretch::new(w).with_measure(measure.clone())));
@@ -672,4 +660,29 @@ pub(crate) fn normal_field_term(
         (np, mp),
     )?;
     Ok(Some(NormalField::sampled(weight, g, normals, weights)))
+}
+
+/// The internal energy's weights as a scene gives them, and the note when
+/// a default was taken: with neither stretch nor bend given, bend 1 when
+/// two or more rings are fixed (G1 data: the thin plate), else stretch 1
+/// (the membrane). The one rule for tensor and B-spline scenes and the
+/// editor's sliders.
+pub fn default_weights(
+    stretch: Option<f64>,
+    bend: Option<f64>,
+    fixed_rings: Option<usize>,
+) -> (Option<f64>, Option<f64>, Option<&'static str>) {
+    match (stretch, bend) {
+        (None, None) if fixed_rings.unwrap_or(0) >= 2 => (
+            None,
+            Some(1.0),
+            Some("energy.bend defaulted to 1 (no stretch or bend given, fixed_rings ≥ 2)"),
+        ),
+        (None, None) => (
+            Some(1.0),
+            None,
+            Some("energy.stretch defaulted to 1 (no stretch or bend given)"),
+        ),
+        given => (given.0, given.1, None),
+    }
 }

@@ -499,6 +499,31 @@ fn a_curve_across_patches_is_interpolated() {
         close,
         "the middle of the curve is a mesh vertex of the result"
     );
+    // The result at the problem's own domain points (found in the split
+    // patches): the curve's ends.
+    for (at, t) in [(from, 0.0), (to, 1.0)] {
+        let p = out.point_at(at.triangle, at.bary).unwrap();
+        assert!(norm(sub(p, curve.eval(t))) < 1e-10, "{p:?}");
+    }
+    assert!(out.point_at(10_000, [1.0 / 3.0; 3]).is_none());
+}
+
+/// A net's edges: each patch's 3n(n + 1)/2 lines, a shared side's n once.
+#[test]
+fn net_edges_are_each_patch_s_lines_once() {
+    let v = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+    ];
+    for n in 1..=5 {
+        let one = TriSurface::new(&v[..3], &[[0, 1, 2]], n).net_edges();
+        assert_eq!(one.len(), 3 * n * (n + 1) / 2);
+        let two = TriSurface::new(&v, &[[0, 1, 2], [0, 2, 3]], n).net_edges();
+        assert_eq!(two.len(), 3 * n * (n + 1) - n);
+        assert!(two.iter().all(|[a, b]| a < b));
+    }
 }
 
 #[test]

@@ -268,6 +268,33 @@ pub struct TriSolution {
     pub report: TriReport,
 }
 
+impl TriSolution {
+    /// The result's point at (`triangle`, `bary`) of the problem's own
+    /// mesh: found in the result patch that came from that triangle (curve
+    /// constraints split patches) and contains the point, evaluated there.
+    /// None when no result patch came from it or contains the point.
+    pub fn point_at(&self, triangle: usize, bary: [f64; 3]) -> Option<Vec3> {
+        self.origin
+            .iter()
+            .enumerate()
+            .filter(|(_, (from, _))| *from == triangle)
+            .find_map(|(k, (_, [a, b, c]))| {
+                // bary = c₀a + c₁b + c₂c with c₀ + c₁ + c₂ = 1, in the first
+                // two coordinates of the original triangle.
+                let det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
+                if det.abs() < 1e-14 {
+                    return None;
+                }
+                let (px, py) = (bary[0] - a[0], bary[1] - a[1]);
+                let c1 = (px * (c[1] - a[1]) - (c[0] - a[0]) * py) / det;
+                let c2 = ((b[0] - a[0]) * py - px * (b[1] - a[1])) / det;
+                let child = [1.0 - c1 - c2, c1, c2];
+                (child.iter().all(|&x| x >= -1e-12) && k < self.surface.patch_count())
+                    .then(|| self.surface.patch(k).eval(child))
+            })
+    }
+}
+
 impl TriProblem {
     /// The surface (its points are the initial net), the energy weights, no
     /// constraints and the default continuity ([`Continuity::default`]).

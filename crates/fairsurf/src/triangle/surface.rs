@@ -85,6 +85,32 @@ pub struct TriSurface {
 }
 
 impl TriSurface {
+    /// The control net's edges as pairs of global point indices (i < j),
+    /// each once: in every patch, each control point joined to its
+    /// neighbours of the Bézier triangle (the lines a net is drawn with).
+    pub fn net_edges(&self) -> Vec<[usize; 2]> {
+        let n = self.degree();
+        let mut edges = std::collections::BTreeSet::new();
+        for t in 0..self.patch_count() {
+            let idx = self.patch_indices(t);
+            for [i, j, k] in super::multi_indices(n) {
+                let at = |i: usize, j: usize, k: usize| idx[super::linear_index(n, i, j, k)];
+                let a = at(i, j, k);
+                let mut add = |b: usize| {
+                    edges.insert([a.min(b), a.max(b)]);
+                };
+                if i > 0 {
+                    add(at(i - 1, j + 1, k));
+                    add(at(i - 1, j, k + 1));
+                }
+                if j > 0 {
+                    add(at(i, j - 1, k + 1));
+                }
+            }
+        }
+        edges.into_iter().collect()
+    }
+
     /// The surface over a mesh; see [`TriSurface::try_new`].
     ///
     /// # Panics

@@ -1,0 +1,233 @@
+//! The views of tensor (Bézier) and B-spline surfaces.
+
+use super::*;
+
+/// The view of a B-spline surface: its mesh over the knot domain, its own
+/// control net and boundary, the held control points as handles (the
+/// scene's own points, also when it is refined before solving), sliders
+/// for the energy weights and the report's table.
+pub(super) fn bspline_view(solved: &SolvedBSplineScene) -> Value {
+    let scene = &solved.scene;
+    let s = solved.surface();
+    let (cu, cv) = s.counts();
+    let ((u0, u1), (v0, v1)) = (s.knots().0.domain(), s.knots().1.domain());
+    let side = |f: &dyn Fn(f64) -> (f64, f64)| -> Vec<Vec3> {
+        (0..=64)
+            .map(|k| {
+                let (u, v) = f(k as f64 / 64.0);
+                s.eval(u, v)
+            })
+            .collect()
+    };
+    let boundary = vec![
+        side(&|t| (u0, v0 + t * (v1 - v0))),
+        side(&|t| (u0 + t * (u1 - u0), v1)),
+        side(&|t| (u1, v1 - t * (v1 - v0))),
+        side(&|t| (u1 - t * (u1 - u0), v0)),
+    ];
+    // Handles: the scene's given points that are held. With "refine" the
+    // solved net is finer; the held points are then the scene's rings.
+    let rows = &scene.surface.control_points;
+    let held = |i: usize, j: usize| match (scene.fixed_rings, &scene.refine) {
+        (Some(k), _) => {
+            let (r, c) = (rows.len(), rows.first().map_or(0, Vec::len));
+            i.min(j).min(r - 1 - i).min(c - 1 - j) < k
+        }
+        (None, _) => !solved.free.get(i * cv + j).copied().unwrap_or(true),
+    };
+    let mut handles = Vec::new();
+    for (i, row) in rows.iter().enumerate() {
+        for (j, p) in row.iter().enumerate() {
+            if let (Some(p), true) = (p, held(i, j)) {
+                handles.push(json!({
+                    "pointer": format!("/surface/control_points/{i}/{j}"),
+                    "position": p,
+                    "label": format!("P({i},{j})"),
+                    "kind": "control_point",
+                }));
+            }
+        }
+    }
+    let e = &scene.energy;
+    let sliders = weight_sliders(
+        (e.stretch, e.bend, scene.fixed_rings),
+        e.normal_field.as_ref().map(|f| f.weight),
+        e.guide_surface.as_ref().map(|g| g.weight),
+    );
+    let r = &solved.solution.report;
+    let mut table = vec![row("energy", r.energy)];
+    for (name, v, given) in [
+        ("stretch", r.stretch, true),
+        ("bend", r.bend, true),
+        ("normal field", r.normal_field, e.normal_field.is_some()),
+        ("guide surface", r.guide_surface, e.guide_surface.is_some()),
+    ] {
+        if given {
+            table.push(row(name, v));
+        }
+    }
+    table.push(row("checked: energy difference (relative)", r.energy_error));
+    table.push(row("checked: above the minimum (relative)", r.excess));
+    table.push(row("gradient (relative)", r.relative_gradient));
+    table.push(row("residual", r.residual));
+    table.push(row("condition estimate", r.condition_estimate));
+    table.push(row("unknowns", r.unknowns as f64));
+    let (su, sv) = (s.knots().0.spans().len(), s.knots().1.spans().len());
+    table.push(row("spans", format!("{su} × {sv}")));
+    table.push(row("solve (ms)", 1e3 * r.timings.total));
+    View {
+        kind: "bspline",
+        table,
+        result: json!(solved.result_scene()),
+        mesh: mesh_json(&SurfaceMesh::from_bspline(s, 48, 48)),
+        net: Net {
+            points: s.points(),
+            edges: grid_edges(cu, cv),
+        },
+        boundary,
+        normals: Vec::new(),
+        operators: Vec::new(),
+        handles,
+        sliders,
+        methods: None,
+    }
+    .json()
+}
+
+pub(super) fn tensor_view(solved: &SolvedTensorScene) -> Value {
+    let scene = &solved.scene;
+    let patch = solved.patch();
+    let (n, m) = patch.degree();
+    let size = size_of(patch.points());
+    let scene_json = serde_json::to_value(scene).expect("json");
+
+    let boundary: Vec<Vec<Vec3>> = [
+        (0..=m).map(|j| patch.point(0, j)).collect::<Vec<_>>(),
+        (0..=n).map(|i| patch.point(i, m)).collect(),
+        (0..=m).rev().map(|j| patch.point(n, j)).collect(),
+        (0..=n).rev().map(|i| patch.point(i, 0)).collect(),
+    ]
+    .into_iter()
+    .map(|pts| polyline(pts, 48))
+    .collect();
+
+    let mut normals = Vec::new();
+    if let Some(f) = &solved.built.normal_field {
+        for a in 0..=8 {
+            for b in 0..=8 {
+                let (u, v) = (a as f64 / 8.0, b as f64 / 8.0);
+                if let Some(d) = f.direction(u, v) {
+                    normals.push(json!({"at": patch.eval(u, v), "dir": scale(d, 0.08 * size)}));
+                }
+            }
+        }
+    }
+
+    // Operators: the marker at the surface point they act on (operators
+    // come only with the minimizing method).
+    let outcomes = match &solved.outcome {
+        Outcome::Minimized(sol) => sol.report.operators.as_slice(),
+        Outcome::Constructed(_) => &[],
+    };
+    let operators = operator_markers(&scene_json["operators"], outcomes, size);
+
+    // Handles: the given control points that are held (not free).
+    let mut handles = Vec::new();
+    for (i, row) in scene.surface.control_points.iter().enumerate() {
+        for (j, p) in row.iter().enumerate() {
+            let k = i * (m + 1) + j;
+            if let Some(p) = p {
+                if !solved.built.free.get(k).copied().unwrap_or(true) {
+                    handles.push(json!({
+                        "pointer": format!("/surface/control_points/{i}/{j}"),
+                        "position": p,
+                        "label": format!("P({i},{j})"),
+                        "kind": "control_point",
+                    }));
+                }
+            }
+        }
+    }
+
+    let mut sliders = Vec::new();
+    let mut table = Vec::new();
+    match &solved.outcome {
+        Outcome::Minimized(sol) => {
+            let e = &scene.energy;
+            sliders = weight_sliders(
+                (e.stretch, e.bend, scene.fixed_rings),
+                e.normal_field.as_ref().map(|f| f.weight),
+                e.guide_surface.as_ref().map(|g| g.weight),
+            );
+            let r = &sol.report;
+            table.push(row("energy", r.energy));
+            for t in &r.terms {
+                table.push(row(t.name.replace('_', " "), t.value));
+            }
+            operator_rows(&mut table, &r.operators);
+            measure_rows(&mut table, r.measures.as_ref());
+            if let Some(d) = &solved.normal_deviation {
+                table.push(row("normal deviation, mean (rad)", d.mean));
+            }
+            if let Some(g) = solved.guide_distance {
+                table.push(row("distance to guide", g));
+            }
+            if !r.constraints.is_empty() {
+                table.push(row("max constraint violation", r.max_violation));
+            }
+            table.push(row("gradient (relative)", r.relative_gradient));
+            if let Some(c) = &r.check {
+                table.push(row("checked: energy excess (relative)", c.excess));
+            }
+            table.push(row("residual", r.residual));
+            table.push(row("condition estimate", r.condition_estimate));
+            table.push(row("unknowns", r.unknowns as f64));
+            table.push(row(
+                "factorization",
+                if r.reused { "reused" } else { "new" },
+            ));
+            table.push(row("solve (ms)", 1e3 * r.timings.total));
+            if let Some(nr) = &r.newton {
+                table.push(row("Newton iterations", nr.iterations as f64));
+            }
+            operator_controls(&scene_json, &operators, size, &mut handles, &mut sliders);
+            let at = |c: &Value| uv_of(&c["at"]).map(|[u, v]| patch.eval(u, v));
+            constraint_controls(&scene_json, at, size, &mut handles, &mut normals);
+        }
+        Outcome::Constructed(c) => {
+            let r = &c.report;
+            table.push(row("method", r.method.name()));
+            table.push(row(
+                "exact",
+                if r.exact { "yes" } else { "no (least squares)" },
+            ));
+            table.push(row(
+                format!("residual of {}", r.method.equations()),
+                r.residual,
+            ));
+            table.push(row("backward error", r.backward_error));
+            measure_rows(&mut table, r.measures.as_ref());
+        }
+    }
+    View {
+        kind: "tensor",
+        table,
+        result: json!(solved.result_scene()),
+        mesh: mesh_json(&SurfaceMesh::from_patch(patch, 48, 48)),
+        net: Net {
+            points: patch.points(),
+            edges: grid_edges(n + 1, m + 1),
+        },
+        boundary,
+        normals,
+        operators,
+        handles,
+        sliders,
+        methods: Some(json!({
+            "pointer": "/method",
+            "value": scene_json.get("method").and_then(Value::as_str).unwrap_or("minimize"),
+            "options": ["minimize", "harmonic", "biharmonic", "harmonic_mask", "biharmonic_mask"],
+        })),
+    }
+    .json()
+}

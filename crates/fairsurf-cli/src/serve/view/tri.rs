@@ -1,0 +1,140 @@
+//! The view of a triangular surface.
+
+use super::*;
+use std::collections::BTreeSet;
+
+/// The solved surface's point at a scene's domain point
+/// (`{"triangle": t, "bary": [u, v, w]}`), if it is one.
+fn domain_point(sol: &fairsurf::triangle::TriSolution, at: &Value) -> Option<Vec3> {
+    sol.point_at(at["triangle"].as_u64()? as usize, vec3(&at["bary"])?)
+}
+
+pub(super) fn tri_view(solved: &SolvedTriScene) -> Value {
+    let scene = &solved.scene;
+    let s = solved.surface();
+    let r = &solved.solution.report;
+    let size = size_of(s.points());
+    let scene_json = serde_json::to_value(scene).expect("json");
+    let resolution = match s.patch_count() {
+        0..=200 => 8,
+        201..=2000 => 4,
+        _ => 2,
+    };
+    let boundary: Vec<Vec<Vec3>> = s
+        .boundary_edges()
+        .into_iter()
+        .map(|e| polyline(s.edge_points(e).iter().map(|&g| s.points()[g]).collect(), 8))
+        .collect();
+
+    let mut handles = Vec::new();
+    let mut normals = Vec::new();
+    if scene.fix_boundary {
+        let boundary_vertices: BTreeSet<usize> = s.boundary_vertices().into_iter().collect();
+        for (k, p) in scene.surface.vertices.iter().enumerate() {
+            if boundary_vertices.contains(&k) {
+                handles.push(json!({
+                    "pointer": format!("/surface/vertices/{k}"),
+                    "position": p,
+                    "label": format!("vertex {k}"),
+                    "kind": "control_point",
+                }));
+            }
+        }
+    }
+    // The initial net, for fixed points whose value the scene leaves to it
+    // (built only if one does).
+    let initial = std::cell::OnceCell::new();
+    let at = |c: &Value| domain_point(&solved.solution, &c["at"]);
+    constraint_controls(&scene_json, at, size, &mut handles, &mut normals);
+    for field in Field::entries(&scene_json, "constraints", "constraint") {
+        let c = field.entry;
+        // A fixed control point: its value, or the net's when not given
+        // (dragging writes `value`).
+        if c["type"] == "fixed" {
+            let position = if c["value"].is_array() {
+                Some(c["value"].clone())
+            } else {
+                c["index"]
+                    .as_u64()
+                    .and_then(|g| {
+                        let net = initial.get_or_init(|| scene.surface().ok()).as_ref()?;
+                        net.points().get(g as usize).copied()
+                    })
+                    .map(|p| json!(p))
+            };
+            if let Some(position) = position {
+                handles.push(json!({
+                    "pointer": format!("{}/value", field.prefix),
+                    "position": position,
+                    "label": field.label,
+                    "kind": "control_point",
+                }));
+            }
+        }
+    }
+    let operators = operator_markers(&scene_json["operators"], &r.operators, size);
+    let mut sliders = vec![
+        slider(
+            "/energy/stretch".into(),
+            "α stretch".into(),
+            scene.energy.stretch.unwrap_or(0.0),
+            1e-4,
+            1e3,
+        ),
+        slider(
+            "/energy/bend".into(),
+            "β bend".into(),
+            scene.energy.bend.unwrap_or(1.0),
+            1e-4,
+            1e3,
+        ),
+    ];
+    operator_controls(&scene_json, &operators, size, &mut handles, &mut sliders);
+    let mut table = vec![
+        row("energy", r.total),
+        row("stretch", r.stretch),
+        row("bend", r.bend),
+    ];
+    operator_rows(&mut table, &r.operators);
+    table.extend([
+        row("max constraint violation", r.max_violation),
+        row("gradient (relative)", r.relative_gradient),
+        row(
+            "checked: energy excess (relative)",
+            r.check.as_ref().map(|c| c.excess),
+        ),
+        row(
+            "max normal angle across edges (rad)",
+            r.max_edge_normal_angle.map(|(a, _)| a),
+        ),
+        row("patches", r.patches as f64),
+        row("unknowns", r.unknowns as f64),
+        row("continuity rows dropped", r.dropped.len() as f64),
+        row(
+            "factorization",
+            match (r.reused, r.kkt.is_some_and(|k| k.reused_symbolic)) {
+                (true, _) => "reused",
+                (false, true) => "refactored (ordering kept)",
+                _ => "new",
+            },
+        ),
+        row("solve (ms)", 1e3 * r.seconds.total),
+    ]);
+    View {
+        kind: "triangular",
+        table,
+        result: json!(solved.result_scene()),
+        mesh: mesh_json(&SurfaceMesh::from_tri_surface(s, resolution)),
+        net: Net {
+            points: s.points(),
+            edges: s.net_edges(),
+        },
+        boundary,
+        normals,
+        operators,
+        handles,
+        sliders,
+        methods: None,
+    }
+    .json()
+}
