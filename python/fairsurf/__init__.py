@@ -197,20 +197,9 @@ class Surface:
         return f"<fairsurf.Surface {self.surface_type} degree {n}×{m}>"
 
     def __reduce__(self) -> Any:
-        # A tensor or B-spline surface pickles as the scene that gives it
-        # (floats round-trip exactly); a triangular one travels in its Result.
-        if self.surface_type == "triangular":
-            raise TypeError(
-                "a triangular Surface does not pickle on its own; pickle the Result it came from"
-            )
-        surface: Dict[str, Any] = {
-            "type": self.surface_type,
-            "degree": list(self.degree),
-            "control_points": self.control_points.tolist(),
-        }
-        if self.knots is not None:
-            surface["knots"] = [k.tolist() for k in self.knots]
-        return (_surface_from_text, (json.dumps({"surface": surface}),))
+        # A surface pickles as the scene that gives it, every control point
+        # given (floats round-trip exactly).
+        return (_surface_from_text, (self._native.scene_text(),))
 
     @property
     def surface_type(self) -> str:

@@ -96,6 +96,12 @@ impl PySurface {
         }
     }
 
+    /// The surface as a scene's JSON text with every control point given
+    /// (`{"surface": …}`): `load` reads it back as this surface exactly.
+    fn scene_text(&self) -> String {
+        serde_json::json!({ "surface": self.surface.scene_json() }).to_string()
+    }
+
     /// The degree: (n, m) of a tensor or B-spline surface, (n, n) of a
     /// triangular one.
     #[getter]

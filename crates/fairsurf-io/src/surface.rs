@@ -27,6 +27,39 @@ impl Surface {
         }
     }
 
+    /// The surface as a scene's `surface` object with every control point
+    /// given: what [`Scene::surface`](crate::Scene::surface) and `fairsurf
+    /// load` read back as this surface exactly (floats are written to
+    /// round-trip).
+    pub fn scene_json(&self) -> serde_json::Value {
+        let rows = |pts: &[fairsurf::Vec3], cv: usize| -> Vec<Vec<fairsurf::Vec3>> {
+            pts.chunks(cv).map(<[_]>::to_vec).collect()
+        };
+        match self {
+            Surface::Tensor(p) => {
+                let (n, m) = p.degree();
+                serde_json::json!({
+                    "type": "tensor",
+                    "degree": [n, m],
+                    "control_points": rows(p.points(), m + 1),
+                })
+            }
+            Surface::BSpline(s) => {
+                let ((p, q), (_, cv)) = (s.degree(), s.counts());
+                let (u, v) = s.knots();
+                serde_json::json!({
+                    "type": "bspline",
+                    "degree": [p, q],
+                    "knots": [u.knots(), v.knots()],
+                    "control_points": rows(s.points(), cv),
+                })
+            }
+            Surface::Triangular(t) => {
+                serde_json::to_value(crate::tri_scene::TriSurfaceSpec::from(t)).expect("JSON")
+            }
+        }
+    }
+
     /// Point and derivatives up to order two at (u, v) ∈ [0, 1]² of a
     /// tensor-product surface (a B-spline surface's knot domain
     /// [u₀, u₁] × [v₀, v₁] mapped affinely onto [0, 1]²: the derivatives are

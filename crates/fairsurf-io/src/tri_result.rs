@@ -5,7 +5,6 @@
 use crate::tri_scene::{domain_point, operator, set_region};
 use crate::{
     ConstraintKind, ConstraintSpec, DomainPointSpec, Error, OperatorKind, TriScene, TriSurfaceSpec,
-    TriangularKind,
 };
 use fairsurf::triangle::{Refinement, TriReport, TriSolution};
 use fairsurf::TriSurface;
@@ -33,14 +32,7 @@ impl SolvedTriScene {
     pub fn result_scene(&self) -> TriScene {
         let s = self.surface();
         let mut out = self.scene.clone();
-        let vertices: Vec<[f64; 3]> = s.points()[..s.vertex_count()].to_vec();
-        out.surface = TriSurfaceSpec {
-            kind: TriangularKind::Triangular,
-            degree: s.degree(),
-            vertices,
-            triangles: s.triangles().to_vec(),
-            control_points: Some(s.points().to_vec()),
-        };
+        out.surface = TriSurfaceSpec::from(s);
         let refined = self
             .scene
             .constraints

@@ -90,6 +90,20 @@ pub struct TriSurfaceSpec {
     pub control_points: Option<Vec<[f64; 3]>>,
 }
 
+impl From<&TriSurface> for TriSurfaceSpec {
+    /// The surface with every control point given (its mesh: the vertices'
+    /// points and the patches' corners).
+    fn from(s: &TriSurface) -> Self {
+        TriSurfaceSpec {
+            kind: TriangularKind::Triangular,
+            degree: s.degree(),
+            vertices: s.points()[..s.vertex_count()].to_vec(),
+            triangles: s.triangles().to_vec(),
+            control_points: Some(s.points().to_vec()),
+        }
+    }
+}
+
 /// α·stretch + β·bend; without either, bend 1.
 #[derive(Clone, Debug, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
