@@ -275,11 +275,26 @@ def test_the_gil_is_released_while_solving() -> None:
     of a loop in the main thread is a small part of the solve's time (a
     solve holding the GIL would pause it for the whole solve)."""
     scene = json.dumps(heavy_scene(18))
+    longest_pause_is_small(lambda: fairsurf.solve(scene))
+
+
+def test_the_gil_is_released_while_evaluating_meshing_and_drawing() -> None:
+    """The same for a large grid of curvatures, a fine mesh and a picture."""
+    r = fairsurf.solve(TENSOR)
+    s = np.linspace(0.0, 1.0, 1200)
+    longest_pause_is_small(lambda: r.curvatures(s[:, None], s[None, :]))
+    longest_pause_is_small(lambda: r.mesh(900))
+    longest_pause_is_small(lambda: r.render(width=2400, height=1800, zebra=20))
+
+
+def longest_pause_is_small(job) -> None:
+    """Runs job in a thread while the main thread loops: the loop's longest
+    pause is under a quarter of the job's time."""
     took = []
 
     def work() -> None:
         t = time.perf_counter()
-        fairsurf.solve(scene)
+        job()
         took.append(time.perf_counter() - t)
 
     th = threading.Thread(target=work)
@@ -293,8 +308,8 @@ def test_the_gil_is_released_while_solving() -> None:
         last = now
         ticks += 1
     th.join()
-    assert took[0] > 0.05, f"the solve took only {took[0]:.3f} s: too short to tell"
-    assert longest < 0.25 * took[0], f"paused {longest:.3f} s of a {took[0]:.3f} s solve"
+    assert took[0] > 0.05, f"the job took only {took[0]:.3f} s: too short to tell"
+    assert longest < 0.25 * took[0], f"paused {longest:.3f} s of a {took[0]:.3f} s job"
     assert ticks > 100
 
 
