@@ -35,8 +35,13 @@ def faces(rows: int = 3, missing: int = 1):
 
 
 def write(path: str) -> None:
+    write_sewn(faces(), path)
+
+
+def write_sewn(faces, path: str) -> None:
+    """Open CASCADE sews the faces (1e-6) and writes them as AP214 STEP."""
     sew = BRepBuilderAPI_Sewing(1e-6)
-    for f in faces():
+    for f in faces:
         sew.Add(f)
     sew.Perform()
     writer = STEPControl_Writer()

@@ -4,8 +4,9 @@
 //! polynomial or rational B-spline bounded by its four sides
 //! ([`read_step`]): B-spline and Bézier faces (rational or not), planes
 //! bounded by four straight edges, cylinders and cones bounded by two arcs
-//! and two rulings. Every other face is refused by name, nothing is
-//! dropped silently.
+//! and two rulings, spheres and tori bounded by two parallels and two
+//! meridians. Every other face is refused by name, nothing is dropped
+//! silently.
 
 use crate::{Error, Result};
 use fairsurf::bspline::{BSplineSurface, KnotVector, RationalSurface};
@@ -38,7 +39,7 @@ pub enum FaceSurface {
 #[derive(Clone, Debug, PartialEq)]
 pub struct StepFace {
     /// What the file's surface is: "B-spline", "rational B-spline",
-    /// "plane", "cylinder" or "cone".
+    /// "plane", "cylinder", "cone", "sphere" or "torus".
     pub kind: &'static str,
     /// The surface, whose four sides are the face's boundary.
     pub surface: FaceSurface,
@@ -81,15 +82,26 @@ pub fn read_step_faces(text: &str) -> Result<Vec<BSplineSurface>> {
 /// surface's four sides; planes bounded by four straight edges (a
 /// bilinear patch); cylinders and cones bounded by two circular arcs and
 /// two rulings (rational quadratic in the arcs' direction, The NURBS Book
-/// §7.5) — each conversion checked against the file's own surface and
-/// edges.
+/// §7.5); spheres and tori bounded by two parallels and two meridians (the
+/// rational biquadratic surface of revolution, §8.5) — each conversion
+/// checked against the file's own surface and edges.
 ///
 /// Errors name what is wrong: not STEP (with the parser's message), no
-/// shell, a face of another kind (sphere, torus, swept surface), a face
+/// shell, a face of another kind (a swept surface; a sphere or torus
+/// face bounded otherwise), a face
 /// with holes or with a boundary that is not four sides of its surface
 /// (trimmed), a face the reader could not convert.
 pub fn read_step(text: &str) -> Result<Vec<StepFace>> {
-    let exchange = ruststep::parser::parse(text).map_err(|e| {
+    // A SURFACE_CURVE's preferred representation is read as its 3-D curve:
+    // truck-stepio follows a PCURVE_S1/S2 preference through the pcurve on
+    // the surface, and on a periodic surface (a torus, a sphere) its
+    // parameters wrap to [0, 2π) — an arc from v = −0.4 to 1.2 came out as
+    // the other 4.68 rad of the circle. The 3-D curve is the edge's own
+    // geometry; the pcurves only describe it on each face.
+    let text = text
+        .replace(".PCURVE_S1.", ".CURVE_3D.")
+        .replace(".PCURVE_S2.", ".CURVE_3D.");
+    let exchange = ruststep::parser::parse(&text).map_err(|e| {
         bad(
             "",
             format!("not a STEP file (ISO 10303-21) this reader can parse: {e}"),
@@ -179,12 +191,8 @@ fn step_face(face: &Face, shell: &Shell) -> std::result::Result<StepFace, String
             ElementarySurface::Plane(_) => ("plane", plane(&edges)?),
             ElementarySurface::CylindricalSurface(_) => ("cylinder", ruled(&edges)?),
             ElementarySurface::ConicalSurface(_) => ("cone", ruled(&edges)?),
-            ElementarySurface::Sphere(_) => {
-                return Err("a sphere face: not filled around yet".into())
-            }
-            ElementarySurface::ToroidalSurface(_) => {
-                return Err("a torus face: not filled around yet".into())
-            }
+            ElementarySurface::Sphere(_) => ("sphere", revolved(&edges, "sphere")?),
+            ElementarySurface::ToroidalSurface(_) => ("torus", revolved(&edges, "torus")?),
         },
         StepSurface::SweptCurve(_) => {
             return Err("a swept surface (extrusion or revolution): not filled around yet".into())
@@ -834,6 +842,158 @@ fn ruled(edges: &[LoopEdge]) -> std::result::Result<FaceSurface, String> {
                     "a face edge that is not a circular arc (off the arc through its ends and \
                      tangents by {d:e})"
                 ));
+            }
+        }
+    }
+    Ok(FaceSurface::Rational(r))
+}
+
+/// The circle an arc edge lies on: centre, unit normal (the arc's turning
+/// sense), radius — through its ends and middle.
+fn circle_of(e: &LoopEdge) -> Option<(Vec3, Vec3, f64)> {
+    use fairsurf::vector::{add, cross, dot, normalize, scale, sub};
+    let (a, b, c) = (e.start, e.at(0.5).0, e.end);
+    let (ab, ac) = (sub(b, a), sub(c, a));
+    let n = cross(ab, ac);
+    let nn = dot(n, n);
+    if nn.is_nan() || nn <= 1e-24 * dot(ab, ab) * dot(ac, ac) {
+        return None;
+    }
+    // Circumcentre: a + (|ab|² (ac × n) + |ac|² (n × ab)) / (2|n|²).
+    let centre = add(
+        a,
+        scale(
+            add(
+                scale(cross(ac, n), dot(ab, ab)),
+                scale(cross(n, ab), dot(ac, ac)),
+            ),
+            0.5 / nn,
+        ),
+    );
+    Some((centre, normalize(n)?, dist(centre, a)))
+}
+
+/// p turned by `angle` about the axis through `o` along the unit vector
+/// `k` (Rodrigues).
+fn rotated(p: Vec3, o: Vec3, k: Vec3, angle: f64) -> Vec3 {
+    use fairsurf::vector::{add, cross, dot, scale, sub};
+    let v = sub(p, o);
+    let (s, c) = angle.sin_cos();
+    add(
+        o,
+        add(
+            add(scale(v, c), scale(cross(k, v), s)),
+            scale(k, dot(k, v) * (1.0 - c)),
+        ),
+    )
+}
+
+/// A sphere or torus face bounded by four circular arcs — two parallels
+/// (circles about the surface's axis) and two meridians — as the rational
+/// biquadratic surface of revolution of one meridian (The NURBS Book
+/// §8.5, algorithm A8.1): each of the meridian's control points (arc
+/// pieces of at most 90°, weights cos(φ/2)) swept about the axis in pieces
+/// of at most 90°, the weights multiplied. The axis is the parallels'
+/// common normal through their centres; the result is checked against the
+/// face's four edges (and, by the caller, against the file's surface).
+fn revolved(edges: &[LoopEdge], kind: &str) -> std::result::Result<FaceSurface, String> {
+    use fairsurf::vector::{cross, dot, norm, scale, sub};
+    let tol = edge_tolerance(edges);
+    let refuse = |why: &str| {
+        format!(
+            "a {kind} face {why}: only {kind} faces bounded by two parallels and two meridians \
+             (four circular arcs) are filled around so far"
+        )
+    };
+    if edges.len() != 4 {
+        return Err(refuse(&format!("bounded by {} edges", edges.len())));
+    }
+    let circles: Vec<(Vec3, Vec3, f64)> = edges
+        .iter()
+        .map(circle_of)
+        .collect::<Option<_>>()
+        .ok_or_else(|| refuse("with a straight edge"))?;
+    // Parallels: opposite arcs with parallel normals whose centres lie on
+    // one line along them, apart or of different radii.
+    let parallel = |a: usize, b: usize| {
+        let ((ca, na, ra), (cb, nb, rb)) = (circles[a], circles[b]);
+        let d = sub(cb, ca);
+        norm(cross(na, nb)) <= 1e-9
+            && norm(cross(d, na)) <= tol
+            && (norm(d) > tol || (ra - rb).abs() > tol)
+    };
+    let first = if parallel(0, 2) {
+        1
+    } else if parallel(1, 3) {
+        0
+    } else {
+        return Err(refuse("whose arcs are not two parallels and two meridians"));
+    };
+    // The meridian edges[first] (profile) and the parallel that starts at
+    // its end.
+    let profile = &edges[first];
+    let (o, k, _) = circles[(first + 1) % 4];
+    // The turn about the axis that takes the profile's end along the
+    // parallel to the other meridian.
+    let along = &edges[(first + 1) % 4];
+    let turning: f64 = (0..16)
+        .map(|i| {
+            let (a, b) = (
+                along.at(i as f64 / 16.0).1,
+                along.at((i + 1) as f64 / 16.0).1,
+            );
+            fairsurf::vector::angle(a, b)
+        })
+        .sum();
+    let sense = if dot(cross(sub(along.start, o), sub(along.at(0.01).0, o)), k) >= 0.0 {
+        1.0
+    } else {
+        -1.0
+    };
+    let theta = sense * turning;
+    let (q, v, kv) = arc(profile)?;
+    let pieces = ((turning / std::f64::consts::FRAC_PI_2) - 1e-9)
+        .ceil()
+        .max(1.0) as usize;
+    let step = theta / pieces as f64;
+    let half = (step / 2.0).cos();
+    let mut points = Vec::new();
+    let mut weights = Vec::new();
+    let mut ku = vec![0.0; 3];
+    for i in 0..=2 * pieces {
+        let angle = step * i as f64 / 2.0;
+        let middle = i % 2 == 1;
+        for (qj, vj) in q.iter().zip(&v) {
+            // The control point about the axis at its own height, pushed to
+            // the tangents' meeting point (1/cos(φ/2) out) in the middle.
+            let foot = fairsurf::vector::add(o, scale(k, dot(sub(*qj, o), k)));
+            let mut p = rotated(*qj, o, k, angle);
+            if middle {
+                p = fairsurf::vector::add(foot, scale(sub(p, foot), 1.0 / half));
+            }
+            points.push(p);
+            weights.push(vj * if middle { half } else { 1.0 });
+        }
+        if i % 2 == 0 && i > 0 && i < 2 * pieces {
+            let t = i as f64 / (2 * pieces) as f64;
+            ku.extend([t, t]);
+        }
+    }
+    ku.extend([1.0; 3]);
+    let u = KnotVector::new(2, ku).map_err(|e| e.to_string())?;
+    let vk = KnotVector::new(2, kv).map_err(|e| e.to_string())?;
+    let net = BSplineSurface::new(u, vk, points).map_err(|e| e.to_string())?;
+    let r = RationalSurface::new(net, weights).map_err(|e| e.to_string())?;
+    // Its four sides lie on the face's edges.
+    for i in 0..=16 {
+        let t = i as f64 / 16.0;
+        for (a, b) in [(t, 0.0), (t, 1.0), (0.0, t), (1.0, t)] {
+            let p = r.eval(a, b);
+            let off = edges.iter().map(|e| e.distance(p)).fold(f64::MAX, f64::min);
+            if off > tol {
+                return Err(refuse(&format!(
+                    "whose edges the surface of revolution misses by {off:e}"
+                )));
             }
         }
     }
