@@ -889,53 +889,86 @@ fn rotated(p: Vec3, o: Vec3, k: Vec3, angle: f64) -> Vec3 {
 }
 
 /// A sphere or torus face bounded by four circular arcs — two parallels
-/// (circles about the surface's axis) and two meridians — as the rational
-/// biquadratic surface of revolution of one meridian (The NURBS Book
-/// §8.5, algorithm A8.1): each of the meridian's control points (arc
-/// pieces of at most 90°, weights cos(φ/2)) swept about the axis in pieces
-/// of at most 90°, the weights multiplied. The axis is the parallels'
-/// common normal through their centres; the result is checked against the
-/// face's four edges (and, by the caller, against the file's surface).
+/// (circles about the surface's axis) and two meridians — or a sphere
+/// face bounded by one parallel and two meridians meeting at a pole, as
+/// the rational biquadratic surface of revolution of one meridian (The
+/// NURBS Book §8.5, algorithm A8.1; at a pole a side collapsed to a
+/// point). The axis is the parallel's normal through its centre; the
+/// result is checked against the face's edges (and, by the caller,
+/// against the file's surface).
 fn revolved(edges: &[LoopEdge], kind: &str) -> std::result::Result<FaceSurface, String> {
-    use fairsurf::vector::{cross, dot, norm, scale, sub};
+    use fairsurf::vector::{cross, norm, sub};
     let tol = edge_tolerance(edges);
     let refuse = |why: &str| {
         format!(
             "a {kind} face {why}: only {kind} faces bounded by two parallels and two meridians \
-             (four circular arcs) are filled around so far"
+             (four circular arcs), or by a parallel and two meridians through a pole, are \
+             filled around so far"
         )
     };
-    if edges.len() != 4 {
-        return Err(refuse(&format!("bounded by {} edges", edges.len())));
-    }
     let circles: Vec<(Vec3, Vec3, f64)> = edges
         .iter()
         .map(circle_of)
         .collect::<Option<_>>()
         .ok_or_else(|| refuse("with a straight edge"))?;
-    // Parallels: opposite arcs with parallel normals whose centres lie on
-    // one line along them, apart or of different radii.
-    let parallel = |a: usize, b: usize| {
-        let ((ca, na, ra), (cb, nb, rb)) = (circles[a], circles[b]);
-        let d = sub(cb, ca);
-        norm(cross(na, nb)) <= 1e-9
-            && norm(cross(d, na)) <= tol
-            && (norm(d) > tol || (ra - rb).abs() > tol)
+    // The parallels to try, each with the meridian that ends at its start
+    // as the profile. Four arcs: opposite ones with parallel normals whose
+    // centres lie on one line along them, apart or of different radii.
+    let candidates: Vec<usize> = match edges.len() {
+        3 => vec![0, 1, 2],
+        4 => {
+            let parallel = |a: usize, b: usize| {
+                let ((ca, na, ra), (cb, nb, rb)) = (circles[a], circles[b]);
+                let d = sub(cb, ca);
+                norm(cross(na, nb)) <= 1e-9
+                    && norm(cross(d, na)) <= tol
+                    && (norm(d) > tol || (ra - rb).abs() > tol)
+            };
+            match (parallel(0, 2), parallel(1, 3)) {
+                (true, _) => vec![2],
+                (_, true) => vec![1],
+                _ => return Err(refuse("whose arcs are not two parallels and two meridians")),
+            }
+        }
+        n => return Err(refuse(&format!("bounded by {n} edges"))),
     };
-    let first = if parallel(0, 2) {
-        1
-    } else if parallel(1, 3) {
-        0
-    } else {
-        return Err(refuse("whose arcs are not two parallels and two meridians"));
-    };
-    // The meridian edges[first] (profile) and the parallel that starts at
-    // its end.
-    let profile = &edges[first];
-    let (o, k, _) = circles[(first + 1) % 4];
-    // The turn about the axis that takes the profile's end along the
-    // parallel to the other meridian.
-    let along = &edges[(first + 1) % 4];
+    let n = edges.len();
+    let mut missed = f64::INFINITY;
+    for along in candidates {
+        let profile = &edges[(along + n - 1) % n];
+        let r = revolve(profile, &edges[along], circles[along])?;
+        // Its four sides lie on the face's edges.
+        let off = (0..=16)
+            .flat_map(|i| {
+                let t = i as f64 / 16.0;
+                [(t, 0.0), (t, 1.0), (0.0, t), (1.0, t)]
+            })
+            .map(|(a, b)| {
+                let p = r.eval(a, b);
+                edges.iter().map(|e| e.distance(p)).fold(f64::MAX, f64::min)
+            })
+            .fold(0.0, f64::max);
+        if off <= tol {
+            return Ok(FaceSurface::Rational(r));
+        }
+        missed = missed.min(off);
+    }
+    Err(refuse(&format!(
+        "whose edges the surface of revolution misses by {missed:e}"
+    )))
+}
+
+/// The surface swept by the arc `profile` about the axis of the arc
+/// `along` (its circle: centre, unit normal, radius), which starts at the
+/// profile's end, through `along`'s angle: control points and weights of
+/// the profile's arc pieces (≤ 90°) swept in pieces of at most 90° (the
+/// middle points pushed out by 1/cos(φ/2), weights multiplied).
+fn revolve(
+    profile: &LoopEdge,
+    along: &LoopEdge,
+    (o, k, _): (Vec3, Vec3, f64),
+) -> std::result::Result<RationalSurface, String> {
+    use fairsurf::vector::{add, dot, scale, sub};
     let turning: f64 = (0..16)
         .map(|i| {
             let (a, b) = (
@@ -945,31 +978,24 @@ fn revolved(edges: &[LoopEdge], kind: &str) -> std::result::Result<FaceSurface, 
             fairsurf::vector::angle(a, b)
         })
         .sum();
-    let sense = if dot(cross(sub(along.start, o), sub(along.at(0.01).0, o)), k) >= 0.0 {
-        1.0
-    } else {
-        -1.0
-    };
-    let theta = sense * turning;
+    // The circle's normal turns with the arc (circle_of): a positive turn.
     let (q, v, kv) = arc(profile)?;
     let pieces = ((turning / std::f64::consts::FRAC_PI_2) - 1e-9)
         .ceil()
         .max(1.0) as usize;
-    let step = theta / pieces as f64;
+    let step = turning / pieces as f64;
     let half = (step / 2.0).cos();
-    let mut points = Vec::new();
-    let mut weights = Vec::new();
+    let (mut points, mut weights) = (Vec::new(), Vec::new());
     let mut ku = vec![0.0; 3];
     for i in 0..=2 * pieces {
-        let angle = step * i as f64 / 2.0;
         let middle = i % 2 == 1;
         for (qj, vj) in q.iter().zip(&v) {
             // The control point about the axis at its own height, pushed to
-            // the tangents' meeting point (1/cos(φ/2) out) in the middle.
-            let foot = fairsurf::vector::add(o, scale(k, dot(sub(*qj, o), k)));
-            let mut p = rotated(*qj, o, k, angle);
+            // the tangents' meeting point in the middle of a piece.
+            let foot = add(o, scale(k, dot(sub(*qj, o), k)));
+            let mut p = rotated(*qj, o, k, step * i as f64 / 2.0);
             if middle {
-                p = fairsurf::vector::add(foot, scale(sub(p, foot), 1.0 / half));
+                p = add(foot, scale(sub(p, foot), 1.0 / half));
             }
             points.push(p);
             weights.push(vj * if middle { half } else { 1.0 });
@@ -983,21 +1009,7 @@ fn revolved(edges: &[LoopEdge], kind: &str) -> std::result::Result<FaceSurface, 
     let u = KnotVector::new(2, ku).map_err(|e| e.to_string())?;
     let vk = KnotVector::new(2, kv).map_err(|e| e.to_string())?;
     let net = BSplineSurface::new(u, vk, points).map_err(|e| e.to_string())?;
-    let r = RationalSurface::new(net, weights).map_err(|e| e.to_string())?;
-    // Its four sides lie on the face's edges.
-    for i in 0..=16 {
-        let t = i as f64 / 16.0;
-        for (a, b) in [(t, 0.0), (t, 1.0), (0.0, t), (1.0, t)] {
-            let p = r.eval(a, b);
-            let off = edges.iter().map(|e| e.distance(p)).fold(f64::MAX, f64::min);
-            if off > tol {
-                return Err(refuse(&format!(
-                    "whose edges the surface of revolution misses by {off:e}"
-                )));
-            }
-        }
-    }
-    Ok(FaceSurface::Rational(r))
+    RationalSurface::new(net, weights).map_err(|e| e.to_string())
 }
 
 /// The surface turned (u and v exchanged) when its normal R_u × R_v does

@@ -77,6 +77,7 @@ fn a_sphere_face_is_read_exactly() {
         .iter()
         .find(|f| f.kind == "sphere")
         .expect("a sphere face");
+    assert_eq!(faces.iter().filter(|f| f.kind == "sphere").count(), 2);
     // Centre (-3, 0, 1), radius 1.5; u the longitude, v the latitude.
     let (worst, [u0, u1, v0, v1]) = measure(
         sphere,
@@ -91,4 +92,29 @@ fn a_sphere_face_is_read_exactly() {
         assert!((got - want).abs() < 1e-9, "{got} vs {want}");
     }
     assert!(u1 - u0 < PI);
+}
+
+/// An octant of the unit sphere about (0, −4, 0) up to its north pole
+/// (three edges: the equator's quarter and two meridians meeting at the
+/// pole): read with a side collapsed to the pole.
+#[test]
+fn a_sphere_octant_reaching_its_pole_is_read_exactly() {
+    let faces = faces();
+    let octant = faces
+        .iter()
+        .filter(|f| f.kind == "sphere")
+        .nth(1)
+        .expect("the octant");
+    let (worst, [u0, u1, v0, v1]) = measure(
+        octant,
+        |p| (p[0].hypot(p[1] + 4.0).hypot(p[2]) - 1.0).abs(),
+        |p| {
+            let rho = p[0].hypot(p[1] + 4.0);
+            ((p[1] + 4.0).atan2(p[0]), p[2].atan2(rho))
+        },
+    );
+    assert!(worst < 1e-11, "{worst}");
+    for (got, want) in [(u0, 0.0), (u1, PI / 2.0), (v0, 0.0), (v1, PI / 2.0)] {
+        assert!((got - want).abs() < 1e-9, "{got} vs {want}");
+    }
 }

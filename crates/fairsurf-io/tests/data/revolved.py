@@ -8,8 +8,11 @@ meridians) -- for crates/fairsurf-io/tests/revolved.rs.
 Torus: axis z through (1, 2, 3), major radius 2, minor radius 0.5, u in
 [0.3, 1.9] (about the axis, 92 degrees), v in [-0.4, 1.2] (about the tube).
 Sphere: centre (-3, 0, 1), radius 1.5, u in [0.2, 2.2], v in [-0.6, 0.9].
+Octant: centre (0, -4, 0), radius 1, u and v in [0, pi/2] (up to the
+north pole: three edges, the pole a vertex).
 """
 
+import math
 import sys
 from pathlib import Path
 
@@ -23,8 +26,11 @@ from fillet_hole import write_sewn  # noqa: E402
 def write(path: str) -> None:
     torus = gp_Torus(gp_Ax3(gp_Pnt(1, 2, 3), gp_Dir(0, 0, 1), gp_Dir(1, 0, 0)), 2.0, 0.5)
     sphere = gp_Sphere(gp_Ax3(gp_Pnt(-3, 0, 1), gp_Dir(0, 0, 1), gp_Dir(1, 0, 0)), 1.5)
+    octant = gp_Sphere(gp_Ax3(gp_Pnt(0, -4, 0), gp_Dir(0, 0, 1), gp_Dir(1, 0, 0)), 1.0)
     write_sewn([BRepBuilderAPI_MakeFace(torus, 0.3, 1.9, -0.4, 1.2).Face(),
-                BRepBuilderAPI_MakeFace(sphere, 0.2, 2.2, -0.6, 0.9).Face()], path)
+                BRepBuilderAPI_MakeFace(sphere, 0.2, 2.2, -0.6, 0.9).Face(),
+                BRepBuilderAPI_MakeFace(octant, 0.0, math.pi / 2, 0.0, math.pi / 2).Face()],
+               path)
 
 
 if __name__ == "__main__":

@@ -286,7 +286,7 @@ impl RationalSurface {
             let y = s.derivatives_on(&gu, &gv);
             for (x, y) in x.iter().zip(&y) {
                 gap = gap.max(dist(x.point, y.point));
-                if let (Some(n), Some(m)) = (x.normal(), y.normal()) {
+                if let (Some(n), Some(m)) = (x.regular_normal(), y.regular_normal()) {
                     ang = ang.max(angle(n, m));
                 }
             }

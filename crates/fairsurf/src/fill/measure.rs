@@ -148,13 +148,12 @@ pub(crate) fn compare(
     let (mut gap, mut ang, mut singular) = (0.0f64, 0.0f64, 0usize);
     for (a, b) in da.iter().zip(db) {
         gap = gap.max(dist(a.point, b.point));
-        let (na, mut nb) = (cross(a.du, a.dv), cross(b.du, b.dv));
-        if flipped {
-            nb = [-nb[0], -nb[1], -nb[2]];
-        }
-        if norm(na) == 0.0 || norm(nb) == 0.0 {
+        let (Some(na), Some(mut nb)) = (a.regular_normal(), b.regular_normal()) else {
             singular += 1;
             continue;
+        };
+        if flipped {
+            nb = [-nb[0], -nb[1], -nb[2]];
         }
         ang = ang.max(angle(na, nb));
     }

@@ -3,7 +3,7 @@
 
 use crate::basis::{bernstein_derivatives, bernstein_derivatives_into};
 use crate::curve::{de_casteljau_split, elevate_points};
-use crate::vec3::{add, cross, is_finite, normalize, scale, Vec3};
+use crate::vec3::{add, cross, dot, is_finite, norm, normalize, scale, Vec3};
 use crate::{Error, Result};
 
 /// A tensor-product Bézier patch of degree (n, m) with control points P_ij,
@@ -45,6 +45,19 @@ impl SurfaceDerivatives {
     /// not regular.
     pub fn normal(&self) -> Option<Vec3> {
         normalize(cross(self.du, self.dv))
+    }
+
+    /// [`normal`](Self::normal), also `None` where R_u × R_v is below
+    /// 1e-8 of |R_u|² + |R_v|²: at a side collapsed to a point (a sphere's
+    /// pole, a fan's corner) one derivative is rounding noise and so is the
+    /// direction of the cross product.
+    pub fn regular_normal(&self) -> Option<Vec3> {
+        let n = cross(self.du, self.dv);
+        let scale = dot(self.du, self.du) + dot(self.dv, self.dv);
+        if norm(n) <= 1e-8 * scale {
+            return None;
+        }
+        normalize(n)
     }
 }
 
