@@ -107,9 +107,12 @@ pub fn read_step(text: &str) -> Result<Vec<StepFace>> {
             format!("not a STEP file (ISO 10303-21) this reader can parse: {e}"),
         )
     })?;
-    let Some(data) = exchange.data.first() else {
+    let mut exchange = exchange;
+    let Some(data) = exchange.data.first_mut() else {
         return Err(bad("", "the STEP file has no DATA section"));
     };
+    same_sense_edges(data);
+    let data = &*data;
     let table = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         Table::from_data_section(data)
     }))
@@ -156,6 +159,54 @@ pub fn read_step(text: &str) -> Result<Vec<StepFace>> {
         }
     }
     Ok(faces)
+}
+
+/// Every EDGE_CURVE of same_sense `.F.` rewritten as its equal of
+/// same_sense `.T.` (its vertices swapped), and the ORIENTED_EDGEs that
+/// use it turned: truck-stepio turns a `.F.` edge's curve twice on the
+/// path of a SURFACE_CURVE read by its 3-D curve (which [`read_step`]
+/// asks for), so such an edge would run backwards.
+fn same_sense_edges(data: &mut ruststep::ast::DataSection) {
+    use ruststep::ast::{EntityInstance, Name, Parameter};
+    let (yes, no) = (
+        Parameter::Enumeration("T".into()),
+        Parameter::Enumeration("F".into()),
+    );
+    let mut turned = std::collections::HashSet::new();
+    for e in &mut data.entities {
+        if let EntityInstance::Simple { id, record } = e {
+            if record.name != "EDGE_CURVE" {
+                continue;
+            }
+            if let Parameter::List(ps) = &mut record.parameter {
+                if ps.len() == 5 && ps[4] == no {
+                    ps.swap(1, 2);
+                    ps[4] = yes.clone();
+                    turned.insert(*id);
+                }
+            }
+        }
+    }
+    if turned.is_empty() {
+        return;
+    }
+    for e in &mut data.entities {
+        if let EntityInstance::Simple { record, .. } = e {
+            if record.name != "ORIENTED_EDGE" {
+                continue;
+            }
+            if let Parameter::List(ps) = &mut record.parameter {
+                let uses = matches!(ps.get(3), Some(Parameter::Ref(Name::Entity(k))) if turned.contains(k));
+                if ps.len() == 5 && uses {
+                    ps[4] = if ps[4] == yes {
+                        no.clone()
+                    } else {
+                        yes.clone()
+                    };
+                }
+            }
+        }
+    }
 }
 
 type Shell = CompressedShell<Point3, Curve3D, StepSurface>;
@@ -936,7 +987,9 @@ fn revolved(edges: &[LoopEdge], kind: &str) -> std::result::Result<FaceSurface, 
     let mut missed = f64::INFINITY;
     for along in candidates {
         let profile = &edges[(along + n - 1) % n];
-        let r = revolve(profile, &edges[along], circles[along])?;
+        let Ok(r) = revolve(profile, &edges[along], circles[along]) else {
+            continue;
+        };
         // Its four sides lie on the face's edges.
         let off = (0..=16)
             .flat_map(|i| {

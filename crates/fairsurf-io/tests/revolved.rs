@@ -118,3 +118,46 @@ fn a_sphere_octant_reaching_its_pole_is_read_exactly() {
         assert!((got - want).abs() < 1e-9, "{got} vs {want}");
     }
 }
+
+/// The same file with every edge written the other way (EDGE_CURVE from
+/// its second vertex to its first with same_sense .F., each ORIENTED_EDGE
+/// turned: the same model by ISO 10303-42) reads to the same faces.
+#[test]
+fn edges_of_either_sense_read_alike() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/revolved.step");
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut edges = Vec::new();
+    let turned: String = text
+        .lines()
+        .map(|line| {
+            let Some((id, rest)) = line.split_once(" = EDGE_CURVE('") else {
+                return format!("{line}\n");
+            };
+            let fields: Vec<&str> = rest.trim_end_matches(");").split(',').collect();
+            assert_eq!(fields[4], ".T.", "{line}");
+            edges.push(id.trim().to_string());
+            format!(
+                "{id} = EDGE_CURVE('{},{},{},{},.F.);\n",
+                fields[0], fields[2], fields[1], fields[3]
+            )
+        })
+        .collect();
+    let turned: String = turned
+        .lines()
+        .map(|line| match line.split_once("ORIENTED_EDGE('',*,*,") {
+            Some((head, rest)) => {
+                let (edge, sense) = rest.split_once(',').unwrap();
+                assert!(edges.iter().any(|e| e == edge), "{line}");
+                let flipped = if sense.starts_with(".T.") {
+                    ".F.);"
+                } else {
+                    ".T.);"
+                };
+                format!("{head}ORIENTED_EDGE('',*,*,{edge},{flipped}\n")
+            }
+            None => format!("{line}\n"),
+        })
+        .collect();
+    assert!(turned.contains(",.F.);") && edges.len() >= 10);
+    assert_eq!(read_step(&turned).unwrap(), read_step(&text).unwrap());
+}

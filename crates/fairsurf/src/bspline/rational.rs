@@ -286,8 +286,13 @@ impl RationalSurface {
             let y = s.derivatives_on(&gu, &gv);
             for (x, y) in x.iter().zip(&y) {
                 gap = gap.max(dist(x.point, y.point));
-                if let (Some(n), Some(m)) = (x.regular_normal(), y.regular_normal()) {
-                    ang = ang.max(angle(n, m));
+                // Where the exact surface has a normal, the stand-in must
+                // have the same one (no normal at all counts as the worst).
+                if let Some(n) = x.regular_normal() {
+                    ang = ang.max(
+                        y.regular_normal()
+                            .map_or(std::f64::consts::PI, |m| angle(n, m)),
+                    );
                 }
             }
         }

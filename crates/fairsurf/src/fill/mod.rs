@@ -535,13 +535,23 @@ pub const RICH_SIDES: usize = 12;
 
 /// Sides on one degree and knot vector per direction (at least the larger
 /// degree of opposite sides, plus `elevate` unless they have
-/// [`RICH_SIDES`] control points), with at least `min_points` (≥ 5)
-/// control points each way: two rings each side and a free row.
+/// [`RICH_SIDES`] control points — then at least 3), with at least
+/// `min_points` (≥ 5) control points each way: two rings each side and a
+/// free row.
 fn unified(s: &[Strip; 4], options: &FillOptions) -> Result<[Strip; 4]> {
     let min_points = options.min_points.max(5);
     let degree = |a: &Strip, b: &Strip| {
-        let rich = a.knots.count().max(b.knots.count()) >= RICH_SIDES;
-        a.degree().max(b.degree()) + if rich { 0 } else { options.elevate }
+        let (d, rich) = (
+            a.degree().max(b.degree()),
+            a.knots.count().max(b.knots.count()) >= RICH_SIDES,
+        );
+        // Rich sides keep their degree, but at least cubic: below that the
+        // thin plate does not see kinks at the knots.
+        if rich {
+            d.max(3)
+        } else {
+            d + options.elevate
+        }
     };
     let (mut du, mut dv) = (degree(&s[0], &s[2]), degree(&s[1], &s[3]));
     loop {
