@@ -694,14 +694,7 @@ fn cut_curve(
             .collect(),
     )
     .ok()?;
-    let (a, b) = kv.domain();
-    let mut cut = net;
-    if ta > a {
-        cut = cut.split_u(ta).ok()?.1;
-    }
-    if tb < b {
-        cut = cut.split_u(tb).ok()?.0;
-    }
+    let cut = net.restricted_u(ta, tb).ok()?;
     let n = cut.counts().0;
     let weights: Vec<f64> = (0..n).map(|i| cut.point(i, 1)[0]).collect();
     let points = (0..n)

@@ -374,6 +374,22 @@ impl LoopEdge {
         })
     }
 
+    /// How far the edge's tangent turns (the sum of its turns between 17
+    /// samples), and in how many pieces of at most 90° an arc of it is
+    /// written.
+    fn turning(&self) -> (f64, usize) {
+        let turning: f64 = (0..16)
+            .map(|k| {
+                let (a, b) = (self.at(k as f64 / 16.0).1, self.at((k + 1) as f64 / 16.0).1);
+                fairsurf::vector::angle(a, b)
+            })
+            .sum();
+        let pieces = ((turning / std::f64::consts::FRAC_PI_2) - 1e-9)
+            .ceil()
+            .max(1.0);
+        (turning, pieces as usize)
+    }
+
     /// The distance from p to the edge's curve (within the edge).
     fn distance(&self, p: Vec3) -> f64 {
         self.nearest(p).1
@@ -383,34 +399,16 @@ impl LoopEdge {
     /// distance: the nearest of 33 samples, then Newton steps on
     /// (C(t) − p)·C′(t) = 0 kept in the edge.
     fn nearest(&self, p: Vec3) -> (f64, f64) {
-        let range = self.range;
-        let (lo, hi) = (range.0.min(range.1), range.0.max(range.1));
-        let (mut best, mut t) = (f64::MAX, lo);
-        for k in 0..=32 {
-            let x = lo + (hi - lo) * k as f64 / 32.0;
-            let d = dist(self.point(x), p);
-            if d < best {
-                (best, t) = (d, x);
-            }
-        }
-        let dot = fairsurf::vector::dot;
-        for _ in 0..30 {
+        let range = (
+            self.range.0.min(self.range.1),
+            self.range.0.max(self.range.1),
+        );
+        let curve = |t: f64| {
             let w = self.wrap(t);
             let (d1, d2) = (self.curve.der(w), self.curve.der2(w));
-            let (d1, d2) = ([d1.x, d1.y, d1.z], [d2.x, d2.y, d2.z]);
-            let r = fairsurf::vector::sub(self.point(t), p);
-            let h = dot(d1, d1) + dot(r, d2);
-            if h <= 0.0 {
-                break;
-            }
-            let next = (t - dot(r, d1) / h).clamp(lo, hi);
-            let d = dist(self.point(next), p);
-            if d >= best {
-                break;
-            }
-            (best, t) = (d, next);
-        }
-        (t, best)
+            [self.point(t), [d1.x, d1.y, d1.z], [d2.x, d2.y, d2.z]]
+        };
+        fairsurf::nearest_parameter(curve, range, p)
     }
 }
 
@@ -693,22 +691,7 @@ fn restricted(s: FaceSurface, edges: &[LoopEdge]) -> std::result::Result<FaceSur
     };
     let (u0, u1) = (snap(u0, a, b, eu), snap(u1, a, b, eu));
     let (v0, v1) = (snap(v0, c, d, ev), snap(v1, c, d, ev));
-    let cut = |x: &BSplineSurface| -> fairsurf::Result<BSplineSurface> {
-        let mut x = x.clone();
-        if u0 > a {
-            x = x.split_u(u0)?.1;
-        }
-        if u1 < b {
-            x = x.split_u(u1)?.0;
-        }
-        if v0 > c {
-            x = x.split_v(v0)?.1;
-        }
-        if v1 < d {
-            x = x.split_v(v1)?.0;
-        }
-        Ok(x)
-    };
+    let cut = |x: &BSplineSurface| x.restricted_u(u0, u1)?.restricted_v(v0, v1);
     let sub = match &s {
         FaceSurface::Polynomial(p) => FaceSurface::Polynomial(cut(p).map_err(|e| e.to_string())?),
         FaceSurface::Rational(r) => {
@@ -809,15 +792,7 @@ type Arc = (Vec<Vec3>, Vec<f64>, Vec<f64>);
 /// point of its end tangents, and weights 1, cos(φ/2), 1; double interior
 /// knots. Control points, weights, full knot vector.
 fn arc(e: &LoopEdge) -> std::result::Result<Arc, String> {
-    let turning: f64 = (0..16)
-        .map(|k| {
-            let (a, b) = (e.at(k as f64 / 16.0).1, e.at((k + 1) as f64 / 16.0).1);
-            fairsurf::vector::angle(a, b)
-        })
-        .sum();
-    let pieces = ((turning / std::f64::consts::FRAC_PI_2) - 1e-9)
-        .ceil()
-        .max(1.0) as usize;
+    let (_, pieces) = e.turning();
     let (mut points, mut weights) = (vec![e.start], vec![1.0]);
     let mut knots = vec![0.0; 3];
     for k in 0..pieces {
@@ -1022,20 +997,9 @@ fn revolve(
     (o, k, _): (Vec3, Vec3, f64),
 ) -> std::result::Result<RationalSurface, String> {
     use fairsurf::vector::{add, dot, scale, sub};
-    let turning: f64 = (0..16)
-        .map(|i| {
-            let (a, b) = (
-                along.at(i as f64 / 16.0).1,
-                along.at((i + 1) as f64 / 16.0).1,
-            );
-            fairsurf::vector::angle(a, b)
-        })
-        .sum();
     // The circle's normal turns with the arc (circle_of): a positive turn.
     let (q, v, kv) = arc(profile)?;
-    let pieces = ((turning / std::f64::consts::FRAC_PI_2) - 1e-9)
-        .ceil()
-        .max(1.0) as usize;
+    let (turning, pieces) = along.turning();
     let step = turning / pieces as f64;
     let half = (step / 2.0).cos();
     let (mut points, mut weights) = (Vec::new(), Vec::new());

@@ -112,6 +112,41 @@ pub(crate) fn elevate_points(points: &[Vec3], r: usize) -> Vec<Vec3> {
         .collect()
 }
 
+/// The parameter in [lo, hi] of the point of a curve nearest to p, and the
+/// distance: the nearest of 33 samples, then Newton steps on
+/// (C(t) − p)·C′(t) = 0 kept in the range while they come closer. `c(t)`
+/// gives C, C′ and C″ at t.
+pub fn nearest_parameter(
+    c: impl Fn(f64) -> [Vec3; 3],
+    (lo, hi): (f64, f64),
+    p: Vec3,
+) -> (f64, f64) {
+    use crate::vec3::{dist, dot, sub};
+    let (mut best, mut t) = (f64::MAX, lo);
+    for k in 0..=32 {
+        let x = lo + (hi - lo) * k as f64 / 32.0;
+        let d = dist(c(x)[0], p);
+        if d < best {
+            (best, t) = (d, x);
+        }
+    }
+    for _ in 0..30 {
+        let [point, d1, d2] = c(t);
+        let r = sub(point, p);
+        let h = dot(d1, d1) + dot(r, d2);
+        if h.is_nan() || h <= 0.0 {
+            break;
+        }
+        let next = (t - dot(r, d1) / h).clamp(lo, hi);
+        let d = dist(c(next)[0], p);
+        if d.is_nan() || d >= best {
+            break;
+        }
+        (best, t) = (d, next);
+    }
+    (t, best)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -57,7 +57,7 @@ pub mod triangle;
 
 pub use analysis::SurfaceMeasures;
 pub use check::{Check, TOLERANCE as CHECK_TOLERANCE};
-pub use curve::BezierCurve;
+pub use curve::{nearest_parameter, BezierCurve};
 pub use energy::{
     Bend, EnergyTerm, GuideSurface, Integrand, Measure, NormalField, NormalGuide, SampleGrid,
     Stretch,

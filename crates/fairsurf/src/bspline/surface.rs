@@ -284,6 +284,26 @@ impl BSplineSurface {
         ))
     }
 
+    /// The part over u ∈ [a, b] of the domain, cut exactly
+    /// ([`split_u`](Self::split_u) at an end inside the domain; an end at
+    /// or beyond the domain's is left as it is).
+    pub fn restricted_u(&self, a: f64, b: f64) -> Result<Self> {
+        let (lo, hi) = self.u.domain();
+        let mut s = self.clone();
+        if a > lo {
+            s = s.split_u(a)?.1;
+        }
+        if b < hi {
+            s = s.split_u(b)?.0;
+        }
+        Ok(s)
+    }
+
+    /// [`restricted_u`](Self::restricted_u) in v.
+    pub fn restricted_v(&self, a: f64, b: f64) -> Result<Self> {
+        Ok(self.transposed().restricted_u(a, b)?.transposed())
+    }
+
     /// The surface cut at v = t ([`BSplineSurface::split_u`] in v).
     pub fn split_v(&self, t: f64) -> Result<(Self, Self)> {
         let (a, b) = self.transposed().split_u(t)?;

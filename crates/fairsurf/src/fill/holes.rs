@@ -8,7 +8,7 @@
 
 use crate::analysis::Edge;
 use crate::bspline::BSplineSurface;
-use crate::vec3::{add, bounding_diagonal, dist, dot, scale, sub};
+use crate::vec3::{add, bounding_diagonal, dist, scale};
 use crate::{Error, Result, Vec3};
 
 /// One side of a hole: a boundary of one face, or the part `range` of it,
@@ -314,22 +314,13 @@ fn boundary_box(face: &BSplineSurface, edge: Edge, tol: f64) -> (Vec3, Vec3) {
 /// nearest to p, and the distance: the nearest of 33 samples, then Newton
 /// steps on (C(t) − p)·C′(t) = 0 kept in the range while they come closer.
 fn nearest_on_boundary(face: &BSplineSurface, edge: Edge, range: [f64; 2], p: Vec3) -> (f64, f64) {
-    let [lo, hi] = range;
-    let (mut best, mut t) = (f64::MAX, lo);
-    for k in 0..=32 {
-        let x = lo + (hi - lo) * k as f64 / 32.0;
-        let d = dist(edge_point(face, edge, x), p);
-        if d < best {
-            (best, t) = (d, x);
-        }
-    }
     // dC/dt from the surface's derivatives along the boundary's direction.
     let (s0, r0) = edge.param(0.0);
     let (s1, r1) = edge.param(1.0);
     let (ku, kv) = face.knots();
     let ((a, b), (c, d)) = (ku.domain(), kv.domain());
     let (du_dt, dv_dt) = ((s1 - s0) * (b - a), (r1 - r0) * (d - c));
-    for _ in 0..30 {
+    let curve = |t: f64| {
         let (u, v) = surface_param(face, edge, t);
         let x = face.derivatives(u, v);
         let d1 = add(scale(x.du, du_dt), scale(x.dv, dv_dt));
@@ -340,17 +331,7 @@ fn nearest_on_boundary(face: &BSplineSurface, edge: Edge, range: [f64; 2], p: Ve
             ),
             scale(x.dvv, dv_dt * dv_dt),
         );
-        let r = sub(x.point, p);
-        let h = dot(d1, d1) + dot(r, d2);
-        if h.is_nan() || h <= 0.0 {
-            break;
-        }
-        let next = (t - dot(r, d1) / h).clamp(lo, hi);
-        let e = dist(edge_point(face, edge, next), p);
-        if e.is_nan() || e >= best {
-            break;
-        }
-        (best, t) = (e, next);
-    }
-    (t, best)
+        [x.point, d1, d2]
+    };
+    crate::curve::nearest_parameter(curve, (range[0], range[1]), p)
 }

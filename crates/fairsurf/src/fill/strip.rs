@@ -124,13 +124,7 @@ impl Strip {
                 .flat_map(|(p, d)| [*p, *d])
                 .collect(),
         )?;
-        let mut cut = net;
-        if a > 0.0 {
-            cut = cut.split_u(a)?.1;
-        }
-        if b < 1.0 {
-            cut = cut.split_u(b)?.0;
-        }
+        let cut = net.restricted_u(a, b)?;
         let cu = cut.counts().0;
         Ok(Self {
             knots: unit_knots(cut.knots().0)?,
