@@ -330,6 +330,16 @@ def monterde_ugail():
     })
 
 
+# Veltkamp & Wesselink's four constraint kinds (section 4.1) at points of the unit square.
+FOUR_CONSTRAINTS = [
+    {"type": "point", "name": "peak", "at": {"uv": [0.35, 0.4]}, "target": [0.35, 0.4, 0.3]},
+    {"type": "normal", "name": "slope", "at": {"uv": [0.35, 0.4]}, "normal": [-0.4, 0.2, 1.0]},
+    {"type": "in_plane", "name": "shelf", "at": {"uv": [0.7, 0.7]}, "normal": [0, 0, 1], "offset": -0.1},
+    {"type": "on_line", "name": "post", "at": {"uv": [0.75, 0.25]},
+     "point": [0.8, 0.2, 0.0], "direction": [0, 0, 1]},
+]
+
+
 def tensor_operators():
     """Veltkamp & Wesselink's operators (section 5) on a tensor-product patch."""
     n = 6
@@ -369,13 +379,7 @@ def tensor_operators():
                     "control_points": [[[r(i / 7), r(j / 7), 0.0] for j in range(8)] for i in range(8)]},
         "fixed_rings": 1,
         "energy": {"stretch": 0.1, "bend": 1},
-        "constraints": [
-            {"type": "point", "name": "peak", "at": {"uv": [0.35, 0.4]}, "target": [0.35, 0.4, 0.3]},
-            {"type": "normal", "name": "slope", "at": {"uv": [0.35, 0.4]}, "normal": [-0.4, 0.2, 1.0]},
-            {"type": "in_plane", "name": "shelf", "at": {"uv": [0.7, 0.7]}, "normal": [0, 0, 1], "offset": -0.1},
-            {"type": "on_line", "name": "post", "at": {"uv": [0.75, 0.25]},
-             "point": [0.8, 0.2, 0.0], "direction": [0, 0, 1]},
-        ],
+        "constraints": FOUR_CONSTRAINTS,
     })
 
 
@@ -419,6 +423,28 @@ def bspline_hole():
                     "control_points": net},
         "fixed_rings": 2,
         "energy": {"bend": 1},
+    })
+
+
+def bspline_constraints():
+    """tensor_constraints.json's four constraints on a bicubic B-spline of
+    10 x 10 uniform spans: the same flat frame, one ring fixed."""
+    p, spans = 3, 10
+    c = spans + p
+    knots = [0.0] * (p + 1) + [r(k / spans) for k in range(1, spans)] + [1.0] * (p + 1)
+    grev = [sum(knots[i + 1:i + p + 1]) / p for i in range(c)]
+    net = [[[r(grev[i]), r(grev[j]), 0.0] for j in range(c)] for i in range(c)]
+    write("bspline_constraints.json", {
+        "name": "Veltkamp & Wesselink's constraints (section 4.1) on a bicubic B-spline: a point, "
+                "a normal, a plane and a line",
+        "description": "tensor_constraints.json on 10 x 10 uniform knot spans (13 x 13 control "
+                       "points), boundary ring fixed on the unit square, thin plate with a little "
+                       "membrane; each constraint met exactly through the KKT solve.",
+        "surface": {"type": "bspline", "degree": [p, p], "knots": [knots, knots],
+                    "control_points": net},
+        "fixed_rings": 1,
+        "energy": {"stretch": 0.1, "bend": 1},
+        "constraints": FOUR_CONSTRAINTS,
     })
 
 
@@ -745,6 +771,7 @@ if __name__ == "__main__":
     bspline_hole()
     bspline_hole_guided()
     bspline_hole_sampled()
+    bspline_constraints()
     editor_degree10()
     tensor_operators()
     monterde_ugail()

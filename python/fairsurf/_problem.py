@@ -211,9 +211,8 @@ class Problem(Mapping[str, Any]):
         """Adds a constraint (Veltkamp & Wesselink §4.1) held exactly:
         ``kind`` is ``"point"`` (``target``), ``"normal"`` (``normal``),
         ``"in_plane"`` (``normal``, ``offset``), ``"on_line"`` (``point``,
-        ``direction``), each ``at={"uv": [u, v]}``; optional ``name``
-        (Bézier problems)."""
-        self._only("tensor", "constraints")
+        ``direction``), each ``at={"uv": [u, v]}`` ((u, v) in [0, 1]² on a
+        Bézier patch, in the knot domain on a B-spline); optional ``name``."""
         return self._append("constraints", kind, fields)
 
     def operator(self, kind: str, **fields: Any) -> "Problem":

@@ -186,6 +186,7 @@ def fill_shape(
     sewing = BRepBuilderAPI_Sewing(tolerance)
     sewing.Add(shape)
     for surface in filled.fills:
-        sewing.Add(to_face(surface, tolerance))
+        # A polygonal hole's fill is triangular: a shell of its patches.
+        sewing.Add(to_shape(surface, tolerance))
     sewing.Perform()
     return sewing.SewedShape(), filled

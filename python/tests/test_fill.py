@@ -358,20 +358,39 @@ def test_the_python_fill_next_to_cylinders_is_sewn_like_the_command_line(tmp_pat
     assert free_edges_after_sewing(shape) == 12
 
 
+def sewn_faces(scene: str):
+    """The Bézier faces of a bundled fill scene as one Open CASCADE shape, sewn."""
+    sewing = BRepBuilderAPI_Sewing(1e-7)
+    for f in json.loads((EXAMPLES / scene).read_text())["faces"]:
+        sewing.Add(bezier_face(f["control_points"]))
+    sewing.Perform()
+    return sewing.SewedShape()
+
+
 def test_an_open_cascade_shape_is_filled_and_sewn():
     from fairsurf import occ
 
-    scene = json.loads((EXAMPLES / "fill_network.json").read_text())
-    sewing = BRepBuilderAPI_Sewing(1e-7)
-    for f in scene["faces"]:
-        sewing.Add(bezier_face(f["control_points"]))
-    sewing.Perform()
-    shape, filled = occ.fill_shape(sewing.SewedShape())
+    shape, filled = occ.fill_shape(sewn_faces("fill_network.json"))
     assert count(shape, TopAbs_FACE) == 9
     assert free_edges_after_sewing(shape) == 12
     across = [s for s in seams(shape) if 8 in s[0]]
     assert len(across) == 4 and max(s[1] for s in across) < 1e-9
     assert filled.report["fills"][0]["max_angle_deg"] < 1e-9
+
+
+def test_an_open_cascade_shape_with_a_pentagonal_hole_is_filled_and_sewn():
+    """The fill of a 5-sided hole is a fan of triangular patches: the shape
+    comes back with one face per patch, sewn to the hole's faces and to each
+    other (only the outer rim is free)."""
+    from fairsurf import occ
+
+    shape, filled = occ.fill_shape(sewn_faces("fill_pentagon.json"))
+    fill = filled.report["fills"][0]
+    assert fill["kind"] == "fan"
+    assert count(shape, TopAbs_FACE) == 5 + fill["patches"]
+    assert free_edges_after_sewing(shape) == 5
+    sides = [s for s in seams(shape) if s[0][0] < 5 <= s[0][1]]
+    assert len(sides) == 5 and max(s[1] for s in sides) < 1e-9
 
 
 def check_fan(cli: Path, step_in: Path, tmp_path: Path, n: int) -> dict:

@@ -382,6 +382,13 @@ fn bspline_summary(path: &Path, s: &fairsurf_io::SolvedBSplineScene, written: &[
             r.corrections
         ),
     ];
+    constraint_lines(&mut lines, &r.constraints);
+    if !r.constraints.is_empty() {
+        lines.push(format!(
+            "  max constraint violation {:.2e}",
+            r.max_violation
+        ));
+    }
     if let Some(t) = s.normal_turn {
         lines.push(format!(
             "  largest normal turn between neighbouring samples {:.2}°",
@@ -391,10 +398,18 @@ fn bspline_summary(path: &Path, s: &fairsurf_io::SolvedBSplineScene, written: &[
     for note in &s.notes() {
         lines.push(format!("  note: {note}"));
     }
-    lines.push(format!(
-        "  gradient {:.2e} (relative {:.2e})  residual {:.2e}  Cholesky factor {} nonzeros",
-        r.gradient_norm, r.relative_gradient, r.residual, r.factor_nonzeros
-    ));
+    lines.push(match &r.kkt {
+        Some(k) => format!(
+            "  gradient {:.2e} (relative {:.2e})  KKT {}×{}{} by {}: residual {:.2e}, condition ≈ {:.2e}",
+            r.gradient_norm, r.relative_gradient, k.size, k.size,
+            if k.per_coordinate { " (one for x, y and z)" } else { "" },
+            k.factorization.name(), k.relative_residual, k.condition
+        ),
+        None => format!(
+            "  gradient {:.2e} (relative {:.2e})  residual {:.2e}  Cholesky factor {} nonzeros",
+            r.gradient_norm, r.relative_gradient, r.residual, r.factor_nonzeros
+        ),
+    });
     lines.push(solved_line(r.timings.total, written));
     lines.join("\n")
 }

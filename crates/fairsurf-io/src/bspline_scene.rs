@@ -39,6 +39,12 @@ pub struct BSplineScene {
     /// and `stretch: 1` otherwise.
     #[serde(default)]
     pub energy: BSplineEnergySpec,
+    /// Linear constraints at points (u, v) of the knot domain (Veltkamp &
+    /// Wesselink eq. 31, as in tensor scenes): point, normal, in_plane,
+    /// on_line, met exactly (to rounding) through the solver core's KKT
+    /// solve; the report gives each one's violation.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub constraints: Vec<crate::TensorConstraintSpec>,
     /// Knots to insert before solving (exact refinement: the surface as
     /// given is unchanged, it gains freedom); needs `fixed_rings`. Result
     /// files hold the refined knots and net instead.
@@ -390,6 +396,14 @@ impl BSplineScene {
             };
             problem = problem.with_guide_surface(g.weight, Some(points))?;
         }
+        let (ku, kv) = problem.surface().knots();
+        let domain = [ku.domain(), kv.domain()];
+        let [(u0, u1), (v0, v1)] = domain;
+        let described = format!("the knot domain [{u0}, {u1}] × [{v0}, {v1}]");
+        for (i, c) in self.constraints.iter().enumerate() {
+            let (name, constraint) = c.build_in(i, domain, &described)?;
+            problem = problem.with_constraint(name, constraint);
+        }
         Ok(problem)
     }
 
@@ -529,7 +543,7 @@ impl SolvedBSplineScene {
             "relative_gradient": r.relative_gradient,
             "residual": r.residual,
             "condition_estimate": crate::result::finite(r.condition_estimate),
-            "refinement_steps": 1,
+            "refinement_steps": r.kkt.map_or(1, |k| k.refinement_steps),
             "unknowns": r.unknowns,
             "free_points": r.free_points,
             "coupled": r.coupled,
@@ -543,8 +557,9 @@ impl SolvedBSplineScene {
                 "corrections": r.corrections,
                 "tolerance": fairsurf::CHECK_TOLERANCE,
             },
-            "constraints": [],
-            "max_violation": 0.0,
+            "constraints": crate::constraints::outcomes_json(&r.constraints),
+            "max_violation": r.max_violation,
+            "kkt": r.kkt.as_ref().map(crate::tri_result::kkt_json),
             "external": 0.0,
             "operators": [],
             "newton": Value::Null,

@@ -138,8 +138,21 @@ pub struct TensorConstraintSpec {
 }
 
 impl TensorConstraintSpec {
-    /// The name and the library constraint of `constraints[i]`.
+    /// The name and the library constraint of `constraints[i]` of a tensor
+    /// patch ((u, v) in [0, 1]²).
     pub(crate) fn build(&self, i: usize) -> Result<(String, fairsurf::TensorConstraint)> {
+        self.build_in(i, [(0.0, 1.0), (0.0, 1.0)], "[0, 1]²")
+    }
+
+    /// The name and the library constraint of `constraints[i]`, (u, v) in
+    /// the parameter rectangle `domain` (a B-spline's knot domain), which
+    /// errors call `described`.
+    pub(crate) fn build_in(
+        &self,
+        i: usize,
+        domain: [(f64, f64); 2],
+        described: &str,
+    ) -> Result<(String, fairsurf::TensorConstraint)> {
         let path = format!("constraints[{i}]");
         let name = self
             .name
@@ -154,14 +167,13 @@ impl TensorConstraintSpec {
         };
         let uv = self.at.uv();
         let at = || {
-            if uv.iter().all(|t| (0.0..=1.0).contains(t)) {
-                Ok(uv)
-            } else {
-                Err(Error::scene(
-                    format!("{path}.at"),
-                    format!("expected (u, v) in [0, 1]², got {uv:?}"),
-                ))
+            if uv.iter().zip(domain).all(|(t, (a, b))| (a..=b).contains(t)) {
+                return Ok(uv);
             }
+            Err(Error::scene(
+                format!("{path}.at"),
+                format!("expected (u, v) in {described}, got {uv:?}"),
+            ))
         };
         let constraint = located(self.kind, &path, &fields, at)?.ok_or_else(|| {
             Error::scene(

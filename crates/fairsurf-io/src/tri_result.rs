@@ -187,6 +187,18 @@ fn blank(kind: ConstraintKind) -> ConstraintSpec {
     }
 }
 
+/// The solver core's KKT solve ([`fairsurf::triangle::KktInfo`]) as JSON.
+pub(crate) fn kkt_json(k: &fairsurf::triangle::KktInfo) -> Value {
+    json!({
+        "size": k.size,
+        "factorization": k.factorization.name(),
+        "per_coordinate": k.per_coordinate,
+        "reused_symbolic": k.reused_symbolic,
+        "factor_nonzeros": k.factor_nonzeros,
+        "delta": k.delta,
+    })
+}
+
 /// A [`TriReport`] as JSON.
 pub fn tri_report_json(r: &TriReport) -> Value {
     let rows = |d: &[fairsurf::triangle::DroppedRow]| -> Vec<Value> {
@@ -225,14 +237,7 @@ pub fn tri_report_json(r: &TriReport) -> Value {
         "residual": kkt.map(|k| k.relative_residual),
         "condition_estimate": kkt.and_then(|k| crate::result::finite(k.condition)),
         "refinement_steps": kkt.map_or(0, |k| k.refinement_steps),
-        "kkt": kkt.map(|k| json!({
-            "size": k.size,
-            "factorization": k.factorization.name(),
-            "per_coordinate": k.per_coordinate,
-            "reused_symbolic": k.reused_symbolic,
-            "factor_nonzeros": k.factor_nonzeros,
-            "delta": k.delta,
-        })),
+        "kkt": kkt.map(kkt_json),
         "timings_s": {
             "refine": r.seconds.refine,
             "assemble": r.seconds.assemble,

@@ -447,6 +447,104 @@ fn bspline_scenes_name_their_paths_and_round_trip() {
     );
 }
 
+/// Constraints on a B-spline scene: met on the written net (measured by
+/// evaluating it), reported one by one with the KKT solve; kept by the
+/// result file, which solves again to the same net; kept through `refine`
+/// (the knot domain does not change); bad ones named by their path.
+#[test]
+fn bspline_constraints_hold_round_trip_and_name_their_paths() {
+    use fairsurf::vector::{dot, norm, sub};
+    use fairsurf_io::{BSplineScene, Scene};
+    let text = std::fs::read_to_string(examples().join("bspline_constraints.json")).unwrap();
+    let base: Value = serde_json::from_str(&text).unwrap();
+    let solved = BSplineScene::from_json(&text).unwrap().solve().unwrap();
+    let s = solved.surface();
+    assert!(norm(sub(s.eval(0.35, 0.4), [0.35, 0.4, 0.3])) < 1e-12);
+    assert!((s.eval(0.7, 0.7)[2] + 0.1).abs() < 1e-12);
+    let post = s.eval(0.75, 0.25);
+    assert!(norm(sub([post[0], post[1], 0.0], [0.8, 0.2, 0.0])) < 1e-12);
+    let d = s.derivatives(0.35, 0.4);
+    let n = [-0.4, 0.2, 1.0];
+    assert!(dot(n, d.du).abs() < 1e-12 && dot(n, d.dv).abs() < 1e-12);
+    let report = solved.report_json();
+    assert_eq!(
+        report["constraints"].as_array().unwrap().len(),
+        4,
+        "{report}"
+    );
+    assert!(
+        report["max_violation"].as_f64().unwrap() < 1e-12,
+        "{report}"
+    );
+    assert!(report["kkt"]["factorization"].is_string(), "{report}");
+    let result = serde_json::to_string(&solved.result_scene()).unwrap();
+    let again = BSplineScene::from_json(&result).unwrap().solve().unwrap();
+    let moved = again
+        .surface()
+        .points()
+        .iter()
+        .zip(s.points())
+        .map(|(a, b)| norm(sub(*a, *b)))
+        .fold(0.0, f64::max);
+    assert!(moved < 1e-12, "{moved}");
+    // Refined, the constraints still hold and the energy does not rise.
+    let mut v = base.clone();
+    v["refine"] = json!({"split": [2, 2]});
+    let fine = Scene::from_json(&v.to_string()).unwrap().solve().unwrap();
+    let fine = fine.report_json();
+    assert!(fine["max_violation"].as_f64().unwrap() < 1e-12, "{fine}");
+    assert!(fine["energy"].as_f64().unwrap() <= report["energy"].as_f64().unwrap() * (1.0 + 1e-12));
+    let fails =
+        |v: &Value| match Scene::from_json(&v.to_string()).and_then(|s| s.solve().map(|_| ())) {
+            Err(Error::Scene { path, message }) => (path, message),
+            other => panic!("expected a scene error, got {other:?}"),
+        };
+    let cases: Vec<(&str, Value, &str, &str)> = vec![
+        (
+            "/constraints/0/at",
+            json!({"uv": [1.5, 0.5]}),
+            "constraints[0].at",
+            "knot domain",
+        ),
+        (
+            "/constraints/1/normal",
+            Value::Null,
+            "constraints[1].normal",
+            "required",
+        ),
+        (
+            "/constraints/2/type",
+            json!("fixed"),
+            "constraints[2].type",
+            "point, normal",
+        ),
+    ];
+    for (ptr, value, path, msg) in cases {
+        let mut v = base.clone();
+        if value.is_null() {
+            let (parent, key) = ptr.rsplit_once('/').unwrap();
+            v.pointer_mut(parent)
+                .unwrap()
+                .as_object_mut()
+                .unwrap()
+                .remove(key);
+        } else {
+            *v.pointer_mut(ptr).unwrap() = value;
+        }
+        let (p, m) = fails(&v);
+        assert!(p == path && m.contains(msg), "{ptr}: {p}: {m}");
+    }
+    // The same point twice: the library's refusal names the second.
+    let mut v = base.clone();
+    let first = v["constraints"][0].clone();
+    v["constraints"].as_array_mut().unwrap().push(first);
+    let e = Scene::from_json(&v.to_string())
+        .unwrap()
+        .solve()
+        .unwrap_err();
+    assert!(e.to_string().contains("peak, x"), "{e}");
+}
+
 /// `refine` inserts knots before solving: the given surface is unchanged
 /// (exact refinement), the minimum does not rise and here falls, the result
 /// file holds the refined knots and net (no `refine`) and solves again to

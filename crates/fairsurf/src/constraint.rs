@@ -43,6 +43,51 @@ pub trait ConstraintSurface {
     fn control_points(&self) -> &[Vec3];
 }
 
+/// Each constraint's violation on `surface` (as reports list them) and the
+/// largest (0 without constraints).
+pub(crate) fn outcomes<A, S>(
+    constraints: &[NamedConstraint<A>],
+    surface: &S,
+) -> (Vec<ConstraintOutcome>, f64)
+where
+    A: Copy + std::fmt::Debug + PartialEq,
+    S: ConstraintSurface<At = A>,
+{
+    let out: Vec<ConstraintOutcome> = constraints
+        .iter()
+        .map(|c| ConstraintOutcome {
+            name: c.name.clone(),
+            kind: c.constraint.kind(),
+            violation: c.constraint.violation(surface),
+        })
+        .collect();
+    let worst = out.iter().map(|c| c.violation).fold(0.0, f64::max);
+    (out, worst)
+}
+
+/// Checks that (u, v) lies in the parameter rectangle `domain` up to 1e-12
+/// of its size (rounding of a computed parameter); the error names `what`
+/// and calls the rectangle `described`.
+pub(crate) fn check_in_rectangle(
+    at: [f64; 2],
+    domain: [(f64, f64); 2],
+    what: &str,
+    described: impl FnOnce() -> String,
+) -> Result<()> {
+    let inside = at.iter().zip(domain).all(|(&t, (a, b))| {
+        let slack = 1e-12 * (b - a).abs().max(1.0);
+        t >= a - slack && t <= b + slack
+    });
+    if inside {
+        return Ok(());
+    }
+    Err(Error::Mismatch {
+        what: format!("{what}: (u, v)"),
+        expected: described(),
+        got: format!("{at:?}"),
+    })
+}
+
 /// One linear constraint (eq. 31) at domain points of type `A`.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Constraint<A> {

@@ -6,9 +6,11 @@
 //! surface kinds; targets move with a kept factorization; bad constraints
 //! are refused, naming them.
 
+mod common;
+
 use fairsurf::constraint::{ConstraintSurface, Row};
 use fairsurf::triangle::{DomainPoint, TriSurface};
-use fairsurf::vector::{cross, dot, norm, normalize, sub};
+use fairsurf::vector::{dot, norm, normalize, sub};
 use fairsurf::{
     Bend, EnergyTerm, Error, Problem, SolveOptions, Stretch, TensorConstraint, TensorPatch, Vec3,
 };
@@ -28,40 +30,8 @@ fn base() -> Problem {
         .with_term(Bend::new(1.0))
 }
 
-/// One constraint of each kind.
 fn constraints() -> Vec<(&'static str, TensorConstraint)> {
-    vec![
-        (
-            "peak",
-            TensorConstraint::Point {
-                at: [0.3, 0.4],
-                target: [0.32, 0.41, 0.2],
-            },
-        ),
-        (
-            "tilt",
-            TensorConstraint::Normal {
-                at: [0.65, 0.6],
-                normal: [0.3, -0.1, 1.0],
-            },
-        ),
-        (
-            "shelf",
-            TensorConstraint::InPlane {
-                at: [0.5, 0.2],
-                normal: [0.1, 0.0, 1.0],
-                offset: 0.12,
-            },
-        ),
-        (
-            "rail",
-            TensorConstraint::OnLine {
-                at: [0.25, 0.75],
-                point: [0.25, 0.75, -0.1],
-                direction: [0.0, 0.3, 1.0],
-            },
-        ),
-    ]
+    common::four_constraints()
 }
 
 fn constrained() -> Problem {
@@ -72,23 +42,13 @@ fn constrained() -> Problem {
 
 /// How far the patch is from meeting the constraint, by evaluating it.
 fn miss(patch: &TensorPatch, c: &TensorConstraint) -> f64 {
-    match *c {
-        TensorConstraint::Point { at, target } => norm(sub(patch.eval(at[0], at[1]), target)),
-        TensorConstraint::Normal { at, normal } => {
-            let d = patch.derivatives(at[0], at[1]);
-            let n = normalize(normal).unwrap();
-            dot(n, d.du).abs().max(dot(n, d.dv).abs())
-        }
-        TensorConstraint::InPlane { at, normal, offset } => {
-            (dot(normal, patch.eval(at[0], at[1])) - offset).abs() / norm(normal)
-        }
-        TensorConstraint::OnLine {
-            at,
-            point,
-            direction,
-        } => norm(cross(sub(patch.eval(at[0], at[1]), point), direction)) / norm(direction),
-        TensorConstraint::Fixed { .. } => unreachable!(),
-    }
+    common::constraint_miss(
+        |[u, v]| {
+            let d = patch.derivatives(u, v);
+            (d.point, d.du, d.dv)
+        },
+        c,
+    )
 }
 
 #[test]
@@ -116,26 +76,6 @@ fn energy(p: &TensorPatch) -> f64 {
     Stretch::new(0.1).value(p).unwrap() + Bend::new(1.0).value(p).unwrap()
 }
 
-/// Orthonormal rows (Gram–Schmidt) over the free coordinates.
-fn orthonormal(rows: &[Row], free: &[usize]) -> Vec<Vec<f64>> {
-    let mut out: Vec<Vec<f64>> = Vec::new();
-    for row in rows {
-        let mut v = vec![0.0; 3 * free.len()];
-        for &(i, a) in &row.terms {
-            if let Some(k) = free.iter().position(|&p| p == i / 3) {
-                v[3 * k + i % 3] += a;
-            }
-        }
-        for q in &out {
-            let d: f64 = v.iter().zip(q).map(|(a, b)| a * b).sum();
-            v.iter_mut().zip(q).for_each(|(a, b)| *a -= d * b);
-        }
-        let n = v.iter().map(|a| a * a).sum::<f64>().sqrt();
-        out.push(v.iter().map(|a| a / n).collect());
-    }
-    out
-}
-
 /// Moving the free points along the constraints (directions projected on
 /// the rows' null space) never lowers the energy: the minimum over them.
 #[test]
@@ -148,22 +88,11 @@ fn no_move_along_the_constraints_lowers_the_energy() {
         .iter()
         .flat_map(|c| c.constraint.rows(&sol.patch, &c.name))
         .collect();
-    let q = orthonormal(&rows, &free);
     let e0 = energy(&sol.patch);
-    let mut seed = 12345u64;
-    for trial in 0..20 {
-        let mut d: Vec<f64> = (0..3 * free.len())
-            .map(|_| {
-                seed = seed
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-            })
-            .collect();
-        for r in &q {
-            let s: f64 = d.iter().zip(r).map(|(a, b)| a * b).sum();
-            d.iter_mut().zip(r).for_each(|(a, b)| *a -= s * b);
-        }
+    for (trial, d) in common::moves_along(&rows, &free, 12345, 20)
+        .iter()
+        .enumerate()
+    {
         for eps in [1e-3, -1e-3] {
             let mut pts = sol.patch.points().to_vec();
             for (k, &p) in free.iter().enumerate() {

@@ -32,6 +32,7 @@
 //! assert!(faired.report.energy_error < 1e-10);
 //! ```
 
+mod constraint;
 mod energy;
 mod guidance;
 mod knots;

@@ -12,11 +12,14 @@
 use super::energy::{energy_by_pieces, energy_by_quadrature, patterns, Gram1d};
 use super::guidance::{guide_value, guide_value_by_pieces, NormalTerm};
 use super::BSplineSurface;
+use crate::basis::polygon::Uv;
 use crate::check;
+use crate::constraint::{ConstraintOutcome, NamedConstraint, Row};
 use crate::energy::{check_weight, NormalGuide};
 use crate::solve::dense::dot2_residual;
+use crate::solve::kkt::KktInfo;
 use crate::solve::kkt::{hager, sparse_llt, LltFailure};
-use crate::{Error, Result, TensorPatch, Timings, Vec3};
+use crate::{Error, Result, TensorConstraint, TensorPatch, Timings, Vec3};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::cholesky::LltRef;
 use faer::sparse::{SparseColMat, Triplet};
@@ -38,6 +41,8 @@ pub struct BSplineProblem {
     normal: Option<NormalTerm>,
     /// γ and the guide's net on the same knots.
     guide: Option<(f64, Vec<Vec3>)>,
+    /// Linear constraints at points (u, v) of the knot domain.
+    constraints: Vec<NamedConstraint<Uv>>,
 }
 
 /// What a B-spline solve reports; the figures mean what they mean in
@@ -85,8 +90,16 @@ pub struct BSplineReport {
     /// plate); the basis itself stays well conditioned (the Gram matrix of
     /// the B-splines, scaled, is bounded independently of the knots).
     pub condition_estimate: f64,
-    /// Nonzeros of the Cholesky factor.
+    /// Nonzeros of the Cholesky factor (of the KKT factor with
+    /// constraints; 0 when the core's LU solved it).
     pub factor_nonzeros: usize,
+    /// Each constraint's violation on the written net.
+    pub constraints: Vec<ConstraintOutcome>,
+    /// The largest of them (0 without constraints).
+    pub max_violation: f64,
+    /// With constraints: the solver core's KKT solve (which factorization,
+    /// its residual and condition); `None` without.
+    pub kkt: Option<KktInfo>,
     /// Seconds by phase (`analyse` is the check's second road).
     pub timings: Timings,
 }
@@ -111,6 +124,7 @@ impl BSplineProblem {
             bend: 0.0,
             normal: None,
             guide: None,
+            constraints: Vec::new(),
         }
     }
 
@@ -138,6 +152,12 @@ impl BSplineProblem {
         }
         self.free = free;
         Ok(self)
+    }
+
+    /// The surface: its knots, and the fixed points' values (free ones are
+    /// where the solve starts, which a quadratic energy ignores).
+    pub fn surface(&self) -> &BSplineSurface {
+        &self.surface
     }
 
     /// The free flags (row-major).
@@ -233,6 +253,73 @@ impl BSplineProblem {
         Ok(self)
     }
 
+    /// Adds a linear constraint at a point (u, v) of the knot domain
+    /// (Veltkamp & Wesselink eq. 31, as on a tensor patch): the surface
+    /// passes through a point, has a normal, lies in a plane or on a line
+    /// there, met exactly (to rounding) and reported with its violation. A
+    /// [`crate::constraint::Constraint::Fixed`] one fixes the control point
+    /// of index i·c_v + j at its value instead.
+    pub fn with_constraint(
+        mut self,
+        name: impl Into<String>,
+        constraint: TensorConstraint,
+    ) -> Self {
+        if let TensorConstraint::Fixed { point, value } = constraint {
+            if point < self.free.len() {
+                self.free[point] = false;
+                let mut points = self.surface.points().to_vec();
+                points[point] = value;
+                self.surface = self.surface.with_points(points);
+                return self;
+            }
+        }
+        self.constraints.push(NamedConstraint {
+            name: name.into(),
+            constraint,
+        });
+        self
+    }
+
+    /// The constraints at points of the knot domain.
+    pub fn constraints(&self) -> &[NamedConstraint<Uv>] {
+        &self.constraints
+    }
+
+    /// The constraints checked and turned into rows over all coordinates
+    /// (3·index + c).
+    fn constraint_rows(&self) -> Result<Vec<Row>> {
+        for c in &self.constraints {
+            c.constraint.validate(&self.surface, &c.name)?;
+        }
+        Ok(self
+            .constraints
+            .iter()
+            .flat_map(|c| c.constraint.rows(&self.surface, &c.name))
+            .collect())
+    }
+
+    /// Each constraint's violation on the written net and the largest; an
+    /// error when a row is missed beyond the check's tolerance.
+    fn outcomes(&self, surface: &BSplineSurface) -> Result<(Vec<ConstraintOutcome>, f64)> {
+        if self.constraints.is_empty() {
+            return Ok((Vec::new(), 0.0));
+        }
+        let rows = self.constraint_rows()?;
+        let known: Vec<Vec3> = (0..self.free.len())
+            .filter(|&k| !self.free[k])
+            .map(|k| surface.points()[k])
+            .collect();
+        if let Some((row, miss)) = super::constraint::unmet(&rows, surface, &known) {
+            return Err(Error::Unmet {
+                degree: format!("{:?} (B-spline)", surface.degree()),
+                row,
+                miss,
+                tolerance: check::TOLERANCE,
+            });
+        }
+        Ok(crate::constraint::outcomes(&self.constraints, surface))
+    }
+
     /// Minimizes; refuses no free point, no energy, a negative weight, a
     /// singular system, and an answer whose energy the second road does
     /// not confirm.
@@ -261,93 +348,49 @@ impl BSplineProblem {
         let sys = self.assemble(&free, &gu, &gv, &pats, normal);
         let assemble = t0.elapsed().as_secs_f64();
 
-        let t1 = Instant::now();
-        let lower = SparseColMat::try_new_from_triplets(sys.dim, sys.dim, &sys.lower)
-            .expect("the triplets index the free block");
-        let (symbolic, values) = sparse_llt(&lower, None).map_err(|e| match e {
-            LltFailure::NotPositive => Error::NotPositiveDefinite {
-                unknowns: 3 * free.len(),
-                pivot: 0,
-                hint: "the energy does not determine the free control points: add bend or \
-                       stretch, or fix more points"
-                    .into(),
-            },
-            LltFailure::Symbolic(why) => Error::Mismatch {
-                what: "B-spline system".into(),
-                expected: "a size that fits in memory".into(),
-                got: format!("{} free points ({why})", free.len()),
-            },
-        })?;
-        let factor = t1.elapsed().as_secs_f64();
-
-        let t2 = Instant::now();
-        let llt = LltRef::new(symbolic.as_ref(), &values);
-        let par = Par::Seq;
-        let cols = sys.b.ncols();
-        let mut mem = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(cols, par));
-        let mut solve = |rhs: &mut Mat<f64>| {
-            llt.solve_in_place_with_conj(Conj::No, rhs.as_mut(), par, MemStack::new(&mut mem));
-        };
-        let mut x = sys.b.clone();
-        solve(&mut x);
-        // One step of iterative refinement: x += H⁻¹(b − Hx).
-        let mut d = sys.residual(&x);
-        solve(&mut d);
-        x += &d;
-        // The check's gradient, b − Hx with compensated products, and the
-        // excess ½ gᵀH⁻¹g; Newton corrections while it falls.
-        let rows = sys.rows();
-        let excess_at = |x: &Mat<f64>, solve: &mut dyn FnMut(&mut Mat<f64>)| {
-            let g = sys.residual_dot2(&rows, x);
-            let mut d = g.clone();
-            solve(&mut d);
-            let e = 0.5 * dot(&g, &d);
-            (e, g, d)
-        };
-        let (mut excess, mut r, mut d) = excess_at(&x, &mut solve);
-        let mut corrections = 0;
-        while corrections < check::MAX_CORRECTIONS && excess > 0.0 {
-            let next = &x + &d;
-            let (e2, r2, d2) = excess_at(&next, &mut solve);
-            if e2.is_nan() || e2 >= excess {
-                break;
+        let solved = if self.constraints.is_empty() {
+            unconstrained(&sys, normal.is_some(), free.len())?
+        } else {
+            let rows = self.constraint_rows()?;
+            let mut slot = vec![usize::MAX; self.free.len()];
+            for (s, &k) in free.iter().enumerate() {
+                slot[k] = s;
             }
-            (x, excess, r, d) = (next, e2, r2, d2);
-            corrections += 1;
-        }
-        // ‖H‖₁‖H⁻¹‖₁ (H symmetric: its 1-norm is its ∞-norm), Hager's
-        // estimate through the factor.
-        let condition_estimate = sys.h_inf
-            * hager(sys.dim, |v| {
-                let mut m = Mat::from_fn(sys.dim, 1, |i, _| v[i]);
-                let mut mem1 = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, par));
-                llt.solve_in_place_with_conj(Conj::No, m.as_mut(), par, MemStack::new(&mut mem1));
-                (0..sys.dim).map(|i| m[(i, 0)]).collect()
-            });
-        let solve_s = t2.elapsed().as_secs_f64();
-
+            let t1 = Instant::now();
+            let c = super::constraint::solve(
+                &sys,
+                normal.is_some(),
+                &rows,
+                &slot,
+                self.surface.points(),
+            )?;
+            let x: Vec<Vec3> = c.x.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
+            let x_inf = c.x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let denom = sys.h_inf * x_inf + c.b_inf;
+            Solved {
+                xx: c.x.iter().map(|v| v * v).sum(),
+                x,
+                gradient_norm: c.gradient_norm,
+                relative_gradient: if denom > 0.0 {
+                    c.gradient_norm / denom
+                } else {
+                    c.gradient_norm
+                },
+                residual: c.kkt.relative_residual,
+                excess: c.excess,
+                corrections: c.corrections,
+                condition_estimate: c.kkt.condition,
+                factor_nonzeros: c.kkt.factor_nonzeros.unwrap_or(0),
+                kkt: Some(c.kkt),
+                factor: 0.0,
+                solve: t1.elapsed().as_secs_f64(),
+            }
+        };
         let mut points: Vec<Vec3> = self.surface.points().to_vec();
         for (row, &k) in free.iter().enumerate() {
-            points[k] = if normal.is_some() {
-                [x[(3 * row, 0)], x[(3 * row + 1, 0)], x[(3 * row + 2, 0)]]
-            } else {
-                [x[(row, 0)], x[(row, 1)], x[(row, 2)]]
-            };
+            points[k] = solved.x[row];
         }
         let surface = self.surface.with_points(points);
-        let gradient_norm = inf(&r);
-        let denom = sys.h_inf * inf(&x) + inf(&sys.b);
-        let relative_gradient = if denom > 0.0 {
-            gradient_norm / denom
-        } else {
-            gradient_norm
-        };
-        let residual = if inf(&sys.b) > 0.0 {
-            gradient_norm / inf(&sys.b)
-        } else {
-            gradient_norm
-        };
-
         let t3 = Instant::now();
         let (pieces, degree) = (surface.bezier_pieces(), surface.degree());
         let part = |pats: Vec<(f64, usize, usize)>| energy_by_pieces(&pieces, degree, &pats);
@@ -384,8 +427,8 @@ impl BSplineProblem {
         }
         // Rounding the free points to doubles can change the energy by about
         // ε² · max H_ii · Σ x_i²: below that, the excess tells nothing.
-        let scale = check::scale(total, sys.h_diag * dot(&x, &x));
-        let excess = excess.max(0.0) / scale;
+        let scale = check::scale(total, sys.h_diag * solved.xx);
+        let excess = solved.excess.max(0.0) / scale;
         if excess > check::TOLERANCE {
             return Err(Error::Unverified {
                 degree: format!("{:?} (B-spline)", surface.degree()),
@@ -397,6 +440,7 @@ impl BSplineProblem {
                     .into(),
             });
         }
+        let (constraints, max_violation) = self.outcomes(&surface)?;
         Ok(BSplineSolution {
             surface,
             report: BSplineReport {
@@ -410,18 +454,21 @@ impl BSplineProblem {
                 energy_error,
                 excess,
                 scale,
-                corrections,
+                corrections: solved.corrections,
                 free_points: free.len(),
                 unknowns: 3 * free.len(),
-                gradient_norm,
-                relative_gradient,
-                residual,
-                condition_estimate,
-                factor_nonzeros: values.len(),
+                gradient_norm: solved.gradient_norm,
+                relative_gradient: solved.relative_gradient,
+                residual: solved.residual,
+                condition_estimate: solved.condition_estimate,
+                factor_nonzeros: solved.factor_nonzeros,
+                constraints,
+                max_violation,
+                kkt: solved.kkt,
                 timings: Timings {
                     assemble,
-                    factor,
-                    solve: solve_s,
+                    factor: solved.factor,
+                    solve: solved.solve,
                     analyse,
                     total: t0.elapsed().as_secs_f64(),
                 },
@@ -590,14 +637,14 @@ impl BSplineProblem {
 }
 
 /// The assembled free block.
-struct System {
-    dim: usize,
+pub(super) struct System {
+    pub(super) dim: usize,
     /// Lower triangle (duplicates are summed).
-    lower: Vec<Triplet<usize, usize, f64>>,
+    pub(super) lower: Vec<Triplet<usize, usize, f64>>,
     /// Right-hand side, one column per coordinate or one.
-    b: Mat<f64>,
+    pub(super) b: Mat<f64>,
     /// ‖H‖∞ of the free block.
-    h_inf: f64,
+    pub(super) h_inf: f64,
     /// max H_ii of the free block.
     h_diag: f64,
 }
@@ -644,6 +691,131 @@ impl System {
         }
         r
     }
+}
+
+/// The free points solved and the report's figures that depend on how.
+struct Solved {
+    /// The free points, in the order of the free list.
+    x: Vec<Vec3>,
+    /// Σ x_i² over the free coordinates.
+    xx: f64,
+    gradient_norm: f64,
+    relative_gradient: f64,
+    residual: f64,
+    /// E(x) − min E, before scaling.
+    excess: f64,
+    corrections: usize,
+    condition_estimate: f64,
+    factor_nonzeros: usize,
+    kkt: Option<KktInfo>,
+    /// Seconds factoring and solving.
+    factor: f64,
+    solve: f64,
+}
+
+/// Sparse Cholesky of the free block (AMD ordering), one step of iterative
+/// refinement, then the check's Newton corrections while the excess
+/// ½ gᵀH⁻¹g (g = b − Hx in compensated products) falls.
+fn unconstrained(sys: &System, coupled: bool, nf: usize) -> Result<Solved> {
+    let t1 = Instant::now();
+    let lower = SparseColMat::try_new_from_triplets(sys.dim, sys.dim, &sys.lower)
+        .expect("the triplets index the free block");
+    let (symbolic, values) = sparse_llt(&lower, None).map_err(|e| match e {
+        LltFailure::NotPositive => Error::NotPositiveDefinite {
+            unknowns: 3 * nf,
+            pivot: 0,
+            hint: "the energy does not determine the free control points: add bend or \
+                   stretch, or fix more points"
+                .into(),
+        },
+        LltFailure::Symbolic(why) => Error::Mismatch {
+            what: "B-spline system".into(),
+            expected: "a size that fits in memory".into(),
+            got: format!("{nf} free points ({why})"),
+        },
+    })?;
+    let factor = t1.elapsed().as_secs_f64();
+
+    let t2 = Instant::now();
+    let llt = LltRef::new(symbolic.as_ref(), &values);
+    let par = Par::Seq;
+    let cols = sys.b.ncols();
+    let mut mem = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(cols, par));
+    let mut solve = |rhs: &mut Mat<f64>| {
+        llt.solve_in_place_with_conj(Conj::No, rhs.as_mut(), par, MemStack::new(&mut mem));
+    };
+    let mut x = sys.b.clone();
+    solve(&mut x);
+    // One step of iterative refinement: x += H⁻¹(b − Hx).
+    let mut d = sys.residual(&x);
+    solve(&mut d);
+    x += &d;
+    // The check's gradient, b − Hx with compensated products, and the
+    // excess ½ gᵀH⁻¹g; Newton corrections while it falls.
+    let rows = sys.rows();
+    let excess_at = |x: &Mat<f64>, solve: &mut dyn FnMut(&mut Mat<f64>)| {
+        let g = sys.residual_dot2(&rows, x);
+        let mut d = g.clone();
+        solve(&mut d);
+        let e = 0.5 * dot(&g, &d);
+        (e, g, d)
+    };
+    let (mut excess, mut r, mut d) = excess_at(&x, &mut solve);
+    let mut corrections = 0;
+    while corrections < check::MAX_CORRECTIONS && excess > 0.0 {
+        let next = &x + &d;
+        let (e2, r2, d2) = excess_at(&next, &mut solve);
+        if e2.is_nan() || e2 >= excess {
+            break;
+        }
+        (x, excess, r, d) = (next, e2, r2, d2);
+        corrections += 1;
+    }
+    // ‖H‖₁‖H⁻¹‖₁ (H symmetric: its 1-norm is its ∞-norm), Hager's
+    // estimate through the factor.
+    let condition_estimate = sys.h_inf
+        * hager(sys.dim, |v| {
+            let mut m = Mat::from_fn(sys.dim, 1, |i, _| v[i]);
+            let mut mem1 = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, par));
+            llt.solve_in_place_with_conj(Conj::No, m.as_mut(), par, MemStack::new(&mut mem1));
+            (0..sys.dim).map(|i| m[(i, 0)]).collect()
+        });
+    let solve_s = t2.elapsed().as_secs_f64();
+    let x_free: Vec<Vec3> = (0..nf)
+        .map(|row| {
+            if coupled {
+                [x[(3 * row, 0)], x[(3 * row + 1, 0)], x[(3 * row + 2, 0)]]
+            } else {
+                [x[(row, 0)], x[(row, 1)], x[(row, 2)]]
+            }
+        })
+        .collect();
+    let gradient_norm = inf(&r);
+    let denom = sys.h_inf * inf(&x) + inf(&sys.b);
+    let relative_gradient = if denom > 0.0 {
+        gradient_norm / denom
+    } else {
+        gradient_norm
+    };
+    let residual = if inf(&sys.b) > 0.0 {
+        gradient_norm / inf(&sys.b)
+    } else {
+        gradient_norm
+    };
+    Ok(Solved {
+        x: x_free,
+        xx: dot(&x, &x),
+        gradient_norm,
+        relative_gradient,
+        residual,
+        excess,
+        corrections,
+        condition_estimate,
+        factor_nonzeros: values.len(),
+        kkt: None,
+        factor,
+        solve: solve_s,
+    })
 }
 
 /// Σ a_ij b_ij.

@@ -13,7 +13,6 @@ use super::rows::FreeRows;
 use crate::analysis::measures;
 use crate::budget;
 use crate::check::{self, Check};
-use crate::constraint::ConstraintOutcome;
 use crate::energy::Hessian;
 use crate::operator::newton::{newton, sparse, FreeResiduals};
 use crate::operator::OperatorOutcome;
@@ -398,16 +397,8 @@ impl Factored {
             .zip(placed)
             .map(|(op, (at, res))| op.outcome(at, res, &patch, &x))
             .collect();
-        let constraints: Vec<ConstraintOutcome> = problem
-            .constraints
-            .iter()
-            .map(|c| ConstraintOutcome {
-                name: c.name.clone(),
-                kind: c.constraint.kind(),
-                violation: c.constraint.violation(&patch),
-            })
-            .collect();
-        let max_violation = constraints.iter().map(|c| c.violation).fold(0.0, f64::max);
+        let (constraints, max_violation) =
+            crate::constraint::outcomes(&problem.constraints, &patch);
         // The written net must meet the rows as well as it is a minimum:
         // a high-degree net whose coefficients blow up misses them by its
         // rounding, which the energy check alone would not see.

@@ -188,6 +188,36 @@ fn norm2(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
+/// The first of `rows` that is (nearly) a combination of the ones before
+/// it, by the Cholesky factorization of F Fᵀ with the range-space solve's
+/// relative pivot test; `None` when they are independent. A row without
+/// terms is dependent.
+pub(crate) fn first_dependent_row(rows: &[Vec<(usize, f64)>]) -> Option<usize> {
+    let n = rows
+        .iter()
+        .flatten()
+        .map(|&(i, _)| i + 1)
+        .max()
+        .unwrap_or(0);
+    let mut dense = vec![0.0; n];
+    let m = rows.len();
+    let mut s = Mat::zeros(m, m);
+    for (i, row) in rows.iter().enumerate() {
+        for &(k, a) in row {
+            dense[k] += a;
+        }
+        for (j, other) in rows.iter().enumerate().take(i + 1) {
+            let v = dot(other, &dense);
+            s[(i, j)] = v;
+            s[(j, i)] = v;
+        }
+        for &(k, _) in row {
+            dense[k] = 0.0;
+        }
+    }
+    cholesky_checked(s).err()
+}
+
 /// S = L Lᵀ for small dense SPD S; `Err(k)` when row k's pivot falls below
 /// [`DEPENDENT`] of its diagonal (it depends on the rows before it).
 fn cholesky_checked(mut s: Mat<f64>) -> std::result::Result<Mat<f64>, usize> {

@@ -10,16 +10,13 @@ use super::TensorPatch;
 use crate::basis::bernstein_derivatives;
 use crate::constraint::ConstraintSurface;
 use crate::vec3::Vec3;
-use crate::{Error, Result};
+use crate::Result;
 
 pub use crate::basis::polygon::Uv;
 
 /// One linear constraint of a tensor-product patch (eq. 31 of Veltkamp &
 /// Wesselink, at (u, v)).
 pub type TensorConstraint = crate::constraint::Constraint<Uv>;
-
-/// How far outside [0, 1] a parameter may lie (rounding of a computed one).
-const OUTSIDE: f64 = 1e-12;
 
 impl TensorPatch {
     /// (index i·(m+1) + j, dᵃB_i^n(u)·dᵇB_j^m(v)) for the a-th u- and
@@ -44,13 +41,8 @@ impl ConstraintSurface for TensorPatch {
     type At = Uv;
 
     fn check_at(&self, at: Uv, what: &str) -> Result<()> {
-        if at.iter().all(|t| (-OUTSIDE..=1.0 + OUTSIDE).contains(t)) {
-            return Ok(());
-        }
-        Err(Error::Mismatch {
-            what: format!("{what}: (u, v)"),
-            expected: "a point of the parameter square [0, 1]²".into(),
-            got: format!("{at:?}"),
+        crate::constraint::check_in_rectangle(at, [(0.0, 1.0); 2], what, || {
+            "a point of the parameter square [0, 1]²".into()
         })
     }
 

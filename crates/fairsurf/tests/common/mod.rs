@@ -72,3 +72,107 @@ pub fn tri_grid(m: usize, n: usize) -> fairsurf::TriSurface {
     }
     fairsurf::TriSurface::new(&v, &t, n)
 }
+
+/// One constraint of each kind (Veltkamp & Wesselink §4.1), at points of
+/// [0, 1]².
+pub fn four_constraints() -> Vec<(&'static str, fairsurf::TensorConstraint)> {
+    use fairsurf::TensorConstraint as C;
+    vec![
+        (
+            "peak",
+            C::Point {
+                at: [0.3, 0.4],
+                target: [0.32, 0.41, 0.2],
+            },
+        ),
+        (
+            "tilt",
+            C::Normal {
+                at: [0.65, 0.6],
+                normal: [0.3, -0.1, 1.0],
+            },
+        ),
+        (
+            "shelf",
+            C::InPlane {
+                at: [0.5, 0.2],
+                normal: [0.1, 0.0, 1.0],
+                offset: 0.12,
+            },
+        ),
+        (
+            "rail",
+            C::OnLine {
+                at: [0.25, 0.75],
+                point: [0.25, 0.75, -0.1],
+                direction: [0.0, 0.3, 1.0],
+            },
+        ),
+    ]
+}
+
+/// How far a surface is from meeting the constraint, measured from its
+/// point and first derivatives `(R, R_u, R_v)` at a parameter (not through
+/// the constraint's rows).
+pub fn constraint_miss(
+    derivatives: impl Fn([f64; 2]) -> (Vec3, Vec3, Vec3),
+    c: &fairsurf::TensorConstraint,
+) -> f64 {
+    use fairsurf::vector::{cross, dot, norm, normalize, sub};
+    use fairsurf::TensorConstraint as C;
+    match *c {
+        C::Point { at, target } => norm(sub(derivatives(at).0, target)),
+        C::Normal { at, normal } => {
+            let (_, du, dv) = derivatives(at);
+            let n = normalize(normal).unwrap();
+            dot(n, du).abs().max(dot(n, dv).abs())
+        }
+        C::InPlane { at, normal, offset } => {
+            (dot(normal, derivatives(at).0) - offset).abs() / norm(normal)
+        }
+        C::OnLine {
+            at,
+            point,
+            direction,
+        } => norm(cross(sub(derivatives(at).0, point), direction)) / norm(direction),
+        C::Fixed { .. } => unreachable!("a fixed control point is no surface constraint"),
+    }
+}
+
+/// Random directions over the free points' coordinates (3k + c), projected
+/// on the null space of the rows (over all coordinates 3g + c): moves along
+/// the constraints.
+pub fn moves_along(
+    rows: &[fairsurf::constraint::Row],
+    free: &[usize],
+    seed: u64,
+    count: usize,
+) -> Vec<Vec<f64>> {
+    let n = 3 * free.len();
+    let mut basis: Vec<Vec<f64>> = Vec::new();
+    for row in rows {
+        let mut v = vec![0.0; n];
+        for &(i, a) in &row.terms {
+            if let Some(k) = free.iter().position(|&p| p == i / 3) {
+                v[3 * k + i % 3] += a;
+            }
+        }
+        for q in &basis {
+            let d: f64 = v.iter().zip(q).map(|(a, b)| a * b).sum();
+            v.iter_mut().zip(q).for_each(|(a, b)| *a -= d * b);
+        }
+        let l = v.iter().map(|a| a * a).sum::<f64>().sqrt();
+        basis.push(v.iter().map(|a| a / l).collect());
+    }
+    let mut rng = Rng::new(seed);
+    (0..count)
+        .map(|_| {
+            let mut d: Vec<f64> = (0..n).map(|_| rng.uniform()).collect();
+            for q in &basis {
+                let p: f64 = d.iter().zip(q).map(|(a, b)| a * b).sum();
+                d.iter_mut().zip(q).for_each(|(a, b)| *a -= p * b);
+            }
+            d
+        })
+        .collect()
+}
