@@ -6,10 +6,13 @@ numpy arrays.
 
 With no address it starts a local cluster of two worker processes; give a
 scheduler's address (tcp://host:8786) to use a real one, whose workers have
-fairsurf installed. Results pickle as their result files' text, so they
-travel between processes and machines whole.
+fairsurf installed. Each task solves a chunk of the sweep with
+``fairsurf.solve_many`` on the worker's threads (the GIL is released during
+solves); results pickle as their result files' text, so they travel between
+processes and machines whole.
 """
 
+import functools
 import json
 import sys
 from pathlib import Path
@@ -29,13 +32,20 @@ def main() -> None:
         s["energy"]["normal_field"]["weight"] = lam
         scenes.append(s)
 
+    chunks = [scenes[k:k + 3] for k in range(0, len(scenes), 3)]
+    solve_chunk = functools.partial(fairsurf.solve_many, threads=2)
+
+    def solve(client: Client) -> list:
+        parts = client.gather(client.map(solve_chunk, chunks))
+        return [r for part in parts for r in part]
+
     if len(sys.argv) > 1:
         with Client(sys.argv[1]) as client:
-            results = client.gather(client.map(fairsurf.solve, scenes))
+            results = solve(client)
     else:
         with LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None) as cluster, \
                 Client(cluster) as client:
-            results = client.gather(client.map(fairsurf.solve, scenes))
+            results = solve(client)
 
     nets = np.stack([r.control_points for r in results])  # (weights, n+1, m+1, 3)
     print("nets", nets.shape, nets.dtype)

@@ -178,6 +178,9 @@ class Mesh(NamedTuple):
     """(V,) float64 mean curvature H (NaN where singular)."""
     gaussian_curvature: np.ndarray
     """(V,) float64 Gaussian curvature K (NaN where singular)."""
+    patches: Optional[np.ndarray] = None
+    """(V,) int64: the patch of each vertex of a triangular surface (with
+    :attr:`uvs`, what :meth:`Surface.evaluate` takes); None otherwise."""
 
 
 def _parameters(u: Any, v: Any) -> Tuple[Tuple[int, ...], np.ndarray, np.ndarray]:
@@ -235,28 +238,42 @@ class Surface:
         surface's patches as exact tensor patches with one side collapsed."""
         return self._native.tensor_patches()
 
-    def derivatives(self, u: Any, v: Any) -> Dict[str, np.ndarray]:
+    def derivatives(self, u: Any, v: Any, patch: Any = None) -> Dict[str, np.ndarray]:
         """Points, first and second derivatives, normals and curvatures at
         (u, v) ∈ [0, 1]² (broadcast; a B-spline surface's knot domain is
-        mapped onto [0, 1]²). Keys: points, du, dv, duu, duv, dvv, normals
-        (shape + (3,)); gaussian, mean, k1, k2 (shape)."""
-        shape, uf, vf = _parameters(u, v)
-        out = self._native._evaluate(uf, vf)
+        mapped onto [0, 1]²). On a triangular surface, at the barycentric
+        point (u, v, 1 − u − v) of patch ``patch`` (broadcast with u and v;
+        u + v ≤ 1), the derivatives along its first two barycentric
+        directions. Keys: points, du, dv, duu, duv, dvv, normals (shape +
+        (3,)); gaussian, mean, k1, k2 (shape). The arrays are the library's
+        own buffers handed over, not copies."""
+        if patch is None:
+            shape, uf, vf = _parameters(u, v)
+            out = self._native._evaluate(uf, vf)
+        else:
+            ub, vb, kb = np.broadcast_arrays(np.asarray(u, dtype=np.float64),
+                                             np.asarray(v, dtype=np.float64),
+                                             np.asarray(patch, dtype=np.int64))
+            shape = ub.shape
+            out = self._native._evaluate(np.ascontiguousarray(ub.ravel()),
+                                         np.ascontiguousarray(vb.ravel()),
+                                         np.ascontiguousarray(kb.ravel()))
         return {
             k: a.reshape(shape + ((3,) if a.ndim == 2 else ())) for k, a in out.items()
         }
 
-    def evaluate(self, u: Any, v: Any) -> np.ndarray:
-        """Points R(u, v), shape broadcast(u, v) + (3,)."""
-        return self.derivatives(u, v)["points"]
+    def evaluate(self, u: Any, v: Any, patch: Any = None) -> np.ndarray:
+        """Points R(u, v), shape broadcast(u, v) + (3,) (``patch``: see
+        :meth:`derivatives`)."""
+        return self.derivatives(u, v, patch)["points"]
 
-    def normals(self, u: Any, v: Any) -> np.ndarray:
+    def normals(self, u: Any, v: Any, patch: Any = None) -> np.ndarray:
         """Unit normals R_u × R_v / |R_u × R_v| (NaN where singular)."""
-        return self.derivatives(u, v)["normals"]
+        return self.derivatives(u, v, patch)["normals"]
 
-    def curvatures(self, u: Any, v: Any) -> Curvatures:
+    def curvatures(self, u: Any, v: Any, patch: Any = None) -> Curvatures:
         """Gaussian, mean and principal curvatures (κ₁ ≥ κ₂)."""
-        d = self.derivatives(u, v)
+        d = self.derivatives(u, v, patch)
         return Curvatures(d["gaussian"], d["mean"], d["k1"], d["k2"])
 
     def mesh(self, resolution: int = 64) -> Mesh:

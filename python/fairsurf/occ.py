@@ -31,7 +31,7 @@ from OCP.TopoDS import TopoDS, TopoDS_Face, TopoDS_Shape
 
 from . import Filled, Surface, fill, load
 
-__all__ = ["to_geom", "to_face", "to_shape", "from_face", "from_geom", "faces", "fill_shape"]
+__all__ = ["to_geom", "to_bezier", "to_face", "to_shape", "from_face", "from_geom", "faces", "fill_shape"]
 
 
 def _distinct(knots: np.ndarray) -> Tuple[List[float], List[int]]:
@@ -61,15 +61,20 @@ def _ints(xs: List[int]) -> Array1_int:
     return a
 
 
-def _geom(cp: np.ndarray, p: int, q: int, u: List[float], um: List[int],
-          v: List[float], vm: List[int]) -> Geom_BSplineSurface:
+def _poles(cp: np.ndarray) -> Array2_gp_Pnt:
+    """A net (nu, nv, 3) as Open CASCADE's 1-based array of poles."""
     nu, nv = cp.shape[:2]
     poles = Array2_gp_Pnt(1, nu, 1, nv)
     for i in range(nu):
         for j in range(nv):
             x, y, z = cp[i, j].tolist()
             poles.SetValue(i + 1, j + 1, gp_Pnt(x, y, z))
-    return Geom_BSplineSurface(poles, _reals(u), _reals(v), _ints(um), _ints(vm), p, q)
+    return poles
+
+
+def _geom(cp: np.ndarray, p: int, q: int, u: List[float], um: List[int],
+          v: List[float], vm: List[int]) -> Geom_BSplineSurface:
+    return Geom_BSplineSurface(_poles(cp), _reals(u), _reals(v), _ints(um), _ints(vm), p, q)
 
 
 def _bezier_geom(cp: np.ndarray) -> Geom_BSplineSurface:
@@ -90,6 +95,19 @@ def to_geom(surface: Surface) -> Geom_BSplineSurface:
     p, q = surface.degree
     (u, um), (v, vm) = (_distinct(k) for k in surface.knots)
     return _geom(surface.control_points, p, q, u, um, v, vm)
+
+
+def to_bezier(surface: Surface) -> Geom_BezierSurface:
+    """A tensor patch as a ``Geom_BezierSurface`` on [0, 1]² (its control
+    points the poles, exactly). Other kinds are refused (``ValueError``: a
+    B-spline surface is :func:`to_geom`'s, a triangular one
+    :func:`to_shape`'s)."""
+    if surface.surface_type != "tensor":
+        raise ValueError(
+            f"a {surface.surface_type} surface is no Bézier patch: use "
+            + ("to_shape" if surface.surface_type == "triangular" else "to_geom")
+        )
+    return Geom_BezierSurface(_poles(surface.control_points))
 
 
 def to_face(surface: Surface, tolerance: float = 1e-7) -> TopoDS_Face:

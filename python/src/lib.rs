@@ -47,17 +47,99 @@ fn to_py(py: Python<'_>, e: IoError) -> PyErr {
     }
 }
 
-/// A flat `Vec<f64>` of points as a numpy array of shape `shape` + (3,)
-/// (the vector is handed over, not copied again).
+/// Points as a numpy array of shape `shape` + (3,): the vector's buffer is
+/// handed over to numpy (flattened in place, not copied).
 fn points_array<'py>(
     py: Python<'py>,
-    points: &[[f64; 3]],
+    points: Vec<[f64; 3]>,
     shape: &[usize],
 ) -> PyResult<Bound<'py, PyAny>> {
-    let flat: Vec<f64> = points.iter().flatten().copied().collect();
+    let flat: Vec<f64> = points.into_flattened();
     let mut dims = shape.to_vec();
     dims.push(3);
     Ok(PyArray1::from_vec(py, flat).reshape(dims)?.into_any())
+}
+
+/// The patch of each parameter of a triangular surface (`patch` given,
+/// in range, and (u, v) in the triangle u + v ≤ 1); `None` for a tensor or
+/// B-spline surface, which takes no `patch`.
+fn triangle_parameters(
+    surface: &Surface,
+    us: &[f64],
+    vs: &[f64],
+    patch: Option<PyReadonlyArray1<'_, i64>>,
+) -> PyResult<Option<Vec<usize>>> {
+    let Surface::Triangular(t) = surface else {
+        return match patch {
+            None => Ok(None),
+            Some(_) => Err(PyValueError::new_err(format!(
+                "patch is for triangular surfaces; this one is {} (parameters (u, v) only)",
+                surface.surface_type().name()
+            ))),
+        };
+    };
+    let Some(patch) = patch else {
+        return Err(PyValueError::new_err(
+            "a triangular surface is evaluated at (u, v) of a patch: give patch=… (the \
+             barycentric point is (u, v, 1 − u − v))",
+        ));
+    };
+    let k = patch.as_slice()?;
+    if k.len() != us.len() {
+        return Err(PyValueError::new_err(format!(
+            "patch and u differ in length ({} and {})",
+            k.len(),
+            us.len()
+        )));
+    }
+    let count = t.patch_count();
+    if let Some(i) = k.iter().position(|&p| p < 0 || p as usize >= count) {
+        return Err(PyValueError::new_err(format!(
+            "patch[{i}] = {}: the surface has patches 0 to {}",
+            k[i],
+            count - 1
+        )));
+    }
+    if let Some(i) = (0..us.len()).find(|&i| us[i] + vs[i] > 1.0 + 1e-12) {
+        return Err(PyValueError::new_err(format!(
+            "u[{i}] + v[{i}] = {}: a point of a triangular patch has u + v ≤ 1",
+            us[i] + vs[i]
+        )));
+    }
+    Ok(Some(k.iter().map(|&p| p as usize).collect()))
+}
+
+/// The evaluate dict of derivatives: each column's vector handed to numpy.
+fn derivatives_dict(
+    py: Python<'_>,
+    d: Vec<fairsurf::SurfaceDerivatives>,
+) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
+    let curv: Vec<_> = d.iter().map(fairsurf::analysis::curvature_from).collect();
+    let out = pyo3::types::PyDict::new(py);
+    let n = d.len();
+    let column = |f: &dyn Fn(&fairsurf::SurfaceDerivatives) -> [f64; 3]| -> Vec<[f64; 3]> {
+        d.iter().map(f).collect()
+    };
+    out.set_item("points", points_array(py, column(&|x| x.point), &[n])?)?;
+    out.set_item("du", points_array(py, column(&|x| x.du), &[n])?)?;
+    out.set_item("dv", points_array(py, column(&|x| x.dv), &[n])?)?;
+    out.set_item("duu", points_array(py, column(&|x| x.duu), &[n])?)?;
+    out.set_item("duv", points_array(py, column(&|x| x.duv), &[n])?)?;
+    out.set_item("dvv", points_array(py, column(&|x| x.dvv), &[n])?)?;
+    let normals = column(&|x| x.normal().unwrap_or([f64::NAN; 3]));
+    out.set_item("normals", points_array(py, normals, &[n])?)?;
+    let scalar = |f: &dyn Fn(&fairsurf::analysis::Curvature) -> f64| {
+        let v: Vec<f64> = curv
+            .iter()
+            .map(|c| c.as_ref().map_or(f64::NAN, f))
+            .collect();
+        PyArray1::from_vec(py, v)
+    };
+    out.set_item("gaussian", scalar(&|c| c.gaussian))?;
+    out.set_item("mean", scalar(&|c| c.mean))?;
+    out.set_item("k1", scalar(&|c| c.principal.0))?;
+    out.set_item("k2", scalar(&|c| c.principal.1))?;
+    Ok(out)
 }
 
 /// The knot vectors U, V as numpy arrays.
@@ -86,13 +168,13 @@ impl PySurface {
         match &self.surface {
             Surface::Tensor(p) => {
                 let (n, m) = p.degree();
-                points_array(py, p.points(), &[n + 1, m + 1])
+                points_array(py, p.points().to_vec(), &[n + 1, m + 1])
             }
             Surface::BSpline(s) => {
                 let (cu, cv) = s.counts();
-                points_array(py, s.points(), &[cu, cv])
+                points_array(py, s.points().to_vec(), &[cu, cv])
             }
-            Surface::Triangular(t) => points_array(py, t.points(), &[t.points().len()]),
+            Surface::Triangular(t) => points_array(py, t.points().to_vec(), &[t.points().len()]),
         }
     }
 
@@ -157,20 +239,26 @@ impl PySurface {
             .iter()
             .map(|p| {
                 let (n, m) = p.degree();
-                points_array(py, p.points(), &[n + 1, m + 1])
+                points_array(py, p.points().to_vec(), &[n + 1, m + 1])
             })
             .collect()
     }
 
     /// Point, first and second derivatives, normal and curvatures at the
-    /// parameters (u[i], v[i]) ∈ [0, 1]²: a dict of arrays (points, du,
-    /// dv, duu, duv, dvv, normals: (N, 3); gaussian, mean, k1, k2: (N,);
-    /// NaN where the surface is singular).
+    /// parameters (u[i], v[i]) ∈ [0, 1]² of a tensor or B-spline surface, or
+    /// of a triangular surface at the barycentric point (u[i], v[i],
+    /// 1 − u[i] − v[i]) of patch `patch[i]` (derivatives along its first two
+    /// barycentric directions): a dict of arrays (points, du, dv, duu, duv,
+    /// dvv, normals: (N, 3); gaussian, mean, k1, k2: (N,); NaN where the
+    /// surface is singular). The parameters are copied once: the GIL is
+    /// released while they are read.
+    #[pyo3(signature = (u, v, patch=None))]
     fn _evaluate<'py>(
         &self,
         py: Python<'py>,
         u: PyReadonlyArray1<'py, f64>,
         v: PyReadonlyArray1<'py, f64>,
+        patch: Option<PyReadonlyArray1<'py, i64>>,
     ) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
         let us = u.as_slice()?.to_vec();
         let vs = v.as_slice()?.to_vec();
@@ -189,47 +277,24 @@ impl PySurface {
                 )));
             }
         }
-        if self.surface.derivatives(0.0, 0.0).is_none() {
-            return Err(PyValueError::new_err(format!(
-                "evaluate works on tensor-product surfaces (tensor, bspline); this one is {}",
-                self.surface.surface_type().name()
-            )));
-        }
         let surface = &self.surface;
-        let (d, curv) = py.detach(|| {
-            let d: Vec<_> = us
+        let patches = triangle_parameters(surface, &us, &vs, patch)?;
+        let d: Vec<fairsurf::SurfaceDerivatives> = py.detach(|| match (surface, &patches) {
+            (Surface::Triangular(t), Some(k)) => {
+                let patches: Vec<_> = t.patches().collect();
+                us.iter()
+                    .zip(&vs)
+                    .zip(k)
+                    .map(|((&u, &v), &k)| patches[k].derivatives([u, v, (1.0 - u - v).max(0.0)]))
+                    .collect()
+            }
+            _ => us
                 .iter()
                 .zip(&vs)
                 .map(|(&u, &v)| surface.derivatives(u, v).expect("a tensor-product surface"))
-                .collect();
-            let curv: Vec<_> = d.iter().map(fairsurf::analysis::curvature_from).collect();
-            (d, curv)
+                .collect(),
         });
-        let out = pyo3::types::PyDict::new(py);
-        let n = d.len();
-        let column = |f: &dyn Fn(&fairsurf::SurfaceDerivatives) -> [f64; 3]| -> Vec<[f64; 3]> {
-            d.iter().map(f).collect()
-        };
-        out.set_item("points", points_array(py, &column(&|x| x.point), &[n])?)?;
-        out.set_item("du", points_array(py, &column(&|x| x.du), &[n])?)?;
-        out.set_item("dv", points_array(py, &column(&|x| x.dv), &[n])?)?;
-        out.set_item("duu", points_array(py, &column(&|x| x.duu), &[n])?)?;
-        out.set_item("duv", points_array(py, &column(&|x| x.duv), &[n])?)?;
-        out.set_item("dvv", points_array(py, &column(&|x| x.dvv), &[n])?)?;
-        let normals = column(&|x| x.normal().unwrap_or([f64::NAN; 3]));
-        out.set_item("normals", points_array(py, &normals, &[n])?)?;
-        let scalar = |f: &dyn Fn(&fairsurf::analysis::Curvature) -> f64| {
-            let v: Vec<f64> = curv
-                .iter()
-                .map(|c| c.as_ref().map_or(f64::NAN, f))
-                .collect();
-            PyArray1::from_vec(py, v)
-        };
-        out.set_item("gaussian", scalar(&|c| c.gaussian))?;
-        out.set_item("mean", scalar(&|c| c.mean))?;
-        out.set_item("k1", scalar(&|c| c.principal.0))?;
-        out.set_item("k2", scalar(&|c| c.principal.1))?;
-        Ok(out)
+        derivatives_dict(py, d)
     }
 
     /// A triangle mesh: a dict of vertices (V, 3), faces (F, 3) uint32,
@@ -245,11 +310,15 @@ impl PySurface {
         check_mesh_size(&self.surface, resolution)?;
         let surface = &self.surface;
         let mesh = py.detach(|| surface.mesh(resolution));
-        let t = mesh.mesh();
+        let c = mesh.curvature();
+        let mean: Vec<f64> = c.iter().map(|c| c.map_or(f64::NAN, |c| c.mean)).collect();
+        let gauss: Vec<f64> = c
+            .iter()
+            .map(|c| c.map_or(f64::NAN, |c| c.gaussian))
+            .collect();
+        let t = mesh.into_mesh();
         let out = pyo3::types::PyDict::new(py);
         let nv = t.positions.len();
-        out.set_item("vertices", points_array(py, &t.positions, &[nv])?)?;
-        out.set_item("normals", points_array(py, &t.normals, &[nv])?)?;
         // A B-spline mesh's uvs are knot-domain values: mapped onto [0, 1]²
         // as evaluate takes them.
         let ((u0, u1), (v0, v1)) = match &self.surface {
@@ -261,18 +330,27 @@ impl PySurface {
             .iter()
             .flat_map(|&[u, v]| [(u - u0) / (u1 - u0), (v - v0) / (v1 - v0)])
             .collect();
+        // A triangular surface is meshed patch by patch, each patch's
+        // vertices its own and in order: the patch of every vertex.
+        let patches = match &self.surface {
+            Surface::Triangular(s) if s.patch_count() > 0 => {
+                let per = nv / s.patch_count();
+                Some(PyArray1::from_vec(
+                    py,
+                    (0..nv).map(|i| (i / per) as i64).collect(),
+                ))
+            }
+            _ => None,
+        };
+        out.set_item("vertices", points_array(py, t.positions, &[nv])?)?;
+        out.set_item("normals", points_array(py, t.normals, &[nv])?)?;
         out.set_item("uvs", PyArray1::from_vec(py, uvs).reshape([nv, 2])?)?;
-        let faces: Vec<u32> = t.triangles.iter().flatten().copied().collect();
         let nf = t.triangles.len();
+        let faces: Vec<u32> = t.triangles.into_flattened();
         out.set_item("faces", PyArray1::from_vec(py, faces).reshape([nf, 3])?)?;
-        let c = mesh.curvature();
-        let mean: Vec<f64> = c.iter().map(|c| c.map_or(f64::NAN, |c| c.mean)).collect();
-        let gauss: Vec<f64> = c
-            .iter()
-            .map(|c| c.map_or(f64::NAN, |c| c.gaussian))
-            .collect();
         out.set_item("mean_curvature", PyArray1::from_vec(py, mean))?;
         out.set_item("gaussian_curvature", PyArray1::from_vec(py, gauss))?;
+        out.set_item("patches", patches)?;
         Ok(out)
     }
 

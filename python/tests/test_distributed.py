@@ -3,6 +3,7 @@ worker processes solves a sweep to the same arrays as one process."""
 
 from __future__ import annotations
 
+import functools
 import json
 import pickle
 from pathlib import Path
@@ -64,13 +65,17 @@ def sweep() -> list:
 
 def test_a_dask_cluster_solves_a_sweep_like_one_process() -> None:
     """Two worker processes (dask.distributed's LocalCluster) solve a λ
-    sweep with fairsurf.solve; the gathered control points equal
+    sweep, one chunk of scenes per task with solve_many's threads, and one
+    scene per task with solve; the gathered control points equal
     solve_many's in this process bit for bit, and a bad scene's
     SceneError comes back with its JSON path."""
     scenes = sweep()
     local = fairsurf.solve_many(scenes, threads=2)
+    chunks = [scenes[k:k + 3] for k in range(0, len(scenes), 3)]
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                       dashboard_address=None) as cluster, Client(cluster) as client:
+        solve_chunk = functools.partial(fairsurf.solve_many, threads=2)
+        chunked = [r for part in client.gather(client.map(solve_chunk, chunks)) for r in part]
         futures = client.map(fairsurf.solve, scenes)
         remote = client.gather(futures)
         pids = set(client.run(lambda: __import__("os").getpid()).values())
@@ -79,8 +84,10 @@ def test_a_dask_cluster_solves_a_sweep_like_one_process() -> None:
             bad.result()
     assert len(pids) == 2
     assert e.value.path == "surface.type"
-    for a, b in zip(remote, local):
+    assert len(chunked) == len(local)
+    for a, c, b in zip(remote, chunked, local):
         np.testing.assert_array_equal(a.control_points, b.control_points)
+        np.testing.assert_array_equal(c.control_points, b.control_points)
         assert a.report["energy"] == b.report["energy"]
     energies = [r.report["energy"] for r in remote]
     assert energies == sorted(energies)  # a larger λ never lowers the minimum

@@ -178,6 +178,60 @@ def test_errors_are_exceptions_that_name_the_json_path(tmp_path: Path) -> None:
     assert e.value.path == "surface.type"
 
 
+def test_a_triangular_surface_is_evaluated_patch_by_patch() -> None:
+    """At a patch's barycentric point (u, v, 1 − u − v): the mesh's vertices
+    and normals at its own uvs and patches, the corner control points at the
+    corners (a Bézier triangle interpolates them), and du / dv the central
+    differences of the points along u and v."""
+    tri = fairsurf.solve(TRIANGULAR)
+    m = tri.mesh(8)
+    assert m.patches is not None and m.patches.shape == (len(m.vertices),)
+    d = tri.derivatives(m.uvs[:, 0], m.uvs[:, 1], patch=m.patches)
+    assert np.abs(d["points"] - m.vertices).max() < 1e-14
+    assert np.abs(d["normals"] - m.normals).max() < 1e-12
+    assert np.allclose(d["mean"], m.mean_curvature, atol=1e-12, equal_nan=True)
+    n = tri.degree[0]
+    cp, idx = tri.control_points, tri.patch_indices
+    # The patch's points in order (i, j, k) with i + j + k = n; the corner
+    # u = 1 is (n, 0, 0), v = 1 is (0, n, 0), w = 1 is (0, 0, n).
+    for k in range(len(idx)):
+        corners = tri.evaluate([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], patch=k)
+        mine = cp[idx[k]]
+        assert min(np.abs(mine - corners[0]).sum(axis=1)) == 0.0
+        assert min(np.abs(mine - corners[1]).sum(axis=1)) == 0.0
+        assert min(np.abs(mine - corners[2]).sum(axis=1)) == 0.0
+    h = 1e-6
+    u, v, k = np.array([0.3, 0.2]), np.array([0.25, 0.5]), np.array([0, 3])
+    d = tri.derivatives(u, v, patch=k)
+    du = (tri.evaluate(u + h, v, k) - tri.evaluate(u - h, v, k)) / (2 * h)
+    dv = (tri.evaluate(u, v + h, k) - tri.evaluate(u, v - h, k)) / (2 * h)
+    assert np.abs(du - d["du"]).max() < 1e-7 and np.abs(dv - d["dv"]).max() < 1e-7
+    assert n >= 2 and np.abs(d["du"]).max() > 1e-3
+
+
+def owner(a: np.ndarray) -> object:
+    """What holds an array's memory (through views)."""
+    while isinstance(a.base, np.ndarray):
+        a = a.base
+    return a.base
+
+
+def test_arrays_are_the_librarys_buffers_handed_over() -> None:
+    """Mesh, evaluation and control-point arrays are Rust vectors given to
+    numpy (no copy on the way: their memory is held by the vector's
+    container, not by a numpy allocation)."""
+    for scene in (TENSOR, TRIANGULAR, BSPLINE):
+        s = fairsurf.solve(scene)
+        m = s.mesh(8)
+        arrays = [m.vertices, m.normals, m.faces, m.uvs, m.mean_curvature, s.control_points]
+        if s.surface_type != "triangular":
+            d = s.derivatives(np.array([0.5]), np.array([0.5]))
+            arrays += [d["points"], d["normals"], d["mean"]]
+        for a in arrays:
+            assert type(owner(a)).__name__ == "PySliceContainer", (scene, type(owner(a)))
+            assert a.flags.c_contiguous
+
+
 def test_evaluation_errors() -> None:
     r = fairsurf.solve(TENSOR)
     with pytest.raises(ValueError, match=r"u\[1\] = 1.5"):
@@ -185,8 +239,14 @@ def test_evaluation_errors() -> None:
     with pytest.raises(ValueError, match=r"v\[0\] = NaN"):
         r.evaluate(0.5, math.nan)
     tri = fairsurf.solve(TRIANGULAR)
-    with pytest.raises(ValueError, match="tensor-product surfaces"):
+    with pytest.raises(ValueError, match="give patch"):
         tri.evaluate(0.5, 0.5)
+    with pytest.raises(ValueError, match="patch is for triangular"):
+        r.evaluate(0.5, 0.5, patch=0)
+    with pytest.raises(ValueError, match=r"u\[1\] \+ v\[1\]"):
+        tri.evaluate([0.2, 0.7], 0.5, patch=0)
+    with pytest.raises(ValueError, match=r"patch\[0\] = 1000000"):
+        tri.evaluate(0.2, 0.2, patch=10**6)
     with pytest.raises(ValueError, match="resolution 0"):
         r.mesh(0)
     with pytest.raises(ValueError, match="colour"):

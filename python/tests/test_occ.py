@@ -94,6 +94,29 @@ def test_faces_round_trip_and_evaluate_alike(scene: str) -> None:
             assert np.abs(np.array([p.X(), p.Y(), p.Z()]) - ours[i, j]).max() <= 1e-14 * size
 
 
+def test_a_tensor_patch_is_a_bezier_surface_and_back() -> None:
+    """to_bezier gives Open CASCADE's Bézier surface of the patch: the same
+    poles, the same points where OCC evaluates it; from_geom reads it back
+    as the same tensor patch bit for bit."""
+    r = fairsurf.solve(EXAMPLES / "wu_yang_fig4_l500.json")
+    geom = occ.to_bezier(r)
+    assert (geom.UDegree(), geom.VDegree()) == r.degree
+    assert not geom.IsURational() and not geom.IsVRational()
+    back = occ.from_geom(geom)
+    assert back.surface_type == "tensor"
+    np.testing.assert_array_equal(back.control_points, r.control_points)
+    s = np.linspace(0, 1, 5)
+    ours = r.evaluate(s[:, None], s[None, :])
+    size = np.abs(r.control_points).max()
+    for i, a in enumerate(s):
+        for j, b in enumerate(s):
+            p = geom.Value(a, b)
+            assert np.abs(np.array([p.X(), p.Y(), p.Z()]) - ours[i, j]).max() <= 1e-14 * size
+    for other, hint in [("bspline_hole.json", "to_geom"), ("vw_pentagon_hole.json", "to_shape")]:
+        with pytest.raises(ValueError, match=hint):
+            occ.to_bezier(fairsurf.solve(EXAMPLES / other))
+
+
 def test_what_does_not_convert_is_refused() -> None:
     tri = fairsurf.solve(EXAMPLES / "vw_pentagon_hole.json")
     with pytest.raises(ValueError, match="to_shape"):
