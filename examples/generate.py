@@ -426,14 +426,19 @@ def bspline_hole():
     })
 
 
-def bspline_constraints():
-    """tensor_constraints.json's four constraints on a bicubic B-spline of
-    10 x 10 uniform spans: the same flat frame, one ring fixed."""
-    p, spans = 3, 10
+def flat_bspline(p, spans):
+    """A flat B-spline of degree p over the unit square, `spans` uniform spans
+    each way: the degree, the knot vector and the net at the Greville points."""
     c = spans + p
     knots = [0.0] * (p + 1) + [r(k / spans) for k in range(1, spans)] + [1.0] * (p + 1)
     grev = [sum(knots[i + 1:i + p + 1]) / p for i in range(c)]
-    net = [[[r(grev[i]), r(grev[j]), 0.0] for j in range(c)] for i in range(c)]
+    return p, knots, [[[r(grev[i]), r(grev[j]), 0.0] for j in range(c)] for i in range(c)]
+
+
+def bspline_constraints():
+    """tensor_constraints.json's four constraints on a bicubic B-spline of
+    10 x 10 uniform spans: the same flat frame, one ring fixed."""
+    p, knots, net = flat_bspline(3, 10)
     write("bspline_constraints.json", {
         "name": "Veltkamp & Wesselink's constraints (section 4.1) on a bicubic B-spline: a point, "
                 "a normal, a plane and a line",
@@ -445,6 +450,26 @@ def bspline_constraints():
         "fixed_rings": 1,
         "energy": {"stretch": 0.1, "bend": 1},
         "constraints": FOUR_CONSTRAINTS,
+    })
+
+
+def bspline_operators():
+    """tensor_operators.json's attractors and director on a bicubic B-spline
+    of 10 x 10 uniform spans: the regions cross knot lines."""
+    p, knots, net = flat_bspline(3, 10)
+    with open(os.path.join(HERE, "tensor_operators.json")) as f:
+        operators = json.load(f)["operators"]
+    write("bspline_operators.json", {
+        "name": "Veltkamp & Wesselink section 5 on a bicubic B-spline: two point attractors, a "
+                "director over a region and a plane attractor",
+        "description": "tensor_operators.json on 10 x 10 uniform knot spans (13 x 13 control "
+                       "points), boundary ring fixed on the unit square, thin plate with a little "
+                       "membrane; the regions are integrated exactly span by span.",
+        "surface": {"type": "bspline", "degree": [p, p], "knots": [knots, knots],
+                    "control_points": net},
+        "fixed_rings": 1,
+        "energy": {"stretch": 0.1, "bend": 1},
+        "operators": operators,
     })
 
 
@@ -774,6 +799,7 @@ if __name__ == "__main__":
     bspline_constraints()
     editor_degree10()
     tensor_operators()
+    bspline_operators()
     monterde_ugail()
     quickstart()
     fig1()

@@ -245,15 +245,18 @@ class Surface:
         point (u, v, 1 − u − v) of patch ``patch`` (broadcast with u and v;
         u + v ≤ 1), the derivatives along its first two barycentric
         directions. Keys: points, du, dv, duu, duv, dvv, normals (shape +
-        (3,)); gaussian, mean, k1, k2 (shape). The arrays are the library's
-        own buffers handed over, not copies."""
+        (3,)); gaussian, mean, k1, k2 (shape). The arrays are built in Rust
+        and handed to numpy as they are (numpy makes no copy)."""
         if patch is None:
             shape, uf, vf = _parameters(u, v)
             out = self._native._evaluate(uf, vf)
         else:
+            k = np.asarray(patch)
+            if k.dtype.kind not in "iu":
+                raise ValueError(f"patch: expected integer patch indices, got dtype {k.dtype}")
             ub, vb, kb = np.broadcast_arrays(np.asarray(u, dtype=np.float64),
                                              np.asarray(v, dtype=np.float64),
-                                             np.asarray(patch, dtype=np.int64))
+                                             k.astype(np.int64))
             shape = ub.shape
             out = self._native._evaluate(np.ascontiguousarray(ub.ravel()),
                                          np.ascontiguousarray(vb.ravel()),

@@ -219,8 +219,8 @@ class Problem(Mapping[str, Any]):
         """Adds an external energy operator (Veltkamp & Wesselink §5):
         ``kind`` is e.g. ``"point_attractor"``, ``"director"``,
         ``"plane_attractor"``, with ``strength`` and the fields the scene
-        format names (``fairsurf.schema()``; Bézier problems)."""
-        self._only("tensor", "operators")
+        format names (``fairsurf.schema()``); on a B-spline, places lie in
+        the knot domain, and repellors and edges are refused."""
         return self._append("operators", kind, fields)
 
     def _append(self, key: str, kind: str, fields: Mapping[str, Any]) -> "Problem":

@@ -218,8 +218,8 @@ def owner(a: np.ndarray) -> object:
 
 def test_arrays_are_the_librarys_buffers_handed_over() -> None:
     """Mesh, evaluation and control-point arrays are Rust vectors given to
-    numpy (no copy on the way: their memory is held by the vector's
-    container, not by a numpy allocation)."""
+    numpy as they are: their memory is held by the vector's container, not
+    by a numpy allocation (numpy makes no copy)."""
     for scene in (TENSOR, TRIANGULAR, BSPLINE):
         s = fairsurf.solve(scene)
         m = s.mesh(8)
@@ -247,6 +247,8 @@ def test_evaluation_errors() -> None:
         tri.evaluate([0.2, 0.7], 0.5, patch=0)
     with pytest.raises(ValueError, match=r"patch\[0\] = 1000000"):
         tri.evaluate(0.2, 0.2, patch=10**6)
+    with pytest.raises(ValueError, match="integer patch indices"):
+        tri.evaluate(0.2, 0.2, patch=1.7)
     with pytest.raises(ValueError, match="resolution 0"):
         r.mesh(0)
     with pytest.raises(ValueError, match="colour"):

@@ -369,6 +369,9 @@ fn bspline_summary(path: &Path, s: &fairsurf_io::SolvedBSplineScene, written: &[
                     terms.push(format!("{name} {v:.10e}"));
                 }
             }
+            if !r.operators.is_empty() {
+                terms.push(format!("operators {:.10e}", r.external));
+            }
             format!("  energy {:.10e} = {}", r.energy, terms.join(" + "))
         },
         format!(
@@ -382,6 +385,7 @@ fn bspline_summary(path: &Path, s: &fairsurf_io::SolvedBSplineScene, written: &[
             r.corrections
         ),
     ];
+    operator_lines(&mut lines, &r.operators, None);
     constraint_lines(&mut lines, &r.constraints);
     if !r.constraints.is_empty() {
         lines.push(format!(

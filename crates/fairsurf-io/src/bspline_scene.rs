@@ -45,6 +45,14 @@ pub struct BSplineScene {
     /// solve; the report gives each one's violation.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub constraints: Vec<crate::TensorConstraintSpec>,
+    /// External energy operators (Veltkamp & Wesselink §5, as in tensor
+    /// scenes) at `at` or over a convex `region` of the knot domain:
+    /// directors and point, plane, line and surface attractors (a
+    /// `surface` is a Bézier patch over the knot domain mapped onto
+    /// [0, 1]²); regions are integrated exactly span by span. Repellors and
+    /// edges are refused.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub operators: Vec<crate::TensorOperatorSpec>,
     /// Knots to insert before solving (exact refinement: the surface as
     /// given is unchanged, it gains freedom); needs `fixed_rings`. Result
     /// files hold the refined knots and net instead.
@@ -404,6 +412,12 @@ impl BSplineScene {
             let (name, constraint) = c.build_in(i, domain, &described)?;
             problem = problem.with_constraint(name, constraint);
         }
+        for (i, o) in self.operators.iter().enumerate() {
+            let op = crate::operators::unchecked_operator(o, i)?;
+            problem = problem
+                .with_operator(op)
+                .map_err(|e| Error::scene(format!("operators[{i}]"), e.to_string()))?;
+        }
         Ok(problem)
     }
 
@@ -560,8 +574,8 @@ impl SolvedBSplineScene {
             "constraints": crate::constraints::outcomes_json(&r.constraints),
             "max_violation": r.max_violation,
             "kkt": r.kkt.as_ref().map(crate::tri_result::kkt_json),
-            "external": 0.0,
-            "operators": [],
+            "external": r.external,
+            "operators": crate::operators::outcomes_json(&r.operators),
             "newton": Value::Null,
             "max_normal_turn_deg": self.normal_turn.map(|t| crate::result::normal_turn_json(
                 t.angle, json!([t.at.0, t.at.1]), t.is_fold())),

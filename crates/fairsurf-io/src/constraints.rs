@@ -179,7 +179,7 @@ impl TensorConstraintSpec {
             Error::scene(
                 format!("{path}.type"),
                 format!(
-                    "a tensor patch takes point, normal, in_plane or on_line constraints, not {} \
+                    "a tensor or B-spline surface takes point, normal, in_plane or on_line constraints, not {} \
                      (a fixed control point is a given one in surface.control_points)",
                     kind_name(self.kind)
                 ),

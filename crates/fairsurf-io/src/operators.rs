@@ -171,8 +171,18 @@ pub struct TensorOperatorSpec {
     pub control_points: Option<Vec<[f64; 3]>>,
 }
 
-/// The library operator of a tensor scene's `operators[i]`.
+/// The library operator of a tensor scene's `operators[i]`, validated on
+/// the parameter square.
 pub(crate) fn tensor_operator(o: &TensorOperatorSpec, i: usize) -> Result<TensorOperator> {
+    let op = unchecked_operator(o, i)?;
+    op.validate()
+        .map_err(|e| Error::scene(format!("operators[{i}]"), e.to_string()))?;
+    Ok(op)
+}
+
+/// The library operator of `operators[i]` as written (its place checked
+/// by the surface it acts on).
+pub(crate) fn unchecked_operator(o: &TensorOperatorSpec, i: usize) -> Result<TensorOperator> {
     let path = format!("operators[{i}]");
     let target = target(
         o.kind,
@@ -227,16 +237,13 @@ pub(crate) fn tensor_operator(o: &TensorOperatorSpec, i: usize) -> Result<Tensor
             EdgeSpec::V1 => PatchEdge::V1,
         })
     };
-    let op = Operator {
+    Ok(Operator {
         name: name(o.name.as_deref(), &path, o.kind),
         target,
         place,
         strength: o.strength,
         repel: o.repel || o.kind == OperatorKind::Repellor,
-    };
-    op.validate()
-        .map_err(|e| Error::scene(path, e.to_string()))?;
-    Ok(op)
+    })
 }
 
 /// Operators' outcomes as report JSON.

@@ -545,6 +545,66 @@ fn bspline_constraints_hold_round_trip_and_name_their_paths() {
     assert!(e.to_string().contains("peak, x"), "{e}");
 }
 
+/// Operators on a B-spline scene: the example solves with each operator
+/// reported; the result file solves again to the same net; bad ones are
+/// named by their path.
+#[test]
+fn bspline_operators_solve_round_trip_and_name_their_paths() {
+    use fairsurf::vector::{norm, sub};
+    use fairsurf_io::{BSplineScene, Scene};
+    let text = std::fs::read_to_string(examples().join("bspline_operators.json")).unwrap();
+    let base: Value = serde_json::from_str(&text).unwrap();
+    let solved = BSplineScene::from_json(&text).unwrap().solve().unwrap();
+    let report = solved.report_json();
+    assert_eq!(report["operators"].as_array().unwrap().len(), 4, "{report}");
+    assert!(report["external"].as_f64().unwrap() > 0.0, "{report}");
+    assert_eq!(report["coupled"], true);
+    // The point attractors pull toward their points (strength 500).
+    let peak = solved.surface().eval(0.3, 0.3);
+    assert!(norm(sub(peak, [0.3, 0.3, 0.35])) < 0.1, "{peak:?}");
+    let result = serde_json::to_string(&solved.result_scene()).unwrap();
+    let again = BSplineScene::from_json(&result).unwrap().solve().unwrap();
+    assert_eq!(again.surface().points(), solved.surface().points());
+    let fails =
+        |v: &Value| match Scene::from_json(&v.to_string()).and_then(|s| s.solve().map(|_| ())) {
+            Err(Error::Scene { path, message }) => (path, message),
+            other => panic!("expected a scene error, got {other:?}"),
+        };
+    let cases: Vec<(&str, Value, &str, &str)> = vec![
+        (
+            "/operators/0/at",
+            json!([0.3, 1.3]),
+            "operators[0]",
+            "knot domain",
+        ),
+        (
+            "/operators/1/repel",
+            json!(true),
+            "operators[1]",
+            "director",
+        ),
+        (
+            "/operators/0/repel",
+            json!(true),
+            "operators[0]",
+            "repellor",
+        ),
+        (
+            "/operators/3/region",
+            json!([[0.1, 0.1], [0.2, 0.1]]),
+            "operators[3]",
+            "convex",
+        ),
+    ];
+    for (ptr, value, path, msg) in cases {
+        let mut v = base.clone();
+        let (parent, key) = ptr.rsplit_once('/').unwrap();
+        v.pointer_mut(parent).unwrap()[key] = value;
+        let (p, m) = fails(&v);
+        assert!(p == path && m.contains(msg), "{ptr}: {p}: {m}");
+    }
+}
+
 /// `refine` inserts knots before solving: the given surface is unchanged
 /// (exact refinement), the minimum does not rise and here falls, the result
 /// file holds the refined knots and net (no `refine`) and solves again to

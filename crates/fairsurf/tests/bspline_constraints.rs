@@ -39,16 +39,11 @@ fn frame() -> TensorPatch {
 
 /// A bicubic surface of 7 × 6 uniform spans over the unit square, wavy.
 fn sheet() -> BSplineSurface {
-    let (u, v) = (KnotVector::uniform(3, 7), KnotVector::uniform(3, 6));
-    let (gu, gv) = (u.greville(), v.greville());
-    let points = gu
-        .iter()
-        .flat_map(|&x| {
-            gv.iter()
-                .map(move |&y| [x, y, 0.15 * (3.0 * x).sin() * (2.0 * y).cos()])
-        })
-        .collect();
-    BSplineSurface::new(u, v, points).unwrap()
+    common::graph_bspline(
+        KnotVector::uniform(3, 7),
+        KnotVector::uniform(3, 6),
+        |x, y| 0.15 * (3.0 * x).sin() * (2.0 * y).cos(),
+    )
 }
 
 fn with_all(p: BSplineProblem) -> BSplineProblem {
@@ -194,16 +189,21 @@ fn bad_constraints_are_refused_naming_them() {
         Err(Error::DependentConstraint { row }) => assert_eq!(row, "again, x"),
         other => panic!("{other:?}"),
     }
-    // A point where only fixed control points act (the corner): the row
-    // has nothing free left.
+    // A point where only fixed control points act (the corner), off the
+    // surface: nothing free can meet it.
     let corner = TensorConstraint::Point {
         at: [0.0, 0.0],
         target: [0.0, 0.0, 1.0],
     };
-    match base().with_constraint("corner", corner).solve() {
-        Err(Error::DependentConstraint { row }) => assert_eq!(row, "corner, x"),
-        other => panic!("{other:?}"),
-    }
+    let e = base()
+        .with_constraint("corner", corner)
+        .solve()
+        .unwrap_err();
+    let e = e.to_string();
+    assert!(
+        e.contains("corner, z") && e.contains("known control points alone"),
+        "{e}"
+    );
     // Outside the knot domain.
     let outside = TensorConstraint::Normal {
         at: [1.2, 0.5],
@@ -221,6 +221,54 @@ fn bad_constraints_are_refused_naming_them() {
     };
     let e = base().with_constraint("flat", zero).solve().unwrap_err();
     assert!(e.to_string().contains("flat"), "{e}");
+}
+
+/// Rows that only fixed control points enter, met by them (a point on the
+/// fixed boundary, the boundary's own normal at a corner whose two rings
+/// are fixed), are accepted and hold; a net without fixed points (a guide
+/// term decides it) meets a normal constraint, whose right-hand side is 0.
+#[test]
+fn rows_the_fixed_points_meet_and_nets_without_fixed_points_solve() {
+    let s = sheet();
+    let on_rim = s.eval(0.0, 0.5);
+    let corner_normal = s.normal(1.0, 1.0).unwrap();
+    let sol = BSplineProblem::new(s.clone())
+        .with_fixed_rings(2)
+        .with_bend(1.0)
+        .with_constraint(
+            "rim",
+            TensorConstraint::Point {
+                at: [0.0, 0.5],
+                target: on_rim,
+            },
+        )
+        .with_constraint(
+            "corner",
+            TensorConstraint::Normal {
+                at: [1.0, 1.0],
+                normal: corner_normal,
+            },
+        )
+        .with_constraint("peak", common::four_constraints()[0].1.clone())
+        .solve()
+        .unwrap();
+    assert!(
+        sol.report.max_violation < 1e-12,
+        "{:?}",
+        sol.report.constraints
+    );
+    let n = s.points().len();
+    let guided = BSplineProblem::new(s)
+        .with_free(vec![true; n])
+        .unwrap()
+        .with_bend(1.0)
+        .with_guide_surface(1.0, None)
+        .unwrap()
+        .with_constraint("tilt", common::four_constraints()[1].1.clone())
+        .solve()
+        .unwrap();
+    assert!(guided.report.max_violation < 1e-12);
+    assert!(miss(&guided.surface, &common::four_constraints()[1].1) < 1e-12);
 }
 
 #[test]

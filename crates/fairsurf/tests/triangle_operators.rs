@@ -18,13 +18,7 @@ fn grid(m: usize, n: usize) -> TriSurface {
 }
 
 fn op(name: &str, target: Target, place: Place, strength: f64) -> Operator {
-    Operator {
-        name: name.into(),
-        target,
-        place,
-        strength,
-        repel: false,
-    }
+    common::attractor(name, target, place, strength)
 }
 
 fn solve(ops: &[Operator]) -> TriSolution {

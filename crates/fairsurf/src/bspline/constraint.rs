@@ -102,27 +102,39 @@ type SparseRow = Vec<(usize, f64)>;
 type Step = (f64, Vec<f64>, Vec<f64>, Vec<f64>);
 
 /// The rows over the free block's interleaved unknowns (3·slot + c), the
-/// fixed points' part moved to the right-hand side; the first row that is
+/// fixed points' part moved to the right-hand side (compensated). A row no
+/// free coordinate enters is left out when the fixed points meet it (to
+/// 1e-12 of its terms) and an error otherwise; the first row that is
 /// (nearly) a combination of the ones before it is an error naming it.
 fn reduced_rows(rows: &[Row], slot: &[usize], x0: &[Vec3]) -> Result<(Vec<SparseRow>, Vec<f64>)> {
     let mut terms = Vec::with_capacity(rows.len());
     let mut rhs = Vec::with_capacity(rows.len());
+    let mut names = Vec::with_capacity(rows.len());
     for row in rows {
         let mut t = Vec::new();
-        let mut c = row.rhs;
-        for &(i, a) in &row.terms {
+        let (mut a, mut xs) = (Vec::new(), Vec::new());
+        for &(i, coef) in &row.terms {
             let (g, d) = (i / 3, i % 3);
             match slot[g] {
-                usize::MAX => c -= a * x0[g][d],
-                s => t.push((3 * s + d, a)),
+                usize::MAX => {
+                    a.push(coef);
+                    xs.push(x0[g][d]);
+                }
+                s => t.push((3 * s + d, coef)),
             }
+        }
+        let c = dot2_residual(row.rhs, &a, &xs);
+        if t.is_empty() {
+            crate::solve::known_row_met(row, &a, &xs, c)?;
+            continue;
         }
         terms.push(t);
         rhs.push(c);
+        names.push(&row.name);
     }
     if let Some(k) = crate::solve::first_dependent_row(&terms) {
         return Err(Error::DependentConstraint {
-            row: rows[k].name.clone(),
+            row: names[k].clone(),
         });
     }
     Ok((terms, rhs))
@@ -240,27 +252,21 @@ pub(super) fn solve(
     })
 }
 
-/// The row missed the most on the written net, over the data's size (the
-/// known points and the rows' right-hand sides), when above the check's
-/// tolerance: a net the arithmetic could not make meet its rows.
-pub(super) fn unmet(
-    rows: &[Row],
-    surface: &BSplineSurface,
-    known: &[Vec3],
-) -> Option<(String, f64)> {
+/// The row missed the most on the written net, when above the check's
+/// tolerance of its size: the larger of the data's (`size`: fixed points,
+/// right-hand sides, guide net, operator targets) and the row's own
+/// Σ|a_i x_i| + |rhs| — a net the arithmetic could not make meet its rows.
+pub(super) fn unmet(rows: &[Row], surface: &BSplineSurface, size: f64) -> Option<(String, f64)> {
     let x: Vec<f64> = surface.points().iter().flatten().copied().collect();
-    let size = rows
-        .iter()
-        .map(|r| r.rhs.abs())
-        .chain(known.iter().flatten().map(|v| v.abs()))
-        .fold(f64::MIN_POSITIVE, f64::max);
     rows.iter()
         .map(|row| {
             let a: Vec<f64> = row.terms.iter().map(|&(_, a)| a).collect();
             let xs: Vec<f64> = row.terms.iter().map(|&(i, _)| x[i]).collect();
+            let own = row.rhs.abs() + a.iter().zip(&xs).map(|(a, x)| (a * x).abs()).sum::<f64>();
+            let scale = own.max(size).max(f64::MIN_POSITIVE);
             (
                 row.name.clone(),
-                dot2_residual(row.rhs, &a, &xs).abs() / size,
+                dot2_residual(row.rhs, &a, &xs).abs() / scale,
             )
         })
         .filter(|(_, miss)| miss.is_nan() || *miss > check::TOLERANCE)

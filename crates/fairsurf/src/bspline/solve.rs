@@ -14,8 +14,11 @@ use super::guidance::{guide_value, guide_value_by_pieces, NormalTerm};
 use super::BSplineSurface;
 use crate::basis::polygon::Uv;
 use crate::check;
+use crate::check::dd::Dd;
 use crate::constraint::{ConstraintOutcome, NamedConstraint, Row};
 use crate::energy::{check_weight, NormalGuide};
+use crate::operator::bspline::Nodes;
+use crate::operator::{OperatorOutcome, Residual, TensorOperator};
 use crate::solve::dense::dot2_residual;
 use crate::solve::kkt::KktInfo;
 use crate::solve::kkt::{hager, sparse_llt, LltFailure};
@@ -43,6 +46,8 @@ pub struct BSplineProblem {
     guide: Option<(f64, Vec<Vec3>)>,
     /// Linear constraints at points (u, v) of the knot domain.
     constraints: Vec<NamedConstraint<Uv>>,
+    /// External energy operators at points or regions of the knot domain.
+    operators: Vec<TensorOperator>,
 }
 
 /// What a B-spline solve reports; the figures mean what they mean in
@@ -69,7 +74,9 @@ pub struct BSplineReport {
     /// E(x) − min E of the written net over `scale`: ½ gᵀH⁻¹g with the
     /// gradient g = H x − b in compensated (Dot2) arithmetic on the
     /// assembled system, through the solve's factor (the tensor check's
-    /// figure; here H is the assembled one, not recomputed apart).
+    /// figure; here H is the assembled one, not recomputed apart). With
+    /// constraints, the minimum over them: ½ gᵀy with g = b − Hx − Fᵀλ and
+    /// y the constrained Newton step through the KKT factor.
     pub excess: f64,
     /// The scale of `excess` ([`crate::Check::scale`]).
     pub scale: f64,
@@ -79,20 +86,28 @@ pub struct BSplineReport {
     pub free_points: usize,
     /// Scalar unknowns (3 per free point).
     pub unknowns: usize,
-    /// ‖H x − b‖∞ over the free coordinates (compensated arithmetic).
+    /// ‖H x − b‖∞ over the free coordinates (compensated arithmetic); with
+    /// constraints the Lagrangian's, ‖H x − b + Fᵀλ‖∞.
     pub gradient_norm: f64,
     /// That over ‖H‖∞‖x‖∞ + ‖b‖∞.
     pub relative_gradient: f64,
-    /// ‖b − Hx‖∞ / ‖b‖∞ (the absolute figure when b = 0).
+    /// ‖b − Hx‖∞ / ‖b‖∞ (the absolute figure when b = 0); with
+    /// constraints the KKT solve's relative residual (`kkt`).
     pub residual: f64,
     /// ‖H‖₁‖H⁻¹‖₁ of the system factored (Hager's estimate). It grows like
     /// a stiffness matrix's with the number of spans (h⁻⁴ for the thin
     /// plate); the basis itself stays well conditioned (the Gram matrix of
-    /// the B-splines, scaled, is bounded independently of the knots).
+    /// the B-splines, scaled, is bounded independently of the knots). With
+    /// constraints, the KKT matrix's estimate (`kkt.condition`).
     pub condition_estimate: f64,
     /// Nonzeros of the Cholesky factor (of the KKT factor with
     /// constraints; 0 when the core's LU solved it).
     pub factor_nonzeros: usize,
+    /// The external operators' energy (Veltkamp & Wesselink §5), in
+    /// `energy`.
+    pub external: f64,
+    /// Each operator's energy and how far its target is met.
+    pub operators: Vec<OperatorOutcome>,
     /// Each constraint's violation on the written net.
     pub constraints: Vec<ConstraintOutcome>,
     /// The largest of them (0 without constraints).
@@ -100,7 +115,8 @@ pub struct BSplineReport {
     /// With constraints: the solver core's KKT solve (which factorization,
     /// its residual and condition); `None` without.
     pub kkt: Option<KktInfo>,
-    /// Seconds by phase (`analyse` is the check's second road).
+    /// Seconds by phase (`analyse` is the check's second road; with
+    /// constraints the KKT factorization is in `solve`, `factor` is 0).
     pub timings: Timings,
 }
 
@@ -125,6 +141,7 @@ impl BSplineProblem {
             normal: None,
             guide: None,
             constraints: Vec::new(),
+            operators: Vec::new(),
         }
     }
 
@@ -253,6 +270,49 @@ impl BSplineProblem {
         Ok(self)
     }
 
+    /// Adds an external energy operator (Veltkamp & Wesselink §5) at a point
+    /// or a convex region of the knot domain: a director, or a point, plane,
+    /// line or surface attractor (a surface target is a Bézier patch over
+    /// the knot domain mapped onto [0, 1]²). Refused, naming the operator:
+    /// a place outside the knot domain, repellors, edges and curve targets
+    /// (not there for B-spline surfaces yet).
+    pub fn with_operator(mut self, op: TensorOperator) -> Result<Self> {
+        op.validate_on(&self.surface)?;
+        self.operators.push(op);
+        Ok(self)
+    }
+
+    /// The external energy operators.
+    pub fn operators(&self) -> &[TensorOperator] {
+        &self.operators
+    }
+
+    /// Each operator's quadrature nodes and residuals on the surface.
+    fn place_operators(&self) -> Result<Vec<(Nodes, Vec<Residual>)>> {
+        self.operators
+            .iter()
+            .map(|op| {
+                let nodes = op.locate_on(&self.surface)?;
+                let residuals = op.residuals_on(&nodes, &self.surface);
+                Ok((nodes, residuals))
+            })
+            .collect()
+    }
+
+    /// The operators' energy at the coordinates x (3g + c), in working
+    /// precision and, for the check's second road, in double-double.
+    fn external(&self, placed: &[(Nodes, Vec<Residual>)], x: &[f64]) -> (f64, f64) {
+        let xd: Vec<Dd> = x.iter().map(|&v| Dd::new(v)).collect();
+        self.operators
+            .iter()
+            .zip(placed)
+            .map(|(op, (_, res))| {
+                let dd = check::operator_energy(op.strength, op.repel, res, &xd, |_, _| {});
+                (op.energy(res, x), dd.to_f64())
+            })
+            .fold((0.0, 0.0), |(a, b), (c, d)| (a + c, b + d))
+    }
+
     /// Adds a linear constraint at a point (u, v) of the knot domain
     /// (Veltkamp & Wesselink eq. 31, as on a tensor patch): the surface
     /// passes through a point, has a normal, lies in a plane or on a line
@@ -305,11 +365,17 @@ impl BSplineProblem {
             return Ok((Vec::new(), 0.0));
         }
         let rows = self.constraint_rows()?;
-        let known: Vec<Vec3> = (0..self.free.len())
+        let max_abs = |v: &[Vec3]| v.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+        let known = (0..self.free.len())
             .filter(|&k| !self.free[k])
-            .map(|k| surface.points()[k])
-            .collect();
-        if let Some((row, miss)) = super::constraint::unmet(&rows, surface, &known) {
+            .fold(0.0f64, |m, k| m.max(max_abs(&surface.points()[k..=k])));
+        let size = rows
+            .iter()
+            .map(|r| r.rhs.abs())
+            .chain(self.guide.as_ref().map(|(_, s)| max_abs(s)))
+            .chain(self.operators.iter().map(|o| o.target.size()))
+            .fold(known, f64::max);
+        if let Some((row, miss)) = super::constraint::unmet(&rows, surface, size) {
             return Err(Error::Unmet {
                 degree: format!("{:?} (B-spline)", surface.degree()),
                 row,
@@ -345,11 +411,21 @@ impl BSplineProblem {
         let (ku, kv) = self.surface.knots();
         let (gu, gv) = (Gram1d::new(ku), Gram1d::new(kv));
         let normal = self.normal.as_ref().filter(|n| n.weight > 0.0);
-        let sys = self.assemble(&free, &gu, &gv, &pats, normal);
+        let placed = self.place_operators()?;
+        // Attractors and directors: s Σ w (a·x − t)² adds 2sw a aᵀ to H and
+        // 2sw t a to b.
+        let quadratic: Vec<(f64, &Residual)> = self
+            .operators
+            .iter()
+            .zip(&placed)
+            .flat_map(|(op, (_, res))| res.iter().map(move |r| (2.0 * op.strength * r.weight, r)))
+            .collect();
+        let coupled = normal.is_some() || !self.operators.is_empty();
+        let sys = self.assemble(&free, &gu, &gv, &pats, normal, &quadratic);
         let assemble = t0.elapsed().as_secs_f64();
 
         let solved = if self.constraints.is_empty() {
-            unconstrained(&sys, normal.is_some(), free.len())?
+            unconstrained(&sys, coupled, free.len())?
         } else {
             let rows = self.constraint_rows()?;
             let mut slot = vec![usize::MAX; self.free.len()];
@@ -357,13 +433,7 @@ impl BSplineProblem {
                 slot[k] = s;
             }
             let t1 = Instant::now();
-            let c = super::constraint::solve(
-                &sys,
-                normal.is_some(),
-                &rows,
-                &slot,
-                self.surface.points(),
-            )?;
+            let c = super::constraint::solve(&sys, coupled, &rows, &slot, self.surface.points())?;
             let x: Vec<Vec3> = c.x.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
             let x_inf = c.x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             let denom = sys.h_inf * x_inf + c.b_inf;
@@ -403,8 +473,10 @@ impl BSplineProblem {
             .guide
             .as_ref()
             .map_or(0.0, |(g, s)| guide_value(&gu, &gv, *g, surface.points(), s));
-        let total = stretch + bend + normal_field + guide_surface;
-        let mut check_energy = energy_by_quadrature(&pieces, degree, &pats);
+        let x_flat: Vec<f64> = surface.points().iter().flatten().copied().collect();
+        let (external, external_check) = self.external(&placed, &x_flat);
+        let total = stretch + bend + normal_field + guide_surface + external;
+        let mut check_energy = energy_by_quadrature(&pieces, degree, &pats) + external_check;
         if let Some(n) = normal {
             check_energy += n.value_by_pieces(&surface, &pieces);
         }
@@ -441,6 +513,12 @@ impl BSplineProblem {
             });
         }
         let (constraints, max_violation) = self.outcomes(&surface)?;
+        let operators = self
+            .operators
+            .iter()
+            .zip(&placed)
+            .map(|(op, (nodes, res))| op.outcome_on(nodes, res, &surface, &x_flat))
+            .collect();
         Ok(BSplineSolution {
             surface,
             report: BSplineReport {
@@ -449,7 +527,7 @@ impl BSplineProblem {
                 bend,
                 normal_field,
                 guide_surface,
-                coupled: normal.is_some(),
+                coupled,
                 check_energy,
                 energy_error,
                 excess,
@@ -462,6 +540,8 @@ impl BSplineProblem {
                 residual: solved.residual,
                 condition_estimate: solved.condition_estimate,
                 factor_nonzeros: solved.factor_nonzeros,
+                external,
+                operators,
                 constraints,
                 max_violation,
                 kkt: solved.kkt,
@@ -488,6 +568,10 @@ impl BSplineProblem {
         if let Some((g, s)) = &self.guide {
             e += guide_value(&Gram1d::new(ku), &Gram1d::new(kv), *g, surface.points(), s);
         }
+        if let Ok(placed) = self.place_operators() {
+            let x: Vec<f64> = surface.points().iter().flatten().copied().collect();
+            e += self.external(&placed, &x).0;
+        }
         e
     }
 
@@ -501,8 +585,9 @@ impl BSplineProblem {
         gv: &Gram1d,
         pats: &[(f64, usize, usize)],
         normal: Option<&NormalTerm>,
+        operators: &[(f64, &Residual)],
     ) -> System {
-        let coupled = normal.is_some();
+        let coupled = normal.is_some() || !operators.is_empty();
         let cv = gv.count();
         let mut slot = vec![usize::MAX; self.free.len()];
         for (s, &k) in free.iter().enumerate() {
@@ -570,17 +655,17 @@ impl BSplineProblem {
                 }
             }
         }
-        if let Some(n) = normal {
-            // The field's 3 × 3 blocks, summed span by span into a band
-            // store (one per free point and neighbour offset) and then
-            // emitted once: adding every span's blocks as triplets made
-            // 5 M of them at 50 × 50.
+        if coupled {
+            // The field's and the operators' 3 × 3 blocks, summed into a
+            // band store (one per free point and neighbour offset) and then
+            // emitted once: adding every span's blocks as triplets made 5 M
+            // of them at 50 × 50 (and an operator's every node's).
             let (p, q) = self.surface.degree();
             let (wu, wv) = (2 * p + 1, 2 * q + 1);
             let mut band = vec![0.0f64; nf * wu * wv * 9];
             let size = (p + 1) * (q + 1);
             let m = 3 * size;
-            for grid in n.spans(&self.surface) {
+            for grid in normal.iter().flat_map(|n| n.spans(&self.surface)) {
                 // Local Σ_nodes w (Y Yᵀ + Z Zᵀ), Y = ∂_u B ⊗ N, Z = ∂_v B ⊗ N.
                 let local = grid.local();
                 let (su, sv) = grid.span;
@@ -600,6 +685,25 @@ impl BSplineProblem {
                                 blk[3 * c + d] += local[(3 * a + c) * m + 3 * b + d];
                             }
                         }
+                    }
+                }
+            }
+            // The operators' residuals w (a·x − t)²: w a aᵀ and w t a, over
+            // coordinates 3g + c of one span's points.
+            for &(w, r) in operators {
+                for &(i, a) in &r.terms {
+                    let (k, c) = (i / 3, i % 3);
+                    let sk = slot[k];
+                    if sk == usize::MAX {
+                        continue;
+                    }
+                    let (row, rc) = at(sk, c);
+                    sys.b[(row, rc)] += w * r.target * a;
+                    let (ia, ja) = (k / cv, k % cv);
+                    for &(j, b) in &r.terms {
+                        let (l, d) = (j / 3, j % 3);
+                        let off = (l / cv + p - ia) * wv + (l % cv + q - ja);
+                        band[(sk * wu * wv + off) * 9 + 3 * c + d] += w * a * b;
                     }
                 }
             }

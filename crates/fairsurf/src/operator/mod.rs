@@ -28,6 +28,7 @@
 //! s / E_attr: not quadratic, so the solves minimize the total energy
 //! (eq. 30) by Newton's method with a line search ([`NewtonReport`]).
 
+pub(crate) mod bspline;
 pub(crate) mod newton;
 pub(crate) mod tensor;
 
@@ -322,6 +323,37 @@ impl<P> Operator<P> {
             }
             Target::Curve(_) => unreachable!("an edge place"),
         }
+    }
+
+    /// Appends the residuals of one quadrature node of a tensor-product
+    /// basis: `points` the node's control points (row-major over its u- and
+    /// v-functions), `bu[r]` and `bv[r]` the r-th derivatives (r = 0, 1) of
+    /// the u- and v-functions there, `surface_point` T for a surface target.
+    pub(crate) fn tensor_node_residuals(
+        &self,
+        weight: f64,
+        points: &[usize],
+        (bu, bv): (&[Vec<f64>], &[Vec<f64>]),
+        surface_point: Option<Vec3>,
+        out: &mut Vec<Residual>,
+    ) {
+        let product = |a: &[f64], b: &[f64]| -> Vec<f64> {
+            a.iter()
+                .flat_map(|x| b.iter().map(move |y| x * y))
+                .collect()
+        };
+        let values = product(&bu[0], &bv[0]);
+        let (dx, dy) = match self.target {
+            Target::Direction(_) => (product(&bu[1], &bv[0]), product(&bu[0], &bv[1])),
+            _ => (Vec::new(), Vec::new()),
+        };
+        let basis = NodeBasis {
+            points,
+            values: &values,
+            dx: &dx,
+            dy: &dy,
+        };
+        self.node_residuals(weight, &basis, surface_point, out);
     }
 
     /// Appends the edge-to-curve residuals E(t) − C(t) at Gauss–Legendre

@@ -8,7 +8,7 @@
 //! eq. 28; the director uses S_u·N and S_v·N (eq. 13–14 with the square's
 //! orthonormal directions u and v).
 
-use super::{NodeBasis, Operator, OperatorOutcome, Residual, Tally, Target};
+use super::{Operator, OperatorOutcome, Residual, Tally, Target};
 use crate::basis::bernstein_derivatives;
 use crate::basis::polygon::{convex, trapezoid_rule, Uv};
 use crate::{BezierCurve, Result, TensorPatch};
@@ -147,23 +147,7 @@ impl Operator<TensorPlace> {
         for &(u, v, w) in &at.nodes {
             let bu = bernstein_derivatives(n, u, 1);
             let bv = bernstein_derivatives(m, v, 1);
-            let product = |a: &[f64], b: &[f64]| -> Vec<f64> {
-                a.iter()
-                    .flat_map(|x| b.iter().map(move |y| x * y))
-                    .collect()
-            };
-            let values = product(&bu[0], &bv[0]);
-            let (dx, dy) = match self.target {
-                Target::Direction(_) => (product(&bu[1], &bv[0]), product(&bu[0], &bv[1])),
-                _ => (Vec::new(), Vec::new()),
-            };
-            let basis = NodeBasis {
-                points: &points,
-                values: &values,
-                dx: &dx,
-                dy: &dy,
-            };
-            self.node_residuals(w, &basis, self.surface_point(u, v), &mut out);
+            self.tensor_node_residuals(w, &points, (&bu, &bv), self.surface_point(u, v), &mut out);
         }
         out
     }

@@ -21,4 +21,4 @@ pub use cache::FactorCache;
 pub use factored::Factored;
 pub use problem::{Problem, Solution, SolveOptions};
 pub use report::{SolveReport, TermEnergy, Timings};
-pub(crate) use rows::first_dependent_row;
+pub(crate) use rows::{first_dependent_row, known_row_met};

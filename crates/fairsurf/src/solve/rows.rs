@@ -188,6 +188,23 @@ fn norm2(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
+/// Checks a row no free coordinate enters: its known terms a·x meet its
+/// right-hand side (the residual `r`, compensated) to 1e-12 of their size,
+/// else an error naming the row.
+pub(crate) fn known_row_met(row: &Row, a: &[f64], xs: &[f64], r: f64) -> Result<()> {
+    let size = row.rhs.abs() + a.iter().zip(xs).map(|(a, x)| (a * x).abs()).sum::<f64>();
+    if r.abs() > 1e-12 * size.max(f64::MIN_POSITIVE) && r != 0.0 {
+        return Err(Error::Mismatch {
+            what: row.name.clone(),
+            expected: "an equation some free control point enters, or one the known \
+                       control points meet"
+                .into(),
+            got: format!("one the known control points alone decide, missing it by {r:.3e}"),
+        });
+    }
+    Ok(())
+}
+
 /// The first of `rows` that is (nearly) a combination of the ones before
 /// it, by the Cholesky factorization of F Fᵀ with the range-space solve's
 /// relative pivot test; `None` when they are independent. A row without
@@ -332,18 +349,7 @@ impl FreeRows {
                 c.push(r);
                 continue;
             }
-            let size = row.rhs.abs() + a.iter().zip(&xs).map(|(a, x)| (a * x).abs()).sum::<f64>();
-            if r.abs() > 1e-12 * size.max(f64::MIN_POSITIVE) && r != 0.0 {
-                return Err(Error::Mismatch {
-                    what: row.name.clone(),
-                    expected: "an equation some free control point enters, or one the known \
-                               control points meet"
-                        .into(),
-                    got: format!(
-                        "one the known control points alone decide, missing it by {r:.3e}"
-                    ),
-                });
-            }
+            known_row_met(row, &a, &xs, r)?;
         }
         Ok(c)
     }

@@ -176,3 +176,34 @@ pub fn moves_along(
         })
         .collect()
 }
+
+/// An attractor or director named `name` (not a repellor).
+pub fn attractor<P>(
+    name: &str,
+    target: fairsurf::operator::Target,
+    place: P,
+    strength: f64,
+) -> fairsurf::operator::Operator<P> {
+    fairsurf::operator::Operator {
+        name: name.into(),
+        target,
+        place,
+        strength,
+        repel: false,
+    }
+}
+
+/// A B-spline surface over the knots `u`, `v` whose control points lie on
+/// the graph of `f` over the Greville abscissae.
+pub fn graph_bspline(
+    u: fairsurf::bspline::KnotVector,
+    v: fairsurf::bspline::KnotVector,
+    f: impl Fn(f64, f64) -> f64,
+) -> fairsurf::bspline::BSplineSurface {
+    let (gu, gv) = (u.greville(), v.greville());
+    let points = gu
+        .iter()
+        .flat_map(|&x| gv.iter().map(|&y| [x, y, f(x, y)]).collect::<Vec<_>>())
+        .collect();
+    fairsurf::bspline::BSplineSurface::new(u, v, points).unwrap()
+}

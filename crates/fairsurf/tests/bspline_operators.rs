@@ -1,0 +1,277 @@
+//! External energy operators on B-spline surfaces (Veltkamp & Wesselink §5
+//! with the basis N_i,p(u)·N_j,q(v)): a B-spline without interior knots
+//! gives the tensor solve's surface with the same operators (another
+//! implementation: the tensor place, the dense solve); on many spans, a
+//! region that crosses knot lines has the energy an independent quadrature
+//! gives (Gauss rules on the sub-rectangles the knots cut it into); no
+//! perturbation lowers the total energy; bad operators are refused, naming
+//! them.
+
+mod common;
+
+use fairsurf::basis::GaussLegendre;
+use fairsurf::bspline::{BSplineProblem, BSplineSurface, KnotVector};
+use fairsurf::operator::{PatchEdge, Target, TensorOperator, TensorPlace};
+use fairsurf::vector::{dot, norm, normalize, sub};
+use fairsurf::{Bend, BezierCurve, Problem, Stretch, TensorPatch, Vec3};
+
+fn op(name: &str, target: Target, place: TensorPlace, strength: f64) -> TensorOperator {
+    common::attractor(name, target, place, strength)
+}
+
+/// A point, a director, a plane, a line and a surface attractor.
+fn operators() -> Vec<TensorOperator> {
+    let region = vec![[0.2, 0.2], [0.7, 0.25], [0.6, 0.7], [0.25, 0.6]];
+    vec![
+        op(
+            "pull",
+            Target::Point([0.4, 0.45, 0.3]),
+            TensorPlace::Point([0.4, 0.45]),
+            50.0,
+        ),
+        op(
+            "tilt",
+            Target::Direction([0.3, -0.2, 1.0]),
+            TensorPlace::Region(region.clone()),
+            3.0,
+        ),
+        op(
+            "shelf",
+            Target::Plane {
+                normal: [0.0, 0.0, 2.0],
+                offset: 0.1,
+            },
+            TensorPlace::Region(vec![[0.6, 0.6], [0.9, 0.6], [0.9, 0.9]]),
+            20.0,
+        ),
+        op(
+            "rail",
+            Target::Line {
+                point: [0.8, 0.2, 0.0],
+                direction: [0.0, 0.0, 1.0],
+            },
+            TensorPlace::Point([0.8, 0.2]),
+            30.0,
+        ),
+        op(
+            "sheet",
+            Target::TensorSurface(TensorPatch::from_fn(2, 1, |i, j| {
+                [i as f64 / 2.0, j as f64, 0.1 * i as f64]
+            })),
+            TensorPlace::Region(vec![[0.1, 0.7], [0.4, 0.7], [0.4, 0.95], [0.1, 0.95]]),
+            5.0,
+        ),
+    ]
+}
+
+/// A degree-5 Bézier net over the unit square with a bent edge.
+fn frame() -> TensorPatch {
+    TensorPatch::from_fn(5, 5, |i, j| {
+        let (u, v) = (i as f64 / 5.0, j as f64 / 5.0);
+        [u, v, 0.2 * (std::f64::consts::PI * u).sin() * v]
+    })
+}
+
+fn with_all(mut p: BSplineProblem, ops: &[TensorOperator]) -> BSplineProblem {
+    for o in ops {
+        p = p.with_operator(o.clone()).unwrap();
+    }
+    p
+}
+
+#[test]
+fn a_bezier_knot_bspline_gives_the_tensor_solve_surface() {
+    let ops = operators();
+    let mut tensor = Problem::new((5, 5))
+        .with_fixed_rings(&frame(), 1)
+        .with_term(Stretch::new(0.1))
+        .with_term(Bend::new(1.0));
+    for o in &ops {
+        tensor = tensor.with_operator(o.clone());
+    }
+    let t = tensor.solve().unwrap();
+    let base = BSplineProblem::new(BSplineSurface::from_bezier(&frame()))
+        .with_fixed_rings(1)
+        .with_stretch(0.1)
+        .with_bend(1.0);
+    let s = with_all(base, &ops).solve().unwrap();
+    let worst = t
+        .patch
+        .points()
+        .iter()
+        .zip(s.surface.points())
+        .map(|(a, b)| norm(sub(*a, *b)))
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-10, "nets differ by {worst:e}");
+    let r = &s.report;
+    assert!((t.report.energy - r.energy).abs() < 1e-11 * t.report.energy);
+    assert!((t.report.external - r.external).abs() < 1e-11 * t.report.external);
+    assert_eq!(r.operators.len(), ops.len());
+    for (a, b) in t.report.operators.iter().zip(&r.operators) {
+        assert_eq!((&a.name, &a.kind), (&b.name, &b.kind));
+        assert!(
+            (a.energy - b.energy).abs() < 1e-10 * a.energy.max(1e-12),
+            "{a:?} {b:?}"
+        );
+        assert!((a.measure - b.measure).abs() < 1e-9, "{a:?} {b:?}");
+    }
+    assert!(r.coupled && r.energy_error < 1e-12 && r.excess < 1e-10);
+}
+
+/// A bicubic surface of 6 × 5 uneven spans over [0, 2] × [0, 1], wavy.
+fn sheet() -> BSplineSurface {
+    let u = KnotVector::new(
+        3,
+        vec![0., 0., 0., 0., 0.3, 0.7, 1.0, 1.3, 1.6, 2., 2., 2., 2.],
+    )
+    .unwrap();
+    common::graph_bspline(u, KnotVector::uniform(3, 5), |x, y| {
+        0.15 * (2.0 * x).sin() * (3.0 * y).cos()
+    })
+}
+
+/// ∫ f over the rectangle [a, b] × [c, d], cut at the surface's knots
+/// (one polynomial per piece), by 12 × 12 Gauss points per piece.
+fn rectangle_integral(
+    s: &BSplineSurface,
+    [a, b, c, d]: [f64; 4],
+    f: impl Fn(f64, f64) -> f64,
+) -> f64 {
+    let cuts = |knots: &[f64], lo: f64, hi: f64| -> Vec<f64> {
+        let mut x: Vec<f64> = std::iter::once(lo)
+            .chain(knots.iter().copied().filter(|&k| lo < k && k < hi))
+            .chain(std::iter::once(hi))
+            .collect();
+        x.dedup();
+        x
+    };
+    let (ku, kv) = s.knots();
+    let (us, vs) = (cuts(ku.knots(), a, b), cuts(kv.knots(), c, d));
+    let g = GaussLegendre::new(12);
+    let mut total = 0.0;
+    for wu in us.windows(2) {
+        for wv in vs.windows(2) {
+            for (x, wx) in g.nodes.iter().zip(&g.weights) {
+                for (y, wy) in g.nodes.iter().zip(&g.weights) {
+                    let (u, v) = (wu[0] + (wu[1] - wu[0]) * x, wv[0] + (wv[1] - wv[0]) * y);
+                    total += wx * wy * (wu[1] - wu[0]) * (wv[1] - wv[0]) * f(u, v);
+                }
+            }
+        }
+    }
+    total
+}
+
+#[test]
+fn regions_across_knot_lines_have_the_independent_quadratures_energy() {
+    let rect = [0.25, 1.45, 0.15, 0.85];
+    let region = vec![[0.25, 0.15], [1.45, 0.15], [1.45, 0.85], [0.25, 0.85]];
+    let n = normalize([0.3, -0.2, 1.0]).unwrap();
+    let ops = vec![
+        op(
+            "plane",
+            Target::Plane {
+                normal: [0.0, 0.0, 2.0],
+                offset: 0.1,
+            },
+            TensorPlace::Region(region.clone()),
+            20.0,
+        ),
+        op(
+            "tilt",
+            Target::Direction(n),
+            TensorPlace::Region(region),
+            3.0,
+        ),
+    ];
+    let problem = with_all(
+        BSplineProblem::new(sheet())
+            .with_fixed_rings(2)
+            .with_bend(1.0),
+        &ops,
+    );
+    let sol = problem.solve().unwrap();
+    let s = &sol.surface;
+    let plane = 20.0 * rectangle_integral(s, rect, |u, v| (s.eval(u, v)[2] - 0.05).powi(2));
+    let tilt = 3.0
+        * rectangle_integral(s, rect, |u, v| {
+            let d = s.derivatives(u, v);
+            dot(d.du, n).powi(2) + dot(d.dv, n).powi(2)
+        });
+    let got: Vec<f64> = sol.report.operators.iter().map(|o| o.energy).collect();
+    assert!(
+        (got[0] - plane).abs() < 1e-12 * plane,
+        "{} vs {plane}",
+        got[0]
+    );
+    assert!((got[1] - tilt).abs() < 1e-12 * tilt, "{} vs {tilt}", got[1]);
+    assert!((sol.report.external - plane - tilt).abs() < 1e-12 * (plane + tilt));
+    // The solve is the minimum of the total energy: random moves of the
+    // free points raise it.
+    let e0 = problem.energy_at(s);
+    assert!((e0 - sol.report.energy).abs() < 1e-12 * e0);
+    let free: Vec<usize> = (0..problem.free().len())
+        .filter(|&k| problem.free()[k])
+        .collect();
+    let (ku, kv) = s.knots();
+    let mut seed = 99u64;
+    for trial in 0..6 {
+        let mut points: Vec<Vec3> = s.points().to_vec();
+        for &g in &free {
+            for c in 0..3 {
+                seed = seed
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                points[g][c] += 1e-3 * ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5);
+            }
+        }
+        let moved = BSplineSurface::new(ku.clone(), kv.clone(), points).unwrap();
+        let e = problem.energy_at(&moved);
+        assert!(e > e0, "trial {trial}: {e} ≤ {e0}");
+    }
+}
+
+#[test]
+fn bad_operators_are_refused_naming_them() {
+    let base = || {
+        BSplineProblem::new(sheet())
+            .with_fixed_rings(2)
+            .with_bend(1.0)
+    };
+    let far = op(
+        "far",
+        Target::Point([0.0; 3]),
+        TensorPlace::Point([0.5, 1.5]),
+        1.0,
+    );
+    let e = base().with_operator(far).unwrap_err().to_string();
+    assert!(
+        e.contains("far") && e.contains("knot domain [0, 2] × [0, 1]"),
+        "{e}"
+    );
+    let mut push = op(
+        "push",
+        Target::Point([0.0; 3]),
+        TensorPlace::Point([0.5, 0.5]),
+        1.0,
+    );
+    push.repel = true;
+    let e = base().with_operator(push).unwrap_err().to_string();
+    assert!(e.contains("push") && e.contains("repellor"), "{e}");
+    let edge = op(
+        "hem",
+        Target::Curve(BezierCurve::new(vec![[0.0; 3], [0.0, 1.0, 0.0]])),
+        TensorPlace::Edge(PatchEdge::U0),
+        1.0,
+    );
+    let e = base().with_operator(edge).unwrap_err().to_string();
+    assert!(e.contains("hem") && e.contains("edge"), "{e}");
+    let bent = op(
+        "bent",
+        Target::Point([0.0; 3]),
+        TensorPlace::Region(vec![[0.1, 0.1], [0.9, 0.1], [0.5, 0.3], [0.5, 0.9]]),
+        1.0,
+    );
+    let e = base().with_operator(bent).unwrap_err().to_string();
+    assert!(e.contains("bent") && e.contains("convex"), "{e}");
+}
