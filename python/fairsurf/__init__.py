@@ -35,10 +35,11 @@ import numpy as np
 
 from . import _fairsurf
 from ._errors import ExportError, FairsurfError, SceneError, SolveError, UnverifiedError
-from ._problem import Problem
+from ._problem import Problem, TriProblem
 
 __all__ = [
     "Problem",
+    "TriProblem",
     "solve",
     "solve_many",
     "load",

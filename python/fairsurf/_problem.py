@@ -1,7 +1,9 @@
-"""`fairsurf.Problem`: a scene built from numpy arrays, one step at a time.
+"""`fairsurf.Problem` and `fairsurf.TriProblem`: scenes built from numpy
+arrays, one step at a time.
 
-The Python face of the library's ``Problem`` (tensor Bézier patches) and
-``BSplineProblem``: the same vocabulary — a control net whose NaN points are
+The Python face of the library's ``Problem`` (tensor Bézier patches),
+``BSplineProblem`` and ``TriProblem`` (triangular Bézier surfaces over a
+mesh, Veltkamp & Wesselink): the same vocabulary — a control net whose NaN points are
 free, fixed rings, the energy terms of Wu & Yang (stretch, bend, a normal
 field, a guide surface), Veltkamp & Wesselink's constraints and operators,
 Monterde & Ugail's constructions — written into the scene that ``fairsurf
@@ -35,7 +37,96 @@ def _net(points: Any, what: str, least: int = 1) -> np.ndarray:
     return a
 
 
-class Problem(Mapping[str, Any]):
+class _Scene(Mapping[str, Any]):
+    """A scene dict that every step copies: the shared half of the builders."""
+
+    _scene: Dict[str, Any]
+
+    # The mapping: the scene as a dict (copies: a builder does not change).
+    def __getitem__(self, key: str) -> Any:
+        return copy.deepcopy(self._scene[key])
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, type(self)):
+            return NotImplemented
+        return self.to_json() == other.to_json()
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._scene)
+
+    def __len__(self) -> int:
+        return len(self._scene)
+
+    def _with(self, edit: Any) -> Any:
+        new = copy.copy(self)
+        new._scene = copy.deepcopy(self._scene)
+        edit(new._scene)
+        return new
+
+    def _energy(self, key: str, value: Any) -> Any:
+        def edit(s: Dict[str, Any]) -> None:
+            s.setdefault("energy", {})[key] = value
+
+        return self._with(edit)
+
+    def _append(self, key: str, kind: str, fields: Mapping[str, Any]) -> Any:
+        item = {"type": str(kind), **copy.deepcopy(dict(fields))}
+
+        def edit(s: Dict[str, Any]) -> None:
+            s.setdefault(key, []).append(item)
+
+        return self._with(edit)
+
+    @property
+    def scene(self) -> Dict[str, Any]:
+        """A copy of the scene as a dict (numpy arrays inside)."""
+        return copy.deepcopy(self._scene)
+
+    def stretch(self, weight: float) -> Any:
+        """The membrane term with this weight (Wu & Yang eq. 3; Veltkamp &
+        Wesselink eq. 6 on triangular surfaces)."""
+        return self._energy("stretch", float(weight))
+
+    def bend(self, weight: float) -> Any:
+        """The thin-plate term with this weight (Wu & Yang eq. 4; Veltkamp &
+        Wesselink eq. 7 on triangular surfaces)."""
+        return self._energy("bend", float(weight))
+
+    def constraint(self, kind: str, **fields: Any) -> Any:
+        """Adds a constraint (Veltkamp & Wesselink §4.1) held exactly:
+        ``kind`` is ``"point"`` (``target``), ``"normal"`` (``normal``),
+        ``"in_plane"`` (``normal``, ``offset``), ``"on_line"`` (``point``,
+        ``direction``), each ``at=`` a point of the domain — ``{"uv": [u,
+        v]}`` on a Bézier patch ([0, 1]²) or a B-spline (its knot domain),
+        ``{"triangle": t, "bary": [a, b, c]}`` on a triangular surface, which
+        also takes ``"fixed"`` and ``"curve"`` constraints; optional
+        ``name``."""
+        return self._append("constraints", kind, fields)
+
+    def operator(self, kind: str, **fields: Any) -> Any:
+        """Adds an external energy operator (Veltkamp & Wesselink §5):
+        ``kind`` is e.g. ``"point_attractor"``, ``"director"``,
+        ``"plane_attractor"``, with ``strength`` and the fields the scene
+        format names (``fairsurf.schema()``); on a B-spline, places lie in
+        the knot domain, and repellors and edges are refused."""
+        return self._append("operators", kind, fields)
+
+    def to_json(self) -> str:
+        """The scene as JSON text (free points as ``null``)."""
+        from . import _scene_text
+
+        return json.dumps(json.loads(_scene_text(self)), indent=1)
+
+    def solve(self, max_memory_gb: float = 8.0) -> Any:
+        """:func:`fairsurf.solve` of this scene."""
+        from . import solve
+
+        return solve(self, max_memory_gb=max_memory_gb)
+
+
+class Problem(_Scene):
     """A tensor (Bézier) or B-spline scene, built step by step.
 
     ``control_points`` is an array of shape (n + 1, m + 1, 3); a point of
@@ -86,46 +177,12 @@ class Problem(Mapping[str, Any]):
         if name is not None:
             self._scene["name"] = name
 
-    # The mapping: the scene as a dict (copies: a Problem does not change).
-    def __getitem__(self, key: str) -> Any:
-        return copy.deepcopy(self._scene[key])
-
-    def __eq__(self, other: object) -> bool:
-        if not isinstance(other, Problem):
-            return NotImplemented
-        return self.to_json() == other.to_json()
-
-    __hash__ = None  # type: ignore[assignment]
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(self._scene)
-
-    def __len__(self) -> int:
-        return len(self._scene)
-
     def __repr__(self) -> str:
         s = self._scene["surface"]
         parts = [f"{s['type']} {tuple(s['degree'])}"]
         parts += [k for k in ("fixed_rings", "energy", "constraints", "operators", "method")
                   if k in self._scene]
         return f"<fairsurf.Problem {', '.join(parts)}>"
-
-    def _with(self, edit: Any) -> "Problem":
-        new = copy.copy(self)
-        new._scene = copy.deepcopy(self._scene)
-        edit(new._scene)
-        return new
-
-    def _energy(self, key: str, value: Any) -> "Problem":
-        def edit(s: Dict[str, Any]) -> None:
-            s.setdefault("energy", {})[key] = value
-
-        return self._with(edit)
-
-    @property
-    def scene(self) -> Dict[str, Any]:
-        """A copy of the scene as a dict (numpy arrays inside)."""
-        return copy.deepcopy(self._scene)
 
     def fix_rings(self, rings: int) -> "Problem":
         """Keeps the ``rings`` outer rings of control points (1: the
@@ -143,14 +200,6 @@ class Problem(Mapping[str, Any]):
             have.extend(p for p in pairs if p not in have)
 
         return self._with(edit)
-
-    def stretch(self, weight: float) -> "Problem":
-        """The membrane term ∫ |R_u|² + |R_v|² (Wu & Yang eq. 3) with this weight."""
-        return self._energy("stretch", float(weight))
-
-    def bend(self, weight: float) -> "Problem":
-        """The thin-plate term ∫ |R_uu|² + 2|R_uv|² + |R_vv|² (Wu & Yang eq. 4)."""
-        return self._energy("bend", float(weight))
 
     def normal_field(self, weight: float, control_points: Any) -> "Problem":
         """Wu & Yang's normal-field term λ ∫ (R_u·N)² + (R_v·N)² (eq. 5–6)
@@ -207,38 +256,64 @@ class Problem(Mapping[str, Any]):
             err.path = key
             raise err
 
-    def constraint(self, kind: str, **fields: Any) -> "Problem":
-        """Adds a constraint (Veltkamp & Wesselink §4.1) held exactly:
-        ``kind`` is ``"point"`` (``target``), ``"normal"`` (``normal``),
-        ``"in_plane"`` (``normal``, ``offset``), ``"on_line"`` (``point``,
-        ``direction``), each ``at={"uv": [u, v]}`` ((u, v) in [0, 1]² on a
-        Bézier patch, in the knot domain on a B-spline); optional ``name``."""
-        return self._append("constraints", kind, fields)
 
-    def operator(self, kind: str, **fields: Any) -> "Problem":
-        """Adds an external energy operator (Veltkamp & Wesselink §5):
-        ``kind`` is e.g. ``"point_attractor"``, ``"director"``,
-        ``"plane_attractor"``, with ``strength`` and the fields the scene
-        format names (``fairsurf.schema()``); on a B-spline, places lie in
-        the knot domain, and repellors and edges are refused."""
-        return self._append("operators", kind, fields)
+class TriProblem(_Scene):
+    """A triangular scene (Veltkamp & Wesselink): Bézier triangles of
+    ``degree`` over the mesh of ``vertices`` ((V, 3)) and ``triangles``
+    ((T, 3) vertex indices, counter-clockwise), built step by step like
+    :class:`Problem`. ``control_points`` ((N, 3), the global net in the
+    library's order) starts the surface elsewhere than on the flat
+    triangles. The boundary is fixed and the patches meet with exact G1
+    unless :meth:`fix_boundary` and :meth:`continuity` say otherwise.
+    """
 
-    def _append(self, key: str, kind: str, fields: Mapping[str, Any]) -> "Problem":
-        item = {"type": str(kind), **copy.deepcopy(dict(fields))}
+    def __init__(
+        self,
+        vertices: Any,
+        triangles: Any,
+        degree: int,
+        *,
+        control_points: Any = None,
+        name: Optional[str] = None,
+    ) -> None:
+        v = np.asarray(vertices, dtype=float)
+        t = np.asarray(triangles)
+        for a, cols, what in ((v, 3, "vertices"), (t, 3, "triangles")):
+            if a.ndim != 2 or a.shape[1] != cols:
+                err = SceneError(f"surface.{what}: expected an array of shape (N, 3), not {a.shape}")
+                err.path = f"surface.{what}"
+                raise err
+        if t.dtype.kind not in "iu":
+            err = SceneError(f"surface.triangles: expected integer vertex indices, not {t.dtype}")
+            err.path = "surface.triangles"
+            raise err
+        surface: Dict[str, Any] = {"type": "triangular", "degree": int(degree),
+                                   "vertices": v, "triangles": t.astype(np.int64)}
+        if control_points is not None:
+            surface["control_points"] = np.asarray(control_points, dtype=float)
+        self._scene = {"surface": surface}
+        if name is not None:
+            self._scene["name"] = name
 
+    def __repr__(self) -> str:
+        s = self._scene["surface"]
+        parts = [f"triangular degree {s['degree']}, {len(s['triangles'])} patches"]
+        parts += [k for k in ("energy", "continuity", "constraints", "operators")
+                  if k in self._scene]
+        return f"<fairsurf.TriProblem {', '.join(parts)}>"
+
+    def fix_boundary(self, on: bool = True) -> "TriProblem":
+        """Keeps the boundary curves' control points (the default) or frees
+        them."""
+        return self._with(lambda s: s.__setitem__("fix_boundary", bool(on)))
+
+    def continuity(self, **fields: Any) -> "TriProblem":
+        """The continuity between patches (the scene's ``continuity``):
+        ``edges`` (``"exact"``, ``"relaxed"``, ``"off"``), ``vertices`` (G1 at
+        the vertices), ``boundary_angles``; fields not given keep their
+        earlier value or default."""
         def edit(s: Dict[str, Any]) -> None:
-            s.setdefault(key, []).append(item)
+            s.setdefault("continuity", {}).update(copy.deepcopy(dict(fields)))
 
         return self._with(edit)
 
-    def to_json(self) -> str:
-        """The scene as JSON text (free points as ``null``)."""
-        from . import _scene_text
-
-        return json.dumps(json.loads(_scene_text(self)), indent=1)
-
-    def solve(self, max_memory_gb: float = 8.0) -> Any:
-        """:func:`fairsurf.solve` of this scene."""
-        from . import solve
-
-        return solve(self, max_memory_gb=max_memory_gb)

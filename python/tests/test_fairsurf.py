@@ -232,6 +232,22 @@ def test_arrays_are_the_librarys_buffers_handed_over() -> None:
             assert a.flags.c_contiguous
 
 
+def test_a_net_double_precision_cannot_hold_is_refused_with_its_own_error() -> None:
+    """Degree 34, a flat square, the membrane: the written Bernstein net
+    fails the double-double check (the README's limits), an
+    UnverifiedError (a FairsurfError, not a SceneError) that says so."""
+    n = 34
+    net = np.full((n + 1, n + 1, 3), np.nan)
+    for i in range(n + 1):
+        for j in range(n + 1):
+            if i in (0, n) or j in (0, n):
+                net[i, j] = [i / n, j / n, 0.0]
+    with pytest.raises(fairsurf.UnverifiedError, match="cannot be verified in double precision") as e:
+        fairsurf.Problem(net).stretch(1.0).solve()
+    assert isinstance(e.value, fairsurf.FairsurfError)
+    assert not isinstance(e.value, fairsurf.SceneError)
+
+
 def test_evaluation_errors() -> None:
     r = fairsurf.solve(TENSOR)
     with pytest.raises(ValueError, match=r"u\[1\] = 1.5"):

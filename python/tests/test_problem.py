@@ -171,3 +171,48 @@ def test_steps_copy_and_compare_and_refuse_what_the_kind_lacks() -> None:
     assert e.value.path == "refine"
     refined = spline.bend(1.0).refine(elevate=[1, 1]).solve()
     assert refined.degree == (4, 4)
+
+
+@pytest.mark.parametrize("name", ["vw_fig1_point_normal.json", "vw_fig2_curve.json",
+                                  "vw_fig6_attractors.json", "vw_repellor.json",
+                                  "vw_pentagon_hole.json"])
+def test_tri_problems_rebuild_the_triangular_examples(name: str) -> None:
+    """Mesh, degree, control points, weights, continuity, constraints
+    (point, normal, curve) and operators (attractors, a repellor) written
+    step by step give the example's surface to the last bit."""
+    d = example(name)
+    s = d["surface"]
+    p = fairsurf.TriProblem(np.array(s["vertices"]), np.array(s["triangles"]), s["degree"],
+                            control_points=s.get("control_points"))
+    for key, value in d["energy"].items():
+        p = getattr(p, key)(value)
+    if "continuity" in d:
+        p = p.continuity(**d["continuity"])
+    for key in ("constraints", "operators"):
+        for item in d.get(key, []):
+            fields = {k: v for k, v in item.items() if k != "type"}
+            p = getattr(p, key[:-1])(item["type"], **fields)
+    same_solution(p, name)
+
+
+def test_tri_problem_steps_copy_and_mistakes_name_their_path() -> None:
+    d = example("vw_fig1_point_normal.json")["surface"]
+    base = fairsurf.TriProblem(d["vertices"], d["triangles"], 3).bend(1.0)
+    free = base.fix_boundary(False).continuity(edges="off")
+    assert "fix_boundary" not in base and free["fix_boundary"] is False
+    assert free["continuity"] == {"edges": "off"}
+    assert free.continuity(vertices=False)["continuity"] == {"edges": "off", "vertices": False}
+    assert repr(base).startswith("<fairsurf.TriProblem triangular degree 3")
+    with pytest.raises(fairsurf.SceneError) as e:
+        fairsurf.TriProblem(d["vertices"], np.array(d["triangles"], dtype=float), 3)
+    assert e.value.path == "surface.triangles"
+    with pytest.raises(fairsurf.SceneError) as e:
+        fairsurf.TriProblem(np.zeros((4, 2)), d["triangles"], 3)
+    assert e.value.path == "surface.vertices"
+    with pytest.raises(fairsurf.SceneError) as e:
+        base.constraint("point", at={"triangle": 10**6, "bary": [1, 0, 0]},
+                        target=[0, 0, 0]).solve()
+    assert e.value.path == "constraints[0].at", e.value.path
+    with pytest.raises(fairsurf.SceneError) as e:
+        base.continuity(edges="sometimes").solve()
+    assert e.value.path.startswith("continuity.edges"), e.value.path

@@ -933,7 +933,7 @@ fn bad_triangular_scenes_exit_2_naming_the_field() {
         (
             "outside",
             Box::new(|v| v["constraints"][0]["at"]["bary"] = serde_json::json!([0.9, 0.9, -0.8])),
-            "pull",
+            "constraints[0].at: pull (triangle 18)",
         ),
         (
             "zero normal",

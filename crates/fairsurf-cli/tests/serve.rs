@@ -233,6 +233,33 @@ fn bspline_scenes_in_the_editor() {
     let (status, moved) = post(&s, "/api/solve", &json!({ "scene": scene, "quick": true }));
     assert_eq!(status, 200, "{moved}");
     assert_ne!(moved["mesh"]["positions"], fine["mesh"]["positions"]);
+    // A normal field's arrows: 9 × 9, each at the surface point of its
+    // grid parameter, along the field there (normalized).
+    assert!(v["normals"].as_array().unwrap().is_empty());
+    let guided = example("bspline_hole_guided.json");
+    let (status, g) = post(&s, "/api/solve", &json!({ "scene": guided }));
+    assert_eq!(status, 200, "{g}");
+    let arrows = g["normals"].as_array().unwrap();
+    assert_eq!(arrows.len(), 81);
+    let solved = fairsurf_io::BSplineScene::from_json(&guided.to_string())
+        .unwrap()
+        .solve()
+        .unwrap();
+    let field = solved.normal_field.as_ref().unwrap();
+    for (k, arrow) in arrows.iter().enumerate() {
+        let (a, b) = ((k / 9) as f64 / 8.0, (k % 9) as f64 / 8.0);
+        assert!(
+            dist(v3(&arrow["at"]), solved.surface().eval(a, b)) < 1e-12,
+            "{k}"
+        );
+        let d = v3(&arrow["dir"]);
+        let want = field.direction(a, b).unwrap();
+        let len = dist(d, [0.0; 3]);
+        assert!(
+            dist([d[0] / len, d[1] / len, d[2] / len], want) < 1e-12,
+            "{k}"
+        );
+    }
 }
 
 /// A drag: quick solves of a moved boundary point reuse the kept
@@ -438,6 +465,14 @@ fn direction_and_plane_handles() {
         (tri, &["normal", "in_plane", "on_line"]),
         (
             example("tensor_constraints.json"),
+            &["normal", "in_plane", "on_line"],
+        ),
+        (
+            example("bspline_operators.json"),
+            &["director", "plane_attractor"],
+        ),
+        (
+            example("bspline_constraints.json"),
             &["normal", "in_plane", "on_line"],
         ),
     ];

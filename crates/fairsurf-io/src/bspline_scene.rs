@@ -242,6 +242,9 @@ pub struct SolvedBSplineScene {
     /// The guide surface's net as solved (on the solved knots; empty
     /// without one).
     pub guide_points: Vec<Vec3>,
+    /// The normal field as solved (over the knot domain mapped onto
+    /// [0, 1]²), when there is one.
+    pub normal_field: Option<NormalField>,
 }
 
 impl BSplineScene {
@@ -429,6 +432,7 @@ impl BSplineScene {
         Ok(SolvedBSplineScene {
             scene: self.clone(),
             guide_points: problem.guide().map(|g| g.1.to_vec()).unwrap_or_default(),
+            normal_field: problem.normal_field(),
             free: problem.free().to_vec(),
             solution,
             normal_turn,

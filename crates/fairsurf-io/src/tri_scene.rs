@@ -388,7 +388,11 @@ impl TriScene {
                 point: c.point,
                 direction: c.direction,
             };
-            let at = || c.at.map(domain_point).ok_or_else(|| need("at"));
+            let point = |p: Option<DomainPointSpec>, field: &str| {
+                let p = p.ok_or_else(|| need(field))?;
+                located_point(&surface, p, &format!("{path}.{field}"), &name)
+            };
+            let at = || point(c.at, "at");
             if let Some(constraint) = crate::constraints::located(c.kind, &path, &fields, at)? {
                 problem = problem.with_constraint(name, constraint);
                 continue;
@@ -428,11 +432,12 @@ impl TriScene {
                     let curve = BezierCurve::try_new(points).map_err(|e| {
                         Error::scene(format!("{path}.control_points"), e.to_string())
                     })?;
+                    let (from, to) = (point(c.from, "from")?, point(c.to, "to")?);
                     problem = problem.with_curve(CurveConstraint {
                         name,
                         curve,
-                        from: c.from.map(domain_point).ok_or_else(|| need("from"))?,
-                        to: c.to.map(domain_point).ok_or_else(|| need("to"))?,
+                        from,
+                        to,
                         through: c.through.clone(),
                     });
                     continue;
@@ -446,7 +451,11 @@ impl TriScene {
             problem = problem.with_constraint(name, constraint);
         }
         for (i, o) in self.operators.iter().enumerate() {
-            problem = problem.with_operator(operator(o, i)?);
+            let op = operator(o, i)?;
+            if let Some(at) = o.at {
+                located_point(&surface, at, &format!("operators[{i}].at"), &op.name)?;
+            }
+            problem = problem.with_operator(op);
         }
         Ok(problem)
     }
@@ -529,6 +538,22 @@ fn check_domain(vertices: &[[f64; 3]], triangles: &[[usize; 3]]) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// The domain point at `path`, checked against the surface's mesh (a
+/// triangle index, barycentrics of a point of it); errors name the path
+/// and `what` (the constraint or operator).
+fn located_point(
+    surface: &TriSurface,
+    p: DomainPointSpec,
+    path: &str,
+    what: &str,
+) -> Result<DomainPoint> {
+    let d = domain_point(p);
+    surface
+        .check_point(d, what)
+        .map_err(|e| Error::scene(path, e.to_string()))?;
+    Ok(d)
 }
 
 pub(crate) fn domain_point(p: DomainPointSpec) -> DomainPoint {

@@ -182,6 +182,15 @@ impl BSplineProblem {
         &self.free
     }
 
+    /// The normal-field term (λ and the field or samples over the knot
+    /// domain mapped onto [0, 1]²), when there is one.
+    pub fn normal_field(&self) -> Option<crate::energy::NormalField> {
+        self.normal.as_ref().map(|n| crate::energy::NormalField {
+            weight: n.weight,
+            guide: n.guide.clone(),
+        })
+    }
+
     /// γ and the guide's net, when there is a guide term.
     pub fn guide(&self) -> Option<(f64, &[Vec3])> {
         self.guide.as_ref().map(|(g, s)| (*g, s.as_slice()))

@@ -576,6 +576,15 @@ fn rebase(surface: &TriSurface, p: DomainPoint, t: usize) -> Option<Bary> {
 /// p's triangle is in range and its barycentrics are a point of it.
 /// Checks that p names a triangle of the surface and lies in it; the
 /// error's `what` starts with `what`.
+impl TriSurface {
+    /// Checks that `p` is a point of the surface's domain: a triangle of
+    /// the mesh and barycentrics ≥ 0 (to 1e-12) summing to 1 (to 1e-9);
+    /// the error names `what`.
+    pub fn check_point(&self, p: DomainPoint, what: &str) -> Result<()> {
+        check_point(self, p, what)
+    }
+}
+
 pub(crate) fn check_point(surface: &TriSurface, p: DomainPoint, what: &str) -> Result<()> {
     let count = surface.patch_count();
     let what = format!("{what} (triangle {})", p.triangle);

@@ -4,11 +4,15 @@ use super::*;
 
 /// The view of a B-spline surface: its mesh over the knot domain, its own
 /// control net and boundary, the held control points as handles (the
-/// scene's own points, also when it is refined before solving), sliders
-/// for the energy weights and the report's table.
+/// scene's own points, also when it is refined before solving), the normal
+/// field's arrows, the operators' markers and the constraints' handles as
+/// on a tensor patch, sliders for the energy weights and strengths, and the
+/// report's table.
 pub(super) fn bspline_view(solved: &SolvedBSplineScene) -> Value {
     let scene = &solved.scene;
     let s = solved.surface();
+    let size = size_of(s.points());
+    let scene_json = serde_json::to_value(scene).expect("json");
     let (cu, cv) = s.counts();
     let ((u0, u1), (v0, v1)) = (s.knots().0.domain(), s.knots().1.domain());
     let side = |f: &dyn Fn(f64) -> (f64, f64)| -> Vec<Vec3> {
@@ -66,6 +70,10 @@ pub(super) fn bspline_view(solved: &SolvedBSplineScene) -> Value {
             table.push(row(name, v));
         }
     }
+    operator_rows(&mut table, &r.operators);
+    if !r.constraints.is_empty() {
+        table.push(row("max constraint violation", r.max_violation));
+    }
     table.push(row("checked: energy difference (relative)", r.energy_error));
     table.push(row("checked: above the minimum (relative)", r.excess));
     table.push(row("gradient (relative)", r.relative_gradient));
@@ -75,6 +83,24 @@ pub(super) fn bspline_view(solved: &SolvedBSplineScene) -> Value {
     let (su, sv) = (s.knots().0.spans().len(), s.knots().1.spans().len());
     table.push(row("spans", format!("{su} × {sv}")));
     table.push(row("solve (ms)", 1e3 * r.timings.total));
+    // The normal field's directions on a 9 × 9 grid of the knot domain
+    // (the field lives on it mapped onto [0, 1]²).
+    let mut normals = Vec::new();
+    if let Some(f) = &solved.normal_field {
+        let t: Vec<f64> = (0..=8).map(|k| k as f64 / 8.0).collect();
+        for (k, d) in f.directions(&t, &t).into_iter().enumerate() {
+            let (a, b) = (t[k / 9], t[k % 9]);
+            if let Some(d) = d {
+                let at = s.eval(u0 + a * (u1 - u0), v0 + b * (v1 - v0));
+                normals.push(json!({"at": at, "dir": scale(d, 0.08 * size)}));
+            }
+        }
+    }
+    let operators = operator_markers(&scene_json["operators"], &r.operators, size);
+    let mut sliders = sliders;
+    operator_controls(&scene_json, &operators, size, &mut handles, &mut sliders);
+    let at = |c: &Value| uv_of(&c["at"]).map(|[u, v]| s.eval(u, v));
+    constraint_controls(&scene_json, at, size, &mut handles, &mut normals);
     View {
         kind: "bspline",
         table,
@@ -85,8 +111,8 @@ pub(super) fn bspline_view(solved: &SolvedBSplineScene) -> Value {
             edges: grid_edges(cu, cv),
         },
         boundary,
-        normals: Vec::new(),
-        operators: Vec::new(),
+        normals,
+        operators,
         handles,
         sliders,
         methods: None,
