@@ -15,9 +15,11 @@ end multiplicities n + 1), so OCC evaluates the same surface.
 
 from __future__ import annotations
 
+import contextlib
 import os
+import sys
 import tempfile
-from typing import Any, List, Optional, Sequence, Tuple
+from typing import Any, Iterator, List, Optional, Sequence, Tuple
 
 import numpy as np
 from OCP.BRep import BRep_Tool
@@ -179,6 +181,23 @@ def _xyz(p: gp_Pnt) -> List[float]:
     return [p.X(), p.Y(), p.Z()]
 
 
+@contextlib.contextmanager
+def _quiet() -> Iterator[None]:
+    """Open CASCADE's STEP writer prints its statistics on the process's
+    standard output (file descriptor 1, below Python's sys.stdout): sent
+    to /dev/null meanwhile."""
+    sys.stdout.flush()
+    saved = os.dup(1)
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(devnull, 1)
+        yield
+    finally:
+        os.dup2(saved, 1)
+        os.close(saved)
+        os.close(devnull)
+
+
 def fill_shape(
     shape: TopoDS_Shape,
     holes: Optional[Sequence[int]] = None,
@@ -196,9 +215,11 @@ def fill_shape(
 
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "shape.step")
-        writer = STEPControl_Writer()
-        writer.Transfer(shape, STEPControl_AsIs)
-        if writer.Write(path) != IFSelect_RetDone:
+        with _quiet():
+            writer = STEPControl_Writer()
+            writer.Transfer(shape, STEPControl_AsIs)
+            done = writer.Write(path)
+        if done != IFSelect_RetDone:
             raise OSError(f"Open CASCADE could not write {path}")
         filled = fill(path, holes, **options)
     sewing = BRepBuilderAPI_Sewing(tolerance)

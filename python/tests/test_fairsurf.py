@@ -367,6 +367,14 @@ def test_the_gil_is_released_while_evaluating_meshing_and_drawing() -> None:
     longest_pause_is_small(lambda: r.render(width=2400, height=1800, zebra=20), 0.5)
 
 
+def test_the_gil_is_released_while_filling_and_blending() -> None:
+    """The same for a hole fill from a STEP file (next to two cylinders:
+    stand-ins, the solve, W-lowering steps, the measures) and a blend."""
+    cad = EXAMPLES / "cad"
+    longest_pause_is_small(lambda: fairsurf.fill(cad / "fillet_hole.step"), 0.5)
+    longest_pause_is_small(lambda: fairsurf.blend(cad / "blend_sheets.json"), 0.5)
+
+
 def longest_pause_is_small(job, share: float = 0.25) -> None:
     """Runs job in a thread while the main thread loops: the loop's longest
     pause is under `share` of the job's time (a job holding the GIL would
