@@ -136,27 +136,47 @@ impl BSplineSurface {
                 (k, self.v.basis_derivatives(k, v, 2))
             })
             .collect();
+        // Two stages: per u, the columns' partial sums
+        // T_r[c] = Σ_i N_i^(r)(u) P_{ku−p+i, c} over the columns the v's
+        // need; per (u, v), Σ_j N_j^(s)(v) T_r[kv−q+j] — (q+1)·6 products
+        // per point instead of (p+1)(q+1)·6.
+        let Some(first) = (!bv.is_empty()).then(|| bv[0].0 - q) else {
+            return Vec::new();
+        };
+        let (c0, c1) = bv
+            .iter()
+            .fold((first, 0), |(a, b), (kv, _)| (a.min(kv - q), b.max(*kv)));
+        let width = c1 + 1 - c0;
+        let mut t = vec![[0.0f64; 3]; 3 * width];
         let mut out = Vec::with_capacity(us.len() * vs.len());
         for (ku, nu) in &bu {
+            t.fill([0.0; 3]);
+            for i in 0..=p {
+                let row = &self.points[(ku - p + i) * cv + c0..][..width];
+                for (r, tr) in t.chunks_exact_mut(width).enumerate() {
+                    let w = nu[r][i];
+                    for (tc, pt) in tr.iter_mut().zip(row) {
+                        tc[0] += w * pt[0];
+                        tc[1] += w * pt[1];
+                        tc[2] += w * pt[2];
+                    }
+                }
+            }
+            let (t0, rest) = t.split_at(width);
+            let (t1, t2) = rest.split_at(width);
             for (kv, nv) in &bv {
+                let off = kv - q - c0;
                 let mut d = [[0.0f64; 3]; 6];
-                for i in 0..=p {
-                    let row = (ku - p + i) * cv + kv - q;
-                    for j in 0..=q {
-                        let pt = self.points[row + j];
-                        let w = [
-                            nu[0][i] * nv[0][j],
-                            nu[1][i] * nv[0][j],
-                            nu[0][i] * nv[1][j],
-                            nu[2][i] * nv[0][j],
-                            nu[1][i] * nv[1][j],
-                            nu[0][i] * nv[2][j],
-                        ];
-                        for (dk, wk) in d.iter_mut().zip(w) {
-                            dk[0] += wk * pt[0];
-                            dk[1] += wk * pt[1];
-                            dk[2] += wk * pt[2];
-                        }
+                for j in 0..=q {
+                    let (a, b, c) = (t0[off + j], t1[off + j], t2[off + j]);
+                    let (n0, n1, n2) = (nv[0][j], nv[1][j], nv[2][j]);
+                    for k in 0..3 {
+                        d[0][k] += n0 * a[k];
+                        d[1][k] += n0 * b[k];
+                        d[2][k] += n1 * a[k];
+                        d[3][k] += n0 * c[k];
+                        d[4][k] += n1 * b[k];
+                        d[5][k] += n2 * a[k];
                     }
                 }
                 out.push(SurfaceDerivatives {
