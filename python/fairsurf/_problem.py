@@ -212,17 +212,28 @@ class Problem(_Scene):
             "control_points": net,
         })
 
-    def guide(self, weight: float, control_points: Any = None) -> "Problem":
+    def guide(
+        self,
+        weight: float,
+        control_points: Any = None,
+        *,
+        knots: Optional[Tuple[Sequence[float], Sequence[float]]] = None,
+        bezier: bool = False,
+    ) -> "Problem":
         """Wu & Yang's guide term γ ∫ |R − S|² (eq. 7) with γ = ``weight``
         and S the surface of ``control_points`` — for a Bézier problem a net
-        of any degree, for a B-spline one a net on the surface's knots —
-        or, by default, the initial surface (the net as given)."""
+        of any degree; for a B-spline one a net on the surface's knots, or
+        S's own B-spline with ``knots`` = (U, V), or with ``bezier=True`` a
+        Bézier patch of any degree over the knot domain — or, by default,
+        the initial surface (the net as given)."""
         block: Dict[str, Any] = {"weight": float(weight)}
         if control_points is not None:
             net = _net(control_points, "energy.guide_surface.control_points", least=0)
             block["control_points"] = net
-            if self._scene["surface"]["type"] == "tensor":
+            if self._scene["surface"]["type"] == "tensor" or bezier:
                 block["degree"] = [net.shape[0] - 1, net.shape[1] - 1]
+            if knots is not None:
+                block["knots"] = [np.asarray(k, dtype=float) for k in knots]
         return self._energy("guide_surface", block)
 
     def refine(self, **fields: Any) -> "Problem":

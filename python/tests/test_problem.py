@@ -216,3 +216,23 @@ def test_tri_problem_steps_copy_and_mistakes_name_their_path() -> None:
     with pytest.raises(fairsurf.SceneError) as e:
         base.continuity(edges="sometimes").solve()
     assert e.value.path.startswith("continuity.edges"), e.value.path
+
+
+def test_a_bspline_problem_takes_a_guide_of_its_own_kind() -> None:
+    """A Bézier guide over the knot domain and a B-spline guide on other
+    knots: the scene says so, the solve confirms the term (its check) and
+    the built scene solves like the dict it writes."""
+    h = example("bspline_hole.json")["surface"]
+    base = fairsurf.Problem(net(h["control_points"]), knots=h["knots"]).fix_rings(2).bend(1.0)
+    patch = np.array([[[2 * i / 3, 2 * j / 3, 0.1 * i * j / 9] for j in range(4)] for i in range(4)])
+    b = base.guide(20.0, patch, bezier=True)
+    assert b["energy"]["guide_surface"]["degree"] == [3, 3]
+    knots = ([0, 0, 0, 0, 0.5, 1, 1, 1, 1], [0, 0, 0, 0, 1, 1, 1, 1])
+    coarse = np.array([[[0.5 * i, 2 * j / 3, 0.05 * i] for j in range(4)] for i in range(5)])
+    c = base.guide(20.0, coarse, knots=knots)
+    for p in (b, c):
+        r = p.solve()
+        assert r.report["terms"]["guide_surface"] > 0.0
+        assert r.report["check"]["energy_error"] < 1e-12
+        again = fairsurf.solve(json.loads(p.to_json()))
+        np.testing.assert_array_equal(again.control_points, r.control_points)

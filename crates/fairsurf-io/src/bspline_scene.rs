@@ -212,17 +212,91 @@ pub struct BSplineEnergySpec {
     pub guide_surface: Option<BSplineGuideSpec>,
 }
 
-/// A guide surface S on the surface's knots.
+/// A guide surface S: a net on the surface's knots, or any B-spline or
+/// Bézier surface over the same domain (`knots` and/or `degree`: its L²
+/// projection onto the surface's space is the guide, plus the constant
+/// ∫|S − PS|²; exact, checked by quadrature of |R − S|²).
 #[derive(Clone, Debug, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BSplineGuideSpec {
     /// γ ≥ 0 (default 1).
     #[serde(default = "crate::tensor_scene::one")]
     pub weight: f64,
-    /// The control points of S (as many as the surface's). Default: the
-    /// initial net (`surface.control_points`, which must then have no null).
+    /// The control points of S: as many as the surface's (on its knots),
+    /// or as `knots` / `degree` give. Default: the initial net
+    /// (`surface.control_points`, which must then have no null).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub control_points: Option<Net>,
+    /// `[p, q]`: S's own degrees; without `knots`, S is a Bézier patch of
+    /// this degree over the surface's knot domain.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub degree: Option<[usize; 2]>,
+    /// `[U, V]`: S's own clamped knot vectors over the surface's domain
+    /// (degrees from `degree`, else from the counts).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub knots: Option<[Vec<f64>; 2]>,
+}
+
+impl BSplineGuideSpec {
+    /// S on its own knots or degree, when the spec gives them; errors name
+    /// `energy.guide_surface.…`.
+    fn own_surface(&self, domain: [(f64, f64); 2]) -> Result<Option<BSplineSurface>> {
+        if self.knots.is_none() && self.degree.is_none() {
+            return Ok(None);
+        }
+        let path = "energy.guide_surface";
+        let net = self.control_points.as_ref().ok_or_else(|| {
+            Error::scene(
+                format!("{path}.control_points"),
+                "required with knots or degree (S's own net)",
+            )
+        })?;
+        let rows = net.len();
+        let cols = net.first().map_or(0, Vec::len);
+        let knots = |k: usize, count: usize| -> Result<KnotVector> {
+            let degree = self.degree.map(|d| d[k]);
+            let knots = match &self.knots {
+                Some(kn) => kn[k].clone(),
+                None => {
+                    let p = degree.expect("degree or knots");
+                    let (a, b) = domain[k];
+                    let mut v = vec![a; p + 1];
+                    v.extend(std::iter::repeat_n(b, p + 1));
+                    v
+                }
+            };
+            let p = match degree {
+                Some(p) => p,
+                None => (knots.len()).checked_sub(count + 1).ok_or_else(|| {
+                    Error::scene(
+                        format!("{path}.knots[{k}]"),
+                        format!("{} knots cannot carry {count} control points", knots.len()),
+                    )
+                })?,
+            };
+            if !(1..=MAX_DEGREE).contains(&p) {
+                return Err(Error::scene(
+                    format!("{path}.degree[{k}]"),
+                    format!("must be 1 to {MAX_DEGREE}, got {p}"),
+                ));
+            }
+            KnotVector::new(p, knots)
+                .map_err(|e| Error::scene(format!("{path}.knots[{k}]"), e.to_string()))
+        };
+        let (u, v) = (knots(0, rows)?, knots(1, cols)?);
+        let points: Vec<Vec3> = parse_net(
+            net,
+            &format!("{path}.control_points"),
+            (u.count() - 1, v.count() - 1),
+            false,
+        )?
+        .into_iter()
+        .map(|p| p.expect("no null"))
+        .collect();
+        let s = BSplineSurface::new(u, v, points)
+            .map_err(|e| Error::scene(format!("{path}.control_points"), e.to_string()))?;
+        Ok(Some(s))
+    }
 }
 
 /// The highest degree a B-spline scene takes: beyond it use more spans.
@@ -328,6 +402,7 @@ impl BSplineScene {
             given = surface.points().iter().map(|&p| Some(p)).collect();
         }
         let (cu, cv) = surface.counts();
+        let surface_domain = (surface.knots().0.domain(), surface.knots().1.domain());
         let free = free_mask(
             self.fixed_rings,
             self.free_points.as_deref(),
@@ -376,7 +451,17 @@ impl BSplineScene {
             }) => problem = problem.with_sampled_normals(weight, grid, normals, weights)?,
             None => {}
         }
-        if let Some(g) = &e.guide_surface {
+        let domain = [surface_domain.0, surface_domain.1];
+        if let Some(own) = match &e.guide_surface {
+            Some(g) => g.own_surface(domain)?,
+            None => None,
+        } {
+            let g = e.guide_surface.as_ref().expect("a guide");
+            check_weight("energy.guide_surface.weight", g.weight)?;
+            problem = problem
+                .with_guide_spline(g.weight, own)
+                .map_err(|err| Error::scene("energy.guide_surface", err.to_string()))?;
+        } else if let Some(g) = &e.guide_surface {
             check_weight("energy.guide_surface.weight", g.weight)?;
             let points = match &g.control_points {
                 Some(net) => {
@@ -493,7 +578,9 @@ impl SolvedBSplineScene {
         out.surface.degree = [s.degree().0, s.degree().1];
         out.surface.knots = [s.knots().0.knots().to_vec(), s.knots().1.knots().to_vec()];
         if let Some(g) = out.energy.guide_surface.as_mut() {
-            if self.scene.refine.is_some() || g.control_points.is_none() {
+            // A guide on its own knots or degree stays as given.
+            let own = g.knots.is_some() || g.degree.is_some();
+            if !own && (self.scene.refine.is_some() || g.control_points.is_none()) {
                 // The guide as solved: on the (refined) knots.
                 g.control_points = Some(
                     self.guide_points

@@ -605,6 +605,93 @@ fn bspline_operators_solve_round_trip_and_name_their_paths() {
     }
 }
 
+/// A guide of its own kind on a B-spline scene: a bicubic Bézier patch
+/// (`degree`) or a B-spline on other knots (`knots`) over the same domain;
+/// its term is confirmed by quadrature of |R − S|²; the result file keeps
+/// the guide as given and solves again to the same net; bad ones are named.
+#[test]
+fn bspline_guides_of_their_own_kind() {
+    use fairsurf_io::{BSplineScene, Scene};
+    let text = std::fs::read_to_string(examples().join("bspline_hole.json")).unwrap();
+    let base: Value = serde_json::from_str(&text).unwrap();
+    let bezier: Vec<Vec<[f64; 3]>> = (0..4)
+        .map(|i| {
+            (0..4)
+                .map(|j| {
+                    [
+                        2.0 * i as f64 / 3.0,
+                        2.0 * j as f64 / 3.0,
+                        0.1 * (i * j) as f64 / 9.0,
+                    ]
+                })
+                .collect()
+        })
+        .collect();
+    let coarse: Vec<Vec<[f64; 3]>> = (0..5)
+        .map(|i| {
+            (0..4)
+                .map(|j| [0.5 * i as f64, 2.0 * j as f64 / 3.0, 0.05 * i as f64])
+                .collect()
+        })
+        .collect();
+    for guide in [
+        json!({"weight": 20.0, "degree": [3, 3], "control_points": bezier}),
+        json!({"weight": 20.0, "knots": [[0.0, 0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 1.0, 1.0],
+                                         [0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0]],
+               "control_points": coarse}),
+    ] {
+        let mut v = base.clone();
+        v["energy"]["guide_surface"] = guide.clone();
+        let solved = BSplineScene::from_json(&v.to_string())
+            .unwrap()
+            .solve()
+            .unwrap();
+        let r = &solved.solution.report;
+        assert!(r.guide_surface > 0.0 && r.energy_error < 1e-12, "{r:?}");
+        let result = solved.result_scene();
+        let written = serde_json::to_value(&result).unwrap();
+        assert_eq!(written["energy"]["guide_surface"], guide);
+        let again = BSplineScene::from_json(&serde_json::to_string(&result).unwrap())
+            .unwrap()
+            .solve()
+            .unwrap();
+        assert_eq!(again.surface().points(), solved.surface().points());
+    }
+    let fails =
+        |v: &Value| match Scene::from_json(&v.to_string()).and_then(|s| s.solve().map(|_| ())) {
+            Err(Error::Scene { path, message }) => (path, message),
+            other => panic!("expected a scene error, got {other:?}"),
+        };
+    let cases: Vec<(Value, &str, &str)> = vec![
+        (
+            json!({"degree": [0, 3], "control_points": bezier}),
+            "energy.guide_surface.degree[0]",
+            "1 to 15",
+        ),
+        (
+            json!({"degree": [3, 3]}),
+            "energy.guide_surface.control_points",
+            "required",
+        ),
+        (
+            json!({"degree": [2, 3], "control_points": bezier}),
+            "energy.guide_surface.control_points",
+            "rows",
+        ),
+        (
+            json!({"knots": [[0, 0, 0, 0, 3, 3, 3, 3], [0, 0, 0, 0, 1, 1, 1, 1]], "control_points": bezier}),
+            "energy.guide_surface",
+            "domain",
+        ),
+    ];
+    for (guide, path, msg) in cases {
+        let mut v = base.clone();
+        v["energy"]["guide_surface"] = guide;
+        let (p, m) = fails(&v);
+        assert!(p == path && m.contains(msg), "{p}: {m}");
+    }
+}
+
 /// `refine` inserts knots before solving: the given surface is unchanged
 /// (exact refinement), the minimum does not rise and here falls, the result
 /// file holds the refined knots and net (no `refine`) and solves again to

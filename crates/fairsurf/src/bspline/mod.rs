@@ -36,6 +36,7 @@ mod constraint;
 mod energy;
 mod guidance;
 mod knots;
+mod project;
 mod rational;
 mod solve;
 mod surface;

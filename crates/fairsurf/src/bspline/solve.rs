@@ -11,6 +11,7 @@
 
 use super::energy::{energy_by_pieces, energy_by_quadrature, patterns, Gram1d};
 use super::guidance::{guide_value, guide_value_by_pieces, NormalTerm};
+use super::project::guide_value_by_quadrature;
 use super::BSplineSurface;
 use crate::basis::polygon::Uv;
 use crate::check;
@@ -42,8 +43,12 @@ pub struct BSplineProblem {
     stretch: f64,
     bend: f64,
     normal: Option<NormalTerm>,
-    /// γ and the guide's net on the same knots.
+    /// γ and the guide's net on the same knots (for a guide on other knots
+    /// or degrees: its L² projection onto this space).
     guide: Option<(f64, Vec<Vec3>)>,
+    /// A guide given on other knots or degrees, with ∫|S − PS|² dA (the
+    /// part of the guide term no surface of this space changes).
+    guide_source: Option<(BSplineSurface, f64)>,
     /// Linear constraints at points (u, v) of the knot domain.
     constraints: Vec<NamedConstraint<Uv>>,
     /// External energy operators at points or regions of the knot domain.
@@ -140,6 +145,7 @@ impl BSplineProblem {
             bend: 0.0,
             normal: None,
             guide: None,
+            guide_source: None,
             constraints: Vec::new(),
             operators: Vec::new(),
         }
@@ -276,7 +282,29 @@ impl BSplineProblem {
             });
         }
         self.guide = Some((weight, s));
+        self.guide_source = None;
         Ok(self)
+    }
+
+    /// The guide term ½γ∫∫ |R − S|² with S any B-spline surface over the
+    /// same domain — its own knots and degrees (a Bézier patch is one
+    /// without interior knots): the same-knots term of S's L² projection PS
+    /// onto this surface's space plus the constant ∫|S − PS|² (their
+    /// difference is orthogonal to the space), exact by Gauss rules between
+    /// both surfaces' knot lines. The check integrates |R − S|² directly.
+    pub fn with_guide_spline(mut self, weight: f64, guide: BSplineSurface) -> Result<Self> {
+        let (net, rest) = super::project::project(&self.surface, &guide)?;
+        self.guide = Some((weight, net));
+        self.guide_source = Some((guide, rest));
+        Ok(self)
+    }
+
+    /// ½γ∫|S − PS|² for a guide on other knots (0 otherwise).
+    fn guide_rest(&self) -> f64 {
+        match (&self.guide, &self.guide_source) {
+            (Some((g, _)), Some((_, rest))) => 0.5 * g * rest,
+            _ => 0.0,
+        }
     }
 
     /// Adds an external energy operator (Veltkamp & Wesselink §5) at a point
@@ -481,7 +509,8 @@ impl BSplineProblem {
         let guide_surface = self
             .guide
             .as_ref()
-            .map_or(0.0, |(g, s)| guide_value(&gu, &gv, *g, surface.points(), s));
+            .map_or(0.0, |(g, s)| guide_value(&gu, &gv, *g, surface.points(), s))
+            + self.guide_rest();
         let x_flat: Vec<f64> = surface.points().iter().flatten().copied().collect();
         let (external, external_check) = self.external(&placed, &x_flat);
         let total = stretch + bend + normal_field + guide_surface + external;
@@ -489,9 +518,15 @@ impl BSplineProblem {
         if let Some(n) = normal {
             check_energy += n.value_by_pieces(&surface, &pieces);
         }
-        if let Some((g, s)) = &self.guide {
-            let guide = self.surface.with_points(s.clone()).bezier_pieces();
-            check_energy += guide_value_by_pieces(&pieces, &guide, degree, *g);
+        match (&self.guide, &self.guide_source) {
+            (Some((g, _)), Some((source, _))) => {
+                check_energy += guide_value_by_quadrature(&surface, source, *g);
+            }
+            (Some((g, s)), None) => {
+                let guide = self.surface.with_points(s.clone()).bezier_pieces();
+                check_energy += guide_value_by_pieces(&pieces, &guide, degree, *g);
+            }
+            _ => {}
         }
         let analyse = t3.elapsed().as_secs_f64();
         let energy_error = (total - check_energy).abs() / total.abs().max(f64::MIN_POSITIVE);
@@ -576,6 +611,7 @@ impl BSplineProblem {
         }
         if let Some((g, s)) = &self.guide {
             e += guide_value(&Gram1d::new(ku), &Gram1d::new(kv), *g, surface.points(), s);
+            e += self.guide_rest();
         }
         if let Ok(placed) = self.place_operators() {
             let x: Vec<f64> = surface.points().iter().flatten().copied().collect();

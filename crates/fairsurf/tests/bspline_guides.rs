@@ -1,0 +1,115 @@
+//! Guide surfaces of any kind on a B-spline problem (Wu & Yang's
+//! ½γ∫|R − S|² with S on its own knots and degrees): a guide whose space
+//! lies inside the surface's gives what the same-knots guide of its exact
+//! refinement gives; a guide outside it (a Bézier patch of higher degree)
+//! has its term confirmed by direct quadrature of |R − S|² and the result
+//! is the minimum (random moves raise the energy); another domain is
+//! refused.
+
+mod common;
+
+use fairsurf::bspline::{BSplineProblem, BSplineSurface, KnotVector};
+use fairsurf::vector::{norm, sub};
+use fairsurf::{TensorPatch, Vec3};
+
+/// A bicubic surface of 6 × 5 uniform spans, a wavy sheet.
+fn sheet() -> BSplineSurface {
+    common::graph_bspline(
+        KnotVector::uniform(3, 6),
+        KnotVector::uniform(3, 5),
+        |x, y| 0.15 * (3.0 * x).sin() * (2.0 * y).cos(),
+    )
+}
+
+fn base() -> BSplineProblem {
+    BSplineProblem::new(sheet())
+        .with_fixed_rings(2)
+        .with_bend(1.0)
+}
+
+#[test]
+fn a_guide_inside_the_space_gives_its_refinements_solution() {
+    // S: bicubic on 3 × 5 spans (every knot of it is one of the sheet's
+    // after inserting 1/6, 1/2, 5/6: a subspace), a different wave.
+    let coarse = common::graph_bspline(
+        KnotVector::uniform(3, 3),
+        KnotVector::uniform(3, 5),
+        |x, y| 0.1 * (2.0 * x).cos() * y,
+    );
+    let refined = coarse.refined(&[1.0 / 6.0, 0.5, 5.0 / 6.0], &[]).unwrap();
+    assert_eq!(refined.knots().0.knots(), sheet().knots().0.knots());
+    let a = base()
+        .with_guide_spline(30.0, coarse)
+        .unwrap()
+        .solve()
+        .unwrap();
+    let b = base()
+        .with_guide_surface(30.0, Some(refined.points().to_vec()))
+        .unwrap()
+        .solve()
+        .unwrap();
+    let worst = a
+        .surface
+        .points()
+        .iter()
+        .zip(b.surface.points())
+        .map(|(x, y)| norm(sub(*x, *y)))
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-12, "{worst:e}");
+    let (ea, eb) = (a.report.guide_surface, b.report.guide_surface);
+    assert!((ea - eb).abs() < 1e-12 * eb.max(1e-12), "{ea} vs {eb}");
+    assert!(a.report.energy_error < 1e-12, "{}", a.report.energy_error);
+}
+
+#[test]
+fn a_guide_outside_the_space_is_confirmed_by_quadrature_and_minimal() {
+    // S: a degree-5 × 4 Bézier patch over the same unit square.
+    let patch = TensorPatch::from_fn(5, 4, |i, j| {
+        let (u, v) = (i as f64 / 5.0, j as f64 / 4.0);
+        [
+            u + 0.02 * v,
+            v,
+            0.2 * (u - 0.5) * (v - 0.3) + 0.05 * (i * j % 3) as f64,
+        ]
+    });
+    let guide = BSplineSurface::from_bezier(&patch);
+    let problem = base().with_guide_spline(50.0, guide).unwrap();
+    let sol = problem.solve().unwrap();
+    let r = &sol.report;
+    // The closed forms (projection + constant) against quadrature of
+    // |R − S|² between both surfaces' knot lines.
+    assert!(r.energy_error < 1e-12, "{}", r.energy_error);
+    assert!(r.guide_surface > 0.0 && r.excess < 1e-10);
+    let e0 = problem.energy_at(&sol.surface);
+    assert!((e0 - r.energy).abs() < 1e-12 * r.energy);
+    let free: Vec<usize> = (0..problem.free().len())
+        .filter(|&k| problem.free()[k])
+        .collect();
+    let (ku, kv) = sol.surface.knots();
+    let mut rng = common::Rng::new(5);
+    for trial in 0..6 {
+        let mut points: Vec<Vec3> = sol.surface.points().to_vec();
+        for &g in &free {
+            for c in 0..3 {
+                points[g][c] += 1e-4 * rng.uniform();
+            }
+        }
+        let moved = BSplineSurface::new(ku.clone(), kv.clone(), points).unwrap();
+        assert!(problem.energy_at(&moved) > e0, "trial {trial}");
+    }
+}
+
+#[test]
+fn a_guide_over_another_domain_is_refused() {
+    let other = BSplineSurface::new(
+        KnotVector::new(1, vec![0.0, 0.0, 2.0, 2.0]).unwrap(),
+        KnotVector::new(1, vec![0.0, 0.0, 1.0, 1.0]).unwrap(),
+        vec![[0.0; 3], [0.0, 1.0, 0.0], [2.0, 0.0, 0.0], [2.0, 1.0, 0.0]],
+    )
+    .unwrap();
+    let e = base()
+        .with_guide_spline(1.0, other)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("guide surface") && e.contains("domain"), "{e}");
+}
