@@ -26,7 +26,7 @@ def _net(points: Any, what: str, least: int = 1) -> np.ndarray:
     """A control net as an (n + 1, m + 1, 3) float array with n, m >= least
     (a surface's degree is at least 1, a field's at least 0), or a
     SceneError."""
-    a = np.asarray(points, dtype=float)
+    a = np.array(points, dtype=float)  # a copy: the caller's array may change
     if a.ndim != 3 or a.shape[2] != 3 or min(a.shape[:2]) < least + 1:
         err = SceneError(
             f"{what}: a control net is an array of shape (n + 1, m + 1, 3) with n, m >= {least}, "
@@ -49,7 +49,10 @@ class _Scene(Mapping[str, Any]):
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, type(self)):
             return NotImplemented
-        return self.to_json() == other.to_json()
+        try:
+            return self.to_json() == other.to_json()
+        except SceneError:  # a value JSON cannot hold (NaN weight): unequal, as NaN is
+            return False
 
     __hash__ = None  # type: ignore[assignment]
 
@@ -227,6 +230,13 @@ class Problem(_Scene):
         Bézier patch of any degree over the knot domain — or, by default,
         the initial surface (the net as given)."""
         block: Dict[str, Any] = {"weight": float(weight)}
+        if control_points is None and (knots is not None or bezier):
+            err = SceneError(
+                "energy.guide_surface.control_points: required with knots or bezier=True "
+                "(the guide's own net)"
+            )
+            err.path = "energy.guide_surface.control_points"
+            raise err
         if control_points is not None:
             net = _net(control_points, "energy.guide_surface.control_points", least=0)
             block["control_points"] = net
@@ -287,8 +297,8 @@ class TriProblem(_Scene):
         control_points: Any = None,
         name: Optional[str] = None,
     ) -> None:
-        v = np.asarray(vertices, dtype=float)
-        t = np.asarray(triangles)
+        v = np.array(vertices, dtype=float)  # copies: the caller's arrays may change
+        t = np.array(triangles)
         for a, cols, what in ((v, 3, "vertices"), (t, 3, "triangles")):
             if a.ndim != 2 or a.shape[1] != cols:
                 err = SceneError(f"surface.{what}: expected an array of shape (N, 3), not {a.shape}")
@@ -301,7 +311,7 @@ class TriProblem(_Scene):
         surface: Dict[str, Any] = {"type": "triangular", "degree": int(degree),
                                    "vertices": v, "triangles": t.astype(np.int64)}
         if control_points is not None:
-            surface["control_points"] = np.asarray(control_points, dtype=float)
+            surface["control_points"] = np.array(control_points, dtype=float)
         self._scene = {"surface": surface}
         if name is not None:
             self._scene["name"] = name

@@ -236,3 +236,24 @@ def test_a_bspline_problem_takes_a_guide_of_its_own_kind() -> None:
         assert r.report["check"]["energy_error"] < 1e-12
         again = fairsurf.solve(json.loads(p.to_json()))
         np.testing.assert_array_equal(again.control_points, r.control_points)
+
+
+def test_builders_copy_the_callers_arrays_and_compare_without_raising() -> None:
+    h = example("bspline_hole.json")["surface"]
+    points = net(h["control_points"])
+    p = fairsurf.Problem(points, knots=h["knots"]).fix_rings(2).bend(1.0)
+    before = p.to_json()
+    points[0, 0] = [9.0, 9.0, 9.0]
+    assert p.to_json() == before
+    d = example("vw_fig1_point_normal.json")["surface"]
+    vertices = np.array(d["vertices"])
+    t = fairsurf.TriProblem(vertices, d["triangles"], 3)
+    before = t.to_json()
+    vertices[0] = [5.0, 5.0, 5.0]
+    assert t.to_json() == before
+    assert (p.bend(math.nan) == p.bend(math.nan)) is False
+    with pytest.raises(fairsurf.SceneError) as e:
+        p.guide(1.0, knots=([0, 0, 1, 1], [0, 0, 1, 1]))
+    assert e.value.path == "energy.guide_surface.control_points"
+    with pytest.raises(fairsurf.SceneError):
+        p.guide(1.0, bezier=True)

@@ -171,6 +171,9 @@ pub struct TensorOperatorSpec {
     pub control_points: Option<Vec<[f64; 3]>>,
 }
 
+/// The highest degree of a surface attractor's target patch.
+const MAX_TARGET_DEGREE: usize = 30;
+
 /// The library operator of a tensor scene's `operators[i]`, validated on
 /// the parameter square.
 pub(crate) fn tensor_operator(o: &TensorOperatorSpec, i: usize) -> Result<TensorOperator> {
@@ -202,6 +205,14 @@ pub(crate) fn unchecked_operator(o: &TensorOperatorSpec, i: usize) -> Result<Ten
                 )
             })?;
             let [n, m] = p.degree;
+            // The region rules grow with T's degree (their node count with
+            // its square): beyond this a scene could ask for minutes.
+            if let Some(k) = [n, m].iter().position(|&d| d > MAX_TARGET_DEGREE) {
+                return Err(Error::scene(
+                    format!("{path}.surface.degree[{k}]"),
+                    format!("must be at most {MAX_TARGET_DEGREE}, got {}", [n, m][k]),
+                ));
+            }
             let rows = &p.control_points;
             let bad = |what: String| Error::scene(format!("{path}.surface.control_points"), what);
             if rows.len() != n.saturating_add(1)

@@ -603,6 +603,28 @@ fn bspline_operators_solve_round_trip_and_name_their_paths() {
         let (p, m) = fails(&v);
         assert!(p == path && m.contains(msg), "{ptr}: {p}: {m}");
     }
+    // A surface attractor's target: degree 31 is refused by the scene (any
+    // kind), 16 by the B-spline place.
+    let target = |d: usize| {
+        let pts: Vec<Vec<[f64; 3]>> = (0..=d)
+            .map(|i| {
+                (0..=1)
+                    .map(|j| [i as f64 / d as f64, j as f64, 0.0])
+                    .collect()
+            })
+            .collect();
+        json!({"type": "surface_attractor", "strength": 1.0, "at": [0.5, 0.5],
+               "surface": {"degree": [d, 1], "control_points": pts}})
+    };
+    for (d, path, msg) in [
+        (31, "operators[4].surface.degree[0]", "at most 30"),
+        (16, "operators[4]", "degree at most 15"),
+    ] {
+        let mut v = base.clone();
+        v["operators"].as_array_mut().unwrap().push(target(d));
+        let (p, m) = fails(&v);
+        assert!(p == path && m.contains(msg), "{d}: {p}: {m}");
+    }
 }
 
 /// A guide of its own kind on a B-spline scene: a bicubic Bézier patch

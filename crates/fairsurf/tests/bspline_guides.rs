@@ -9,7 +9,6 @@
 mod common;
 
 use fairsurf::bspline::{BSplineProblem, BSplineSurface, KnotVector};
-use fairsurf::vector::{norm, sub};
 use fairsurf::{TensorPatch, Vec3};
 
 /// A bicubic surface of 6 × 5 uniform spans, a wavy sheet.
@@ -48,13 +47,7 @@ fn a_guide_inside_the_space_gives_its_refinements_solution() {
         .unwrap()
         .solve()
         .unwrap();
-    let worst = a
-        .surface
-        .points()
-        .iter()
-        .zip(b.surface.points())
-        .map(|(x, y)| norm(sub(*x, *y)))
-        .fold(0.0, f64::max);
+    let worst = common::max_distance(a.surface.points(), b.surface.points());
     assert!(worst < 1e-12, "{worst:e}");
     let (ea, eb) = (a.report.guide_surface, b.report.guide_surface);
     assert!((ea - eb).abs() < 1e-12 * eb.max(1e-12), "{ea} vs {eb}");
@@ -112,4 +105,47 @@ fn a_guide_over_another_domain_is_refused() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("guide surface") && e.contains("domain"), "{e}");
+}
+
+/// Far from the origin (x shifted by 100, CAD-like coordinates) a guide
+/// given on its own knots — here the surface's own, so PS = S — solves as
+/// the same-knots guide does: the constant ∫|S − PS|² is integrated as it
+/// stands (as ∫|S|² − s*ᵀMs* it cancelled to 1e-7 of the energy and the
+/// check refused the solve).
+#[test]
+fn a_guide_far_from_the_origin_is_not_lost_to_cancellation() {
+    let u = KnotVector::uniform(3, 3);
+    let sheet = common::graph_bspline(u.clone(), u, |x, y| 0.05 * (3.0 * x).sin() * y);
+    // Several offsets: the old cancellation's sign varied with them.
+    for shift in [12.5, 37.0, 100.0, 250.0, 1000.0] {
+        let points: Vec<Vec3> = sheet
+            .points()
+            .iter()
+            .map(|p| [p[0] + shift, p[1], p[2]])
+            .collect();
+        let (ku, kv) = sheet.knots();
+        let s = BSplineSurface::new(ku.clone(), kv.clone(), points).unwrap();
+        let base = || {
+            BSplineProblem::new(s.clone())
+                .with_fixed_rings(1)
+                .with_bend(1e-3)
+        };
+        let own = base()
+            .with_guide_spline(1e3, s.clone())
+            .unwrap()
+            .solve()
+            .unwrap();
+        let same = base()
+            .with_guide_surface(1e3, Some(s.points().to_vec()))
+            .unwrap()
+            .solve()
+            .unwrap();
+        let worst = common::max_distance(own.surface.points(), same.surface.points());
+        assert!(worst < 1e-10, "shift {shift}: {worst:e}");
+        assert!(
+            own.report.energy_error < 1e-10,
+            "shift {shift}: {}",
+            own.report.energy_error
+        );
+    }
 }

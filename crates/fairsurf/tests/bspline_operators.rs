@@ -12,7 +12,7 @@ mod common;
 use fairsurf::basis::GaussLegendre;
 use fairsurf::bspline::{BSplineProblem, BSplineSurface, KnotVector};
 use fairsurf::operator::{PatchEdge, Target, TensorOperator, TensorPlace};
-use fairsurf::vector::{dot, norm, normalize, sub};
+use fairsurf::vector::{dot, normalize};
 use fairsurf::{Bend, BezierCurve, Problem, Stretch, TensorPatch, Vec3};
 
 fn op(name: &str, target: Target, place: TensorPlace, strength: f64) -> TensorOperator {
@@ -95,13 +95,7 @@ fn a_bezier_knot_bspline_gives_the_tensor_solve_surface() {
         .with_stretch(0.1)
         .with_bend(1.0);
     let s = with_all(base, &ops).solve().unwrap();
-    let worst = t
-        .patch
-        .points()
-        .iter()
-        .zip(s.surface.points())
-        .map(|(a, b)| norm(sub(*a, *b)))
-        .fold(0.0, f64::max);
+    let worst = common::max_distance(t.patch.points(), s.surface.points());
     assert!(worst < 1e-10, "nets differ by {worst:e}");
     let r = &s.report;
     assert!((t.report.energy - r.energy).abs() < 1e-11 * t.report.energy);

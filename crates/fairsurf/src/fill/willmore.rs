@@ -494,11 +494,6 @@ mod tests {
         let norm = |m: &Mat<f64>| m.norm_l2();
         let g0 = norm(&gradient(&s, &slot));
         let (m, history) = descend(s, w0, &free, 400, 1e-13);
-        eprintln!(
-            "steps {} w {:?}",
-            history.len(),
-            &history[history.len().saturating_sub(4)..]
-        );
         let w = *history.last().unwrap();
         assert!(w < w0, "{w} {w0}");
         let g = norm(&gradient(&m, &slot));

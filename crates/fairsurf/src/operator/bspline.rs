@@ -16,6 +16,10 @@ use crate::basis::polygon::{convex, trapezoid_rule, Uv};
 use crate::bspline::BSplineSurface;
 use crate::Result;
 
+/// The highest degree of a surface attractor's target on a B-spline (the
+/// region rules grow with it: degree 40 took 11 s on a unit region).
+const MAX_TARGET_DEGREE: usize = 15;
+
 /// Quadrature nodes (u, v, weight) of the knot domain.
 pub(crate) type Nodes = Vec<(f64, f64, f64)>;
 
@@ -74,6 +78,16 @@ impl Operator<TensorPlace> {
                  surfaces do not have yet)",
                 "a repellor".into(),
             ));
+        }
+        if let Target::TensorSurface(t) = &self.target {
+            let (n, m) = t.degree();
+            if n.max(m) > MAX_TARGET_DEGREE {
+                return Err(self.bad(
+                    "surface",
+                    &format!("a target patch of degree at most {MAX_TARGET_DEGREE} each way"),
+                    format!("degree ({n}, {m})"),
+                ));
+            }
         }
         match (&self.target, &self.place) {
             (Target::Surface(_), _) => {

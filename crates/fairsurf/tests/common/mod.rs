@@ -207,3 +207,12 @@ pub fn graph_bspline(
         .collect();
     fairsurf::bspline::BSplineSurface::new(u, v, points).unwrap()
 }
+
+/// The largest distance between corresponding points of two nets.
+pub fn max_distance(a: &[Vec3], b: &[Vec3]) -> f64 {
+    assert_eq!(a.len(), b.len(), "nets of different sizes");
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| fairsurf::vector::norm(fairsurf::vector::sub(*x, *y)))
+        .fold(0.0, f64::max)
+}
