@@ -385,7 +385,7 @@ fn bspline_summary(path: &Path, s: &fairsurf_io::SolvedBSplineScene, written: &[
             r.corrections
         ),
     ];
-    operator_lines(&mut lines, &r.operators, None);
+    operator_lines(&mut lines, &r.operators, r.newton.as_ref());
     constraint_lines(&mut lines, &r.constraints);
     if !r.constraints.is_empty() {
         lines.push(format!(

@@ -318,7 +318,7 @@ pub struct SolvedBSplineScene {
     pub guide_points: Vec<Vec3>,
     /// The normal field as solved (over the knot domain mapped onto
     /// [0, 1]²), when there is one.
-    pub normal_field: Option<NormalField>,
+    pub normal_field: Option<Box<NormalField>>,
 }
 
 impl BSplineScene {
@@ -517,7 +517,7 @@ impl BSplineScene {
         Ok(SolvedBSplineScene {
             scene: self.clone(),
             guide_points: problem.guide().map(|g| g.1.to_vec()).unwrap_or_default(),
-            normal_field: problem.normal_field(),
+            normal_field: problem.normal_field().map(Box::new),
             free: problem.free().to_vec(),
             solution,
             normal_turn,
@@ -667,7 +667,7 @@ impl SolvedBSplineScene {
             "kkt": r.kkt.as_ref().map(crate::tri_result::kkt_json),
             "external": r.external,
             "operators": crate::operators::outcomes_json(&r.operators),
-            "newton": Value::Null,
+            "newton": crate::operators::newton_json(r.newton.as_ref()),
             "max_normal_turn_deg": self.normal_turn.map(|t| crate::result::normal_turn_json(
                 t.angle, json!([t.at.0, t.at.1]), t.is_fold())),
             "timings_s": {

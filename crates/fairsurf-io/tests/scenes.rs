@@ -578,16 +578,10 @@ fn bspline_operators_solve_round_trip_and_name_their_paths() {
             "knot domain",
         ),
         (
-            "/operators/1/repel",
+            "/operators/2/repel",
             json!(true),
-            "operators[1]",
-            "director",
-        ),
-        (
-            "/operators/0/repel",
-            json!(true),
-            "operators[0]",
-            "repellor",
+            "operators[2]",
+            "no repelling form",
         ),
         (
             "/operators/3/region",

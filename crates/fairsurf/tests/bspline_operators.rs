@@ -225,6 +225,39 @@ fn regions_across_knot_lines_have_the_independent_quadratures_energy() {
     }
 }
 
+/// A repellor (s/E_attr, Newton's method on the total energy): a B-spline
+/// without interior knots gives the tensor solve's net (its Newton on the
+/// dense system) and energy; the surface moves away from the point.
+#[test]
+fn a_repellor_pushes_like_the_tensor_solves() {
+    let mut push = op(
+        "push",
+        Target::Point([0.5, 0.5, -0.1]),
+        TensorPlace::Point([0.5, 0.5]),
+        0.05,
+    );
+    push.repel = true;
+    let t = Problem::new((5, 5))
+        .with_fixed_rings(&frame(), 1)
+        .with_term(Bend::new(1.0))
+        .with_operator(push.clone())
+        .solve()
+        .unwrap();
+    let base = BSplineProblem::new(BSplineSurface::from_bezier(&frame()))
+        .with_fixed_rings(1)
+        .with_bend(1.0);
+    let plain = base.clone().solve().unwrap();
+    let s = with_all(base, &[push]).solve().unwrap();
+    let worst = common::max_distance(t.patch.points(), s.surface.points());
+    assert!(worst < 1e-8, "nets differ by {worst:e}");
+    assert!((t.report.energy - s.report.energy).abs() < 1e-10 * t.report.energy);
+    let n = s.report.newton.expect("Newton's report");
+    assert!(n.iterations > 0 && n.relative_gradient < 1e-9, "{n:?}");
+    assert!(n.energy <= n.start_energy);
+    let dz = |x: &BSplineSurface| x.eval(0.5, 0.5)[2];
+    assert!(dz(&s.surface) > dz(&plain.surface) + 1e-3);
+}
+
 #[test]
 fn bad_operators_are_refused_naming_them() {
     let base = || {
@@ -243,15 +276,15 @@ fn bad_operators_are_refused_naming_them() {
         e.contains("far") && e.contains("knot domain [0, 2] × [0, 1]"),
         "{e}"
     );
-    let mut push = op(
-        "push",
-        Target::Point([0.0; 3]),
+    let mut turn = op(
+        "turn",
+        Target::Direction([0.0, 0.0, 1.0]),
         TensorPlace::Point([0.5, 0.5]),
         1.0,
     );
-    push.repel = true;
-    let e = base().with_operator(push).unwrap_err().to_string();
-    assert!(e.contains("push") && e.contains("repellor"), "{e}");
+    turn.repel = true;
+    let e = base().with_operator(turn).unwrap_err().to_string();
+    assert!(e.contains("turn") && e.contains("director"), "{e}");
     let edge = op(
         "hem",
         Target::Curve(BezierCurve::new(vec![[0.0; 3], [0.0, 1.0, 0.0]])),

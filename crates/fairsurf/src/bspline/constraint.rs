@@ -95,7 +95,7 @@ pub(super) struct Constrained {
 }
 
 /// A row's (unknown, coefficient) pairs.
-type SparseRow = Vec<(usize, f64)>;
+pub(super) type SparseRow = Vec<(usize, f64)>;
 
 /// The excess ½gᵀy, the Lagrangian's gradient g, the step y and the
 /// multipliers' step.
@@ -106,7 +106,11 @@ type Step = (f64, Vec<f64>, Vec<f64>, Vec<f64>);
 /// free coordinate enters is left out when the fixed points meet it (to
 /// 1e-12 of its terms) and an error otherwise; the first row that is
 /// (nearly) a combination of the ones before it is an error naming it.
-fn reduced_rows(rows: &[Row], slot: &[usize], x0: &[Vec3]) -> Result<(Vec<SparseRow>, Vec<f64>)> {
+pub(super) fn reduced_rows(
+    rows: &[Row],
+    slot: &[usize],
+    x0: &[Vec3],
+) -> Result<(Vec<SparseRow>, Vec<f64>)> {
     let mut terms = Vec::with_capacity(rows.len());
     let mut rhs = Vec::with_capacity(rows.len());
     let mut names = Vec::with_capacity(rows.len());
@@ -140,22 +144,18 @@ fn reduced_rows(rows: &[Row], slot: &[usize], x0: &[Vec3]) -> Result<(Vec<Sparse
     Ok((terms, rhs))
 }
 
-/// Minimizes ½xᵀHx − bᵀx over the free block subject to the rows, through
-/// the core's KKT solve, then checks the answer like the unconstrained
-/// solve: the Lagrangian's gradient in compensated arithmetic, the excess
-/// ½ gᵀy over the rows' null space (y the constrained Newton step, through
-/// the same factor) and corrections while it falls.
-pub(super) fn solve(
-    sys: &System,
-    coupled: bool,
-    rows: &[Row],
-    slot: &[usize],
-    x0: &[Vec3],
-) -> Result<Constrained> {
-    let (f, c) = reduced_rows(rows, slot, x0)?;
+/// The free block as one interleaved system (unknown 3·slot + c): H with
+/// both triangles (K ⊗ I₃ when uncoupled: the core then factors K once for
+/// x, y and z when the rows allow it), its rows as (column, value) lists,
+/// and the right-hand side b of H x = b.
+pub(super) struct Interleaved {
+    pub h: SparseColMat<usize, f64>,
+    pub full: Vec<SparseRow>,
+    pub b: Vec<f64>,
+}
+
+pub(super) fn interleaved(sys: &System, coupled: bool) -> Interleaved {
     let n = if coupled { sys.dim } else { 3 * sys.dim };
-    // H with both triangles, interleaved (K ⊗ I₃ when uncoupled: the core
-    // then factors K once for x, y and z when the rows allow it).
     let mut full: Vec<SparseRow> = vec![Vec::new(); n];
     let mut triplets = Vec::with_capacity(2 * sys.lower.len() * if coupled { 1 } else { 3 });
     let mut push = |r: usize, col: usize, v: f64| {
@@ -186,6 +186,24 @@ pub(super) fn solve(
             }
         })
         .collect();
+    Interleaved { h, full, b }
+}
+
+/// Minimizes ½xᵀHx − bᵀx over the free block subject to the rows, through
+/// the core's KKT solve, then checks the answer like the unconstrained
+/// solve: the Lagrangian's gradient in compensated arithmetic, the excess
+/// ½ gᵀy over the rows' null space (y the constrained Newton step, through
+/// the same factor) and corrections while it falls.
+pub(super) fn solve(
+    sys: &System,
+    coupled: bool,
+    rows: &[Row],
+    slot: &[usize],
+    x0: &[Vec3],
+) -> Result<Constrained> {
+    let (f, c) = reduced_rows(rows, slot, x0)?;
+    let Interleaved { h, full, b } = interleaved(sys, coupled);
+    let n = b.len();
     let minus_b: Vec<f64> = b.iter().map(|v| -v).collect();
     let fs: Vec<&[(usize, f64)]> = f.iter().map(Vec::as_slice).collect();
     let (factor, solution) = match try_kkt(&h, &fs, &minus_b, &c) {

@@ -19,7 +19,8 @@ use crate::check::dd::Dd;
 use crate::constraint::{ConstraintOutcome, NamedConstraint, Row};
 use crate::energy::{check_weight, NormalGuide};
 use crate::operator::bspline::Nodes;
-use crate::operator::{OperatorOutcome, Residual, TensorOperator};
+use crate::operator::newton::{newton, repellors};
+use crate::operator::{NewtonReport, OperatorOutcome, Residual, TensorOperator};
 use crate::solve::dense::dot2_residual;
 use crate::solve::kkt::KktInfo;
 use crate::solve::kkt::{hager, sparse_llt, LltFailure};
@@ -120,6 +121,10 @@ pub struct BSplineReport {
     /// With constraints: the solver core's KKT solve (which factorization,
     /// its residual and condition); `None` without.
     pub kkt: Option<KktInfo>,
+    /// With repellors: how Newton's method on the total energy went (then
+    /// `gradient_norm` and `relative_gradient` are those of the total,
+    /// nonlinear energy, and `excess` is 0: not measured).
+    pub newton: Option<NewtonReport>,
     /// Seconds by phase (`analyse` is the check's second road; with
     /// constraints the KKT factorization is in `solve`, `factor` is 0).
     pub timings: Timings,
@@ -455,13 +460,14 @@ impl BSplineProblem {
             .operators
             .iter()
             .zip(&placed)
+            .filter(|(op, _)| !op.repel)
             .flat_map(|(op, (_, res))| res.iter().map(move |r| (2.0 * op.strength * r.weight, r)))
             .collect();
         let coupled = normal.is_some() || !self.operators.is_empty();
-        let sys = self.assemble(&free, &gu, &gv, &pats, normal, &quadratic);
+        let sys = self.assemble(&free, &gu, &gv, &pats, (normal, coupled), &quadratic);
         let assemble = t0.elapsed().as_secs_f64();
 
-        let solved = if self.constraints.is_empty() {
+        let mut solved = if self.constraints.is_empty() {
             unconstrained(&sys, coupled, free.len())?
         } else {
             let rows = self.constraint_rows()?;
@@ -493,6 +499,7 @@ impl BSplineProblem {
                 solve: t1.elapsed().as_secs_f64(),
             }
         };
+        let newton = self.repel(&sys, coupled, &free, &placed, &mut solved)?;
         let mut points: Vec<Vec3> = self.surface.points().to_vec();
         for (row, &k) in free.iter().enumerate() {
             points[k] = solved.x[row];
@@ -544,7 +551,13 @@ impl BSplineProblem {
         // Rounding the free points to doubles can change the energy by about
         // ε² · max H_ii · Σ x_i²: below that, the excess tells nothing.
         let scale = check::scale(total, sys.h_diag * solved.xx);
-        let excess = solved.excess.max(0.0) / scale;
+        // With repellors the energy is not quadratic: Newton's stationarity
+        // (its relative gradient, ≤ 1e-10 or an error) stands for the excess.
+        let excess = if newton.is_some() {
+            0.0
+        } else {
+            solved.excess.max(0.0) / scale
+        };
         if excess > check::TOLERANCE {
             return Err(Error::Unverified {
                 degree: format!("{:?} (B-spline)", surface.degree()),
@@ -589,6 +602,7 @@ impl BSplineProblem {
                 constraints,
                 max_violation,
                 kkt: solved.kkt,
+                newton,
                 timings: Timings {
                     assemble,
                     factor: solved.factor,
@@ -598,6 +612,51 @@ impl BSplineProblem {
                 },
             },
         })
+    }
+
+    /// With repellors (Veltkamp & Wesselink eq. 23, s/E_attr): Newton's
+    /// method on the total energy from the quadratic solution, the rows
+    /// kept (the core's `operator::newton`, as the tensor and triangular
+    /// solves use it); the free points and gradient figures replaced.
+    fn repel(
+        &self,
+        sys: &System,
+        coupled: bool,
+        free: &[usize],
+        placed: &[(Nodes, Vec<Residual>)],
+        solved: &mut Solved,
+    ) -> Result<Option<NewtonReport>> {
+        if !self.operators.iter().any(|op| op.repel) {
+            return Ok(None);
+        }
+        let x0 = self.surface.points();
+        let mut slot = vec![usize::MAX; self.free.len()];
+        for (s, &k) in free.iter().enumerate() {
+            slot[k] = s;
+        }
+        let known: Vec<Option<Vec3>> = x0
+            .iter()
+            .zip(&slot)
+            .map(|(p, &s)| (s == usize::MAX).then_some(*p))
+            .collect();
+        let repellors = repellors(&self.operators, placed, &known, free);
+        let system = super::constraint::interleaved(sys, coupled);
+        let rows = if self.constraints.is_empty() {
+            Vec::new()
+        } else {
+            super::constraint::reduced_rows(&self.constraint_rows()?, &slot, x0)?.0
+        };
+        let f: Vec<&[(usize, f64)]> = rows.iter().map(Vec::as_slice).collect();
+        let minus_b: Vec<f64> = system.b.iter().map(|v| -v).collect();
+        let start: Vec<f64> = solved.x.iter().flatten().copied().collect();
+        let t = Instant::now();
+        let (x, report) = newton(&system.h, &minus_b, &f, &repellors, start)?;
+        solved.x = x.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
+        solved.xx = x.iter().map(|v| v * v).sum();
+        solved.gradient_norm = report.gradient_norm;
+        solved.relative_gradient = report.relative_gradient;
+        solved.solve += t.elapsed().as_secs_f64();
+        Ok(Some(report))
     }
 
     /// The problem's energy at the net of `surface` (same knots): the sum
@@ -621,18 +680,18 @@ impl BSplineProblem {
     }
 
     /// The free block's lower triangle and right-hand side: one matrix for
-    /// x, y and z (three columns) without a normal field, else the
-    /// interleaved coupled system (unknown 3·slot + c, one column).
+    /// x, y and z (three columns) unless `coupled` (a normal field or
+    /// operators), else the interleaved system (unknown 3·slot + c, one
+    /// column).
     fn assemble(
         &self,
         free: &[usize],
         gu: &Gram1d,
         gv: &Gram1d,
         pats: &[(f64, usize, usize)],
-        normal: Option<&NormalTerm>,
+        (normal, coupled): (Option<&NormalTerm>, bool),
         operators: &[(f64, &Residual)],
     ) -> System {
-        let coupled = normal.is_some() || !operators.is_empty();
         let cv = gv.count();
         let mut slot = vec![usize::MAX; self.free.len()];
         for (s, &k) in free.iter().enumerate() {

@@ -9,7 +9,8 @@
 //! The director uses S_u·N and S_v·N (eq. 13–14 with the domain's
 //! orthonormal directions u and v). A surface target T is a Bézier patch
 //! over the knot domain mapped onto [0, 1]² (as the normal field is).
-//! Edge-to-curve attractors and repellors are refused on B-spline surfaces.
+//! Edge-to-curve attractors are refused on B-spline surfaces; repellors
+//! (s/E_attr) go through Newton's method like the other kinds'.
 
 use super::{Operator, OperatorOutcome, Residual, Tally, Target, TensorPlace};
 use crate::basis::polygon::{convex, trapezoid_rule, Uv};
@@ -71,14 +72,6 @@ impl Operator<TensorPlace> {
     /// yet (repellors, edges, curve and triangular surface targets).
     pub(crate) fn validate_on(&self, s: &BSplineSurface) -> Result<()> {
         self.check_target()?;
-        if self.repel {
-            return Err(self.bad(
-                "repel",
-                "an attractor or a director (repellors need Newton's method, which B-spline \
-                 surfaces do not have yet)",
-                "a repellor".into(),
-            ));
-        }
         if let Target::TensorSurface(t) = &self.target {
             let (n, m) = t.degree();
             if n.max(m) > MAX_TARGET_DEGREE {
@@ -299,11 +292,17 @@ mod tests {
             TensorPlace::Point([0.5, 0.5]),
             true,
         );
-        assert!(push
+        push.validate_on(&s).unwrap();
+        let turn = op(
+            Target::Direction([0.0, 0.0, 1.0]),
+            TensorPlace::Point([0.5, 0.5]),
+            true,
+        );
+        assert!(turn
             .validate_on(&s)
             .unwrap_err()
             .to_string()
-            .contains("repellor"));
+            .contains("director"));
         let edge = op(
             Target::Curve(crate::BezierCurve::new(vec![[0.0; 3], [1.0; 3]])),
             TensorPlace::Edge(super::super::PatchEdge::U0),

@@ -3,8 +3,9 @@
 //! solves: the quadratic energy ½xᵀHx + bᵀx over the free coordinates,
 //! linear constraints F x = F x₀, and Σ s/q(x) for the repellors.
 
-use super::Residual;
+use super::{Operator, Residual};
 use crate::solve::kkt::{solve_kkt, KktFactor};
+use crate::Vec3;
 use crate::{Error, Result};
 use faer::sparse::{SparseColMat, Triplet};
 use std::collections::HashMap;
@@ -32,6 +33,33 @@ pub struct NewtonReport {
     pub gradient_norm: f64,
     /// The same, relative (≤ 1e-9 when converged).
     pub relative_gradient: f64,
+}
+
+/// The repellors among `operators` (zipped with their placed residuals)
+/// over the free coordinates: `known[p]` is a fixed point's value (`None`
+/// for a free one) and `free` lists the free points in the unknowns' order
+/// (unknown 3·k + c is coordinate c of `free[k]`).
+pub(crate) fn repellors<P, N>(
+    operators: &[Operator<P>],
+    placed: &[(N, Vec<Residual>)],
+    known: &[Option<Vec3>],
+    free: &[usize],
+) -> Vec<FreeResiduals> {
+    let known_coord: Vec<Option<f64>> = (0..3 * known.len())
+        .map(|i| known[i / 3].map(|p| p[i % 3]))
+        .collect();
+    let mut free_index = vec![usize::MAX; known_coord.len()];
+    for (k, &p) in free.iter().enumerate() {
+        for c in 0..3 {
+            free_index[3 * p + c] = 3 * k + c;
+        }
+    }
+    operators
+        .iter()
+        .zip(placed)
+        .filter(|(op, _)| op.repel)
+        .map(|(op, (_, res))| FreeResiduals::new(op.strength, res, &known_coord, &free_index))
+        .collect()
 }
 
 /// An operator's residuals over the free coordinates: r = Σ a·x_f + c, with

@@ -14,7 +14,7 @@ use crate::analysis::measures;
 use crate::budget;
 use crate::check::{self, Check};
 use crate::energy::Hessian;
-use crate::operator::newton::{newton, sparse, FreeResiduals};
+use crate::operator::newton::{newton, repellors, sparse};
 use crate::operator::OperatorOutcome;
 use crate::vec3::Vec3;
 use crate::{Error, Result, TensorPatch};
@@ -301,23 +301,7 @@ impl Factored {
         };
         // Repellors: Newton's method on the total energy from the
         // quadratic solution (no constraints but the known points).
-        // Per coordinate 3p + c: its known value, or its row among the unknowns.
-        let known: Vec<Option<f64>> = (0..3 * problem.known.len())
-            .map(|i| problem.known[i / 3].map(|p| p[i % 3]))
-            .collect();
-        let mut free_index = vec![usize::MAX; known.len()];
-        for (k, &p) in free.iter().enumerate() {
-            for c in 0..3 {
-                free_index[3 * p + c] = 3 * k + c;
-            }
-        }
-        let repellors: Vec<FreeResiduals> = problem
-            .operators
-            .iter()
-            .zip(placed)
-            .filter(|(op, _)| op.repel)
-            .map(|(op, (_, res))| FreeResiduals::new(op.strength, res, &known, &free_index))
-            .collect();
+        let repellors = repellors(&problem.operators, placed, &problem.known, free);
         let mut xf = sol.x.clone();
         let mut newton_report = None;
         let mut total_gradient = None;
