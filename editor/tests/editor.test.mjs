@@ -213,9 +213,11 @@ await step('drag a control-point handle with the mouse', async () => {
   });
   // The handle farthest (on screen) from every other one, well inside the
   // canvas and away from the overlays in its corners, so the mouse grabs it
-  // and nothing else.
+  // and nothing else. A point handle (no `edit`: its position is its value,
+  // editor/API.md), not a direction or an offset.
   const usable = handles
     .map((h, index) => ({ ...h, index }))
+    .filter((h) => !h.edit)
     .filter((h) => h.screen && h.screen.inView)
     .filter((h) => h.screen.x > rect.left + 30 && h.screen.x < rect.right - 120 && h.screen.y > rect.top + 70 && h.screen.y < rect.bottom - 90);
   assert(usable.length > 0, `none of ${handles.length} handles is on screen`);
