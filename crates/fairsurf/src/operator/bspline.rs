@@ -9,11 +9,16 @@
 //! The director uses S_u·N and S_v·N (eq. 13–14 with the domain's
 //! orthonormal directions u and v). A surface target T is a Bézier patch
 //! over the knot domain mapped onto [0, 1]² (as the normal field is).
-//! Edge-to-curve attractors are refused on B-spline surfaces; repellors
+//! An edge-to-curve attractor pulls a boundary curve E of the surface (a
+//! B-spline curve) toward a Bézier curve C over the edge's parameter
+//! interval mapped onto [0, 1]: ∫₀¹ |E(τ) − C(τ)|² dτ (τ the mapped
+//! parameter, so that without interior knots it is the Bézier patch's
+//! energy), Gauss–Legendre on every span of the edge, exact. Repellors
 //! (s/E_attr) go through Newton's method like the other kinds'.
 
-use super::{Operator, OperatorOutcome, Residual, Tally, Target, TensorPlace};
+use super::{Operator, OperatorOutcome, PatchEdge, Residual, Tally, Target, TensorPlace};
 use crate::basis::polygon::{convex, trapezoid_rule, Uv};
+use crate::basis::GaussLegendre;
 use crate::bspline::BSplineSurface;
 use crate::Result;
 
@@ -68,8 +73,8 @@ impl Operator<TensorPlace> {
     }
 
     /// Checks the operator on a B-spline surface: strength and target, a
-    /// place in the knot domain; refuses what B-spline surfaces do not take
-    /// yet (repellors, edges, curve and triangular surface targets).
+    /// place in the knot domain, a curve target exactly at an edge; refuses
+    /// triangular surface targets.
     pub(crate) fn validate_on(&self, s: &BSplineSurface) -> Result<()> {
         self.check_target()?;
         if let Target::TensorSurface(t) = &self.target {
@@ -91,13 +96,16 @@ impl Operator<TensorPlace> {
                     "a triangular patch".into(),
                 ))
             }
-            (Target::Curve(_), _) | (_, TensorPlace::Edge(_)) => {
+            (Target::Curve(_), TensorPlace::Edge(_)) => return Ok(()),
+            (Target::Curve(_), _) => {
                 return Err(self.bad(
                     "place",
-                    "a point or a region (edge-to-curve attractors are for Bézier and \
-                     triangular surfaces)",
-                    "an edge".into(),
+                    "an edge (edge-to-curve attractor)",
+                    "not an edge".into(),
                 ))
+            }
+            (_, TensorPlace::Edge(_)) => {
+                return Err(self.bad("place", "a point or a region", "an edge".into()))
             }
             _ => {}
         }
@@ -156,7 +164,35 @@ impl Operator<TensorPlace> {
                 }
                 nodes
             }
-            TensorPlace::Edge(_) => unreachable!("refused by validate_on"),
+            TensorPlace::Edge(e) => {
+                let Target::Curve(c) = &self.target else {
+                    unreachable!("validate_on pairs an edge with a curve")
+                };
+                // |E − C|² has degree ≤ 2·max(p, deg C) on every span of
+                // the edge: max(p, deg C) + 1 Gauss nodes are exact.
+                let (ku, kv) = s.knots();
+                let ((u0, u1), (v0, v1)) = (ku.domain(), kv.domain());
+                let (along, fixed) = match e {
+                    PatchEdge::U0 => (kv, (0, u0)),
+                    PatchEdge::U1 => (kv, (0, u1)),
+                    PatchEdge::V0 => (ku, (1, v0)),
+                    PatchEdge::V1 => (ku, (1, v1)),
+                };
+                let (a, b) = along.domain();
+                let g = GaussLegendre::new(along.degree().max(c.degree()) + 1);
+                let mut nodes = Vec::new();
+                for &(_, lo, hi) in &along.spans() {
+                    for (x, wx) in g.nodes.iter().zip(&g.weights) {
+                        let t = lo + (hi - lo) * x;
+                        let w = wx * (hi - lo) / (b - a);
+                        nodes.push(match fixed {
+                            (0, u) => (u, t, w),
+                            (_, v) => (t, v, w),
+                        });
+                    }
+                }
+                nodes
+            }
         })
     }
 
@@ -179,13 +215,14 @@ impl Operator<TensorPlace> {
         out
     }
 
-    /// T at the node for a surface target.
+    /// T at the node for a surface target; C at the node's mapped edge
+    /// parameter τ for a curve target.
     fn target_point(&self, s: &BSplineSurface, u: f64, v: f64) -> Option<crate::Vec3> {
-        match &self.target {
-            Target::TensorSurface(t) => {
-                let (a, b) = Self::unit(s, u, v);
-                Some(t.eval(a, b))
-            }
+        let (a, b) = Self::unit(s, u, v);
+        match (&self.target, &self.place) {
+            (Target::TensorSurface(t), _) => Some(t.eval(a, b)),
+            (Target::Curve(c), TensorPlace::Edge(PatchEdge::U0 | PatchEdge::U1)) => Some(c.eval(b)),
+            (Target::Curve(c), _) => Some(c.eval(a)),
             _ => None,
         }
     }
@@ -303,15 +340,52 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("director"));
-        let edge = op(
-            Target::Curve(crate::BezierCurve::new(vec![[0.0; 3], [1.0; 3]])),
-            TensorPlace::Edge(super::super::PatchEdge::U0),
+        let curve = || Target::Curve(crate::BezierCurve::new(vec![[0.0; 3], [1.0; 3]]));
+        op(curve(), TensorPlace::Edge(PatchEdge::U0), false)
+            .validate_on(&s)
+            .unwrap();
+        let off = op(curve(), TensorPlace::Point([0.5, 0.5]), false);
+        let e = off.validate_on(&s).unwrap_err().to_string();
+        assert!(e.contains("an edge") && e.contains("not an edge"), "{e}");
+        let pin = op(
+            Target::Point([0.0; 3]),
+            TensorPlace::Edge(PatchEdge::V1),
             false,
         );
-        assert!(edge
-            .validate_on(&s)
-            .unwrap_err()
-            .to_string()
-            .contains("edge"));
+        let e = pin.validate_on(&s).unwrap_err().to_string();
+        assert!(e.contains("a point or a region"), "{e}");
+    }
+
+    #[test]
+    fn edge_nodes_integrate_along_the_edge_in_the_mapped_parameter() {
+        // Along u (knots 0, 0.5, 1.2, 2 on [0, 2]) with a cubic curve: the
+        // weights sum to 1 (dτ over [0, 1]) and integrate τ⁷ exactly
+        // (degree 2·max(p, deg C) + 1 = 7 per span).
+        let c = crate::BezierCurve::new(vec![[0.0; 3], [1.0; 3], [2.0; 3], [3.0; 3]]);
+        let s = sheet();
+        for edge in [PatchEdge::V0, PatchEdge::V1, PatchEdge::U0, PatchEdge::U1] {
+            let op = Operator {
+                name: "e".into(),
+                target: Target::Curve(c.clone()),
+                place: TensorPlace::Edge(edge),
+                strength: 1.0,
+                repel: false,
+            };
+            let nodes = op.locate_on(&s).unwrap();
+            let (along_u, fixed) = match edge {
+                PatchEdge::V0 => (true, 0.0),
+                PatchEdge::V1 => (true, 1.0),
+                PatchEdge::U0 => (false, 0.0),
+                PatchEdge::U1 => (false, 2.0),
+            };
+            let tau = |&(u, v, _): &(f64, f64, f64)| if along_u { u / 2.0 } else { v };
+            assert!(nodes
+                .iter()
+                .all(|n| if along_u { n.1 == fixed } else { n.0 == fixed }));
+            let total: f64 = nodes.iter().map(|n| n.2).sum();
+            assert!((total - 1.0).abs() < 1e-15, "{edge:?}: {total}");
+            let m7: f64 = nodes.iter().map(|n| n.2 * tau(n).powi(7)).sum();
+            assert!((m7 - 1.0 / 8.0).abs() < 1e-15, "{edge:?}: {m7}");
+        }
     }
 }

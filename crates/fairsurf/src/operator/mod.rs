@@ -293,11 +293,12 @@ impl<P> Operator<P> {
                     push(linear(&|k| nn[k], values), 0.0);
                 }
             }
-            Target::Point(_) | Target::Surface(_) | Target::TensorSurface(_) => {
-                // S − P, or S − T at the matching point of T.
+            Target::Point(_) | Target::Surface(_) | Target::TensorSurface(_) | Target::Curve(_) => {
+                // S − P, or S − T at the matching point of T (of the target
+                // curve C at a B-spline edge's node).
                 let p = match &self.target {
                     Target::Point(p) => *p,
-                    _ => surface_point.expect("a surface target's point"),
+                    _ => surface_point.expect("a surface or curve target's point"),
                 };
                 for k in 0..3 {
                     push(
@@ -321,7 +322,6 @@ impl<P> Operator<P> {
                     push(linear(&a, basis.values), -b);
                 }
             }
-            Target::Curve(_) => unreachable!("an edge place"),
         }
     }
 
@@ -444,10 +444,10 @@ impl Tally {
             Target::Line { point, direction } => {
                 norm(cross(sub(s, *point), *direction)) / norm(*direction)
             }
-            Target::Surface(_) | Target::TensorSurface(_) => {
-                norm(sub(s, surface_point.expect("a surface target's point")))
-            }
-            Target::Curve(_) => unreachable!("an edge place"),
+            Target::Surface(_) | Target::TensorSurface(_) | Target::Curve(_) => norm(sub(
+                s,
+                surface_point.expect("a surface or curve target's point"),
+            )),
         };
         self.add(value, weight);
         self.points.push((s, weight));
