@@ -204,16 +204,26 @@ class Problem(_Scene):
 
         return self._with(edit)
 
-    def normal_field(self, weight: float, control_points: Any) -> "Problem":
+    def normal_field(
+        self,
+        weight: float,
+        control_points: Any,
+        *,
+        knots: Optional[Tuple[Sequence[float], Sequence[float]]] = None,
+    ) -> "Problem":
         """Wu & Yang's normal-field term λ ∫ (R_u·N)² + (R_v·N)² (eq. 5–6)
         with λ = ``weight`` and N the Bézier field of ``control_points``
-        ((a + 1, b + 1, 3); the field's own degree)."""
+        ((a + 1, b + 1, 3); the field's own degree) — on a B-spline problem
+        over the knot domain mapped onto [0, 1]², or with ``knots`` = (U, V)
+        a B-spline field on its own knots over the knot domain (degrees
+        from the counts)."""
         net = _net(control_points, "energy.normal_field.control_points", least=0)
-        return self._energy("normal_field", {
-            "weight": float(weight),
-            "degree": [net.shape[0] - 1, net.shape[1] - 1],
-            "control_points": net,
-        })
+        block: Dict[str, Any] = {"weight": float(weight), "control_points": net}
+        if knots is None:
+            block["degree"] = [net.shape[0] - 1, net.shape[1] - 1]
+        else:
+            block["knots"] = [np.asarray(k, dtype=float) for k in knots]
+        return self._energy("normal_field", block)
 
     def guide(
         self,

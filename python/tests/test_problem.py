@@ -238,6 +238,28 @@ def test_a_bspline_problem_takes_a_guide_of_its_own_kind() -> None:
         np.testing.assert_array_equal(again.control_points, r.control_points)
 
 
+def test_a_bspline_problem_takes_a_normal_field_on_its_own_knots() -> None:
+    """normal_field(knots=...): the scene carries the knots (no degree),
+    the solve confirms the term, and the same field as a Bézier patch
+    (no interior knots) gives the Bézier field's net."""
+    h = example("bspline_hole.json")["surface"]
+    base = fairsurf.Problem(net(h["control_points"]), knots=h["knots"]).fix_rings(2).bend(1.0)
+    field = np.array([[[0.1 * i - 0.15, 0.05 * j, 1 + 0.05 * i * j] for j in range(3)]
+                      for i in range(4)])
+    p = base.normal_field(30.0, field, knots=([0, 0, 0, 0.4, 1, 1, 1], [0, 0, 0, 1, 1, 1]))
+    assert "degree" not in p["energy"]["normal_field"]
+    r = p.solve()
+    assert r.report["terms"]["normal_field"] > 0.0
+    assert r.report["check"]["energy_error"] < 1e-12
+    flat = field[:3]
+    a = base.normal_field(30.0, flat).solve()
+    b = base.normal_field(30.0, flat, knots=([0, 0, 0, 1, 1, 1], [0, 0, 0, 1, 1, 1])).solve()
+    np.testing.assert_allclose(b.control_points, a.control_points, rtol=0, atol=1e-12)
+    with pytest.raises(fairsurf.SceneError) as e:
+        base.normal_field(1.0, field, knots=([0, 0, 0, 0.4, 2, 2, 2], [0, 0, 0, 1, 1, 1])).solve()
+    assert e.value.path == "energy.normal_field", e.value.path
+
+
 def test_builders_copy_the_callers_arrays_and_compare_without_raising() -> None:
     h = example("bspline_hole.json")["surface"]
     points = net(h["control_points"])

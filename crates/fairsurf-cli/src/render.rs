@@ -191,6 +191,13 @@ fn field_arrows(patch: &TensorPatch, guide: &NormalGuide) -> Vec<Arrow> {
             .flat_map(|i| (0..=6).map(move |j| (i as f64 / 6.0, j as f64 / 6.0)))
             .map(|(u, v)| at(u, v, f.eval(u, v)))
             .collect(),
+        NormalGuide::Spline(f) => {
+            let ((a, b), (c, d)) = (f.knots().0.domain(), f.knots().1.domain());
+            (0..=6)
+                .flat_map(|i| (0..=6).map(move |j| (i as f64 / 6.0, j as f64 / 6.0)))
+                .map(|(u, v)| at(u, v, f.eval(a + (b - a) * u, c + (d - c) * v)))
+                .collect()
+        }
         NormalGuide::Samples { grid, normals, .. } => {
             let (np, mp) = grid.size();
             let (si, sj) = (np.div_ceil(8).max(1), mp.div_ceil(8).max(1));

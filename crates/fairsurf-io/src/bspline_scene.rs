@@ -49,8 +49,9 @@ pub struct BSplineScene {
     /// scenes) at `at` or over a convex `region` of the knot domain:
     /// directors and point, plane, line and surface attractors (a
     /// `surface` is a Bézier patch over the knot domain mapped onto
-    /// [0, 1]²); regions are integrated exactly span by span. Repellors and
-    /// edges are refused.
+    /// [0, 1]²); regions are integrated exactly span by span; repellors by
+    /// Newton's method; an edge-to-curve attractor's curve lies over the
+    /// edge's parameter interval mapped onto [0, 1].
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub operators: Vec<crate::TensorOperatorSpec>,
     /// Knots to insert before solving (exact refinement: the surface as
@@ -197,10 +198,11 @@ pub struct BSplineEnergySpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bend: Option<f64>,
     /// The normal-field term: a Bézier field N over the knot domain mapped
-    /// onto [0, 1]², integrated exactly, or with `sampling` the sampled sum
-    /// (Wu & Yang eq. 5); as in tensor scenes.
+    /// onto [0, 1]², or with `knots` a B-spline field on its own knots over
+    /// the knot domain, integrated exactly; with `sampling` the sampled sum
+    /// (Wu & Yang eq. 5), as in tensor scenes.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub normal_field: Option<crate::NormalFieldSpec>,
+    pub normal_field: Option<Box<BSplineNormalFieldSpec>>,
     /// The sampled normal field: a grid over the knot domain mapped onto
     /// [0, 1]², `normal_samples` (or N at the samples) and `normal_weights`,
     /// as in tensor scenes (`guide_weights` are refused: the guide is
@@ -210,6 +212,56 @@ pub struct BSplineEnergySpec {
     /// The guide-surface term: S on the same knots.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub guide_surface: Option<BSplineGuideSpec>,
+}
+
+/// The normal field N of a B-spline scene: a Bézier field as in tensor
+/// scenes, or with `knots` a B-spline field on its own clamped knots over
+/// the surface's knot domain (degrees from `degree`, else from the counts).
+#[derive(Clone, Debug, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BSplineNormalFieldSpec {
+    /// λ ≥ 0 (default 1). With `sampling.normal_weights` the two multiply.
+    #[serde(default = "crate::tensor_scene::one")]
+    pub weight: f64,
+    /// `[n1, m1]`: the field's degrees (a Bézier field: any, 0 for a
+    /// constant; a B-spline field: 1 to 15).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub degree: Option<[usize; 2]>,
+    /// The control points of N (rows along u). Required unless
+    /// `sampling.normal_samples` gives the normals.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub control_points: Option<Net>,
+    /// `[U, V]`: a B-spline field's knot vectors, over the surface's knot
+    /// domain.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub knots: Option<[Vec<f64>; 2]>,
+}
+
+impl BSplineNormalFieldSpec {
+    /// The Bézier part, as tensor scenes read it.
+    fn bezier(&self) -> crate::NormalFieldSpec {
+        crate::NormalFieldSpec {
+            weight: self.weight,
+            degree: self.degree,
+            control_points: self.control_points.clone(),
+        }
+    }
+
+    /// The B-spline field, when `knots` are given; errors name
+    /// `energy.normal_field.…`.
+    fn spline(&self, domain: [(f64, f64); 2]) -> Result<Option<BSplineSurface>> {
+        let Some(knots) = &self.knots else {
+            return Ok(None);
+        };
+        own_spline(
+            "energy.normal_field",
+            self.control_points.as_ref(),
+            self.degree,
+            Some(knots),
+            domain,
+        )
+        .map(Some)
+    }
 }
 
 /// A guide surface S: a net on the surface's knots, or any B-spline or
@@ -244,59 +296,78 @@ impl BSplineGuideSpec {
         if self.knots.is_none() && self.degree.is_none() {
             return Ok(None);
         }
-        let path = "energy.guide_surface";
-        let net = self.control_points.as_ref().ok_or_else(|| {
-            Error::scene(
-                format!("{path}.control_points"),
-                "required with knots or degree (S's own net)",
-            )
-        })?;
-        let rows = net.len();
-        let cols = net.first().map_or(0, Vec::len);
-        let knots = |k: usize, count: usize| -> Result<KnotVector> {
-            let degree = self.degree.map(|d| d[k]);
-            let knots = match &self.knots {
-                Some(kn) => kn[k].clone(),
-                None => {
-                    let p = degree.expect("degree or knots");
-                    let (a, b) = domain[k];
-                    let mut v = vec![a; p + 1];
-                    v.extend(std::iter::repeat_n(b, p + 1));
-                    v
-                }
-            };
-            let p = match degree {
-                Some(p) => p,
-                None => (knots.len()).checked_sub(count + 1).ok_or_else(|| {
-                    Error::scene(
-                        format!("{path}.knots[{k}]"),
-                        format!("{} knots cannot carry {count} control points", knots.len()),
-                    )
-                })?,
-            };
-            if !(1..=MAX_DEGREE).contains(&p) {
-                return Err(Error::scene(
-                    format!("{path}.degree[{k}]"),
-                    format!("must be 1 to {MAX_DEGREE}, got {p}"),
-                ));
-            }
-            KnotVector::new(p, knots)
-                .map_err(|e| Error::scene(format!("{path}.knots[{k}]"), e.to_string()))
-        };
-        let (u, v) = (knots(0, rows)?, knots(1, cols)?);
-        let points: Vec<Vec3> = parse_net(
-            net,
-            &format!("{path}.control_points"),
-            (u.count() - 1, v.count() - 1),
-            false,
-        )?
-        .into_iter()
-        .map(|p| p.expect("no null"))
-        .collect();
-        let s = BSplineSurface::new(u, v, points)
-            .map_err(|e| Error::scene(format!("{path}.control_points"), e.to_string()))?;
-        Ok(Some(s))
+        own_spline(
+            "energy.guide_surface",
+            self.control_points.as_ref(),
+            self.degree,
+            self.knots.as_ref(),
+            domain,
+        )
+        .map(Some)
     }
+}
+
+/// A surface on its own knots (or a Bézier patch of `degree` over
+/// `domain` without them) from a scene entry at `path`: `control_points`
+/// required; the degrees from `degree`, else from the knot and point
+/// counts; errors name `path.…`.
+fn own_spline(
+    path: &str,
+    net: Option<&Net>,
+    degree: Option<[usize; 2]>,
+    own_knots: Option<&[Vec<f64>; 2]>,
+    domain: [(f64, f64); 2],
+) -> Result<BSplineSurface> {
+    let net = net.ok_or_else(|| {
+        Error::scene(
+            format!("{path}.control_points"),
+            "required with knots or degree (its own net)",
+        )
+    })?;
+    let rows = net.len();
+    let cols = net.first().map_or(0, Vec::len);
+    let knots = |k: usize, count: usize| -> Result<KnotVector> {
+        let degree = degree.map(|d| d[k]);
+        let knots = match own_knots {
+            Some(kn) => kn[k].clone(),
+            None => {
+                let p = degree.expect("degree or knots");
+                let (a, b) = domain[k];
+                let mut v = vec![a; p + 1];
+                v.extend(std::iter::repeat_n(b, p + 1));
+                v
+            }
+        };
+        let p = match degree {
+            Some(p) => p,
+            None => (knots.len()).checked_sub(count + 1).ok_or_else(|| {
+                Error::scene(
+                    format!("{path}.knots[{k}]"),
+                    format!("{} knots cannot carry {count} control points", knots.len()),
+                )
+            })?,
+        };
+        if !(1..=MAX_DEGREE).contains(&p) {
+            return Err(Error::scene(
+                format!("{path}.degree[{k}]"),
+                format!("must be 1 to {MAX_DEGREE}, got {p}"),
+            ));
+        }
+        KnotVector::new(p, knots)
+            .map_err(|e| Error::scene(format!("{path}.knots[{k}]"), e.to_string()))
+    };
+    let (u, v) = (knots(0, rows)?, knots(1, cols)?);
+    let points: Vec<Vec3> = parse_net(
+        net,
+        &format!("{path}.control_points"),
+        (u.count() - 1, v.count() - 1),
+        false,
+    )?
+    .into_iter()
+    .map(|p| p.expect("no null"))
+    .collect();
+    BSplineSurface::new(u, v, points)
+        .map_err(|e| Error::scene(format!("{path}.control_points"), e.to_string()))
 }
 
 /// The highest degree a B-spline scene takes: beyond it use more spans.
@@ -431,8 +502,17 @@ impl BSplineScene {
             ));
         }
         let grid = crate::validate::sample_grid(e.sampling.as_ref())?;
+        let domain = [surface_domain.0, surface_domain.1];
+        let spline = match &e.normal_field {
+            Some(f) => f.spline(domain)?,
+            None => None,
+        };
         match crate::validate::normal_field_term(
-            e.normal_field.as_ref(),
+            e.normal_field
+                .as_deref()
+                .map(BSplineNormalFieldSpec::bezier)
+                .as_ref(),
+            spline,
             e.sampling.as_ref(),
             grid,
         )? {
@@ -449,9 +529,16 @@ impl BSplineScene {
                         weights,
                     },
             }) => problem = problem.with_sampled_normals(weight, grid, normals, weights)?,
+            Some(NormalField {
+                weight,
+                guide: NormalGuide::Spline(field),
+            }) => {
+                problem = problem
+                    .with_normal_spline(weight, field)
+                    .map_err(|err| Error::scene("energy.normal_field", err.to_string()))?
+            }
             None => {}
         }
-        let domain = [surface_domain.0, surface_domain.1];
         if let Some(own) = match &e.guide_surface {
             Some(g) => g.own_surface(domain)?,
             None => None,

@@ -49,7 +49,8 @@ pub use analysis::Measures;
 pub use atomic::{remove_temporaries, write_atomic, Batch};
 pub use blend::{blend_json, check_bulge, BlendInput, BlendScene, BlendSurfaceSpec, EdgeName};
 pub use bspline_scene::{
-    BSplineEnergySpec, BSplineGuideSpec, BSplineKind, BSplineScene, BSplineSpec, SolvedBSplineScene,
+    BSplineEnergySpec, BSplineGuideSpec, BSplineKind, BSplineNormalFieldSpec, BSplineScene,
+    BSplineSpec, SolvedBSplineScene,
 };
 pub use cad::CadSurface;
 pub use compare::comparison_json;

@@ -269,6 +269,7 @@ impl TensorScene {
         }
         normal_field_term(
             self.energy.normal_field.as_ref(),
+            None,
             self.energy.sampling.as_ref(),
             grid,
         )
@@ -573,22 +574,48 @@ pub(crate) fn sample_grid(sampling: Option<&crate::SamplingSpec>) -> Result<Opti
     Ok(Some(SampleGrid::new(s.grid[0], s.grid[1])))
 }
 
+/// A normal field as a scene gives it: a Bézier patch, or a B-spline on
+/// its own knots (B-spline scenes).
+enum Field {
+    Bezier(TensorPatch),
+    Spline(fairsurf::bspline::BSplineSurface),
+}
+
+impl Field {
+    /// N at (u, v) of [0, 1]² (a B-spline's domain mapped onto it).
+    fn eval01(&self, u: f64, v: f64) -> Vec3 {
+        match self {
+            Field::Bezier(p) => p.eval(u, v),
+            Field::Spline(s) => {
+                let ((a, b), (c, d)) = (s.knots().0.domain(), s.knots().1.domain());
+                s.eval(a + (b - a) * u, c + (d - c) * v)
+            }
+        }
+    }
+}
+
 /// The normal-field term of `energy.normal_field` and `energy.sampling`
-/// (the same rules for every surface kind): a Bézier field, integrated
-/// exactly without sampling; with sampling, its normals at the samples or
-/// `normal_samples`, and `normal_weights`. Errors name the JSON path.
+/// (the same rules for every surface kind): a Bézier field — or `spline`,
+/// a B-spline scene's field on its own knots (its net already read from
+/// the spec) — integrated exactly without sampling; with sampling, its
+/// normals at the samples or `normal_samples`, and `normal_weights`.
+/// Errors name the JSON path.
 pub(crate) fn normal_field_term(
     normal_field: Option<&crate::NormalFieldSpec>,
+    spline: Option<fairsurf::bspline::BSplineSurface>,
     sampling: Option<&crate::SamplingSpec>,
     grid: Option<SampleGrid>,
 ) -> Result<Option<NormalField>> {
     let field = match normal_field {
         Some(f) => {
             check_weight("energy.normal_field.weight", f.weight)?;
-            match &f.control_points {
-                Some(cp) => Some((f.weight, Some(normal_field_patch(cp, f.degree)?))),
-                None if sampling.is_some_and(|s| s.normal_samples.is_some()) => Some((f.weight, None)),
-                None => {
+            match (&f.control_points, spline) {
+                (_, Some(s)) => Some((f.weight, Some(Field::Spline(s)))),
+                (Some(cp), None) => Some((f.weight, Some(Field::Bezier(normal_field_patch(cp, f.degree)?)))),
+                (None, None) if sampling.is_some_and(|s| s.normal_samples.is_some()) => {
+                    Some((f.weight, None))
+                }
+                (None, None) => {
                     return Err(Error::scene(
                         "energy.normal_field.control_points",
                         "required (the Bézier field N), unless energy.sampling.normal_samples gives the normals",
@@ -611,8 +638,12 @@ pub(crate) fn normal_field_term(
         return Ok(None);
     };
     let Some(g) = grid else {
-        let patch = patch.expect("without sampling the field has control points");
-        return Ok(Some(NormalField::new(weight, patch)));
+        return Ok(Some(
+            match patch.expect("without sampling the field has control points") {
+                Field::Bezier(p) => NormalField::new(weight, p),
+                Field::Spline(s) => NormalField::spline(weight, s),
+            },
+        ));
     };
     let s = sampling.expect("grid comes from sampling");
     let (np, mp) = g.size();
@@ -642,7 +673,7 @@ pub(crate) fn normal_field_term(
             (0..g.len())
                 .map(|k| {
                     let (u, v) = g.param(k);
-                    let p = f.eval(u, v);
+                    let p = f.eval01(u, v);
                     if fairsurf::vector::normalize(p).is_none() {
                         return Err(Error::scene(
                             "energy.normal_field.control_points",

@@ -708,6 +708,132 @@ fn bspline_guides_of_their_own_kind() {
     }
 }
 
+/// A B-spline scene's normal field on its own knots (`energy.normal_field.
+/// knots`): solves and verifies, the result file keeps the field as given
+/// and solves again to the same net; with `sampling` its normals at the
+/// samples are those of the sampled variant given explicitly; bad ones are
+/// named.
+#[test]
+fn bspline_normal_fields_on_their_own_knots() {
+    use fairsurf_io::{BSplineScene, Scene};
+    let text = std::fs::read_to_string(examples().join("bspline_hole.json")).unwrap();
+    let base: Value = serde_json::from_str(&text).unwrap();
+    let net: Vec<Vec<[f64; 3]>> = (0..4)
+        .map(|i| {
+            (0..3)
+                .map(|j| {
+                    [
+                        0.1 * i as f64 - 0.15,
+                        0.05 * j as f64,
+                        1.0 + 0.05 * (i * j) as f64,
+                    ]
+                })
+                .collect()
+        })
+        .collect();
+    let field = json!({"weight": 30.0,
+        "knots": [[0.0, 0.0, 0.0, 0.4, 1.0, 1.0, 1.0], [0.0, 0.0, 0.0, 1.0, 1.0, 1.0]],
+        "control_points": net});
+    let mut v = base.clone();
+    v["energy"]["normal_field"] = field.clone();
+    let solved = BSplineScene::from_json(&v.to_string())
+        .unwrap()
+        .solve()
+        .unwrap();
+    let r = &solved.solution.report;
+    assert!(r.normal_field > 0.0 && r.energy_error < 1e-12, "{r:?}");
+    let result = solved.result_scene();
+    let written = serde_json::to_value(&result).unwrap();
+    assert_eq!(written["energy"]["normal_field"], field);
+    let again = BSplineScene::from_json(&serde_json::to_string(&result).unwrap())
+        .unwrap()
+        .solve()
+        .unwrap();
+    assert_eq!(again.surface().points(), solved.surface().points());
+    let arrows = solved
+        .normal_field
+        .as_ref()
+        .unwrap()
+        .directions(&[0.0, 0.5], &[0.25]);
+    assert!(arrows.iter().all(|d| d.is_some()));
+
+    // Sampled: N at the samples from the field equals giving them.
+    let f = fairsurf::bspline::BSplineSurface::new(
+        fairsurf::bspline::KnotVector::new(2, vec![0.0, 0.0, 0.0, 0.4, 1.0, 1.0, 1.0]).unwrap(),
+        fairsurf::bspline::KnotVector::new(2, vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0]).unwrap(),
+        net.iter().flatten().copied().collect(),
+    )
+    .unwrap();
+    let (ka, kb) = f.knots();
+    let ((a, b), (c, d)) = (ka.domain(), kb.domain());
+    let samples: Vec<Vec<[f64; 3]>> = (0..=4)
+        .map(|i| {
+            (0..=3)
+                .map(|j| f.eval(a + (b - a) * i as f64 / 4.0, c + (d - c) * j as f64 / 3.0))
+                .collect()
+        })
+        .collect();
+    let mut s1 = v.clone();
+    s1["energy"]["sampling"] = json!({"grid": [4, 3]});
+    let mut s2 = s1.clone();
+    s2["energy"]["normal_field"] = json!({"weight": 30.0});
+    s2["energy"]["sampling"]["normal_samples"] = json!(samples);
+    let (x1, x2) = (
+        BSplineScene::from_json(&s1.to_string())
+            .unwrap()
+            .solve()
+            .unwrap(),
+        BSplineScene::from_json(&s2.to_string())
+            .unwrap()
+            .solve()
+            .unwrap(),
+    );
+    let worst = x1
+        .surface()
+        .points()
+        .iter()
+        .zip(x2.surface().points())
+        .map(|(p, q)| (0..3).map(|k| (p[k] - q[k]).abs()).fold(0.0, f64::max))
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-12, "{worst:e}");
+    assert!(x1.solution.report.normal_field > 0.0);
+
+    let fails =
+        |v: &Value| match Scene::from_json(&v.to_string()).and_then(|s| s.solve().map(|_| ())) {
+            Err(Error::Scene { path, message }) => (path, message),
+            other => panic!("expected a scene error, got {other:?}"),
+        };
+    let cases: Vec<(Value, &str, &str)> = vec![
+        (
+            json!({"knots": [[0, 0, 0, 0.4, 1, 1, 1], [0, 0, 0, 1, 1, 1]]}),
+            "energy.normal_field.control_points",
+            "required",
+        ),
+        (
+            json!({"knots": [[0, 0, 0, 0.6, 0.4, 1, 1, 1], [0, 0, 0, 1, 1, 1]], "control_points": net}),
+            "energy.normal_field.knots[0]",
+            "decrease",
+        ),
+        (
+            json!({"knots": [[0, 0, 0, 0.4, 2, 2, 2], [0, 0, 0, 1, 1, 1]], "control_points": net}),
+            "energy.normal_field",
+            "domain",
+        ),
+        (
+            json!({"knots": [[0, 0, 0, 0.4, 1, 1, 1], [0, 0, 0, 1, 1, 1]], "degree": [2, 1],
+                   "control_points": net}),
+            "energy.normal_field.knots[1]",
+            "repeated",
+        ),
+    ];
+    for (field, path, msg) in cases {
+        let mut v = base.clone();
+        v["energy"]["normal_field"] = field;
+        let (p, m) = fails(&v);
+        assert!(p == path && m.contains(msg), "{p}: {m}");
+    }
+}
+
 /// `refine` inserts knots before solving: the given surface is unchanged
 /// (exact refinement), the minimum does not rise and here falls, the result
 /// file holds the refined knots and net (no `refine`) and solves again to

@@ -11,19 +11,12 @@ mod common;
 use fairsurf::bspline::{BSplineProblem, BSplineSurface, KnotVector};
 use fairsurf::{TensorPatch, Vec3};
 
-/// A bicubic surface of 6 × 5 uniform spans, a wavy sheet.
 fn sheet() -> BSplineSurface {
-    common::graph_bspline(
-        KnotVector::uniform(3, 6),
-        KnotVector::uniform(3, 5),
-        |x, y| 0.15 * (3.0 * x).sin() * (2.0 * y).cos(),
-    )
+    common::wavy_sheet()
 }
 
 fn base() -> BSplineProblem {
-    BSplineProblem::new(sheet())
-        .with_fixed_rings(2)
-        .with_bend(1.0)
+    common::wavy_problem()
 }
 
 #[test]
@@ -73,23 +66,7 @@ fn a_guide_outside_the_space_is_confirmed_by_quadrature_and_minimal() {
     // |R − S|² between both surfaces' knot lines.
     assert!(r.energy_error < 1e-12, "{}", r.energy_error);
     assert!(r.guide_surface > 0.0 && r.excess < 1e-10);
-    let e0 = problem.energy_at(&sol.surface);
-    assert!((e0 - r.energy).abs() < 1e-12 * r.energy);
-    let free: Vec<usize> = (0..problem.free().len())
-        .filter(|&k| problem.free()[k])
-        .collect();
-    let (ku, kv) = sol.surface.knots();
-    let mut rng = common::Rng::new(5);
-    for trial in 0..6 {
-        let mut points: Vec<Vec3> = sol.surface.points().to_vec();
-        for &g in &free {
-            for c in 0..3 {
-                points[g][c] += 1e-4 * rng.uniform();
-            }
-        }
-        let moved = BSplineSurface::new(ku.clone(), kv.clone(), points).unwrap();
-        assert!(problem.energy_at(&moved) > e0, "trial {trial}");
-    }
+    common::assert_bspline_minimal(&problem, &sol.surface, r.energy, 5);
 }
 
 #[test]

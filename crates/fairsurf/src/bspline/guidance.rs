@@ -1,11 +1,14 @@
 //! Wu & Yang's guidance terms on B-spline surfaces: the normal field
 //! ½λ∫∫ (R_u·N)² + (R_v·N)² (eq. 1–2; N a Bézier field over the knot
-//! domain mapped onto [0, 1]², it couples x, y and z) and the guide surface
+//! domain mapped onto [0, 1]², or a B-spline field on its own knots over
+//! the knot domain; it couples x, y and z) and the guide surface
 //! ½γ∫∫ |R − S|² (S a net on the same knots).
 //!
-//! The normal-field integrand is a polynomial on every span of degree
-//! 2(p + n₁) in u (2(q + m₁) in v), so the (p + n₁ + 1) × (q + m₁ + 1)
-//! Gauss–Legendre rule per span is exact for its Hessian and its value.
+//! The normal-field integrand is a polynomial of degree 2(p + n₁) in u
+//! (2(q + m₁) in v) on every span of the surface — on every piece of it
+//! between the field's knot lines for a B-spline field — so the
+//! (p + n₁ + 1) × (q + m₁ + 1) Gauss–Legendre rule per piece is exact for
+//! its Hessian and its value.
 //!
 //! The sampled variant (Wu & Yang eq. 5) sums over a uniform grid of
 //! samples (u_i, v_j) = (i/np, j/mp) of the domain mapped onto [0, 1]²:
@@ -14,7 +17,7 @@
 //! B-spline without interior knots on [0, 1] has the tensor scene's energy.
 
 use super::energy::Gram1d;
-use super::{BSplineSurface, BezierPiece};
+use super::{BSplineSurface, BezierPiece, KnotVector};
 use crate::basis::GaussLegendre;
 use crate::energy::NormalGuide;
 use crate::{TensorPatch, Vec3};
@@ -120,9 +123,74 @@ impl SpanGrid {
     }
 }
 
+/// An exactly integrated field: a Bézier patch over the knot domain
+/// mapped onto [0, 1]², or a B-spline on its own knots over the domain.
+#[derive(Clone, Copy)]
+enum Exact<'a> {
+    Bezier(&'a TensorPatch),
+    Spline(&'a BSplineSurface),
+}
+
+impl Exact<'_> {
+    fn degree(self) -> (usize, usize) {
+        match self {
+            Exact::Bezier(f) => f.degree(),
+            Exact::Spline(f) => f.degree(),
+        }
+    }
+
+    /// N at the surface's parameters (u, v).
+    fn at(self, surface: &BSplineSurface, u: f64, v: f64) -> Vec3 {
+        match self {
+            Exact::Bezier(f) => {
+                let ((a, b), (c, d)) = (surface.knots().0.domain(), surface.knots().1.domain());
+                f.eval((u - a) / (b - a), (v - c) / (d - c))
+            }
+            Exact::Spline(f) => f.eval(u, v),
+        }
+    }
+
+    /// The Gauss nodes of [lo, hi] in direction `k` (0: u): the rule on
+    /// every piece between the field's interior knots inside the interval,
+    /// as (t, weight × the piece's length).
+    fn nodes(self, k: usize, (lo, hi): (f64, f64), rule: &GaussLegendre) -> Vec<(f64, f64)> {
+        let mut cuts = vec![lo];
+        if let Exact::Spline(f) = self {
+            let knots: &KnotVector = if k == 0 { f.knots().0 } else { f.knots().1 };
+            let mut inner: Vec<f64> = knots
+                .knots()
+                .iter()
+                .copied()
+                .filter(|&t| t > lo && t < hi)
+                .collect();
+            inner.dedup();
+            cuts.extend(inner);
+        }
+        cuts.push(hi);
+        cuts.windows(2)
+            .flat_map(|w| {
+                let (a, b) = (w[0], w[1]);
+                rule.nodes
+                    .iter()
+                    .zip(&rule.weights)
+                    .map(move |(&x, &wx)| (a + (b - a) * x, wx * (b - a)))
+            })
+            .collect()
+    }
+}
+
 impl NormalTerm {
+    /// The exact field, unless the term is sampled.
+    fn exact(&self) -> Option<Exact<'_>> {
+        match &self.guide {
+            NormalGuide::Field(f) => Some(Exact::Bezier(f)),
+            NormalGuide::Spline(f) => Some(Exact::Spline(f)),
+            NormalGuide::Samples { .. } => None,
+        }
+    }
+
     fn rule(
-        field: &TensorPatch,
+        field: Exact,
         surface: &BSplineSurface,
         extra: usize,
     ) -> (GaussLegendre, GaussLegendre) {
@@ -131,12 +199,6 @@ impl NormalTerm {
             GaussLegendre::new(p + n1 + 1 + extra),
             GaussLegendre::new(q + m1 + 1 + extra),
         )
-    }
-
-    /// N at the surface's parameters (u, v).
-    fn field_at(field: &TensorPatch, surface: &BSplineSurface, u: f64, v: f64) -> Vec3 {
-        let ((a, b), (c, d)) = (surface.knots().0.domain(), surface.knots().1.domain());
-        field.eval((u - a) / (b - a), (v - c) / (d - c))
     }
 
     /// The samples as (knot-domain u, v, λ·λ_k, N_k), with the domain's
@@ -165,37 +227,36 @@ impl NormalTerm {
     /// the samples in it (a sample on a knot line counts once, in the span
     /// `KnotVector::span` gives).
     pub(crate) fn spans(&self, surface: &BSplineSurface) -> Vec<SpanGrid> {
-        let field = match &self.guide {
-            NormalGuide::Field(f) => f,
-            NormalGuide::Samples { .. } => return self.sample_spans(surface),
+        let Some(field) = self.exact() else {
+            return self.sample_spans(surface);
         };
         let (ku, kv) = surface.knots();
         let (gu, gv) = Self::rule(field, surface, 0);
         let mut out = Vec::new();
         for &(su, u0, u1) in &ku.spans() {
-            let us: Vec<f64> = gu.nodes.iter().map(|&x| u0 + (u1 - u0) * x).collect();
+            let us = field.nodes(0, (u0, u1), &gu);
             let bu: Vec<[Vec<f64>; 2]> = us
                 .iter()
-                .map(|&u| {
+                .map(|&(u, _)| {
                     let b = ku.basis_derivatives(su, u, 1);
                     [b[0].clone(), b[1].clone()]
                 })
                 .collect();
             for &(sv, v0, v1) in &kv.spans() {
-                let vs: Vec<f64> = gv.nodes.iter().map(|&y| v0 + (v1 - v0) * y).collect();
+                let vs = field.nodes(1, (v0, v1), &gv);
                 let bv = vs
                     .iter()
-                    .map(|&v| {
+                    .map(|&(v, _)| {
                         let b = kv.basis_derivatives(sv, v, 1);
                         [b[0].clone(), b[1].clone()]
                     })
                     .collect();
                 let mut weight = Vec::with_capacity(us.len() * vs.len());
                 let mut n = Vec::with_capacity(us.len() * vs.len());
-                for (&u, &wx) in us.iter().zip(&gu.weights) {
-                    for (&v, &wy) in vs.iter().zip(&gv.weights) {
-                        weight.push(self.weight * wx * wy * (u1 - u0) * (v1 - v0));
-                        n.push(Self::field_at(field, surface, u, v));
+                for &(u, wu) in &us {
+                    for &(v, wv) in &vs {
+                        weight.push(self.weight * wu * wv);
+                        n.push(field.at(surface, u, v));
                     }
                 }
                 out.push(SpanGrid {
@@ -272,21 +333,18 @@ impl NormalTerm {
                 .sum();
             return 0.5 * total;
         }
-        let NormalGuide::Field(field) = &self.guide else {
-            unreachable!("a field when not sampled")
-        };
+        let field = self.exact().expect("a field when not sampled");
         let (gu, gv) = Self::rule(field, surface, 0);
         let (ku, kv) = surface.knots();
         let mut total = 0.0;
         for &(_, u0, u1) in &ku.spans() {
+            let us = field.nodes(0, (u0, u1), &gu);
             for &(_, v0, v1) in &kv.spans() {
-                for (&x, &wx) in gu.nodes.iter().zip(&gu.weights) {
-                    for (&y, &wy) in gv.nodes.iter().zip(&gv.weights) {
-                        let (u, v) = (u0 + (u1 - u0) * x, v0 + (v1 - v0) * y);
+                for &(v, wv) in &field.nodes(1, (v0, v1), &gv) {
+                    for &(u, wu) in &us {
                         let d = surface.derivatives(u, v);
-                        let n = Self::field_at(field, surface, u, v);
-                        let w = wx * wy * (u1 - u0) * (v1 - v0);
-                        total += w * (dot(d.du, n).powi(2) + dot(d.dv, n).powi(2));
+                        let n = field.at(surface, u, v);
+                        total += wu * wv * (dot(d.du, n).powi(2) + dot(d.dv, n).powi(2));
                     }
                 }
             }
@@ -324,20 +382,21 @@ impl NormalTerm {
                 .sum();
             return 0.5 * total;
         }
-        let NormalGuide::Field(field) = &self.guide else {
-            unreachable!("a field when not sampled")
-        };
+        let field = self.exact().expect("a field when not sampled");
         let (gu, gv) = Self::rule(field, surface, 1);
         let mut total = 0.0;
         for piece in pieces {
             let (hu, hv) = (piece.u.1 - piece.u.0, piece.v.1 - piece.v.0);
-            let d = piece.patch.grid_derivatives(&gu.nodes, &gv.nodes);
-            for (a, (&x, &wx)) in gu.nodes.iter().zip(&gu.weights).enumerate() {
-                for (b, (&y, &wy)) in gv.nodes.iter().zip(&gv.weights).enumerate() {
-                    let g = &d[a * gv.nodes.len() + b];
-                    let n = Self::field_at(field, surface, piece.u.0 + hu * x, piece.v.0 + hv * y);
+            let (us, vs) = (field.nodes(0, piece.u, &gu), field.nodes(1, piece.v, &gv));
+            let xs: Vec<f64> = us.iter().map(|&(u, _)| (u - piece.u.0) / hu).collect();
+            let ys: Vec<f64> = vs.iter().map(|&(v, _)| (v - piece.v.0) / hv).collect();
+            let d = piece.patch.grid_derivatives(&xs, &ys);
+            for (a, &(u, wu)) in us.iter().enumerate() {
+                for (b, &(v, wv)) in vs.iter().enumerate() {
+                    let g = &d[a * vs.len() + b];
+                    let n = field.at(surface, u, v);
                     let (ru, rv) = (scale(g.du, 1.0 / hu), scale(g.dv, 1.0 / hv));
-                    total += wx * wy * hu * hv * (dot(ru, n).powi(2) + dot(rv, n).powi(2));
+                    total += wu * wv * (dot(ru, n).powi(2) + dot(rv, n).powi(2));
                 }
             }
         }

@@ -56,8 +56,12 @@ fn cross_gram(a: &KnotVector, b: &KnotVector) -> Mat<f64> {
 }
 
 /// Checks that `guide` lies over the domain of `onto` (to 1e-12 of its
-/// size); the error names the guide.
-fn check_domain(onto: &BSplineSurface, guide: &BSplineSurface) -> Result<()> {
+/// size); the error names it as `what`.
+pub(super) fn check_domain(
+    onto: &BSplineSurface,
+    guide: &BSplineSurface,
+    what: &str,
+) -> Result<()> {
     let (a, b) = (onto.knots(), guide.knots());
     let same = |x: (f64, f64), y: (f64, f64)| {
         let tol = 1e-12 * (x.1 - x.0).abs().max(1.0);
@@ -67,7 +71,7 @@ fn check_domain(onto: &BSplineSurface, guide: &BSplineSurface) -> Result<()> {
         return Ok(());
     }
     Err(Error::Mismatch {
-        what: "guide surface".into(),
+        what: what.into(),
         expected: format!(
             "the surface's domain {:?} × {:?}",
             a.0.domain(),
@@ -90,7 +94,7 @@ fn sandwich(a: &Mat<f64>, s: &[Vec3], cols: usize, b: &Mat<f64>) -> [Mat<f64>; 3
 /// The L² projection PS of `guide` onto the spline space of `onto` (its
 /// net, row-major) and ∫|S − PS|² dA.
 pub(crate) fn project(onto: &BSplineSurface, guide: &BSplineSurface) -> Result<(Vec<Vec3>, f64)> {
-    check_domain(onto, guide)?;
+    check_domain(onto, guide, "guide surface")?;
     let ((ru, rv), (su, sv)) = (onto.knots(), guide.knots());
     let (mu, mv) = (cross_gram(ru, ru), cross_gram(rv, rv));
     let (cu, cv) = (cross_gram(ru, su), cross_gram(rv, sv));

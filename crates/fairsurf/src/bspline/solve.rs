@@ -230,6 +230,21 @@ impl BSplineProblem {
         self
     }
 
+    /// The normal-field term ½λ∫∫ (R_u·N)² + (R_v·N)² with λ = `weight` ≥ 0
+    /// and N a B-spline field on its own knots and degrees over the
+    /// surface's knot domain (Wu & Yang eq. 1–2 with a piecewise field; N
+    /// as given, not normalized): exact by Gauss rules on every piece
+    /// between both surfaces' knot lines. A field over another domain (to
+    /// 1e-12) is an error.
+    pub fn with_normal_spline(mut self, weight: f64, field: BSplineSurface) -> Result<Self> {
+        super::project::check_domain(&self.surface, &field, "normal field")?;
+        self.normal = Some(NormalTerm {
+            weight,
+            guide: NormalGuide::Spline(field),
+        });
+        Ok(self)
+    }
+
     /// The sampled normal-field term (Wu & Yang eq. 5),
     /// ½λ Σ λ_k ((R_ũ·N_k)² + (R_ṽ·N_k)²), over the grid's samples of the
     /// knot domain mapped onto [0, 1]², with the derivatives with respect to the mapped parameters

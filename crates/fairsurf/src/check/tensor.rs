@@ -222,8 +222,8 @@ fn fairness(
     e
 }
 
-/// ½ λ Σ ω [(R_u·N)² + (R_v·N)²]; None when a sampled normal is zero
-/// (the solve refuses that before).
+/// ½ λ Σ ω [(R_u·N)² + (R_v·N)²]; None when a sampled normal is zero or
+/// the field is a B-spline (the solve refuses both before).
 fn normal_field(
     weight: f64,
     guide: &NormalGuide,
@@ -241,6 +241,7 @@ fn normal_field(
                 std::array::from_fn(|c| p.eval(&coordinate(f.points(), (n1, m1), c)));
             (grid, normals)
         }
+        NormalGuide::Spline(_) => return None,
         NormalGuide::Samples {
             grid: g,
             normals,

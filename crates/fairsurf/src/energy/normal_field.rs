@@ -3,7 +3,8 @@
 //! any degree (n1, m1), or its sampled form
 //! `½ Σ λ_ij [(R_u(u_i,v_j)·N_ij)² + (R_v(u_i,v_j)·N_ij)²]` (eq. 5) with unit
 //! normals N_ij on a grid. It pulls the surface's tangent planes toward the
-//! planes orthogonal to N, and couples x, y and z.
+//! planes orthogonal to N, and couples x, y and z. On B-spline surfaces N
+//! may also be a B-spline field on its own knots ([`NormalGuide::Spline`]).
 
 use super::{
     check_weight, check_weights, derivative_net, form, Axis, EnergyTerm, Hessian, HessianKey,
@@ -32,6 +33,12 @@ pub enum NormalGuide {
         /// Optional per-sample weights.
         weights: Option<Vec<f64>>,
     },
+    /// A B-spline field N(u, v) = Σ N_i^{n1}(u) N_j^{m1}(v) N_ij on its own
+    /// knots over the surface's knot domain, integrated exactly (Gauss rules
+    /// between both surfaces' knot lines). For B-spline surfaces only
+    /// (`BSplineProblem::with_normal_spline`); a Bézier patch's problem
+    /// refuses it. N as given, not normalized.
+    Spline(crate::bspline::BSplineSurface),
 }
 
 impl NormalGuide {
@@ -74,6 +81,15 @@ impl NormalField {
         }
     }
 
+    /// The exact term with a B-spline field over the surface's knot domain
+    /// (B-spline surfaces only).
+    pub fn spline(weight: f64, field: crate::bspline::BSplineSurface) -> Self {
+        Self {
+            weight,
+            guide: NormalGuide::Spline(field),
+        }
+    }
+
     /// The sampled term (eq. 5).
     pub fn sampled(
         weight: f64,
@@ -91,11 +107,16 @@ impl NormalField {
         }
     }
 
-    /// The unit guiding normal at (u, v): the field normalized, or for samples
-    /// the normal of the nearest sample. `None` where the field vanishes.
+    /// The unit guiding normal at (u, v) ∈ [0, 1]² (a B-spline field's
+    /// domain mapped onto it): the field normalized, or for samples the
+    /// normal of the nearest sample. `None` where the field vanishes.
     pub fn direction(&self, u: f64, v: f64) -> Option<Vec3> {
         match &self.guide {
             NormalGuide::Field(f) => normalize(f.eval(u, v)),
+            NormalGuide::Spline(f) => {
+                let ((a, b), (c, d)) = (f.knots().0.domain(), f.knots().1.domain());
+                normalize(f.eval(a + (b - a) * u, c + (d - c) * v))
+            }
             NormalGuide::Samples { grid, normals, .. } => {
                 let (np, mp) = grid.size();
                 let i = (u * np as f64).round().clamp(0.0, np as f64) as usize;
@@ -115,7 +136,7 @@ impl NormalField {
                 .iter()
                 .map(|d| normalize(d.point))
                 .collect(),
-            NormalGuide::Samples { .. } => us
+            NormalGuide::Samples { .. } | NormalGuide::Spline(_) => us
                 .iter()
                 .flat_map(|&u| vs.iter().map(move |&v| (u, v)))
                 .map(|(u, v)| self.direction(u, v))
@@ -175,6 +196,13 @@ impl NormalField {
                     .collect();
                 Ok((grid.axes(), tables))
             }
+            NormalGuide::Spline(_) => Err(Error::Mismatch {
+                what: "normal field".into(),
+                expected: "a Bézier field or samples on a Bézier patch (a B-spline field is for \
+                           B-spline surfaces: BSplineSurface::from_bezier converts the patch)"
+                    .into(),
+                got: "a B-spline field".into(),
+            }),
         }
     }
 }
@@ -219,6 +247,12 @@ impl EnergyTerm for NormalField {
         let key = HessianKey::new(self.name()).number(self.weight);
         Some(match &self.guide {
             NormalGuide::Field(f) => key.with(&f.degree()).points(f.points()).finish(),
+            NormalGuide::Spline(f) => key
+                .with(&f.degree())
+                .numbers(f.knots().0.knots())
+                .numbers(f.knots().1.knots())
+                .points(f.points())
+                .finish(),
             NormalGuide::Samples {
                 grid,
                 normals,

@@ -216,3 +216,52 @@ pub fn max_distance(a: &[Vec3], b: &[Vec3]) -> f64 {
         .map(|(x, y)| fairsurf::vector::norm(fairsurf::vector::sub(*x, *y)))
         .fold(0.0, f64::max)
 }
+
+/// A bicubic B-spline of 6 × 5 uniform spans over the unit square, a wavy
+/// sheet (the guidance tests' surface).
+#[allow(dead_code)]
+pub fn wavy_sheet() -> fairsurf::bspline::BSplineSurface {
+    use fairsurf::bspline::KnotVector;
+    graph_bspline(
+        KnotVector::uniform(3, 6),
+        KnotVector::uniform(3, 5),
+        |x, y| 0.15 * (3.0 * x).sin() * (2.0 * y).cos(),
+    )
+}
+
+/// Asserts that `s` (on the problem's knots) is the problem's minimum: its
+/// energy is the report's `energy` (to 1e-12) and six random moves of the
+/// free points by up to 1e-4 each raise it.
+#[allow(dead_code)]
+pub fn assert_bspline_minimal(
+    problem: &fairsurf::bspline::BSplineProblem,
+    s: &fairsurf::bspline::BSplineSurface,
+    energy: f64,
+    seed: u64,
+) {
+    let e0 = problem.energy_at(s);
+    assert!((e0 - energy).abs() < 1e-12 * energy, "{e0} vs {energy}");
+    let free: Vec<usize> = (0..problem.free().len())
+        .filter(|&k| problem.free()[k])
+        .collect();
+    let (ku, kv) = s.knots();
+    let mut rng = Rng::new(seed);
+    for trial in 0..6 {
+        let mut points = s.points().to_vec();
+        for &g in &free {
+            for c in 0..3 {
+                points[g][c] += 1e-4 * rng.uniform();
+            }
+        }
+        let moved = fairsurf::bspline::BSplineSurface::new(ku.clone(), kv.clone(), points).unwrap();
+        assert!(problem.energy_at(&moved) > e0, "trial {trial}");
+    }
+}
+
+/// The thin plate on [`wavy_sheet`] with two rings fixed.
+#[allow(dead_code)]
+pub fn wavy_problem() -> fairsurf::bspline::BSplineProblem {
+    fairsurf::bspline::BSplineProblem::new(wavy_sheet())
+        .with_fixed_rings(2)
+        .with_bend(1.0)
+}
