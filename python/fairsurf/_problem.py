@@ -113,7 +113,8 @@ class _Scene(Mapping[str, Any]):
         ``kind`` is e.g. ``"point_attractor"``, ``"director"``,
         ``"plane_attractor"``, with ``strength`` and the fields the scene
         format names (``fairsurf.schema()``); on a B-spline, places lie in
-        the knot domain, and repellors and edges are refused."""
+        the knot domain and an edge's curve over the edge's parameter
+        interval mapped onto [0, 1]."""
         return self._append("operators", kind, fields)
 
     def to_json(self) -> str:

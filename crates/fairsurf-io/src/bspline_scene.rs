@@ -247,20 +247,25 @@ impl BSplineNormalFieldSpec {
         }
     }
 
-    /// The B-spline field, when `knots` are given; errors name
+    /// The B-spline field, when `knots` are given, over the domain of
+    /// `surface` (exact or sampled, it must lie there); errors name
     /// `energy.normal_field.…`.
-    fn spline(&self, domain: [(f64, f64); 2]) -> Result<Option<BSplineSurface>> {
+    fn spline(&self, surface: &BSplineSurface) -> Result<Option<BSplineSurface>> {
         let Some(knots) = &self.knots else {
             return Ok(None);
         };
-        own_spline(
+        let (u, v) = surface.knots();
+        let field = own_spline(
             "energy.normal_field",
             self.control_points.as_ref(),
             self.degree,
             Some(knots),
-            domain,
-        )
-        .map(Some)
+            [u.domain(), v.domain()],
+        )?;
+        surface
+            .check_domain(&field, "normal field")
+            .map_err(|e| Error::scene("energy.normal_field", e.to_string()))?;
+        Ok(Some(field))
     }
 }
 
@@ -348,10 +353,20 @@ fn own_spline(
             })?,
         };
         if !(1..=MAX_DEGREE).contains(&p) {
-            return Err(Error::scene(
-                format!("{path}.degree[{k}]"),
-                format!("must be 1 to {MAX_DEGREE}, got {p}"),
-            ));
+            return Err(match degree {
+                Some(_) => Error::scene(
+                    format!("{path}.degree[{k}]"),
+                    format!("must be 1 to {MAX_DEGREE}, got {p}"),
+                ),
+                None => Error::scene(
+                    format!("{path}.knots[{k}]"),
+                    format!(
+                        "{} knots and {count} control points make degree {p}; it must be 1 to \
+                         {MAX_DEGREE}",
+                        knots.len()
+                    ),
+                ),
+            });
         }
         KnotVector::new(p, knots)
             .map_err(|e| Error::scene(format!("{path}.knots[{k}]"), e.to_string()))
@@ -387,8 +402,9 @@ pub struct SolvedBSplineScene {
     /// The guide surface's net as solved (on the solved knots; empty
     /// without one).
     pub guide_points: Vec<Vec3>,
-    /// The normal field as solved (over the knot domain mapped onto
-    /// [0, 1]²), when there is one.
+    /// The normal field as solved (a Bézier field or samples over the knot
+    /// domain mapped onto [0, 1]², or a B-spline field over the knot
+    /// domain), when there is one.
     pub normal_field: Option<Box<NormalField>>,
 }
 
@@ -504,7 +520,7 @@ impl BSplineScene {
         let grid = crate::validate::sample_grid(e.sampling.as_ref())?;
         let domain = [surface_domain.0, surface_domain.1];
         let spline = match &e.normal_field {
-            Some(f) => f.spline(domain)?,
+            Some(f) => f.spline(problem.surface())?,
             None => None,
         };
         match crate::validate::normal_field_term(

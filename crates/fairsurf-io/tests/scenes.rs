@@ -597,6 +597,32 @@ fn bspline_operators_solve_round_trip_and_name_their_paths() {
         let (p, m) = fails(&v);
         assert!(p == path && m.contains(msg), "{ptr}: {p}: {m}");
     }
+    // Operator 1 a repellor: Newton's report in the result; an edge
+    // attractor on the (fixed) v = 0 edge solves and is marked there.
+    let mut v = base.clone();
+    v["operators"][1]["repel"] = json!(true);
+    v["operators"].as_array_mut().unwrap().push(json!({
+        "type": "curve_attractor", "edge": "v0", "strength": 2.0,
+        "control_points": [[0.0, 0.0, 0.1], [1.0, 0.0, 0.1]]}));
+    let pushed = BSplineScene::from_json(&v.to_string())
+        .unwrap()
+        .solve()
+        .unwrap();
+    let report = pushed.report_json();
+    assert!(
+        report["newton"]["iterations"].as_u64().unwrap() > 0,
+        "{report}"
+    );
+    assert!(
+        report["newton"]["relative_gradient"].as_f64().unwrap() < 1e-9,
+        "{report}"
+    );
+    let hem = &report["operators"][4];
+    assert!(hem["energy"].as_f64().unwrap() > 0.0, "{report}");
+    let (u0, u1) = pushed.surface().knots().0.domain();
+    let v0 = pushed.surface().knots().1.domain().0;
+    let mid = pushed.surface().eval(0.5 * (u0 + u1), v0);
+    assert_eq!(hem["at"], json!(mid), "{report}");
     // A surface attractor's target: degree 31 is refused by the scene (any
     // kind), 16 by the B-spline place.
     let target = |d: usize| {
@@ -825,6 +851,11 @@ fn bspline_normal_fields_on_their_own_knots() {
             "energy.normal_field.knots[1]",
             "repeated",
         ),
+        (
+            json!({"knots": [[0, 1], [0, 0, 0, 1, 1, 1]], "control_points": [[[0, 0, 1]]]}),
+            "energy.normal_field.knots[0]",
+            "make degree 0",
+        ),
     ];
     for (field, path, msg) in cases {
         let mut v = base.clone();
@@ -832,6 +863,16 @@ fn bspline_normal_fields_on_their_own_knots() {
         let (p, m) = fails(&v);
         assert!(p == path && m.contains(msg), "{p}: {m}");
     }
+    // Sampled, the field must lie over the knot domain as well.
+    let mut v = base.clone();
+    v["energy"]["normal_field"] =
+        json!({"knots": [[0, 0, 0, 0.4, 2, 2, 2], [0, 0, 0, 1, 1, 1]], "control_points": net});
+    v["energy"]["sampling"] = json!({"grid": [4, 3]});
+    let (p, m) = fails(&v);
+    assert!(
+        p == "energy.normal_field" && m.contains("domain"),
+        "{p}: {m}"
+    );
 }
 
 /// `refine` inserts knots before solving: the given surface is unchanged

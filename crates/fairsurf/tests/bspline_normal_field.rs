@@ -88,6 +88,59 @@ fn a_field_without_interior_knots_is_the_bezier_field() {
     assert!(ea > 0.0 && (ea - eb).abs() < 1e-12 * ea, "{ea} vs {eb}");
 }
 
+/// Over the knot domain [0, 2] × [0, 1]: a Bézier field lives on it mapped
+/// onto [0, 1]², a B-spline field on it as it is — the same function as a
+/// B-spline without interior knots on [0, 2] × [0, 1] with the Bézier
+/// field's coefficients gives the same net; its direction at (½, ½) of the
+/// unit square is the field's at (1, ½).
+#[test]
+fn on_a_wider_domain_the_field_lives_on_the_knot_domain_itself() {
+    let surface = common::graph_bspline(
+        KnotVector::new(
+            3,
+            vec![0., 0., 0., 0., 0.3, 0.7, 1.0, 1.3, 1.6, 2., 2., 2., 2.],
+        )
+        .unwrap(),
+        KnotVector::uniform(3, 5),
+        |x, y| 0.15 * (2.0 * x).sin() * (3.0 * y).cos(),
+    );
+    let patch = TensorPatch::from_fn(2, 1, |i, j| {
+        [
+            0.3 * i as f64 - 0.2,
+            0.1 * j as f64,
+            1.0 + 0.2 * (i * j) as f64,
+        ]
+    });
+    let same = BSplineSurface::new(
+        KnotVector::new(2, vec![0.0, 0.0, 0.0, 2.0, 2.0, 2.0]).unwrap(),
+        KnotVector::new(1, vec![0.0, 0.0, 1.0, 1.0]).unwrap(),
+        patch.points().to_vec(),
+    )
+    .unwrap();
+    let base = || {
+        BSplineProblem::new(surface.clone())
+            .with_fixed_rings(2)
+            .with_bend(1.0)
+    };
+    let a = base()
+        .with_normal_field(30.0, patch.clone())
+        .solve()
+        .unwrap();
+    let b = base()
+        .with_normal_spline(30.0, same.clone())
+        .unwrap()
+        .solve()
+        .unwrap();
+    let worst = common::max_distance(a.surface.points(), b.surface.points());
+    assert!(worst < 1e-12, "{worst:e}");
+    let d = NormalField::spline(1.0, same.clone())
+        .direction(0.5, 0.5)
+        .unwrap();
+    let n = same.eval(1.0, 0.5);
+    let len = dot(n, n).sqrt();
+    assert!((0..3).all(|k| (d[k] - n[k] / len).abs() < 1e-15), "{d:?}");
+}
+
 #[test]
 fn inserting_knots_into_the_field_changes_nothing() {
     let n = field();

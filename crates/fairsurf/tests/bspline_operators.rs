@@ -258,6 +258,47 @@ fn a_repellor_pushes_like_the_tensor_solves() {
     assert!(dz(&s.surface) > dz(&plain.surface) + 1e-3);
 }
 
+/// The ring fixed but the inner points of one boundary edge (u = 0 with
+/// `along_v`, else v = 0), the rest free.
+fn free_edge(s: &BSplineSurface, along_v: bool) -> Vec<bool> {
+    let (cu, cv) = s.counts();
+    (0..cu * cv)
+        .map(|k| {
+            let (i, j) = (k / cv, k % cv);
+            let ring = i == 0 || j == 0 || i == cu - 1 || j == cv - 1;
+            let inner = if along_v {
+                i == 0 && j > 0 && j < cv - 1
+            } else {
+                j == 0 && i > 0 && i < cu - 1
+            };
+            !ring || inner
+        })
+        .collect()
+}
+
+/// ∫₀¹ |E(τ) − C(τ)|² dτ along the u = 0 edge (`along_v`) or the v = 0
+/// edge of `s`, τ the edge's parameter mapped onto [0, 1], by 40 midpoints
+/// per span of the surface evaluated.
+fn edge_integral(s: &BSplineSurface, c: &BezierCurve, along_v: bool) -> f64 {
+    let knots = if along_v { s.knots().1 } else { s.knots().0 };
+    let (a, b) = knots.domain();
+    let mut integral = 0.0;
+    for &(_, lo, hi) in &knots.spans() {
+        let k = 40;
+        for i in 0..k {
+            let t = lo + (hi - lo) * (i as f64 + 0.5) / k as f64;
+            let e = if along_v {
+                s.eval(a, t)
+            } else {
+                s.eval(t, 0.0)
+            };
+            let d = fairsurf::vector::sub(e, c.eval((t - a) / (b - a)));
+            integral += dot(d, d) * (hi - lo) / ((b - a) * k as f64);
+        }
+    }
+    integral
+}
+
 /// An edge-to-curve attractor on a free edge (the other points of the
 /// edge free, the rest of the ring fixed): without interior knots the
 /// tensor solve's net and energy (its Bernstein edge rule); on many spans
@@ -314,14 +355,7 @@ fn an_edge_attractor_pulls_a_boundary_curve() {
     // Many spans: the sheet (knot domain [0, 2] × [0, 1]), the u = 0 edge
     // free but its ends.
     let s0 = sheet();
-    let (cu, cv) = s0.counts();
-    let free: Vec<bool> = (0..cu * cv)
-        .map(|k| {
-            let (i, j) = (k / cv, k % cv);
-            let ring = i == 0 || j == 0 || i == cu - 1 || j == cv - 1;
-            !ring || (i == 0 && j > 0 && j < cv - 1)
-        })
-        .collect();
+    let free = free_edge(&s0, true);
     let (mut first, mut last) = (f64::NAN, f64::INFINITY);
     for strength in [1.0, 10.0, 100.0] {
         let sol = BSplineProblem::new(s0.clone())
@@ -334,17 +368,7 @@ fn an_edge_attractor_pulls_a_boundary_curve() {
             .unwrap();
         let r = &sol.report;
         assert!(r.energy_error < 1e-12 && r.excess < 1e-10, "{r:?}");
-        let kv = sol.surface.knots().1;
-        let mut integral = 0.0;
-        for &(_, lo, hi) in &kv.spans() {
-            let k = 40;
-            for i in 0..k {
-                let v = lo + (hi - lo) * (i as f64 + 0.5) / k as f64;
-                let d = fairsurf::vector::sub(sol.surface.eval(0.0, v), curve.eval(v));
-                integral += dot(d, d) * (hi - lo) / k as f64;
-            }
-        }
-        let want = strength * integral;
+        let want = strength * edge_integral(&sol.surface, &curve, true);
         assert!(
             (r.external - want).abs() < 1e-3 * want,
             "{strength}: {} vs {want}",
@@ -359,6 +383,40 @@ fn an_edge_attractor_pulls_a_boundary_curve() {
     }
     // Strength 1 leaves the edge 0.21 (rms) from the curve, 100: 0.042.
     assert!(last < 0.25 * first, "{last} vs {first}");
+}
+
+/// On the v = 0 edge of the sheet (u over [0, 2]) the curve lives on the
+/// edge's parameter mapped onto [0, 1]: the report's energy is
+/// ∫₀¹ |E(2τ) − C(τ)|² dτ by an independent midpoint rule (1e-3); the
+/// operator is marked at the edge's midpoint.
+#[test]
+fn an_edge_attractor_along_a_wider_knot_domain() {
+    let curve = BezierCurve::new(vec![[0.0, 0.0, 0.0], [1.0, -0.4, 0.3], [2.0, 0.0, 0.0]]);
+    let s0 = sheet();
+    let free = free_edge(&s0, false);
+    let strength = 10.0;
+    let sol = BSplineProblem::new(s0)
+        .with_free(free)
+        .unwrap()
+        .with_bend(1.0)
+        .with_operator(op(
+            "hem",
+            Target::Curve(curve.clone()),
+            TensorPlace::Edge(PatchEdge::V0),
+            strength,
+        ))
+        .unwrap()
+        .solve()
+        .unwrap();
+    let r = &sol.report;
+    assert!(r.energy_error < 1e-12 && r.excess < 1e-10, "{r:?}");
+    let want = strength * edge_integral(&sol.surface, &curve, false);
+    assert!(
+        (r.external - want).abs() < 1e-3 * want,
+        "{} vs {want}",
+        r.external
+    );
+    assert_eq!(r.operators[0].at, Some(sol.surface.eval(1.0, 0.0)));
 }
 
 #[test]

@@ -55,32 +55,6 @@ fn cross_gram(a: &KnotVector, b: &KnotVector) -> Mat<f64> {
     m
 }
 
-/// Checks that `guide` lies over the domain of `onto` (to 1e-12 of its
-/// size); the error names it as `what`.
-pub(super) fn check_domain(
-    onto: &BSplineSurface,
-    guide: &BSplineSurface,
-    what: &str,
-) -> Result<()> {
-    let (a, b) = (onto.knots(), guide.knots());
-    let same = |x: (f64, f64), y: (f64, f64)| {
-        let tol = 1e-12 * (x.1 - x.0).abs().max(1.0);
-        (x.0 - y.0).abs() <= tol && (x.1 - y.1).abs() <= tol
-    };
-    if same(a.0.domain(), b.0.domain()) && same(a.1.domain(), b.1.domain()) {
-        return Ok(());
-    }
-    Err(Error::Mismatch {
-        what: what.into(),
-        expected: format!(
-            "the surface's domain {:?} × {:?}",
-            a.0.domain(),
-            a.1.domain()
-        ),
-        got: format!("{:?} × {:?}", b.0.domain(), b.1.domain()),
-    })
-}
-
 /// M_u X M_vᵀ-type products: (A S Bᵀ) per coordinate for a row-major net S
 /// of `rows` × `cols` points.
 fn sandwich(a: &Mat<f64>, s: &[Vec3], cols: usize, b: &Mat<f64>) -> [Mat<f64>; 3] {
@@ -94,7 +68,7 @@ fn sandwich(a: &Mat<f64>, s: &[Vec3], cols: usize, b: &Mat<f64>) -> [Mat<f64>; 3
 /// The L² projection PS of `guide` onto the spline space of `onto` (its
 /// net, row-major) and ∫|S − PS|² dA.
 pub(crate) fn project(onto: &BSplineSurface, guide: &BSplineSurface) -> Result<(Vec<Vec3>, f64)> {
-    check_domain(onto, guide, "guide surface")?;
+    onto.check_domain(guide, "guide surface")?;
     let ((ru, rv), (su, sv)) = (onto.knots(), guide.knots());
     let (mu, mv) = (cross_gram(ru, ru), cross_gram(rv, rv));
     let (cu, cv) = (cross_gram(ru, su), cross_gram(rv, sv));

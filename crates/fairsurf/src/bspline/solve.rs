@@ -193,8 +193,9 @@ impl BSplineProblem {
         &self.free
     }
 
-    /// The normal-field term (λ and the field or samples over the knot
-    /// domain mapped onto [0, 1]²), when there is one.
+    /// The normal-field term (λ and a Bézier field or samples over the knot
+    /// domain mapped onto [0, 1]², or a B-spline field over the knot domain
+    /// itself), when there is one.
     pub fn normal_field(&self) -> Option<crate::energy::NormalField> {
         self.normal.as_ref().map(|n| crate::energy::NormalField {
             weight: n.weight,
@@ -237,7 +238,7 @@ impl BSplineProblem {
     /// between both surfaces' knot lines. A field over another domain (to
     /// 1e-12) is an error.
     pub fn with_normal_spline(mut self, weight: f64, field: BSplineSurface) -> Result<Self> {
-        super::project::check_domain(&self.surface, &field, "normal field")?;
+        self.surface.check_domain(&field, "normal field")?;
         self.normal = Some(NormalTerm {
             weight,
             guide: NormalGuide::Spline(field),
@@ -330,9 +331,11 @@ impl BSplineProblem {
     /// Adds an external energy operator (Veltkamp & Wesselink §5) at a point
     /// or a convex region of the knot domain: a director, or a point, plane,
     /// line or surface attractor (a surface target is a Bézier patch over
-    /// the knot domain mapped onto [0, 1]²). Refused, naming the operator:
-    /// a place outside the knot domain, repellors, edges and curve targets
-    /// (not there for B-spline surfaces yet).
+    /// the knot domain mapped onto [0, 1]²), a repellor (Newton's method),
+    /// or at a boundary edge an edge-to-curve attractor (the curve over the
+    /// edge's parameter interval mapped onto [0, 1]). Refused, naming the
+    /// operator: a place outside the knot domain, a repelling director, a
+    /// curve off an edge or an edge without a curve, a triangular target.
     pub fn with_operator(mut self, op: TensorOperator) -> Result<Self> {
         op.validate_on(&self.surface)?;
         self.operators.push(op);

@@ -330,6 +330,28 @@ impl BSplineSurface {
         Ok((a.transposed(), b.transposed()))
     }
 
+    /// Checks that `other` lies over this surface's knot domain (to 1e-12
+    /// of its size); the error ([`Error::Mismatch`]) names it as `what`.
+    pub fn check_domain(&self, other: &BSplineSurface, what: &str) -> Result<()> {
+        let (a, b) = (self.knots(), other.knots());
+        let same = |x: (f64, f64), y: (f64, f64)| {
+            let tol = 1e-12 * (x.1 - x.0).abs().max(1.0);
+            (x.0 - y.0).abs() <= tol && (x.1 - y.1).abs() <= tol
+        };
+        if same(a.0.domain(), b.0.domain()) && same(a.1.domain(), b.1.domain()) {
+            return Ok(());
+        }
+        Err(Error::Mismatch {
+            what: what.into(),
+            expected: format!(
+                "the surface's domain {:?} × {:?}",
+                a.0.domain(),
+                a.1.domain()
+            ),
+            got: format!("{:?} × {:?}", b.0.domain(), b.1.domain()),
+        })
+    }
+
     /// u and v exchanged.
     pub fn transposed(&self) -> Self {
         let (cu, cv) = self.counts();

@@ -246,6 +246,17 @@ impl Operator<TensorPlace> {
                 self.target_point(s, u, v),
             );
         }
+        if let TensorPlace::Edge(e) = &self.place {
+            // The edge's midpoint, as on a Bézier patch.
+            let ((u0, u1), (v0, v1)) = (s.knots().0.domain(), s.knots().1.domain());
+            let (um, vm) = (0.5 * (u0 + u1), 0.5 * (v0 + v1));
+            tally.mark_at(match e {
+                PatchEdge::U0 => s.eval(u0, vm),
+                PatchEdge::U1 => s.eval(u1, vm),
+                PatchEdge::V0 => s.eval(um, v0),
+                PatchEdge::V1 => s.eval(um, v1),
+            });
+        }
         tally.finish(self, self.energy(residuals, x))
     }
 }

@@ -453,6 +453,12 @@ impl Tally {
         self.points.push((s, weight));
     }
 
+    /// Marks the operator at `p` alone (an edge's midpoint) instead of the
+    /// node nearest the nodes' weighted mean.
+    pub(crate) fn mark_at(&mut self, p: Vec3) {
+        self.points = vec![(p, 1.0)];
+    }
+
     /// Adds the distances between the edge curve and the target curve.
     pub(crate) fn edge<P>(&mut self, op: &Operator<P>, edge: &BezierCurve) {
         let Target::Curve(c) = &op.target else {
