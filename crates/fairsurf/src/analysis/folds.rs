@@ -35,8 +35,14 @@ pub fn largest_normal_turn(patch: &TensorPatch, k: usize) -> Option<NormalTurn> 
 
 /// [`largest_normal_turn`] from the derivatives on that grid (u-major).
 pub(crate) fn largest_normal_turn_on(d: &[SurfaceDerivatives], k: usize) -> Option<NormalTurn> {
-    let ts = unit_grid(k);
     let normals: Vec<_> = d.iter().map(|d| normalize(cross(d.du, d.dv))).collect();
+    largest_normal_turn_of(&normals, k)
+}
+
+/// [`largest_normal_turn`] from the unit normals on that grid (u-major,
+/// `None` where there is none).
+pub(crate) fn largest_normal_turn_of(normals: &[Option<Vec3>], k: usize) -> Option<NormalTurn> {
+    let ts = unit_grid(k);
     // The largest angle between unit normals is the longest chord |n − m|
     // (2 sin(θ/2), increasing on [0, π], and exact for small angles too):
     // compared by chords, the angle taken once, for the winner.

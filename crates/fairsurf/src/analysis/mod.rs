@@ -46,12 +46,13 @@ pub fn measures(patch: &TensorPatch) -> SurfaceMeasures {
     let k = CURVATURE_GRID;
     let ts = curvature::unit_grid(k);
     let grid = patch.grid_derivatives(&ts, &ts);
+    let (abs_mean_curvature, normals) = curvature::abs_mean_curvature_and_normals(&grid, k);
     SurfaceMeasures {
         area: a.value,
         area_error: a.error,
         dirichlet: dirichlet(patch),
         biharmonic: biharmonic(patch),
-        abs_mean_curvature: curvature::abs_mean_curvature_on(&grid, k),
-        normal_turn: folds::largest_normal_turn_on(&grid, k),
+        abs_mean_curvature,
+        normal_turn: folds::largest_normal_turn_of(&normals, k),
     }
 }

@@ -25,6 +25,9 @@ use crate::basis::{
     bernstein_derivatives, derivative_matrix, triple_product_integrals, GaussLegendre,
 };
 use faer::Mat;
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::sync::Arc;
 
 /// How one parameter direction is integrated.
 #[derive(Clone, Debug, PartialEq)]
@@ -41,7 +44,42 @@ pub(crate) enum Axis {
 /// with `T_α = ∫ B^{n−r} B_α^w B^{n−r}`; sampled: `dʳφ_i(t_α) · dʳφ_k(t_α)`;
 /// the solver's Jacobi basis against a Bernstein weight: Gauss–Legendre with
 /// enough nodes to be exact for the degree 2(n−r) + w of the integrand.
-pub(crate) fn axis_matrices(basis: &Basis1d, r: usize, axis: &Axis) -> Vec<Mat<f64>> {
+///
+/// Against a Bernstein weight the matrices depend only on the basis (its
+/// degree, or a Jacobi block's degree and range), r and the weight's
+/// degree: they are kept per thread (a solve builds the same ones for its
+/// Hessian, its report's energies and its check).
+pub(crate) fn axis_matrices(basis: &Basis1d, r: usize, axis: &Axis) -> Arc<Vec<Mat<f64>>> {
+    /// (Jacobi?, n, a, b, r, w) → the matrices; cleared when it grows past
+    /// `LIMIT` keys (a server meeting many degrees).
+    type Cache = HashMap<(bool, usize, usize, usize, usize, usize), Arc<Vec<Mat<f64>>>>;
+    const LIMIT: usize = 512;
+    thread_local! {
+        static CACHE: RefCell<Cache> = RefCell::new(HashMap::new());
+    }
+    let key = match (basis, axis) {
+        (Basis1d::Bernstein(n), Axis::Bernstein(w)) => Some((false, *n, 0, 0, r, *w)),
+        (Basis1d::Jacobi(j), Axis::Bernstein(w)) => Some((true, j.n, j.a, j.b, r, *w)),
+        (_, Axis::Samples(_)) => None,
+    };
+    let Some(key) = key else {
+        return Arc::new(axis_matrices_uncached(basis, r, axis));
+    };
+    if let Some(hit) = CACHE.with(|c| c.borrow().get(&key).cloned()) {
+        return hit;
+    }
+    let m = Arc::new(axis_matrices_uncached(basis, r, axis));
+    CACHE.with(|c| {
+        let mut c = c.borrow_mut();
+        if c.len() >= LIMIT {
+            c.clear();
+        }
+        c.insert(key, m.clone());
+    });
+    m
+}
+
+fn axis_matrices_uncached(basis: &Basis1d, r: usize, axis: &Axis) -> Vec<Mat<f64>> {
     let k = basis.len();
     match (basis, axis) {
         (Basis1d::Bernstein(n), Axis::Bernstein(w)) => {
@@ -85,7 +123,7 @@ pub(crate) fn axis_matrices(basis: &Basis1d, r: usize, axis: &Axis) -> Vec<Mat<f
 }
 
 /// A coefficient and the 1D matrices M^u_α, M^v_β of one pattern.
-pub(crate) type KronTerm = (f64, Vec<Mat<f64>>, Vec<Mat<f64>>);
+pub(crate) type KronTerm = (f64, Arc<Vec<Mat<f64>>>, Arc<Vec<Mat<f64>>>);
 
 /// `Σ_terms c · Σ_{α,β} W[α][β] · mu[α] ⊗ mv[β]` for terms (c, mu, mv),
 /// ordered like the control points: row index `i·(m+1) + j` with i the
@@ -231,7 +269,7 @@ pub(crate) struct PatternForm {
     /// (n − r + 1, m − s + 1); `None` when the pattern vanishes (r > n or s > m).
     size: Option<(usize, usize)>,
     tu_flat: Vec<f64>,
-    tv: Vec<Mat<f64>>,
+    tv: Arc<Vec<Mat<f64>>>,
 }
 
 impl PatternForm {
@@ -244,7 +282,7 @@ impl PatternForm {
             return Self {
                 size: None,
                 tu_flat: Vec::new(),
-                tv: Vec::new(),
+                tv: Arc::new(Vec::new()),
             };
         }
         let tu = axis_matrices(&Basis1d::Bernstein(n - r), 0, axis_u);
