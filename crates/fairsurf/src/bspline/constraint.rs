@@ -11,7 +11,7 @@
 //! F x = c as a KKT system through the solver core ([`crate::solve`]'s
 //! sparse KKT back ends), checked on the written net like every solve.
 
-use super::solve::System;
+use super::system::System;
 use super::BSplineSurface;
 use crate::basis::polygon::Uv;
 use crate::constraint::{ConstraintSurface, Row};

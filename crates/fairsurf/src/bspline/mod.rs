@@ -36,14 +36,17 @@ mod constraint;
 mod energy;
 mod guidance;
 mod knots;
+mod problem;
 mod project;
 mod rational;
 mod solve;
 mod surface;
+mod system;
 
 pub use knots::KnotVector;
+pub use problem::BSplineProblem;
 pub use rational::{FitTolerance, RationalSurface, StandIn};
-pub use solve::{BSplineProblem, BSplineReport, BSplineSolution, ENERGY_TOLERANCE};
+pub use solve::{BSplineReport, BSplineSolution, ENERGY_TOLERANCE};
 pub use surface::{BSplineSurface, BezierPiece};
 
 /// Gaussian elimination with partial pivoting on a small dense system

@@ -1,0 +1,210 @@
+//! The assembled free block of a B-spline problem and its unconstrained
+//! solve: sparse Cholesky, refinement, the check's corrections.
+
+use crate::check;
+use crate::solve::dense::dot2_residual;
+use crate::solve::kkt::KktInfo;
+use crate::solve::kkt::{hager, sparse_llt, LltFailure};
+use crate::{Error, Result, Vec3};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::sparse::linalg::cholesky::LltRef;
+use faer::sparse::{SparseColMat, Triplet};
+use faer::{Conj, Mat, Par};
+use std::time::Instant;
+
+/// The assembled free block.
+pub(super) struct System {
+    pub(super) dim: usize,
+    /// Lower triangle (duplicates are summed).
+    pub(super) lower: Vec<Triplet<usize, usize, f64>>,
+    /// Right-hand side, one column per coordinate or one.
+    pub(super) b: Mat<f64>,
+    /// ‖H‖∞ of the free block.
+    pub(super) h_inf: f64,
+    /// max H_ii of the free block.
+    pub(super) h_diag: f64,
+}
+
+impl System {
+    /// Row by row, the (column, value) pairs of the whole symmetric H.
+    pub(super) fn rows(&self) -> Vec<Vec<(usize, f64)>> {
+        let mut rows = vec![Vec::new(); self.dim];
+        for t in &self.lower {
+            rows[t.row].push((t.col, t.val));
+            if t.row != t.col {
+                rows[t.col].push((t.row, t.val));
+            }
+        }
+        rows
+    }
+
+    /// b − H x with every row a compensated (Dot2) dot product: as if
+    /// computed in twice the working precision, then rounded.
+    pub(super) fn residual_dot2(&self, rows: &[Vec<(usize, f64)>], x: &Mat<f64>) -> Mat<f64> {
+        let mut a = Vec::new();
+        let mut xs = Vec::new();
+        Mat::from_fn(self.dim, x.ncols(), |i, c| {
+            a.clear();
+            xs.clear();
+            for &(j, v) in &rows[i] {
+                a.push(v);
+                xs.push(x[(j, c)]);
+            }
+            dot2_residual(self.b[(i, c)], &a, &xs)
+        })
+    }
+
+    /// b − H x, from the lower triangle.
+    pub(super) fn residual(&self, x: &Mat<f64>) -> Mat<f64> {
+        let mut r = self.b.clone();
+        for t in &self.lower {
+            for c in 0..x.ncols() {
+                r[(t.row, c)] -= t.val * x[(t.col, c)];
+                if t.row != t.col {
+                    r[(t.col, c)] -= t.val * x[(t.row, c)];
+                }
+            }
+        }
+        r
+    }
+}
+
+/// The free points solved and the report's figures that depend on how.
+pub(super) struct Solved {
+    /// The free points, in the order of the free list.
+    pub(super) x: Vec<Vec3>,
+    /// Σ x_i² over the free coordinates.
+    pub(super) xx: f64,
+    pub(super) gradient_norm: f64,
+    pub(super) relative_gradient: f64,
+    pub(super) residual: f64,
+    /// E(x) − min E, before scaling.
+    pub(super) excess: f64,
+    pub(super) corrections: usize,
+    pub(super) condition_estimate: f64,
+    pub(super) factor_nonzeros: usize,
+    pub(super) kkt: Option<KktInfo>,
+    /// Seconds factoring and solving.
+    pub(super) factor: f64,
+    pub(super) solve: f64,
+}
+
+/// Sparse Cholesky of the free block (AMD ordering), one step of iterative
+/// refinement, then the check's Newton corrections while the excess
+/// ½ gᵀH⁻¹g (g = b − Hx in compensated products) falls.
+pub(super) fn unconstrained(sys: &System, coupled: bool, nf: usize) -> Result<Solved> {
+    let t1 = Instant::now();
+    let lower = SparseColMat::try_new_from_triplets(sys.dim, sys.dim, &sys.lower)
+        .expect("the triplets index the free block");
+    let (symbolic, values) = sparse_llt(&lower, None).map_err(|e| match e {
+        LltFailure::NotPositive => Error::NotPositiveDefinite {
+            unknowns: 3 * nf,
+            pivot: 0,
+            hint: "the energy does not determine the free control points: add bend or \
+                   stretch, or fix more points"
+                .into(),
+        },
+        LltFailure::Symbolic(why) => Error::Mismatch {
+            what: "B-spline system".into(),
+            expected: "a size that fits in memory".into(),
+            got: format!("{nf} free points ({why})"),
+        },
+    })?;
+    let factor = t1.elapsed().as_secs_f64();
+
+    let t2 = Instant::now();
+    let llt = LltRef::new(symbolic.as_ref(), &values);
+    let par = Par::Seq;
+    let cols = sys.b.ncols();
+    let mut mem = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(cols, par));
+    let mut solve = |rhs: &mut Mat<f64>| {
+        llt.solve_in_place_with_conj(Conj::No, rhs.as_mut(), par, MemStack::new(&mut mem));
+    };
+    let mut x = sys.b.clone();
+    solve(&mut x);
+    // One step of iterative refinement: x += H⁻¹(b − Hx).
+    let mut d = sys.residual(&x);
+    solve(&mut d);
+    x += &d;
+    // The check's gradient, b − Hx with compensated products, and the
+    // excess ½ gᵀH⁻¹g; Newton corrections while it falls.
+    let rows = sys.rows();
+    let excess_at = |x: &Mat<f64>, solve: &mut dyn FnMut(&mut Mat<f64>)| {
+        let g = sys.residual_dot2(&rows, x);
+        let mut d = g.clone();
+        solve(&mut d);
+        let e = 0.5 * dot(&g, &d);
+        (e, g, d)
+    };
+    let (mut excess, mut r, mut d) = excess_at(&x, &mut solve);
+    let mut corrections = 0;
+    while corrections < check::MAX_CORRECTIONS && excess > 0.0 {
+        let next = &x + &d;
+        let (e2, r2, d2) = excess_at(&next, &mut solve);
+        if e2.is_nan() || e2 >= excess {
+            break;
+        }
+        (x, excess, r, d) = (next, e2, r2, d2);
+        corrections += 1;
+    }
+    // ‖H‖₁‖H⁻¹‖₁ (H symmetric: its 1-norm is its ∞-norm), Hager's
+    // estimate through the factor.
+    let condition_estimate = sys.h_inf
+        * hager(sys.dim, |v| {
+            let mut m = Mat::from_fn(sys.dim, 1, |i, _| v[i]);
+            let mut mem1 = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, par));
+            llt.solve_in_place_with_conj(Conj::No, m.as_mut(), par, MemStack::new(&mut mem1));
+            (0..sys.dim).map(|i| m[(i, 0)]).collect()
+        });
+    let solve_s = t2.elapsed().as_secs_f64();
+    let x_free: Vec<Vec3> = (0..nf)
+        .map(|row| {
+            if coupled {
+                [x[(3 * row, 0)], x[(3 * row + 1, 0)], x[(3 * row + 2, 0)]]
+            } else {
+                [x[(row, 0)], x[(row, 1)], x[(row, 2)]]
+            }
+        })
+        .collect();
+    let gradient_norm = inf(&r);
+    let denom = sys.h_inf * inf(&x) + inf(&sys.b);
+    let relative_gradient = if denom > 0.0 {
+        gradient_norm / denom
+    } else {
+        gradient_norm
+    };
+    let residual = if inf(&sys.b) > 0.0 {
+        gradient_norm / inf(&sys.b)
+    } else {
+        gradient_norm
+    };
+    Ok(Solved {
+        x: x_free,
+        xx: dot(&x, &x),
+        gradient_norm,
+        relative_gradient,
+        residual,
+        excess,
+        corrections,
+        condition_estimate,
+        factor_nonzeros: values.len(),
+        kkt: None,
+        factor,
+        solve: solve_s,
+    })
+}
+
+/// Σ a_ij b_ij.
+pub(super) fn dot(a: &Mat<f64>, b: &Mat<f64>) -> f64 {
+    (0..a.ncols())
+        .flat_map(|c| (0..a.nrows()).map(move |i| (i, c)))
+        .map(|(i, c)| a[(i, c)] * b[(i, c)])
+        .sum()
+}
+
+/// max |m_ij|.
+pub(super) fn inf(m: &Mat<f64>) -> f64 {
+    (0..m.nrows())
+        .flat_map(|i| (0..m.ncols()).map(move |c| (i, c)))
+        .fold(0.0f64, |a, (i, c)| a.max(m[(i, c)].abs()))
+}
