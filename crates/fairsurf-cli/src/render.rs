@@ -3,7 +3,6 @@
 use crate::input::{surface, with_file, Loaded};
 use crate::Failure;
 use fairsurf::energy::NormalGuide;
-use fairsurf::TensorPatch;
 use fairsurf_io::{write_atomic, Scene, SolvedScene, Surface};
 use fairsurf_render::{render, Arrow, ColourBy, Panel, Range, RenderOptions, View};
 use std::path::{Path, PathBuf};
@@ -36,7 +35,8 @@ pub struct Args {
     /// Leave out the boundary curves.
     #[arg(long)]
     no_boundary: bool,
-    /// Draw the scene's guide normal field as arrows (Wu & Yang's λ term).
+    /// Draw the scene's guide normal field as arrows (Wu & Yang's λ term;
+    /// tensor and B-spline scenes).
     #[arg(long)]
     normals: bool,
     /// Reflection-line (zebra) stripes; optionally how many (default 20).
@@ -158,8 +158,23 @@ fn panel(path: &Path, normals: bool) -> Result<Panel, Failure> {
             };
             built
                 .normal_field
-                .map(|nf| field_arrows(&patches[0], &nf.guide))
+                .map(|nf| field_arrows(|u, v| patches[0].eval(u, v), &nf.guide))
                 .unwrap_or_default()
+        }
+        (true, Scene::BSpline(scene), solved) => {
+            let field = match solved {
+                Some(SolvedScene::BSpline(s)) => s.normal_field.map(|f| *f),
+                _ => scene.problem().map_err(with_file(path))?.normal_field(),
+            };
+            match (&surface, field) {
+                (Surface::BSpline(b), Some(nf)) => {
+                    // The field lives on the knot domain mapped onto [0, 1]².
+                    let ((u0, u1), (v0, v1)) = (b.knots().0.domain(), b.knots().1.domain());
+                    let at = |u: f64, v: f64| b.eval(u0 + (u1 - u0) * u, v0 + (v1 - v0) * v);
+                    field_arrows(at, &nf.guide)
+                }
+                _ => vec![],
+            }
         }
         _ => vec![],
     };
@@ -179,11 +194,12 @@ fn panel(path: &Path, normals: bool) -> Result<Panel, Failure> {
     })
 }
 
-/// Arrows of a guide normal field attached to the surface: the Bézier field
-/// on a 7×7 grid, or the given samples (thinned to at most ~9 per direction).
-fn field_arrows(patch: &TensorPatch, guide: &NormalGuide) -> Vec<Arrow> {
+/// Arrows of a guide normal field attached to the surface (`point` at
+/// (u, v) of [0, 1]², a B-spline's knot domain mapped onto it): a field on
+/// a 7×7 grid, or the given samples (thinned to at most ~9 per direction).
+fn field_arrows(point: impl Fn(f64, f64) -> fairsurf::Vec3, guide: &NormalGuide) -> Vec<Arrow> {
     let at = |u: f64, v: f64, d| Arrow {
-        base: patch.eval(u, v),
+        base: point(u, v),
         direction: d,
     };
     match guide {

@@ -612,6 +612,49 @@ fn png_size(path: &Path) -> (u32, u32) {
     (dec.info().width, dec.info().height)
 }
 
+/// `--normals` on B-spline scenes: the guide field's arrows are drawn (the
+/// picture differs from the one without), for a solved scene with a field,
+/// a sampled one, and the result file of the first (its field built from
+/// the scene without solving).
+#[test]
+fn render_draws_bspline_normal_fields() {
+    let d = tmpdir("render-bspline-normals");
+    let png = |scene: &std::path::Path, name: &str, normals: bool| {
+        let out = d.join(name);
+        let mut args = vec![
+            "render",
+            scene.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--size",
+            "240x180",
+        ];
+        if normals {
+            args.push("--normals");
+        }
+        let o = fairsurf(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        std::fs::read(&out).unwrap()
+    };
+    let field = examples().join("bspline_hole_guided.json");
+    let sampled = examples().join("bspline_hole_sampled.json");
+    let result = d.join("guided.result.json");
+    let s = fairsurf(&[
+        "solve",
+        field.to_str().unwrap(),
+        "-o",
+        result.to_str().unwrap(),
+    ]);
+    assert!(s.status.success(), "{}", stderr(&s));
+    for (k, scene) in [field, sampled, result].iter().enumerate() {
+        let plain = png(scene, &format!("{k}-plain.png"), false);
+        // Rendering is deterministic, so a difference is the arrows.
+        assert_eq!(plain, png(scene, &format!("{k}-again.png"), false));
+        let arrows = png(scene, &format!("{k}-arrows.png"), true);
+        assert_ne!(plain, arrows, "{}: no arrows drawn", scene.display());
+    }
+}
+
 #[test]
 fn render_draws_scenes_results_and_comparisons() {
     let d = tmpdir("render");
