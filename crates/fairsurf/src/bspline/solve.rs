@@ -3,11 +3,13 @@
 //! restricted to the free points — one sparse matrix for x, y and z, or,
 //! with a normal field (which couples them), the interleaved 3n system with
 //! the field's 3 × 3 blocks added — the fixed points moved to the
-//! right-hand side, sparse Cholesky with AMD ordering, one step of
-//! iterative refinement, and the energy on the written net by two roads:
+//! right-hand side, sparse Cholesky with AMD ordering and iterative
+//! refinement (`system.rs`; with constraints the core's KKT solve,
+//! `constraint.rs`), and the energy on the written net by two roads:
 //! closed forms (Bernstein products on the Bézier pieces, Gram matrices)
 //! or Gauss quadrature from de Boor derivatives, against Gauss quadrature
 //! on the pieces with more nodes.
+
 use super::energy::{energy_by_pieces, energy_by_quadrature, patterns, Gram1d};
 use super::guidance::{guide_value, guide_value_by_pieces, NormalTerm};
 use super::problem::BSplineProblem;

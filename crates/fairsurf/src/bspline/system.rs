@@ -195,7 +195,7 @@ pub(super) fn unconstrained(sys: &System, coupled: bool, nf: usize) -> Result<So
 }
 
 /// Σ a_ij b_ij.
-pub(super) fn dot(a: &Mat<f64>, b: &Mat<f64>) -> f64 {
+fn dot(a: &Mat<f64>, b: &Mat<f64>) -> f64 {
     (0..a.ncols())
         .flat_map(|c| (0..a.nrows()).map(move |i| (i, c)))
         .map(|(i, c)| a[(i, c)] * b[(i, c)])
@@ -203,7 +203,7 @@ pub(super) fn dot(a: &Mat<f64>, b: &Mat<f64>) -> f64 {
 }
 
 /// max |m_ij|.
-pub(super) fn inf(m: &Mat<f64>) -> f64 {
+fn inf(m: &Mat<f64>) -> f64 {
     (0..m.nrows())
         .flat_map(|i| (0..m.ncols()).map(move |c| (i, c)))
         .fold(0.0f64, |a, (i, c)| a.max(m[(i, c)].abs()))
