@@ -520,6 +520,26 @@ def bspline_hole_sampled():
                   "sampling": {"grid": [g, g], "normal_samples": normals}})
 
 
+def bspline_hole_field_spline():
+    """bspline_hole with a B-spline normal field on its own knots: bicubic on 7
+    uniform spans (its knot lines cut the surface's 11 uneven spans), control
+    normals the cut sheet's normals at the field's Greville points, lambda = 100
+    (their Fig. 4 on a B-spline, with more freedom in N than one cubic)."""
+    q, spans = 3, 7
+    knots = [0.0] * (q + 1) + [r(k / spans) for k in range(1, spans)] + [1.0] * (q + 1)
+    c = spans + q
+    grev = [sum(knots[i + 1:i + q + 1]) / q for i in range(c)]
+    field = [[[r(x) for x in wave_normal(grev[i], grev[j])] for j in range(c)] for i in range(c)]
+    hole_variant("bspline_hole_field_spline.json",
+                 "Bicubic B-spline hole guided by a B-spline field of the sheet's normals (lambda = 100)",
+                 "bspline_hole.json with Wu & Yang's normal-field term whose N is a B-spline "
+                 "on its own knots: bicubic on 7 uniform spans (they cut the surface's 11 "
+                 "uneven spans; the term is integrated exactly between both knot sets), "
+                 "its control normals the cut sheet's normals at the field's Greville points.",
+                 {"bend": 1, "normal_field": {"weight": 100, "knots": [knots, knots],
+                                              "control_points": field}})
+
+
 def split_rows(net, t):
     """de Casteljau along the first index at t: the nets over [0, t] and [t, 1]."""
     n = len(net) - 1
@@ -796,6 +816,7 @@ if __name__ == "__main__":
     bspline_hole()
     bspline_hole_guided()
     bspline_hole_sampled()
+    bspline_hole_field_spline()
     bspline_constraints()
     editor_degree10()
     tensor_operators()

@@ -1017,7 +1017,8 @@ fn elevated_bspline_scenes_keep_the_rings_and_lower_the_minimum() {
 /// Wu & Yang's sampled normal field on a B-spline (eq. 5): the sheet's own
 /// unit normals at 45 × 45 samples pull the 14 × 14 bicubic fill onto the
 /// sheet it was cut from (largest vertical distance 0.264 for the thin plate
-/// alone, 0.034 with the samples); errors name the sampling's paths.
+/// alone, 0.034 with the samples; a bicubic Bézier field 0.249, a bicubic
+/// B-spline field on 7 spans 0.142); errors name the sampling's paths.
 #[test]
 fn sampled_normals_pull_a_bspline_fill_onto_its_sheet() {
     use fairsurf_io::BSplineScene;
@@ -1038,13 +1039,21 @@ fn sampled_normals_pull_a_bspline_fill_onto_its_sheet() {
         }
         worst
     };
-    let (plain, sampled) = (
+    let (plain, sampled, bezier, spline) = (
         distance("bspline_hole.json"),
         distance("bspline_hole_sampled.json"),
+        distance("bspline_hole_guided.json"),
+        distance("bspline_hole_field_spline.json"),
     );
     assert!(
         plain > 0.2 && sampled < 0.05,
         "thin plate {plain}, sampled {sampled}"
+    );
+    // A field with more freedom follows the sheet better: one bicubic
+    // Bézier field 0.249, a bicubic B-spline field on 7 spans 0.142.
+    assert!(
+        bezier < plain && spline < 0.6 * bezier,
+        "Bézier field {bezier}, B-spline field {spline}"
     );
     let text = std::fs::read_to_string(examples().join("bspline_hole_sampled.json")).unwrap();
     let base: Value = serde_json::from_str(&text).unwrap();
