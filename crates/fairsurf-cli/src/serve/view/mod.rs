@@ -343,13 +343,15 @@ fn mesh_json(m: &SurfaceMesh) -> Value {
     }
     .max(1e-12);
     let map = ColourMap::CoolWarm;
-    let colors: Vec<f32> = m
+    // Colours to 1e-4 (a 255-level channel needs 4e-3).
+    let colors: Vec<f64> = m
         .curvature()
         .iter()
         .flat_map(|c| match c {
             Some(c) => map.at(0.5 + 0.5 * c.mean / a),
             None => ColourMap::NAN,
         })
+        .map(|x| decimal(x as f64, -4))
         .collect();
     let stops: Vec<Value> = (0..=4)
         .map(|k| {
@@ -359,12 +361,39 @@ fn mesh_json(m: &SurfaceMesh) -> Value {
             json!([t, format!("#{:02x}{:02x}{:02x}", hex(r), hex(g), hex(b))])
         })
         .collect();
+    // Positions to 1e-7 of the mesh's extent (about the single precision
+    // WebGL draws in) as the shortest decimals: a third of the digits to
+    // write and to parse, nothing lost on the screen.
+    let extent = mesh
+        .positions
+        .iter()
+        .flatten()
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    let k = if extent > 0.0 && extent.is_finite() {
+        extent.log10().floor() as i32 - 7
+    } else {
+        -7
+    };
     json!({
-        "positions": mesh.positions.iter().flatten().collect::<Vec<_>>(),
+        "positions": mesh.positions.iter().flatten().map(|&x| decimal(x, k)).collect::<Vec<_>>(),
         "indices": mesh.triangles.iter().flatten().collect::<Vec<_>>(),
         "colors": colors,
         "legend": {"name": "mean curvature H", "min": -a, "max": a, "stops": stops},
     })
+}
+
+/// `x` rounded to a multiple of 10^k, computed so that it prints as the
+/// short decimal (a division by an exact power of ten for k < 0).
+fn decimal(x: f64, k: i32) -> f64 {
+    if !x.is_finite() {
+        return x;
+    }
+    let s = 10f64.powi(k.abs());
+    if k < 0 {
+        (x * s).round() / s
+    } else {
+        (x / s).round() * s
+    }
 }
 
 /// Samples of a Bézier curve through `points`, as a polyline.
@@ -528,4 +557,34 @@ fn vec3(v: &Value) -> Option<Vec3> {
         return None;
     }
     Some([a[0].as_f64()?, a[1].as_f64()?, a[2].as_f64()?])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::decimal;
+
+    /// Rounded to 10^k and printed as the short decimal, within half a
+    /// step of the value; signs, steps above one and non-finite values.
+    #[test]
+    fn decimals_print_short_and_stay_within_half_a_step() {
+        for (x, k, want) in [
+            (0.020833333333333332, -7, "0.0208333"),
+            (-0.041666666666666664, -7, "-0.0416667"),
+            (0.34028154611587524, -4, "0.3403"),
+            (123456.7, 1, "123460"),
+            (1.0 / 3.0, -12, "0.333333333333"),
+        ] {
+            let d = decimal(x, k);
+            assert_eq!(
+                serde_json::to_string(&d).unwrap().trim_end_matches(".0"),
+                want
+            );
+            assert!(
+                (d - x).abs() <= 0.5 * 10f64.powi(k) * (1.0 + 1e-12),
+                "{x} {k}"
+            );
+        }
+        assert!(decimal(f64::NAN, -3).is_nan());
+        assert_eq!(decimal(f64::INFINITY, -3), f64::INFINITY);
+    }
 }
