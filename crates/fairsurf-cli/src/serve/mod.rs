@@ -406,7 +406,7 @@ async fn request(s: &Server, body: Body) -> ApiResult<Request> {
     })
 }
 
-async fn solve(State(s): State<Arc<Server>>, body: Body) -> ApiResult<Json<Value>> {
+async fn solve(State(s): State<Arc<Server>>, body: Body) -> ApiResult<Response> {
     let r = request(&s, body).await?;
     let job = Job::Solve {
         scene: r.scene,
@@ -415,21 +415,24 @@ async fn solve(State(s): State<Arc<Server>>, body: Body) -> ApiResult<Json<Value
     json_reply(dispatch(&s, job, r.unknowns).await?)
 }
 
-async fn analyse(State(s): State<Arc<Server>>, body: Body) -> ApiResult<Json<Value>> {
+async fn analyse(State(s): State<Arc<Server>>, body: Body) -> ApiResult<Response> {
     let r = request(&s, body).await?;
     let job = Job::Analyse { scene: r.scene };
     json_reply(dispatch(&s, job, r.unknowns).await?)
 }
 
-async fn compare(State(s): State<Arc<Server>>, body: Body) -> ApiResult<Json<Value>> {
+async fn compare(State(s): State<Arc<Server>>, body: Body) -> ApiResult<Response> {
     let r = request(&s, body).await?;
     let job = Job::Compare { scene: r.scene };
     json_reply(dispatch(&s, job, r.unknowns).await?)
 }
 
-fn json_reply(reply: Reply) -> ApiResult<Json<Value>> {
+fn json_reply(reply: Reply) -> ApiResult<Response> {
     match reply {
-        Reply::Json(v) => Ok(Json(v)),
+        Reply::Json(v) => Ok(Json(v).into_response()),
+        Reply::Text(t) => {
+            Ok(([(axum::http::header::CONTENT_TYPE, "application/json")], t).into_response())
+        }
         Reply::File { .. } => Err(ApiError::new(
             StatusCode::INTERNAL_SERVER_ERROR,
             "expected a JSON answer, got a file",

@@ -42,6 +42,8 @@ pub(crate) enum Job {
 #[derive(Debug)]
 pub(crate) enum Reply {
     Json(Value),
+    /// A JSON document already written as text.
+    Text(String),
     File {
         name: String,
         kind: String,
@@ -63,7 +65,7 @@ impl Job {
     pub(crate) fn run(&self, limits: &Limits, factors: &fairsurf::FactorCache) -> ApiResult<Reply> {
         Ok(match self {
             Job::Solve { scene, quick } => {
-                Reply::Json(view::solve(scene, *quick, limits, factors)?)
+                Reply::Text(view::solve(scene, *quick, limits, factors)?)
             }
             Job::Analyse { scene } => Reply::Json(view::analyse(scene, limits)?),
             Job::Compare { scene } => Reply::Json(view::compare(scene, limits)?),
@@ -300,6 +302,7 @@ pub fn run_worker() -> Result<(), crate::Failure> {
     let mut out = std::io::stdout().lock();
     let written = match reply {
         Ok(Reply::Json(v)) => writeln!(out, "{}", json!({"ok": {"json": v}})),
+        Ok(Reply::Text(t)) => writeln!(out, "{{\"ok\":{{\"json\":{t}}}}}"),
         Ok(Reply::File { name, kind, bytes }) => writeln!(
             out,
             "{}",

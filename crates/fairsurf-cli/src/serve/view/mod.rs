@@ -23,27 +23,37 @@ use field::Field;
 use tensor::{bspline_view, tensor_view};
 use tri::tri_view;
 
-/// Solves the scene and describes the result for the page. `quick` (while
+/// Solves the scene and describes the result for the page, as JSON text
+/// (serialized straight from the typed view, no value tree). `quick` (while
 /// the user drags) skips the analysis: area, functionals, the deviation from
-/// the normal field and the distance to the guide surface.
+/// the normal field and the distance to the guide surface. `seconds`
+/// includes the serialization.
 pub(crate) fn solve(
     text: &str,
     quick: bool,
     limits: &Limits,
     factors: &fairsurf::FactorCache,
-) -> ApiResult<Value> {
+) -> ApiResult<String> {
     let start = Instant::now();
     let scene = Scene::from_json(text)?;
     check_size(&scene, limits)?;
     let opts = fairsurf::SolveOptions::default().with_analyse(!quick);
-    let mut v = match scene.solve_cached(&opts, factors)? {
-        SolvedScene::Tensor(s) => tensor_view(&s),
-        SolvedScene::Triangular(s) => tri_view(&s),
-        SolvedScene::BSpline(s) => bspline_view(&s),
+    let solved = scene.solve_cached(&opts, factors)?;
+    let view = match &solved {
+        SolvedScene::Tensor(s) => tensor_view(s),
+        SolvedScene::Triangular(s) => tri_view(s),
+        SolvedScene::BSpline(s) => bspline_view(s),
     };
-    v["quick"] = json!(quick);
-    v["seconds"] = json!(start.elapsed().as_secs_f64());
-    Ok(v)
+    let mut out = serde_json::to_string(&view).expect("a view serializes");
+    // The object's last two members, after the rest is written.
+    debug_assert!(out.ends_with('}'));
+    out.pop();
+    let seconds = start.elapsed().as_secs_f64();
+    out.push_str(&format!(
+        ",\"quick\":{quick},\"seconds\":{}}}",
+        json!(seconds)
+    ));
+    Ok(out)
 }
 
 /// Measures the surface the scene gives, as it is, without solving: a
@@ -218,7 +228,7 @@ fn row(label: impl Into<String>, value: impl Into<Value>) -> Value {
 /// What the page draws and edits (`editor/API.md`, `POST /api/solve`),
 /// the same fields for every kind of surface.
 #[derive(serde::Serialize)]
-struct View<'a> {
+pub(super) struct View<'a> {
     /// "tensor", "triangular" or "bspline".
     kind: &'static str,
     /// Rows `{label, value}`.
@@ -226,7 +236,7 @@ struct View<'a> {
     /// The result file's content.
     result: Value,
     /// Positions, indices, colours by mean curvature and their legend.
-    mesh: Value,
+    mesh: MeshView,
     /// The control net.
     net: Net<'a>,
     /// Boundary curves as polylines.
@@ -250,10 +260,23 @@ struct Net<'a> {
     edges: Vec<[usize; 2]>,
 }
 
-impl View<'_> {
-    fn json(&self) -> Value {
-        serde_json::to_value(self).expect("a view serializes")
-    }
+/// The mesh as the page draws it (`editor/API.md`, `mesh`).
+#[derive(serde::Serialize)]
+struct MeshView {
+    positions: Vec<f64>,
+    indices: Vec<u32>,
+    colors: Vec<f64>,
+    legend: Legend,
+}
+
+/// The colour legend of the mesh.
+#[derive(serde::Serialize)]
+struct Legend {
+    name: &'static str,
+    min: f64,
+    max: f64,
+    /// `[t in 0..1, CSS colour]`.
+    stops: Vec<(f64, String)>,
 }
 
 /// The edges of a rows × cols grid net, row-major.
@@ -325,7 +348,7 @@ fn size_of(points: &[Vec3]) -> f64 {
 
 /// The mesh with per-vertex colours by signed mean curvature (cool–warm,
 /// symmetric about 0 up to the 98th percentile of |H|) and its legend.
-fn mesh_json(m: &SurfaceMesh) -> Value {
+fn mesh_view(m: &SurfaceMesh) -> MeshView {
     let mesh = m.mesh();
     let mut abs: Vec<f64> = m
         .curvature()
@@ -353,12 +376,12 @@ fn mesh_json(m: &SurfaceMesh) -> Value {
         })
         .map(|x| decimal(x as f64, -4))
         .collect();
-    let stops: Vec<Value> = (0..=4)
+    let stops = (0..=4)
         .map(|k| {
             let t = k as f64 / 4.0;
             let [r, g, b] = map.at(t);
             let hex = |x: f32| (x.clamp(0.0, 1.0) * 255.0).round() as u8;
-            json!([t, format!("#{:02x}{:02x}{:02x}", hex(r), hex(g), hex(b))])
+            (t, format!("#{:02x}{:02x}{:02x}", hex(r), hex(g), hex(b)))
         })
         .collect();
     // Positions to 1e-7 of the mesh's extent (about the single precision
@@ -374,12 +397,22 @@ fn mesh_json(m: &SurfaceMesh) -> Value {
     } else {
         -7
     };
-    json!({
-        "positions": mesh.positions.iter().flatten().map(|&x| decimal(x, k)).collect::<Vec<_>>(),
-        "indices": mesh.triangles.iter().flatten().collect::<Vec<_>>(),
-        "colors": colors,
-        "legend": {"name": "mean curvature H", "min": -a, "max": a, "stops": stops},
-    })
+    MeshView {
+        positions: mesh
+            .positions
+            .iter()
+            .flatten()
+            .map(|&x| decimal(x, k))
+            .collect(),
+        indices: mesh.triangles.iter().flatten().copied().collect(),
+        colors,
+        legend: Legend {
+            name: "mean curvature H",
+            min: -a,
+            max: a,
+            stops,
+        },
+    }
 }
 
 /// `x` rounded to a multiple of 10^k, computed so that it prints as the

@@ -8,7 +8,7 @@ use super::*;
 /// field's arrows, the operators' markers and the constraints' handles as
 /// on a tensor patch, sliders for the energy weights and strengths, and the
 /// report's table.
-pub(super) fn bspline_view(solved: &SolvedBSplineScene) -> Value {
+pub(super) fn bspline_view(solved: &SolvedBSplineScene) -> View<'_> {
     let scene = &solved.scene;
     let s = solved.surface();
     let size = size_of(s.points());
@@ -105,7 +105,7 @@ pub(super) fn bspline_view(solved: &SolvedBSplineScene) -> Value {
         kind: "bspline",
         table,
         result: json!(solved.result_scene()),
-        mesh: mesh_json(&SurfaceMesh::from_bspline(s, 48, 48)),
+        mesh: mesh_view(&SurfaceMesh::from_bspline(s, 48, 48)),
         net: Net {
             points: s.points(),
             edges: grid_edges(cu, cv),
@@ -117,10 +117,9 @@ pub(super) fn bspline_view(solved: &SolvedBSplineScene) -> Value {
         sliders,
         methods: None,
     }
-    .json()
 }
 
-pub(super) fn tensor_view(solved: &SolvedTensorScene) -> Value {
+pub(super) fn tensor_view(solved: &SolvedTensorScene) -> View<'_> {
     let scene = &solved.scene;
     let patch = solved.patch();
     let (n, m) = patch.degree();
@@ -239,7 +238,7 @@ pub(super) fn tensor_view(solved: &SolvedTensorScene) -> Value {
         kind: "tensor",
         table,
         result: json!(solved.result_scene()),
-        mesh: mesh_json(&SurfaceMesh::from_patch(patch, 48, 48)),
+        mesh: mesh_view(&SurfaceMesh::from_patch(patch, 48, 48)),
         net: Net {
             points: patch.points(),
             edges: grid_edges(n + 1, m + 1),
@@ -255,5 +254,4 @@ pub(super) fn tensor_view(solved: &SolvedTensorScene) -> Value {
             "options": ["minimize", "harmonic", "biharmonic", "harmonic_mask", "biharmonic_mask"],
         })),
     }
-    .json()
 }

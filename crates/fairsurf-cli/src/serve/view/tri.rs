@@ -9,7 +9,7 @@ fn domain_point(sol: &fairsurf::triangle::TriSolution, at: &Value) -> Option<Vec
     sol.point_at(at["triangle"].as_u64()? as usize, vec3(&at["bary"])?)
 }
 
-pub(super) fn tri_view(solved: &SolvedTriScene) -> Value {
+pub(super) fn tri_view(solved: &SolvedTriScene) -> View<'_> {
     let scene = &solved.scene;
     let s = solved.surface();
     let r = &solved.solution.report;
@@ -124,7 +124,7 @@ pub(super) fn tri_view(solved: &SolvedTriScene) -> Value {
         kind: "triangular",
         table,
         result: json!(solved.result_scene()),
-        mesh: mesh_json(&SurfaceMesh::from_tri_surface(s, resolution)),
+        mesh: mesh_view(&SurfaceMesh::from_tri_surface(s, resolution)),
         net: Net {
             points: s.points(),
             edges: s.net_edges(),
@@ -136,5 +136,4 @@ pub(super) fn tri_view(solved: &SolvedTriScene) -> Value {
         sliders,
         methods: None,
     }
-    .json()
 }
