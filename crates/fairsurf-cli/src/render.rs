@@ -167,11 +167,9 @@ fn panel(path: &Path, normals: bool) -> Result<Panel, Failure> {
                 _ => scene.problem().map_err(with_file(path))?.normal_field(),
             };
             match (&surface, field) {
+                // The field lives on the knot domain mapped onto [0, 1]².
                 (Surface::BSpline(b), Some(nf)) => {
-                    // The field lives on the knot domain mapped onto [0, 1]².
-                    let ((u0, u1), (v0, v1)) = (b.knots().0.domain(), b.knots().1.domain());
-                    let at = |u: f64, v: f64| b.eval(u0 + (u1 - u0) * u, v0 + (v1 - v0) * v);
-                    field_arrows(at, &nf.guide)
+                    field_arrows(|u, v| b.eval_unit(u, v), &nf.guide)
                 }
                 _ => vec![],
             }
@@ -207,13 +205,10 @@ fn field_arrows(point: impl Fn(f64, f64) -> fairsurf::Vec3, guide: &NormalGuide)
             .flat_map(|i| (0..=6).map(move |j| (i as f64 / 6.0, j as f64 / 6.0)))
             .map(|(u, v)| at(u, v, f.eval(u, v)))
             .collect(),
-        NormalGuide::Spline(f) => {
-            let ((a, b), (c, d)) = (f.knots().0.domain(), f.knots().1.domain());
-            (0..=6)
-                .flat_map(|i| (0..=6).map(move |j| (i as f64 / 6.0, j as f64 / 6.0)))
-                .map(|(u, v)| at(u, v, f.eval(a + (b - a) * u, c + (d - c) * v)))
-                .collect()
-        }
+        NormalGuide::Spline(f) => (0..=6)
+            .flat_map(|i| (0..=6).map(move |j| (i as f64 / 6.0, j as f64 / 6.0)))
+            .map(|(u, v)| at(u, v, f.eval_unit(u, v)))
+            .collect(),
         NormalGuide::Samples { grid, normals, .. } => {
             let (np, mp) = grid.size();
             let (si, sj) = (np.div_ceil(8).max(1), mp.div_ceil(8).max(1));

@@ -586,10 +586,7 @@ impl Field {
     fn eval01(&self, u: f64, v: f64) -> Vec3 {
         match self {
             Field::Bezier(p) => p.eval(u, v),
-            Field::Spline(s) => {
-                let ((a, b), (c, d)) = (s.knots().0.domain(), s.knots().1.domain());
-                s.eval(a + (b - a) * u, c + (d - c) * v)
-            }
+            Field::Spline(s) => s.eval_unit(u, v),
         }
     }
 }

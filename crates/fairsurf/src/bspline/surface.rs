@@ -98,6 +98,13 @@ impl BSplineSurface {
         self.partials(u, v, 0)[0][0]
     }
 
+    /// R at (s, t) of [0, 1]² mapped onto the knot domain (how normal
+    /// fields, arrows and samples address a B-spline over its domain).
+    pub fn eval_unit(&self, s: f64, t: f64) -> Vec3 {
+        let ((a, b), (c, d)) = (self.u.domain(), self.v.domain());
+        self.eval(a + (b - a) * s, c + (d - c) * t)
+    }
+
     /// R and its first and second partial derivatives at (u, v).
     pub fn derivatives(&self, u: f64, v: f64) -> SurfaceDerivatives {
         let d = self.partials(u, v, 2);

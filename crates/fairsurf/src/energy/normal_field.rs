@@ -113,10 +113,7 @@ impl NormalField {
     pub fn direction(&self, u: f64, v: f64) -> Option<Vec3> {
         match &self.guide {
             NormalGuide::Field(f) => normalize(f.eval(u, v)),
-            NormalGuide::Spline(f) => {
-                let ((a, b), (c, d)) = (f.knots().0.domain(), f.knots().1.domain());
-                normalize(f.eval(a + (b - a) * u, c + (d - c) * v))
-            }
+            NormalGuide::Spline(f) => normalize(f.eval_unit(u, v)),
             NormalGuide::Samples { grid, normals, .. } => {
                 let (np, mp) = grid.size();
                 let i = (u * np as f64).round().clamp(0.0, np as f64) as usize;

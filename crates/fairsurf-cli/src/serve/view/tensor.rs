@@ -91,7 +91,7 @@ pub(super) fn bspline_view(solved: &SolvedBSplineScene) -> View<'_> {
         for (k, d) in f.directions(&t, &t).into_iter().enumerate() {
             let (a, b) = (t[k / 9], t[k % 9]);
             if let Some(d) = d {
-                let at = s.eval(u0 + a * (u1 - u0), v0 + b * (v1 - v0));
+                let at = s.eval_unit(a, b);
                 normals.push(json!({"at": at, "dir": scale(d, 0.08 * size)}));
             }
         }
