@@ -89,7 +89,7 @@ pub fn run(a: Args) -> Result<(), Failure> {
          kept: {steps}; {:.1} ms",
         r.curvature.value,
         r.curvature.error,
-        r.solve.energy_error,
+        r.solve.check.map_or(f64::NAN, |c| c.energy_error),
         1e3 * (r.seconds.setup + r.seconds.solve + r.seconds.measure)
     ));
     match r.bulge_search {

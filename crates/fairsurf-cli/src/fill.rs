@@ -215,7 +215,7 @@ fn summary(
                 lines.push(format!(
                     "  hole {h}: degree {p}×{q}, {cu}×{cv} control points; {fit}; thin-plate solve \
                      checked to {:.0e}, W-lowering steps kept: {steps}; {:.1} ms",
-                    r.solve.energy_error,
+                    r.solve.check.map_or(f64::NAN, |c| c.energy_error),
                     1e3 * (r.seconds.setup + r.seconds.solve + r.seconds.measure)
                 ));
                 let c = &r.corners;

@@ -325,17 +325,16 @@ fn tri_summary(path: &Path, s: &SolvedTriScene, written: &[String]) -> String {
             ));
         }
     }
-    lines.push(check_line(r.check.as_ref(), "nothing was free"));
+    lines.push(check_line(
+        r.check.as_ref(),
+        "double-double quadrature",
+        "nothing was free",
+    ));
     for note in &s.notes() {
         lines.push(format!("  note: {note}"));
     }
     if let Some(k) = &r.kkt {
-        lines.push(format!(
-            "  gradient {:.2e} (relative {:.2e})  KKT {}×{}{} by {}: residual {:.2e}, condition ≈ {:.2e}, refinement steps {}",
-            r.gradient_norm, r.relative_gradient, k.size, k.size,
-            if k.per_coordinate { " (one for x, y and z)" } else { "" },
-            k.factorization.name(), k.relative_residual, k.condition, k.refinement_steps
-        ));
+        lines.push(kkt_line(r.gradient_norm, r.relative_gradient, k));
     }
     lines.push(solved_line(r.seconds.total, written));
     lines.join("\n")
@@ -349,50 +348,12 @@ fn bspline_summary(path: &Path, s: &fairsurf_io::SolvedBSplineScene, written: &[
         surface.knots().0.spans().len(),
         surface.knots().1.spans().len(),
     );
-    let mut lines = vec![
-        format!(
-            "{}: B-spline, degree {p}×{q}, {su}×{sv} spans, {cu}×{cv} control points, {} free ({} unknowns)",
-            path.display(),
-            r.free_points,
-            r.unknowns
-        ),
-        {
-            let mut terms = vec![
-                format!("stretch {:.10e}", r.stretch),
-                format!("bend {:.10e}", r.bend),
-            ];
-            for (name, v) in [
-                ("normal_field", r.normal_field),
-                ("guide_surface", r.guide_surface),
-            ] {
-                if v > 0.0 {
-                    terms.push(format!("{name} {v:.10e}"));
-                }
-            }
-            if !r.operators.is_empty() {
-                terms.push(format!("operators {:.10e}", r.external));
-            }
-            format!("  energy {:.10e} = {}", r.energy, terms.join(" + "))
-        },
-        format!(
-            "  checked on the written net: Gauss quadrature span by span gives {:.10e} \
-             (relative difference {:.1e}), {:.1e} above the minimum (relative; tolerance \
-             {:.0e}), {} correction(s)",
-            r.check_energy,
-            r.energy_error,
-            r.excess,
-            fairsurf::CHECK_TOLERANCE,
-            r.corrections
-        ),
-    ];
-    operator_lines(&mut lines, &r.operators, r.newton.as_ref());
-    constraint_lines(&mut lines, &r.constraints);
-    if !r.constraints.is_empty() {
-        lines.push(format!(
-            "  max constraint violation {:.2e}",
-            r.max_violation
-        ));
-    }
+    let mut lines = vec![format!(
+        "{}: B-spline, degree {p}×{q}, {su}×{sv} spans, {cu}×{cv} control points, {}",
+        path.display(),
+        free_words(r)
+    )];
+    report_lines(&mut lines, r, "Gauss quadrature span by span");
     if let Some(t) = s.normal_turn {
         lines.push(format!(
             "  largest normal turn between neighbouring samples {:.2}°",
@@ -402,20 +363,85 @@ fn bspline_summary(path: &Path, s: &fairsurf_io::SolvedBSplineScene, written: &[
     for note in &s.notes() {
         lines.push(format!("  note: {note}"));
     }
-    lines.push(match &r.kkt {
-        Some(k) => format!(
-            "  gradient {:.2e} (relative {:.2e})  KKT {}×{}{} by {}: residual {:.2e}, condition ≈ {:.2e}",
-            r.gradient_norm, r.relative_gradient, k.size, k.size,
-            if k.per_coordinate { " (one for x, y and z)" } else { "" },
-            k.factorization.name(), k.relative_residual, k.condition
-        ),
-        None => format!(
-            "  gradient {:.2e} (relative {:.2e})  residual {:.2e}  Cholesky factor {} nonzeros",
-            r.gradient_norm, r.relative_gradient, r.residual, r.factor_nonzeros
-        ),
-    });
     lines.push(solved_line(r.timings.total, written));
     lines.join("\n")
+}
+
+/// "N free points (M unknowns[, coordinates coupled])".
+fn free_words(r: &fairsurf::SolveReport) -> String {
+    format!(
+        "{} free points ({} unknowns{})",
+        r.free_points,
+        r.unknowns,
+        if r.coupled {
+            ", coordinates coupled"
+        } else {
+            ""
+        }
+    )
+}
+
+/// A minimization's lines, the same for every tensor kind: the energy and
+/// its terms, the operators and constraints, the check of the written net
+/// (`road`: how it recomputed the energy), the measures, and the solve's
+/// accuracy.
+fn report_lines(lines: &mut Vec<String>, r: &fairsurf::SolveReport, road: &str) {
+    let mut terms: Vec<String> = r
+        .terms
+        .iter()
+        .map(|t| format!("{} {:.10e}", t.name, t.value))
+        .collect();
+    if !r.operators.is_empty() {
+        terms.push(format!("operators {:.10e}", r.external));
+    }
+    lines.push(format!(
+        "  energy {:.10e} = {}",
+        r.energy,
+        terms.join(" + ")
+    ));
+    operator_lines(lines, &r.operators, r.newton.as_ref());
+    constraint_lines(lines, &r.constraints);
+    if !r.constraints.is_empty() {
+        lines.push(format!(
+            "  max constraint violation {:.2e}",
+            r.max_violation
+        ));
+    }
+    lines.push(check_line(
+        r.check.as_ref(),
+        road,
+        "a term does not describe its integrand",
+    ));
+    measures_lines(lines, r.measures.as_ref());
+    lines.push(match &r.kkt {
+        Some(k) => kkt_line(r.gradient_norm, r.relative_gradient, k),
+        None => format!(
+            "  gradient {:.2e} (relative {:.2e})  residual {:.2e}  condition ≈ {:.2e}  refinement steps {}{}",
+            r.gradient_norm,
+            r.relative_gradient,
+            r.residual,
+            r.condition_estimate,
+            r.refinement_steps,
+            r.factor_nonzeros
+                .map(|n| format!("  sparse Cholesky factor {n} nonzeros"))
+                .unwrap_or_default()
+        ),
+    });
+}
+
+/// The gradient and the sparse KKT solve: its size, factorization,
+/// residual, condition and refinement.
+fn kkt_line(gradient: f64, relative: f64, k: &fairsurf::triangle::KktInfo) -> String {
+    format!(
+        "  gradient {gradient:.2e} (relative {relative:.2e})  KKT {}×{}{} by {}: residual {:.2e}, condition ≈ {:.2e}, refinement steps {}",
+        k.size,
+        k.size,
+        if k.per_coordinate { " (one for x, y and z)" } else { "" },
+        k.factorization.name(),
+        k.relative_residual,
+        k.condition,
+        k.refinement_steps
+    )
 }
 
 /// The summary's last line: the solve's time and what was written.
@@ -427,11 +453,12 @@ fn solved_line(seconds: f64, written: &[String]) -> String {
     }
 }
 
-/// The summary's line for the independent check of the written net.
-fn check_line(check: Option<&fairsurf::Check>, why_not: &str) -> String {
+/// The summary's line for the independent check of the written net; `road`
+/// says how it recomputed the energy.
+fn check_line(check: Option<&fairsurf::Check>, road: &str, why_not: &str) -> String {
     match check {
         Some(c) => format!(
-            "  checked on the written net: energy {:.10e} (closed forms agree to {:.1e}), \
+            "  checked on the written net: energy {:.10e} by {road} (closed forms agree to {:.1e}), \
              {:.1e} above the minimum (relative; tolerance {:.0e}), {} correction(s)",
             c.energy, c.energy_error, c.excess, c.tolerance, c.corrections
         ),
@@ -497,46 +524,11 @@ fn summary(path: &Path, s: &SolvedTensorScene, written: &[String]) -> String {
         Outcome::Minimized(sol) => {
             let r = &sol.report;
             lines.push(format!(
-                "{}: degree {n}×{m}, {} free points ({} unknowns{})",
+                "{}: degree {n}×{m}, {}",
                 path.display(),
-                r.free_points,
-                r.unknowns,
-                if r.coupled {
-                    ", coordinates coupled"
-                } else {
-                    ""
-                }
+                free_words(r)
             ));
-            let mut terms: Vec<String> = r
-                .terms
-                .iter()
-                .map(|t| format!("{} {:.10e}", t.name, t.value))
-                .collect();
-            if !r.operators.is_empty() {
-                terms.push(format!("operators {:.10e}", r.external));
-            }
-            lines.push(format!(
-                "  energy {:.10e} = {}",
-                r.energy,
-                terms.join(" + ")
-            ));
-            operator_lines(&mut lines, &r.operators, r.newton.as_ref());
-            constraint_lines(&mut lines, &r.constraints);
-            if !r.constraints.is_empty() {
-                lines.push(format!(
-                    "  max constraint violation {:.2e}",
-                    r.max_violation
-                ));
-            }
-            lines.push(check_line(
-                r.check.as_ref(),
-                "a term does not describe its integrand",
-            ));
-            measures_lines(&mut lines, r.measures.as_ref());
-            lines.push(format!(
-                "  gradient {:.2e} (relative {:.2e})  residual {:.2e}  condition ≈ {:.2e}  refinement steps {}",
-                r.gradient_norm, r.relative_gradient, r.residual, r.condition_estimate, r.refinement_steps
-            ));
+            report_lines(&mut lines, r, "double-double quadrature");
             r.timings.total
         }
         Outcome::Constructed(c) => {

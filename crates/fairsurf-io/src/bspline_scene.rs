@@ -729,56 +729,17 @@ impl SolvedBSplineScene {
             .collect()
     }
 
-    /// The `"report"` object (the vocabulary of every kind's report).
+    /// The `"report"` object: the report of every tensor kind
+    /// ([`crate::result::report_json`]) with the spans, the largest normal
+    /// turn and the notes.
     pub fn report_json(&self) -> Value {
-        let r = &self.solution.report;
-        let s = self.surface();
-        let (su, sv) = (s.knots().0.spans().len(), s.knots().1.spans().len());
-        let t = &r.timings;
-        let mut terms = serde_json::Map::new();
-        terms.insert("stretch".into(), json!(r.stretch));
-        terms.insert("bend".into(), json!(r.bend));
-        if self.scene.energy.normal_field.is_some() {
-            terms.insert("normal_field".into(), json!(r.normal_field));
-        }
-        if self.scene.energy.guide_surface.is_some() {
-            terms.insert("guide_surface".into(), json!(r.guide_surface));
-        }
-        json!({
-            "energy": r.energy,
-            "terms": terms,
-            "gradient_norm": r.gradient_norm,
-            "relative_gradient": r.relative_gradient,
-            "residual": r.residual,
-            "condition_estimate": crate::result::finite(r.condition_estimate),
-            "refinement_steps": r.kkt.map_or(1, |k| k.refinement_steps),
-            "unknowns": r.unknowns,
-            "free_points": r.free_points,
-            "coupled": r.coupled,
-            "spans": [su, sv],
-            "factor_nonzeros": r.factor_nonzeros,
-            "check": {
-                "energy": r.check_energy,
-                "energy_error": r.energy_error,
-                "excess": r.excess,
-                "scale": r.scale,
-                "corrections": r.corrections,
-                "tolerance": fairsurf::CHECK_TOLERANCE,
-            },
-            "constraints": crate::constraints::outcomes_json(&r.constraints),
-            "max_violation": r.max_violation,
-            "kkt": r.kkt.as_ref().map(crate::tri_result::kkt_json),
-            "external": r.external,
-            "operators": crate::operators::outcomes_json(&r.operators),
-            "newton": crate::operators::newton_json(r.newton.as_ref()),
-            "max_normal_turn_deg": self.normal_turn.map(|t| crate::result::normal_turn_json(
-                t.angle, json!([t.at.0, t.at.1]), t.is_fold())),
-            "timings_s": {
-                "assemble": t.assemble, "factor": t.factor, "solve": t.solve,
-                "analyse": t.analyse, "total": t.total,
-            },
-            "notes": self.notes(),
-            "fairsurf_version": env!("CARGO_PKG_VERSION"),
-        })
+        let mut o = crate::result::report_json(&self.solution.report);
+        let (ku, kv) = self.surface().knots();
+        o["spans"] = json!([ku.spans().len(), kv.spans().len()]);
+        o["max_normal_turn_deg"] = json!(self.normal_turn.map(|t| {
+            crate::result::normal_turn_json(t.angle, json!([t.at.0, t.at.1]), t.is_fold())
+        }));
+        o["notes"] = json!(self.notes());
+        o
     }
 }

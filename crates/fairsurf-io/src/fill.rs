@@ -10,7 +10,6 @@ use crate::tensor_scene::Net;
 use crate::validate::parse_net;
 use crate::{CadSurface, Error, Result};
 use fairsurf::analysis::Edge;
-use fairsurf::bspline::BSplineReport;
 use fairsurf::bspline::{BSplineSurface, FitTolerance, KnotVector, RationalSurface};
 use fairsurf::fill::{
     find_holes_within, tolerance, CornerMismatch, FanFill, Fill, FillOptions, FillSeconds, Hole,
@@ -534,7 +533,7 @@ pub(crate) fn patch_json(
     curvature: &TotalCurvature,
     willmore: &[f64],
     normal_weight: f64,
-    s: &BSplineReport,
+    s: &fairsurf::SolveReport,
     seconds: &FillSeconds,
 ) -> Value {
     let (ku, kv) = surface.knots();
@@ -554,25 +553,7 @@ pub(crate) fn patch_json(
         "curvature_w_error": curvature.error,
         "willmore_w": willmore,
         "normal_weight": normal_weight,
-        "solve": {
-            "energy": s.energy,
-            "terms": {"stretch": s.stretch, "bend": s.bend, "normal_field": s.normal_field},
-            "relative_gradient": s.relative_gradient,
-            "residual": s.residual,
-            "condition_estimate": crate::result::finite(s.condition_estimate),
-            "free_points": s.free_points,
-            "timings_s": {
-                "assemble": s.timings.assemble, "factor": s.timings.factor,
-                "solve": s.timings.solve, "analyse": s.timings.analyse, "total": s.timings.total,
-            },
-            "check": {
-                "energy": s.check_energy,
-                "energy_error": s.energy_error,
-                "excess": s.excess,
-                "scale": s.scale,
-                "tolerance": fairsurf::CHECK_TOLERANCE,
-            },
-        },
+        "solve": crate::result::report_json(s),
         "seconds": {
             "setup": seconds.setup,
             "solve": seconds.solve,

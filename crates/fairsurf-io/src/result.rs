@@ -277,6 +277,12 @@ pub fn report_json(r: &SolveReport) -> Value {
     if let Some(c) = &r.check {
         o["check"] = check_json(c);
     }
+    if let Some(n) = r.factor_nonzeros {
+        o["factor_nonzeros"] = json!(n);
+    }
+    if let Some(k) = &r.kkt {
+        o["kkt"] = crate::tri_result::kkt_json(k);
+    }
     insert_measures(&mut o, r.measures.as_ref());
     o
 }

@@ -145,7 +145,7 @@ impl Scene {
             (Scene::Tensor(s), None) => SolvedScene::Tensor(s.solve_with(opts)?),
             (Scene::Triangular(s), Some(c)) => SolvedScene::Triangular(s.solve_cached(c)?),
             (Scene::Triangular(s), None) => SolvedScene::Triangular(s.solve()?),
-            (Scene::BSpline(s), _) => SolvedScene::BSpline(s.solve()?),
+            (Scene::BSpline(s), _) => SolvedScene::BSpline(Box::new(s.solve()?)),
         })
     }
 
@@ -189,7 +189,7 @@ pub enum SolvedScene {
     /// A solved triangular surface.
     Triangular(SolvedTriScene),
     /// A solved B-spline surface.
-    BSpline(SolvedBSplineScene),
+    BSpline(Box<SolvedBSplineScene>),
 }
 
 impl SolvedScene {

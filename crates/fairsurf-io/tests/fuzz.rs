@@ -28,7 +28,7 @@ fn exercise(text: &str, solve: bool) -> bool {
             };
             let r = &solved.solution.report;
             assert!(
-                r.energy.is_finite() && r.energy_error <= 1e-10,
+                r.energy.is_finite() && r.check.unwrap().energy_error <= 1e-10,
                 "{r:?}\n{text}"
             );
             return true;

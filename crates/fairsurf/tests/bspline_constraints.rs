@@ -132,7 +132,7 @@ fn every_kind_holds_on_many_spans_and_the_result_is_the_minimum_over_them() {
         assert!(r.max_violation < 1e-12, "{:?}", r.constraints);
         assert_eq!(r.coupled, with_field);
         assert!(r.relative_gradient < 1e-14, "{}", r.relative_gradient);
-        assert!(r.excess <= 1e-10 && r.energy_error < 1e-10);
+        assert!(r.check.unwrap().excess <= 1e-10 && r.check.unwrap().energy_error < 1e-10);
         assert!(r.energy > free_solution.report.energy);
         // No move along the constraints lowers the energy.
         let rows: Vec<Row> = constraints()

@@ -42,9 +42,16 @@ fn a_guide_inside_the_space_gives_its_refinements_solution() {
         .unwrap();
     let worst = common::max_distance(a.surface.points(), b.surface.points());
     assert!(worst < 1e-12, "{worst:e}");
-    let (ea, eb) = (a.report.guide_surface, b.report.guide_surface);
+    let (ea, eb) = (
+        a.report.term("guide_surface"),
+        b.report.term("guide_surface"),
+    );
     assert!((ea - eb).abs() < 1e-12 * eb.max(1e-12), "{ea} vs {eb}");
-    assert!(a.report.energy_error < 1e-12, "{}", a.report.energy_error);
+    assert!(
+        a.report.check.unwrap().energy_error < 1e-12,
+        "{}",
+        a.report.check.unwrap().energy_error
+    );
 }
 
 #[test]
@@ -64,8 +71,12 @@ fn a_guide_outside_the_space_is_confirmed_by_quadrature_and_minimal() {
     let r = &sol.report;
     // The closed forms (projection + constant) against quadrature of
     // |R − S|² between both surfaces' knot lines.
-    assert!(r.energy_error < 1e-12, "{}", r.energy_error);
-    assert!(r.guide_surface > 0.0 && r.excess < 1e-10);
+    assert!(
+        r.check.unwrap().energy_error < 1e-12,
+        "{}",
+        r.check.unwrap().energy_error
+    );
+    assert!(r.term("guide_surface") > 0.0 && r.check.unwrap().excess < 1e-10);
     common::assert_bspline_minimal(&problem, &sol.surface, r.energy, 5);
 }
 
@@ -120,9 +131,9 @@ fn a_guide_far_from_the_origin_is_not_lost_to_cancellation() {
         let worst = common::max_distance(own.surface.points(), same.surface.points());
         assert!(worst < 1e-10, "shift {shift}: {worst:e}");
         assert!(
-            own.report.energy_error < 1e-10,
+            own.report.check.unwrap().energy_error < 1e-10,
             "shift {shift}: {}",
-            own.report.energy_error
+            own.report.check.unwrap().energy_error
         );
     }
 }

@@ -29,7 +29,7 @@
 //!     .solve()
 //!     .unwrap();
 //! assert!(faired.report.relative_gradient < 1e-14);
-//! assert!(faired.report.energy_error < 1e-10);
+//! assert!(faired.report.check.unwrap().energy_error < 1e-10);
 //! ```
 
 mod constraint;
@@ -46,7 +46,7 @@ mod system;
 pub use knots::KnotVector;
 pub use problem::BSplineProblem;
 pub use rational::{FitTolerance, RationalSurface, StandIn};
-pub use solve::{BSplineReport, BSplineSolution, ENERGY_TOLERANCE};
+pub use solve::{BSplineSolution, ENERGY_TOLERANCE};
 pub use surface::{BSplineSurface, BezierPiece};
 
 /// Gaussian elimination with partial pivoting on a small dense system

@@ -16,14 +16,13 @@ use super::problem::BSplineProblem;
 use super::project::guide_value_by_quadrature;
 use super::system::{unconstrained, Solved, System};
 use super::BSplineSurface;
-use crate::check;
-use crate::constraint::ConstraintOutcome;
+use crate::check::{self, Check};
 use crate::energy::check_weight;
 use crate::operator::bspline::Nodes;
 use crate::operator::newton::{newton, repellors};
-use crate::operator::{NewtonReport, OperatorOutcome, Residual};
-use crate::solve::kkt::KktInfo;
-use crate::{Error, Result, Timings, Vec3};
+use crate::operator::{NewtonReport, Residual};
+use crate::solve::{SolveReport, TermEnergy, Timings};
+use crate::{Error, Result, Vec3};
 use faer::sparse::Triplet;
 use faer::Mat;
 use std::time::Instant;
@@ -32,87 +31,15 @@ use std::time::Instant;
 /// written net.
 pub const ENERGY_TOLERANCE: f64 = 1e-10;
 
-/// What a B-spline solve reports; the figures mean what they mean in
-/// [`crate::SolveReport`].
-#[derive(Clone, Debug, PartialEq)]
-pub struct BSplineReport {
-    /// The minimized energy.
-    pub energy: f64,
-    /// The membrane part (weight included).
-    pub stretch: f64,
-    /// The thin-plate part (weight included).
-    pub bend: f64,
-    /// The normal-field part (λ included; 0 without one).
-    pub normal_field: f64,
-    /// The guide-surface part (γ included; 0 without one).
-    pub guide_surface: f64,
-    /// Whether x, y and z were solved together (a normal field couples them).
-    pub coupled: bool,
-    /// The energy recomputed on the written net by Gauss quadrature of the
-    /// integrand span by span (`energy` comes from the pieces' closed forms).
-    pub check_energy: f64,
-    /// |energy − check_energy| / energy.
-    pub energy_error: f64,
-    /// E(x) − min E of the written net over `scale`: ½ gᵀH⁻¹g with the
-    /// gradient g = H x − b in compensated (Dot2) arithmetic on the
-    /// assembled system, through the solve's factor (the tensor check's
-    /// figure; here H is the assembled one, not recomputed apart). With
-    /// constraints, the minimum over them: ½ gᵀy with g = b − Hx − Fᵀλ and
-    /// y the constrained Newton step through the KKT factor.
-    pub excess: f64,
-    /// The scale of `excess` ([`crate::Check::scale`]).
-    pub scale: f64,
-    /// Newton corrections x ← x + H⁻¹(b − Hx) taken by the check.
-    pub corrections: usize,
-    /// Free control points.
-    pub free_points: usize,
-    /// Scalar unknowns (3 per free point).
-    pub unknowns: usize,
-    /// ‖H x − b‖∞ over the free coordinates (compensated arithmetic); with
-    /// constraints the Lagrangian's, ‖H x − b + Fᵀλ‖∞.
-    pub gradient_norm: f64,
-    /// That over ‖H‖∞‖x‖∞ + ‖b‖∞.
-    pub relative_gradient: f64,
-    /// ‖b − Hx‖∞ / ‖b‖∞ (the absolute figure when b = 0); with
-    /// constraints the KKT solve's relative residual (`kkt`).
-    pub residual: f64,
-    /// ‖H‖₁‖H⁻¹‖₁ of the system factored (Hager's estimate). It grows like
-    /// a stiffness matrix's with the number of spans (h⁻⁴ for the thin
-    /// plate); the basis itself stays well conditioned (the Gram matrix of
-    /// the B-splines, scaled, is bounded independently of the knots). With
-    /// constraints, the KKT matrix's estimate (`kkt.condition`).
-    pub condition_estimate: f64,
-    /// Nonzeros of the Cholesky factor (of the KKT factor with
-    /// constraints; 0 when the core's LU solved it).
-    pub factor_nonzeros: usize,
-    /// The external operators' energy (Veltkamp & Wesselink §5), in
-    /// `energy`.
-    pub external: f64,
-    /// Each operator's energy and how far its target is met.
-    pub operators: Vec<OperatorOutcome>,
-    /// Each constraint's violation on the written net.
-    pub constraints: Vec<ConstraintOutcome>,
-    /// The largest of them (0 without constraints).
-    pub max_violation: f64,
-    /// With constraints: the solver core's KKT solve (which factorization,
-    /// its residual and condition); `None` without.
-    pub kkt: Option<KktInfo>,
-    /// With repellors: how Newton's method on the total energy went (then
-    /// `gradient_norm` and `relative_gradient` are those of the total,
-    /// nonlinear energy, and `excess` is 0: not measured).
-    pub newton: Option<NewtonReport>,
-    /// Seconds by phase (`analyse` is the check's second road; with
-    /// constraints the KKT factorization is in `solve`, `factor` is 0).
-    pub timings: Timings,
-}
-
 /// The faired surface and its report.
 #[derive(Clone, Debug)]
 pub struct BSplineSolution {
     /// The surface with the free points solved.
     pub surface: BSplineSurface,
-    /// How good it is.
-    pub report: BSplineReport,
+    /// How good it is: the report of every tensor surface kind (the check
+    /// is Gauss quadrature span by span, `basis` is "b-spline", `measures`
+    /// is `None`).
+    pub report: SolveReport,
 }
 
 impl BSplineProblem {
@@ -264,33 +191,60 @@ impl BSplineProblem {
             .zip(&placed)
             .map(|(op, (nodes, res))| op.outcome_on(nodes, res, &surface, &x_flat))
             .collect();
+        let mut terms = vec![
+            TermEnergy {
+                name: "stretch".into(),
+                value: stretch,
+            },
+            TermEnergy {
+                name: "bend".into(),
+                value: bend,
+            },
+        ];
+        if self.normal.is_some() {
+            terms.push(TermEnergy {
+                name: "normal_field".into(),
+                value: normal_field,
+            });
+        }
+        if self.guide.is_some() {
+            terms.push(TermEnergy {
+                name: "guide_surface".into(),
+                value: guide_surface,
+            });
+        }
         Ok(BSplineSolution {
             surface,
-            report: BSplineReport {
+            report: SolveReport {
+                terms,
                 energy: total,
-                stretch,
-                bend,
-                normal_field,
-                guide_surface,
-                coupled,
-                check_energy,
-                energy_error,
-                excess,
-                scale,
-                corrections: solved.corrections,
-                free_points: free.len(),
-                unknowns: 3 * free.len(),
-                gradient_norm: solved.gradient_norm,
-                relative_gradient: solved.relative_gradient,
-                residual: solved.residual,
-                condition_estimate: solved.condition_estimate,
-                factor_nonzeros: solved.factor_nonzeros,
+                check: Some(Check {
+                    energy: check_energy,
+                    energy_error,
+                    excess,
+                    scale,
+                    corrections: solved.corrections,
+                    tolerance: check::TOLERANCE,
+                    seconds: analyse,
+                }),
                 external,
                 operators,
                 constraints,
                 max_violation,
-                kkt: solved.kkt,
                 newton,
+                gradient_norm: solved.gradient_norm,
+                relative_gradient: solved.relative_gradient,
+                residual: solved.residual,
+                condition_estimate: solved.condition_estimate,
+                basis: "b-spline".into(),
+                refinement_steps: solved.kkt.map_or(1, |k| k.refinement_steps),
+                unknowns: 3 * free.len(),
+                free_points: free.len(),
+                coupled,
+                reused: false,
+                measures: None,
+                factor_nonzeros: solved.kkt.is_none().then_some(solved.factor_nonzeros),
+                kkt: solved.kkt,
                 timings: Timings {
                     assemble,
                     factor: solved.factor,

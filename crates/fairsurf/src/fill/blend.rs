@@ -36,8 +36,9 @@ use super::measure::{side_fit_facing, SideFit};
 use super::strip::Strip;
 use super::{fair, unified, CornerMismatch, FillOptions, FillSeconds, TotalCurvature};
 use crate::analysis::Edge;
-use crate::bspline::{BSplineReport, BSplineSurface, KnotVector};
+use crate::bspline::{BSplineSurface, KnotVector};
 use crate::vec3::{add, cross, dist, dot, norm, scale, sub};
+use crate::SolveReport;
 use crate::{Error, Result, Vec3};
 use std::time::Instant;
 
@@ -88,7 +89,7 @@ impl Default for BlendOptions {
 #[derive(Clone, Debug, PartialEq)]
 pub struct BlendReport {
     /// The solve's own report.
-    pub solve: BSplineReport,
+    pub solve: SolveReport,
     /// Against A (the blend's v = 0, `side_fit` side 0) and against B (v =
     /// 1, side 2): gap and normal angle measured on the returned surface.
     pub sides: [SideFit; 2],

@@ -73,9 +73,10 @@ pub use fan::{fill_fan, fill_triangle, FanFill, FanReport};
 pub use holes::{edge_point, find_holes, find_holes_within, surface_param, tolerance, Hole, Side};
 pub use measure::{side_fit, total_curvature, SideFit, TotalCurvature, SIDE_SAMPLES};
 
-use crate::bspline::{BSplineProblem, BSplineReport, BSplineSurface, KnotVector, RationalSurface};
+use crate::bspline::{BSplineProblem, BSplineSurface, KnotVector, RationalSurface};
 use crate::energy::SampleGrid;
 use crate::vec3::{add, cross, dist, dot, scale};
+use crate::SolveReport;
 use crate::{Error, Result, Vec3};
 use std::ops::Range;
 use std::sync::Arc;
@@ -173,7 +174,7 @@ pub struct CornerMismatch {
 #[derive(Clone, Debug, PartialEq)]
 pub struct FillReport {
     /// The solve's own report (energy, its check, gradient, timings).
-    pub solve: BSplineReport,
+    pub solve: SolveReport,
     /// Per edge of the hole, in its order: gap and normal angle measured
     /// on the returned surface against the neighbour.
     pub sides: Vec<SideFit>,
@@ -570,7 +571,7 @@ fn unified(s: &[Strip; 4], options: &FillOptions) -> Result<[Strip; 4]> {
 /// linearized Willmore steps.
 struct Faired {
     surface: BSplineSurface,
-    solve: BSplineReport,
+    solve: SolveReport,
     corners: CornerMismatch,
     curvature: TotalCurvature,
     willmore: Vec<f64>,

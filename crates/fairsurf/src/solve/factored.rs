@@ -478,6 +478,8 @@ impl Factored {
             coupled: self.coupled,
             reused,
             measures,
+            factor_nonzeros: None,
+            kkt: None,
             timings: Timings {
                 assemble,
                 factor,

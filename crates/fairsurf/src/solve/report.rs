@@ -24,7 +24,9 @@ pub struct Timings {
     pub total: f64,
 }
 
-/// Everything a solve knows about its answer.
+/// Everything a solve knows about its answer: one report for every tensor
+/// surface kind (a Bézier patch's [`crate::Problem`] and a B-spline
+/// surface's [`crate::bspline::BSplineProblem`]), every figure defined once.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SolveReport {
     /// Each term's energy at the solution.
@@ -63,7 +65,8 @@ pub struct SolveReport {
     pub condition_estimate: f64,
     /// The basis the system was factored in: "jacobi" (tensor block of free
     /// points: orthogonal Jacobi-weighted polynomials, refinement on the
-    /// Bernstein system) or "bernstein" (any other free set).
+    /// Bernstein system), "bernstein" (any other free set of a Bézier
+    /// patch) or "b-spline" (a B-spline surface's own basis, sparse).
     pub basis: String,
     /// Iterative refinement steps taken.
     pub refinement_steps: usize,
@@ -81,6 +84,26 @@ pub struct SolveReport {
     pub reused: bool,
     /// Area and functionals of the result (`None` when analysis was off).
     pub measures: Option<crate::analysis::SurfaceMeasures>,
+    /// Nonzeros of the sparse Cholesky factor (a B-spline surface without
+    /// constraints; with them see `kkt`); `None` for the dense solve.
+    pub factor_nonzeros: Option<usize>,
+    /// The sparse KKT solve of a B-spline surface with constraints (which
+    /// factorization, its size, residual and condition; `residual` and
+    /// `condition_estimate` are then its figures); `None` otherwise.
+    pub kkt: Option<crate::solve::kkt::KktInfo>,
     /// Time per stage.
     pub timings: Timings,
+}
+
+impl SolveReport {
+    /// The energy of the terms named `name` ("stretch", "bend",
+    /// "normal_field", "guide_surface", …), weights included; 0 when the
+    /// problem has no such term.
+    pub fn term(&self, name: &str) -> f64 {
+        self.terms
+            .iter()
+            .filter(|t| t.name == name)
+            .map(|t| t.value)
+            .sum()
+    }
 }

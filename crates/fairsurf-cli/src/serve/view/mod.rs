@@ -498,6 +498,41 @@ fn operator_rows(table: &mut Vec<Value>, operators: &[fairsurf::operator::Operat
     }
 }
 
+/// A minimization's rows, the same for every tensor kind: the energy and
+/// its terms, the operators, the measures (when analysed), then `extra`
+/// (the kind's own figures) and how good the result is.
+fn report_rows(
+    table: &mut Vec<Value>,
+    r: &fairsurf::SolveReport,
+    extra: impl FnOnce(&mut Vec<Value>),
+) {
+    table.push(row("energy", r.energy));
+    for t in &r.terms {
+        table.push(row(t.name.replace('_', " "), t.value));
+    }
+    operator_rows(table, &r.operators);
+    measure_rows(table, r.measures.as_ref());
+    extra(table);
+    if !r.constraints.is_empty() {
+        table.push(row("max constraint violation", r.max_violation));
+    }
+    table.push(row("gradient (relative)", r.relative_gradient));
+    if let Some(c) = &r.check {
+        table.push(row("checked: energy excess (relative)", c.excess));
+    }
+    table.push(row("residual", r.residual));
+    table.push(row("condition estimate", r.condition_estimate));
+    table.push(row("unknowns", r.unknowns as f64));
+    table.push(row(
+        "factorization",
+        if r.reused { "reused" } else { "new" },
+    ));
+    table.push(row("solve (ms)", 1e3 * r.timings.total));
+    if let Some(nr) = &r.newton {
+        table.push(row("Newton iterations", nr.iterations as f64));
+    }
+}
+
 /// Area, functionals and |H| of a tensor patch.
 fn measure_rows(table: &mut Vec<Value>, m: Option<&fairsurf::SurfaceMeasures>) {
     if let Some(m) = m {

@@ -59,30 +59,11 @@ pub(super) fn bspline_view(solved: &SolvedBSplineScene) -> View<'_> {
         e.guide_surface.as_ref().map(|g| g.weight),
     );
     let r = &solved.solution.report;
-    let mut table = vec![row("energy", r.energy)];
-    for (name, v, given) in [
-        ("stretch", r.stretch, true),
-        ("bend", r.bend, true),
-        ("normal field", r.normal_field, e.normal_field.is_some()),
-        ("guide surface", r.guide_surface, e.guide_surface.is_some()),
-    ] {
-        if given {
-            table.push(row(name, v));
-        }
-    }
-    operator_rows(&mut table, &r.operators);
-    if !r.constraints.is_empty() {
-        table.push(row("max constraint violation", r.max_violation));
-    }
-    table.push(row("checked: energy difference (relative)", r.energy_error));
-    table.push(row("checked: above the minimum (relative)", r.excess));
-    table.push(row("gradient (relative)", r.relative_gradient));
-    table.push(row("residual", r.residual));
-    table.push(row("condition estimate", r.condition_estimate));
-    table.push(row("unknowns", r.unknowns as f64));
-    let (su, sv) = (s.knots().0.spans().len(), s.knots().1.spans().len());
-    table.push(row("spans", format!("{su} × {sv}")));
-    table.push(row("solve (ms)", 1e3 * r.timings.total));
+    let mut table = Vec::new();
+    report_rows(&mut table, r, |table| {
+        let (su, sv) = (s.knots().0.spans().len(), s.knots().1.spans().len());
+        table.push(row("spans", format!("{su} × {sv}")));
+    });
     // The normal field's directions on a 9 × 9 grid of the knot domain
     // (the field lives on it mapped onto [0, 1]²).
     let mut normals = Vec::new();
@@ -184,37 +165,14 @@ pub(super) fn tensor_view(solved: &SolvedTensorScene) -> View<'_> {
                 e.normal_field.as_ref().map(|f| f.weight),
                 e.guide_surface.as_ref().map(|g| g.weight),
             );
-            let r = &sol.report;
-            table.push(row("energy", r.energy));
-            for t in &r.terms {
-                table.push(row(t.name.replace('_', " "), t.value));
-            }
-            operator_rows(&mut table, &r.operators);
-            measure_rows(&mut table, r.measures.as_ref());
-            if let Some(d) = &solved.normal_deviation {
-                table.push(row("normal deviation, mean (rad)", d.mean));
-            }
-            if let Some(g) = solved.guide_distance {
-                table.push(row("distance to guide", g));
-            }
-            if !r.constraints.is_empty() {
-                table.push(row("max constraint violation", r.max_violation));
-            }
-            table.push(row("gradient (relative)", r.relative_gradient));
-            if let Some(c) = &r.check {
-                table.push(row("checked: energy excess (relative)", c.excess));
-            }
-            table.push(row("residual", r.residual));
-            table.push(row("condition estimate", r.condition_estimate));
-            table.push(row("unknowns", r.unknowns as f64));
-            table.push(row(
-                "factorization",
-                if r.reused { "reused" } else { "new" },
-            ));
-            table.push(row("solve (ms)", 1e3 * r.timings.total));
-            if let Some(nr) = &r.newton {
-                table.push(row("Newton iterations", nr.iterations as f64));
-            }
+            report_rows(&mut table, &sol.report, |table| {
+                if let Some(d) = &solved.normal_deviation {
+                    table.push(row("normal deviation, mean (rad)", d.mean));
+                }
+                if let Some(g) = solved.guide_distance {
+                    table.push(row("distance to guide", g));
+                }
+            });
             operator_controls(&scene_json, &operators, size, &mut handles, &mut sliders);
             let at = |c: &Value| uv_of(&c["at"]).map(|[u, v]| patch.eval(u, v));
             constraint_controls(&scene_json, at, size, &mut handles, &mut normals);
