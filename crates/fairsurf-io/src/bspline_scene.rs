@@ -9,7 +9,7 @@ use crate::validate::{check_weight, free_mask, parse_net};
 use crate::{Error, Result};
 use fairsurf::bspline::{BSplineProblem, BSplineSolution, BSplineSurface, KnotVector};
 use fairsurf::energy::{NormalField, NormalGuide};
-use fairsurf::Vec3;
+use fairsurf::{SolveOptions, Vec3};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
@@ -612,11 +612,30 @@ impl BSplineScene {
         Ok(problem)
     }
 
-    /// Validates and solves.
+    /// Validates and solves with default options.
     pub fn solve(&self) -> Result<SolvedBSplineScene> {
+        self.solve_with(&SolveOptions::default())
+    }
+
+    /// Validates and solves; with `opts.analyse` the report carries the
+    /// result's measures (area, functionals, |H|: [`BSplineSurface::measures`]),
+    /// their time in `timings.analyse` and `timings.total`.
+    pub fn solve_with(&self, opts: &SolveOptions) -> Result<SolvedBSplineScene> {
         let problem = self.problem()?;
-        let solution = problem.solve()?;
-        let normal_turn = solution.surface.largest_normal_turn();
+        let mut solution = problem.solve()?;
+        let t = std::time::Instant::now();
+        let normal_turn = if opts.analyse {
+            let measures = solution.surface.measures();
+            let turn = measures.normal_turn;
+            let r = &mut solution.report;
+            r.measures = Some(measures);
+            let seconds = t.elapsed().as_secs_f64();
+            r.timings.analyse += seconds;
+            r.timings.total += seconds;
+            turn
+        } else {
+            solution.surface.largest_normal_turn()
+        };
         Ok(SolvedBSplineScene {
             scene: self.clone(),
             guide_points: problem.guide().map(|g| g.1.to_vec()).unwrap_or_default(),

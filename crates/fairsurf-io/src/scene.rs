@@ -145,7 +145,7 @@ impl Scene {
             (Scene::Tensor(s), None) => SolvedScene::Tensor(s.solve_with(opts)?),
             (Scene::Triangular(s), Some(c)) => SolvedScene::Triangular(s.solve_cached(c)?),
             (Scene::Triangular(s), None) => SolvedScene::Triangular(s.solve()?),
-            (Scene::BSpline(s), _) => SolvedScene::BSpline(Box::new(s.solve()?)),
+            (Scene::BSpline(s), _) => SolvedScene::BSpline(Box::new(s.solve_with(opts)?)),
         })
     }
 

@@ -1732,3 +1732,64 @@ fn bspline_figures_4_and_5_follow_their_truths() {
         );
     }
 }
+
+/// Bézier and B-spline minimizations write one report: every figure of a
+/// Bézier patch's report is in a B-spline surface's, with the same JSON
+/// type (the Bézier-only comparisons with a normal field or guide surface
+/// aside); the B-spline one adds only its spans and factor; with analysis
+/// off neither has the measures.
+#[test]
+fn bezier_and_bspline_reports_have_the_same_figures() {
+    let report = |name: &str, analyse: bool| -> serde_json::Map<String, Value> {
+        let text = std::fs::read_to_string(examples().join(name)).unwrap();
+        let scene = fairsurf_io::Scene::from_json(&text).unwrap();
+        let opts = fairsurf::SolveOptions {
+            analyse,
+            ..Default::default()
+        };
+        match scene.solve_with(&opts).unwrap().report_json() {
+            Value::Object(o) => o,
+            other => panic!("{other}"),
+        }
+    };
+    let kind = |v: &Value| match v {
+        Value::Null => "null",
+        Value::Bool(_) => "bool",
+        Value::Number(_) => "number",
+        Value::String(_) => "string",
+        Value::Array(_) => "array",
+        Value::Object(_) => "object",
+    };
+    for analyse in [true, false] {
+        let bezier = report("wu_yang_fig4_l500.json", analyse);
+        let bspline = report("bspline_wu_yang_fig4_l500.json", analyse);
+        for (key, value) in &bezier {
+            if ["normal_deviation_deg", "guide_distance_max"].contains(&key.as_str()) {
+                continue;
+            }
+            let theirs = bspline
+                .get(key)
+                .unwrap_or_else(|| panic!("B-spline report lacks {key}"));
+            assert_eq!(kind(theirs), kind(value), "{key}");
+            if let (Value::Object(a), Value::Object(b)) = (value, theirs) {
+                let (mut a, mut b): (Vec<_>, Vec<_>) = (a.keys().collect(), b.keys().collect());
+                a.sort();
+                b.sort();
+                assert_eq!(a, b, "{key}");
+            }
+        }
+        let extra: Vec<&String> = bspline
+            .keys()
+            .filter(|k| !bezier.contains_key(*k))
+            .collect();
+        assert!(
+            extra
+                .iter()
+                .all(|k| ["spans", "factor_nonzeros", "max_normal_turn_deg"].contains(&k.as_str())),
+            "{extra:?}"
+        );
+        assert_eq!(bspline.contains_key("area"), analyse);
+        assert_eq!(bspline.contains_key("abs_mean_curvature"), analyse);
+        assert_eq!(bezier.contains_key("area"), analyse);
+    }
+}

@@ -191,16 +191,20 @@ impl BSplineProblem {
             .zip(&placed)
             .map(|(op, (nodes, res))| op.outcome_on(nodes, res, &surface, &x_flat))
             .collect();
-        let mut terms = vec![
-            TermEnergy {
-                name: "stretch".into(),
-                value: stretch,
-            },
-            TermEnergy {
-                name: "bend".into(),
-                value: bend,
-            },
-        ];
+        // The terms the problem has (a zero weight is no term), as a Bézier
+        // patch's report names them.
+        let mut terms = Vec::new();
+        for (name, weight, value) in [
+            ("stretch", self.stretch, stretch),
+            ("bend", self.bend, bend),
+        ] {
+            if weight != 0.0 {
+                terms.push(TermEnergy {
+                    name: name.into(),
+                    value,
+                });
+            }
+        }
         if self.normal.is_some() {
             terms.push(TermEnergy {
                 name: "normal_field".into(),

@@ -430,13 +430,17 @@ impl BSplineSurface {
     }
 
     /// The largest turn of the unit normal between neighbouring samples of
-    /// a 5 × 5 grid on every Bézier piece, with `at` in the surface's
+    /// a (k + 1) × (k + 1) grid on every Bézier piece, k = 64 / (the larger
+    /// number of spans), at least 4 (a single span is sampled as a Bézier
+    /// patch's measures sample it, 65 × 65), with `at` in the surface's
     /// parameters (see [`crate::analysis::largest_normal_turn`]).
     pub fn largest_normal_turn(&self) -> Option<crate::analysis::NormalTurn> {
+        let spans = self.u.spans().len().max(self.v.spans().len()).max(1);
+        let k = (crate::analysis::CURVATURE_GRID / spans).max(4);
         self.bezier_pieces()
             .iter()
             .filter_map(|p| {
-                crate::analysis::largest_normal_turn(&p.patch, 4).map(|t| {
+                crate::analysis::largest_normal_turn(&p.patch, k).map(|t| {
                     let (s, r) = t.at;
                     crate::analysis::NormalTurn {
                         angle: t.angle,
@@ -445,6 +449,45 @@ impl BSplineSurface {
                 })
             })
             .max_by(|a, b| a.angle.total_cmp(&b.angle))
+    }
+
+    /// Area (with its error estimate), both functionals and the |H|
+    /// statistics, as [`crate::analysis::measures`] gives them for a Bézier
+    /// patch: the area summed over the Bézier pieces (adaptive
+    /// Gauss–Legendre on each), the Dirichlet and thin-plate functionals
+    /// exact over the knot domain, |H| on the 65 × 65 uniform grid of the
+    /// domain, and the normal turn of [`Self::largest_normal_turn`]. A
+    /// surface without interior knots over [0, 1]² gives its Bézier patch's
+    /// measures.
+    pub fn measures(&self) -> crate::analysis::SurfaceMeasures {
+        let pieces = self.bezier_pieces();
+        let (mut area, mut area_error) = (0.0, 0.0);
+        for p in &pieces {
+            let a = crate::analysis::area(&p.patch);
+            area += a.value;
+            area_error += a.error;
+        }
+        let k = crate::analysis::CURVATURE_GRID;
+        let ((a, b), (c, d)) = (self.u.domain(), self.v.domain());
+        let us: Vec<f64> = (0..=k).map(|i| a + (b - a) * i as f64 / k as f64).collect();
+        let vs: Vec<f64> = (0..=k).map(|j| c + (d - c) * j as f64 / k as f64).collect();
+        let grid = self.derivatives_on(&us, &vs);
+        let degree = self.degree();
+        let part = |stretch, bend| {
+            super::energy::energy_by_pieces(
+                &pieces,
+                degree,
+                &super::energy::patterns(stretch, bend),
+            )
+        };
+        crate::analysis::SurfaceMeasures {
+            area,
+            area_error,
+            dirichlet: part(1.0, 0.0),
+            biharmonic: part(0.0, 1.0),
+            abs_mean_curvature: crate::analysis::abs_mean_curvature_on(&grid, k),
+            normal_turn: self.largest_normal_turn(),
+        }
     }
 
     /// Derivatives on a (ru + 1) × (rv + 1) uniform grid of the domain,

@@ -209,6 +209,61 @@ fn energies_equal_the_bezier_pieces_closed_forms() {
     assert!((r.dirichlet() - s.dirichlet()).abs() < 1e-12 * s.dirichlet());
 }
 
+#[test]
+fn measures_of_one_span_are_the_bezier_patchs_and_knots_change_none() {
+    // One span over [0, 1]²: the Bézier patch's measures (the same grid).
+    let p = TensorPatch::from_fn(4, 3, |i, j| [i as f64, j as f64, 0.6 * noise(5 * i + j)]);
+    let (a, b) = (
+        BSplineSurface::from_bezier(&p).measures(),
+        crate::analysis::measures(&p),
+    );
+    let close = |x: f64, y: f64, tol: f64| (x - y).abs() <= tol * y.abs().max(1e-300);
+    assert!(close(a.area, b.area, 1e-13), "{} vs {}", a.area, b.area);
+    assert!(close(a.dirichlet, b.dirichlet, 1e-13) && close(a.biharmonic, b.biharmonic, 1e-13));
+    let (h, g) = (a.abs_mean_curvature, b.abs_mean_curvature);
+    assert_eq!((h.samples, h.singular), (g.samples, g.singular));
+    assert!(
+        close(h.min, g.min, 1e-9) && close(h.max, g.max, 1e-11) && close(h.mean, g.mean, 1e-12)
+    );
+    let (t, u) = (a.normal_turn.unwrap(), b.normal_turn.unwrap());
+    assert!(
+        close(t.angle, u.angle, 1e-9) && t.at == u.at,
+        "{t:?} vs {u:?}"
+    );
+    // Inserting knots changes the net, not the surface: area to its
+    // quadrature error, the functionals and |H| (the same grid points) to
+    // rounding.
+    let (u, v) = uneven();
+    let s = wavy(u, v);
+    let r = s.refined(&[0.1, 0.5, 0.77], &[0.35, 0.9]).unwrap();
+    let (ms, mr) = (s.measures(), r.measures());
+    assert!((ms.area - mr.area).abs() <= ms.area_error + mr.area_error + 1e-13 * ms.area);
+    assert!(close(mr.dirichlet, ms.dirichlet, 1e-12) && close(mr.biharmonic, ms.biharmonic, 1e-11));
+    let (h, g) = (mr.abs_mean_curvature, ms.abs_mean_curvature);
+    assert_eq!(h.samples, g.samples);
+    assert!(
+        close(h.max, g.max, 1e-10) && close(h.mean, g.mean, 1e-10),
+        "{h:?} vs {g:?}"
+    );
+    // And the area is the parameter-free one: an independent midpoint rule
+    // of |R_u × R_v| over the knot domain, 400² points.
+    let n = 400;
+    let mut midpoint = 0.0;
+    for i in 0..n {
+        for j in 0..n {
+            let d = s.derivatives((i as f64 + 0.5) / n as f64, (j as f64 + 0.5) / n as f64);
+            let c = [
+                d.du[1] * d.dv[2] - d.du[2] * d.dv[1],
+                d.du[2] * d.dv[0] - d.du[0] * d.dv[2],
+                d.du[0] * d.dv[1] - d.du[1] * d.dv[0],
+            ];
+            midpoint += (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
+        }
+    }
+    midpoint /= (n * n) as f64;
+    assert!(close(ms.area, midpoint, 1e-4), "{} vs {midpoint}", ms.area);
+}
+
 /// The B-spline coefficients of Σ c_ab u^a v^b by blossoming: the
 /// coefficient i of t^a is e_a(t_{i+1}, …, t_{i+p}) / C(p, a).
 fn blossomed(u: &KnotVector, v: &KnotVector, f: &[[f64; 4]; 4]) -> Vec<f64> {
