@@ -331,7 +331,7 @@ impl OutputArgs {
                     .iter()
                     .map(|s| {
                         let (ku, kv) = s.knots();
-                        SurfaceMesh::from_bspline(s, r * ku.spans().len(), r * kv.spans().len())
+                        SurfaceMesh::from_patch(*s, r * ku.spans().len(), r * kv.spans().len())
                     })
                     .chain(
                         triangular

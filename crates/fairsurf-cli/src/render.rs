@@ -3,6 +3,7 @@
 use crate::input::{surface, with_file, Loaded};
 use crate::Failure;
 use fairsurf::energy::NormalGuide;
+use fairsurf::ParamSurface;
 use fairsurf_io::{write_atomic, Scene, SolvedScene, Surface};
 use fairsurf_render::{render, Arrow, ColourBy, Panel, Range, RenderOptions, View};
 use std::path::{Path, PathBuf};

@@ -116,7 +116,7 @@ impl Surface {
         match self {
             Surface::Tensor(p) => SurfaceMesh::from_patch(p, resolution, resolution),
             Surface::Triangular(t) => SurfaceMesh::from_tri_surface(t, tri_resolution(resolution)),
-            Surface::BSpline(s) => SurfaceMesh::from_bspline(s, resolution, resolution),
+            Surface::BSpline(s) => SurfaceMesh::from_patch(s, resolution, resolution),
         }
     }
 

@@ -2,7 +2,7 @@
 //! every vertex, for the mesh writers (PLY properties, glTF colours).
 
 use fairsurf::analysis::{curvature, Curvature};
-use fairsurf::{TensorPatch, TriMesh, TriSurface};
+use fairsurf::{ParamSurface, TensorPatch, TriMesh, TriSurface};
 
 /// A [`TriMesh`] sampled from a patch together with the exact curvature of
 /// the patch at each vertex's (u, v): `curvature()[k]` belongs to
@@ -30,10 +30,11 @@ pub struct SurfaceMesh {
 }
 
 impl SurfaceMesh {
-    /// The patch tessellated on a (ru+1)×(rv+1) grid ([`TriMesh::from_patch`])
-    /// with the curvature at every vertex.
-    pub fn from_patch(patch: &TensorPatch, ru: usize, rv: usize) -> Self {
-        let (mesh, curvature) = TriMesh::with_curvature(patch, ru, rv);
+    /// A surface of any tensor kind (a Bézier patch, a B-spline over its
+    /// knot domain) tessellated on a (ru+1)×(rv+1) uniform grid of its
+    /// domain ([`TriMesh::from_patch`]) with the curvature at every vertex.
+    pub fn from_patch(surface: &impl ParamSurface, ru: usize, rv: usize) -> Self {
+        let (mesh, curvature) = TriMesh::with_curvature(surface, ru, rv);
         Self { mesh, curvature }
     }
 
@@ -42,13 +43,6 @@ impl SurfaceMesh {
     /// vertex.
     pub fn from_tri_surface(surface: &TriSurface, r: usize) -> Self {
         let (mesh, curvature) = surface.mesh_with_curvature(r);
-        Self { mesh, curvature }
-    }
-
-    /// A B-spline surface on a (ru+1)×(rv+1) grid of its domain
-    /// ([`TriMesh::from_bspline`]), with the curvature at every vertex.
-    pub fn from_bspline(surface: &fairsurf::bspline::BSplineSurface, ru: usize, rv: usize) -> Self {
-        let (mesh, curvature) = TriMesh::from_bspline(surface, ru, rv);
         Self { mesh, curvature }
     }
 

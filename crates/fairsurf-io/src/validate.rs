@@ -586,7 +586,7 @@ impl Field {
     fn eval01(&self, u: f64, v: f64) -> Vec3 {
         match self {
             Field::Bezier(p) => p.eval(u, v),
-            Field::Spline(s) => s.eval_unit(u, v),
+            Field::Spline(s) => fairsurf::ParamSurface::eval_unit(s, u, v),
         }
     }
 }

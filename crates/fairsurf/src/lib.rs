@@ -40,6 +40,7 @@ mod curve;
 mod error;
 mod mesh;
 mod solve;
+mod surface;
 mod tensor;
 mod vec3;
 
@@ -67,6 +68,7 @@ pub use mesh::TriMesh;
 pub use solve::{
     FactorCache, Factored, Problem, Solution, SolveOptions, SolveReport, TermEnergy, Timings,
 };
+pub use surface::ParamSurface;
 pub use tensor::{SurfaceDerivatives, TensorConstraint, TensorPatch};
 pub use triangle::{TriPatch, TriSurface};
 pub use vec3::Vec3;

@@ -1,8 +1,9 @@
 //! Tessellation of a patch into a triangle mesh with exact normals.
 
 use crate::analysis::{curvature_from, Curvature};
+use crate::surface::ParamSurface;
 use crate::vec3::{cross, normalize, sub, Vec3};
-use crate::{SurfaceDerivatives, TensorPatch};
+use crate::SurfaceDerivatives;
 
 /// A triangle mesh: positions, unit normals and (u, v) per vertex,
 /// counter-clockwise triangles (seen from the side the normals point to).
@@ -18,61 +19,31 @@ pub struct TriMesh {
     pub triangles: Vec<[u32; 3]>,
 }
 
-/// The uniform parameters i/r, i = 0…r, in each direction (r ≥ 1).
-fn uniform(ru: usize, rv: usize) -> (Vec<f64>, Vec<f64>) {
-    let t = |r: usize| {
-        let r = r.max(1);
-        (0..=r).map(|i| i as f64 / r as f64).collect()
-    };
-    (t(ru), t(rv))
-}
-
 impl TriMesh {
     /// Samples the patch on a (ru+1)×(rv+1) uniform parameter grid (ru, rv ≥ 1)
     /// and splits each cell into two triangles. Normals are the patch's exact
     /// unit normals; where the patch is not regular (a collapsed edge) the
     /// normal is taken a tiny step inside the domain, and failing that from
     /// the adjacent mesh faces.
-    pub fn from_patch(patch: &TensorPatch, ru: usize, rv: usize) -> Self {
-        let (us, vs) = uniform(ru, rv);
-        Self::from_grid(&us, &vs, &patch.grid_derivatives(&us, &vs), |u, v| {
-            patch.normal(inside(u), inside(v))
-        })
+    pub fn from_patch(surface: &impl ParamSurface, ru: usize, rv: usize) -> Self {
+        let (us, vs) = surface.uniform_grid(ru, rv);
+        let grid = surface.derivatives_on(&us, &vs);
+        Self::from_grid(&us, &vs, &grid, |u, v| inside_normal(surface, u, v))
     }
 
     /// [`TriMesh::from_patch`] together with the curvature at every vertex
-    /// (`None` where the patch is singular), from the same exact derivatives.
+    /// (`None` where the surface is singular), from the same exact
+    /// derivatives; `uvs` are the surface's own parameters (a B-spline's
+    /// knot domain).
     pub fn with_curvature(
-        patch: &TensorPatch,
+        surface: &impl ParamSurface,
         ru: usize,
         rv: usize,
     ) -> (Self, Vec<Option<Curvature>>) {
-        let (us, vs) = uniform(ru, rv);
-        let grid = patch.grid_derivatives(&us, &vs);
+        let (us, vs) = surface.uniform_grid(ru, rv);
+        let grid = surface.derivatives_on(&us, &vs);
         let curvature = grid.iter().map(curvature_from).collect();
-        let normal = |u, v| patch.normal(inside(u), inside(v));
-        (Self::from_grid(&us, &vs, &grid, normal), curvature)
-    }
-
-    /// A B-spline surface sampled on a (ru+1)×(rv+1) uniform grid of its
-    /// domain (`uvs` in the knots' parameters), with the curvature at every
-    /// vertex.
-    pub fn from_bspline(
-        surface: &crate::bspline::BSplineSurface,
-        ru: usize,
-        rv: usize,
-    ) -> (Self, Vec<Option<Curvature>>) {
-        let (ru, rv) = (ru.max(1), rv.max(1));
-        let (uvs, grid) = surface.grid_derivatives(ru, rv);
-        let curvature = grid.iter().map(curvature_from).collect();
-        let us: Vec<f64> = (0..=ru).map(|i| uvs[i * (rv + 1)][0]).collect();
-        let vs: Vec<f64> = (0..=rv).map(|j| uvs[j][1]).collect();
-        let ((a, b), (c, d)) = (surface.knots().0.domain(), surface.knots().1.domain());
-        let toward = |t: f64, lo: f64, hi: f64| {
-            let h = 1e-7 * (hi - lo);
-            (t + if t < 0.5 * (lo + hi) { h } else { -h }).clamp(lo, hi)
-        };
-        let normal = |u, v| surface.normal(toward(u, a, b), toward(v, c, d));
+        let normal = |u, v| inside_normal(surface, u, v);
         (Self::from_grid(&us, &vs, &grid, normal), curvature)
     }
 
@@ -139,14 +110,21 @@ impl TriMesh {
     }
 }
 
-/// A parameter in [0, 1] moved 1e-7 toward the middle.
-fn inside(t: f64) -> f64 {
-    (t + if t < 0.5 { 1e-7 } else { -1e-7 }).clamp(0.0, 1.0)
+/// The unit normal a tiny step (1e-7 of the domain) inside the domain from
+/// (u, v): where a collapsed edge leaves none at the edge itself.
+fn inside_normal(surface: &impl ParamSurface, u: f64, v: f64) -> Option<Vec3> {
+    let toward = |t: f64, (lo, hi): (f64, f64)| {
+        let h = 1e-7 * (hi - lo);
+        (t + if t < 0.5 * (lo + hi) { h } else { -h }).clamp(lo, hi)
+    };
+    let [du, dv] = surface.domain();
+    surface.normal(toward(u, du), toward(v, dv))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::TensorPatch;
 
     #[test]
     fn grid_counts_and_orientation() {

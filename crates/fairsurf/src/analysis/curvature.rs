@@ -11,7 +11,7 @@
 //! ```
 
 use crate::vec3::{cross, dot, norm, normalize, Vec3};
-use crate::{SurfaceDerivatives, TensorPatch};
+use crate::{ParamSurface, SurfaceDerivatives, TensorPatch};
 
 /// Curvatures at one surface point.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -78,10 +78,12 @@ pub struct AbsMeanCurvature {
     pub singular: usize,
 }
 
-/// |H| on the (k+1)×(k+1) grid u, v = 0, 1/k, …, 1.
-pub fn abs_mean_curvature(patch: &TensorPatch, k: usize) -> AbsMeanCurvature {
+/// |H| on the (k+1)×(k+1) uniform grid of the surface's domain (u, v = 0,
+/// 1/k, …, 1 for a Bézier patch).
+pub fn abs_mean_curvature(surface: &impl ParamSurface, k: usize) -> AbsMeanCurvature {
     let k = k.max(1);
-    abs_mean_curvature_on(&patch.grid_derivatives(&unit_grid(k), &unit_grid(k)), k)
+    let (us, vs) = surface.uniform_grid(k, k);
+    abs_mean_curvature_on(&surface.derivatives_on(&us, &vs), k)
 }
 
 /// 0, 1/k, …, 1.
@@ -200,7 +202,7 @@ mod tests {
         });
         let k = 16;
         let ts = unit_grid(k);
-        let d = p.grid_derivatives(&ts, &ts);
+        let d = p.derivatives_on(&ts, &ts);
         let (stats, normals) = abs_mean_curvature_and_normals(&d, k);
         let w = |i: usize| if i == 0 || i == k { 0.5 } else { 1.0 };
         let (mut num, mut den, mut min, mut max) = (0.0, 0.0, f64::INFINITY, 0.0f64);

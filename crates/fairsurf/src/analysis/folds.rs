@@ -6,7 +6,7 @@
 
 use super::curvature::unit_grid;
 use crate::vec3::{angle, cross, dot, normalize, sub, Vec3};
-use crate::{SurfaceDerivatives, TensorPatch, TriSurface};
+use crate::{ParamSurface, SurfaceDerivatives, TriSurface};
 
 /// The largest turn of the unit normal between neighbouring grid samples.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -27,10 +27,18 @@ impl NormalTurn {
 /// The largest angle between the unit normals of horizontally or vertically
 /// neighbouring samples of the (k+1)×(k+1) grid; samples where the normal
 /// is undefined (a collapsed corner) are skipped. `None` when no pair has
-/// two normals.
-pub fn largest_normal_turn(patch: &TensorPatch, k: usize) -> Option<NormalTurn> {
+/// two normals. The grid is uniform over the surface's domain, and `at` is
+/// in its parameters.
+pub fn largest_normal_turn(surface: &impl ParamSurface, k: usize) -> Option<NormalTurn> {
     let k = k.max(1);
-    largest_normal_turn_on(&patch.grid_derivatives(&unit_grid(k), &unit_grid(k)), k)
+    let (us, vs) = surface.uniform_grid(k, k);
+    let turn = largest_normal_turn_on(&surface.derivatives_on(&us, &vs), k)?;
+    let [(a, b), (c, d)] = surface.domain();
+    let (s, t) = turn.at;
+    Some(NormalTurn {
+        at: (a + (b - a) * s, c + (d - c) * t),
+        ..turn
+    })
 }
 
 /// [`largest_normal_turn`] from the derivatives on that grid (u-major).
@@ -138,6 +146,7 @@ pub fn largest_tri_normal_turn(surface: &TriSurface, k: usize) -> Option<TriNorm
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::TensorPatch;
 
     /// A flat patch turns by 0; a patch folded back over itself (its middle
     /// column of control points pulled past the far side) turns by more

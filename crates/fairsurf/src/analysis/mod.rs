@@ -10,7 +10,6 @@ mod normals;
 
 pub use area::{area, Area, AREA_TOLERANCE};
 pub use continuity::{continuity, Continuity, Edge, Stat};
-pub(crate) use curvature::abs_mean_curvature_on;
 pub use curvature::{abs_mean_curvature, curvature, curvature_from, AbsMeanCurvature, Curvature};
 pub use folds::{largest_normal_turn, largest_tri_normal_turn, NormalTurn, TriNormalTurn};
 pub use functionals::{biharmonic, dirichlet};
@@ -46,7 +45,7 @@ pub fn measures(patch: &TensorPatch) -> SurfaceMeasures {
     // One derivative grid serves the |H| statistics and the normal turn.
     let k = CURVATURE_GRID;
     let ts = curvature::unit_grid(k);
-    let grid = patch.grid_derivatives(&ts, &ts);
+    let grid = patch.derivatives_on(&ts, &ts);
     let (abs_mean_curvature, normals) = curvature::abs_mean_curvature_and_normals(&grid, k);
     SurfaceMeasures {
         area: a.value,

@@ -30,7 +30,7 @@ pub fn normal_deviation(
     let us: Vec<f64> = (0..=ku).map(|i| i as f64 / ku as f64).collect();
     let vs: Vec<f64> = (0..=kv).map(|j| j as f64 / kv as f64).collect();
     // Whole grids at O(degree) a point (was a full evaluation per point).
-    let normals = patch.grid_derivatives(&us, &vs);
+    let normals = patch.derivatives_on(&us, &vs);
     let guide = field.directions(&us, &vs);
     let (mut max, mut sum, mut sum2, mut count) = (0.0f64, 0.0, 0.0, 0usize);
     for (d, g) in normals.iter().zip(guide) {

@@ -133,7 +133,7 @@ pub(crate) fn energy_by_quadrature(
     let mut total = 0.0;
     for piece in pieces {
         let (hu, hv) = (piece.u.1 - piece.u.0, piece.v.1 - piece.v.0);
-        let d = piece.patch.grid_derivatives(&gu.nodes, &gv.nodes);
+        let d = piece.patch.derivatives_on(&gu.nodes, &gv.nodes);
         for (a, wa) in gu.weights.iter().enumerate() {
             for (b, wb) in gv.weights.iter().enumerate() {
                 let x = &d[a * gv.nodes.len() + b];

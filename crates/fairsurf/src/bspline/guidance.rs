@@ -390,7 +390,7 @@ impl NormalTerm {
             let (us, vs) = (field.nodes(0, piece.u, &gu), field.nodes(1, piece.v, &gv));
             let xs: Vec<f64> = us.iter().map(|&(u, _)| (u - piece.u.0) / hu).collect();
             let ys: Vec<f64> = vs.iter().map(|&(v, _)| (v - piece.v.0) / hv).collect();
-            let d = piece.patch.grid_derivatives(&xs, &ys);
+            let d = piece.patch.derivatives_on(&xs, &ys);
             for (a, &(u, wu)) in us.iter().enumerate() {
                 for (b, &(v, wv)) in vs.iter().enumerate() {
                     let g = &d[a * vs.len() + b];

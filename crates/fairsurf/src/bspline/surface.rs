@@ -98,13 +98,6 @@ impl BSplineSurface {
         self.partials(u, v, 0)[0][0]
     }
 
-    /// R at (s, t) of [0, 1]² mapped onto the knot domain (how normal
-    /// fields, arrows and samples address a B-spline over its domain).
-    pub fn eval_unit(&self, s: f64, t: f64) -> Vec3 {
-        let ((a, b), (c, d)) = (self.u.domain(), self.v.domain());
-        self.eval(a + (b - a) * s, c + (d - c) * t)
-    }
-
     /// R and its first and second partial derivatives at (u, v).
     pub fn derivatives(&self, u: f64, v: f64) -> SurfaceDerivatives {
         let d = self.partials(u, v, 2);
@@ -467,11 +460,6 @@ impl BSplineSurface {
             area += a.value;
             area_error += a.error;
         }
-        let k = crate::analysis::CURVATURE_GRID;
-        let ((a, b), (c, d)) = (self.u.domain(), self.v.domain());
-        let us: Vec<f64> = (0..=k).map(|i| a + (b - a) * i as f64 / k as f64).collect();
-        let vs: Vec<f64> = (0..=k).map(|j| c + (d - c) * j as f64 / k as f64).collect();
-        let grid = self.derivatives_on(&us, &vs);
         let degree = self.degree();
         let part = |stretch, bend| {
             super::energy::energy_by_pieces(
@@ -485,29 +473,11 @@ impl BSplineSurface {
             area_error,
             dirichlet: part(1.0, 0.0),
             biharmonic: part(0.0, 1.0),
-            abs_mean_curvature: crate::analysis::abs_mean_curvature_on(&grid, k),
+            abs_mean_curvature: crate::analysis::abs_mean_curvature(
+                self,
+                crate::analysis::CURVATURE_GRID,
+            ),
             normal_turn: self.largest_normal_turn(),
         }
-    }
-
-    /// Derivatives on a (ru + 1) × (rv + 1) uniform grid of the domain,
-    /// u-major, with the parameters.
-    pub fn grid_derivatives(
-        &self,
-        ru: usize,
-        rv: usize,
-    ) -> (Vec<[f64; 2]>, Vec<SurfaceDerivatives>) {
-        let ((a, b), (c, d)) = (self.u.domain(), self.v.domain());
-        let mut uvs = Vec::with_capacity((ru + 1) * (rv + 1));
-        let mut out = Vec::with_capacity((ru + 1) * (rv + 1));
-        for i in 0..=ru {
-            let u = a + (b - a) * i as f64 / ru as f64;
-            for j in 0..=rv {
-                let v = c + (d - c) * j as f64 / rv as f64;
-                uvs.push([u, v]);
-                out.push(self.derivatives(u, v));
-            }
-        }
-        (uvs, out)
     }
 }

@@ -113,7 +113,7 @@ impl NormalField {
     pub fn direction(&self, u: f64, v: f64) -> Option<Vec3> {
         match &self.guide {
             NormalGuide::Field(f) => normalize(f.eval(u, v)),
-            NormalGuide::Spline(f) => normalize(f.eval_unit(u, v)),
+            NormalGuide::Spline(f) => normalize(crate::ParamSurface::eval_unit(f, u, v)),
             NormalGuide::Samples { grid, normals, .. } => {
                 let (np, mp) = grid.size();
                 let i = (u * np as f64).round().clamp(0.0, np as f64) as usize;
@@ -125,11 +125,11 @@ impl NormalField {
 
     /// [`Self::direction`] at every (u, v) of a tensor grid, u-major
     /// (`out[a·vs.len() + b]` at `(us[a], vs[b])`); a field patch is
-    /// evaluated by [`TensorPatch::grid_derivatives`].
+    /// evaluated by [`TensorPatch::derivatives_on`].
     pub fn directions(&self, us: &[f64], vs: &[f64]) -> Vec<Option<Vec3>> {
         match &self.guide {
             NormalGuide::Field(f) => f
-                .grid_derivatives(us, vs)
+                .derivatives_on(us, vs)
                 .iter()
                 .map(|d| normalize(d.point))
                 .collect(),

@@ -165,7 +165,7 @@ impl TensorPatch {
     /// Derivatives at every (u, v) of a tensor grid, u-major:
     /// `out[a·vs.len() + b]` is at `(us[a], vs[b])`. Contracts the u-direction
     /// once per u-value, so each point costs O(m) rather than O(nm).
-    pub fn grid_derivatives(&self, us: &[f64], vs: &[f64]) -> Vec<SurfaceDerivatives> {
+    pub fn derivatives_on(&self, us: &[f64], vs: &[f64]) -> Vec<SurfaceDerivatives> {
         const ORDERS: [(usize, usize); 6] = [(0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2)];
         let mut out = Vec::with_capacity(us.len() * vs.len());
         self.grid_partials(us, vs, ORDERS, |[point, du, dv, duu, duv, dvv]| {
@@ -182,7 +182,7 @@ impl TensorPatch {
     }
 
     /// (R_u, R_v) at every (u, v) of a tensor grid, u-major as
-    /// [`TensorPatch::grid_derivatives`], without the other derivatives.
+    /// [`TensorPatch::derivatives_on`], without the other derivatives.
     pub(crate) fn grid_tangents(&self, us: &[f64], vs: &[f64]) -> Vec<(Vec3, Vec3)> {
         let mut out = Vec::with_capacity(us.len() * vs.len());
         self.grid_partials(us, vs, [(1, 0), (0, 1)], |[du, dv]| out.push((du, dv)));
@@ -362,7 +362,7 @@ mod tests {
         let p = wavy();
         let us = [0.0, 0.3, 1.0];
         let vs = [0.1, 0.55];
-        let g = p.grid_derivatives(&us, &vs);
+        let g = p.derivatives_on(&us, &vs);
         for (a, &u) in us.iter().enumerate() {
             for (b, &v) in vs.iter().enumerate() {
                 let d = p.derivatives(u, v);

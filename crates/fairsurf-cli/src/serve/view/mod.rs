@@ -7,7 +7,7 @@ use super::{ApiError, ApiResult, Limits};
 use axum::http::StatusCode;
 use fairsurf::colour::ColourMap;
 use fairsurf::vector::{add, dot, normalize, scale, sub};
-use fairsurf::{BezierCurve, Vec3};
+use fairsurf::{BezierCurve, ParamSurface, Vec3};
 use fairsurf_io::{
     write_iges_surfaces, write_mesh, write_step_surfaces, Outcome, Scene, SolvedBSplineScene,
     SolvedScene, SolvedTensorScene, SolvedTriScene, SurfaceMesh,

@@ -14,21 +14,6 @@ pub(super) fn bspline_view(solved: &SolvedBSplineScene) -> View<'_> {
     let size = size_of(s.points());
     let scene_json = serde_json::to_value(scene).expect("json");
     let (cu, cv) = s.counts();
-    let ((u0, u1), (v0, v1)) = (s.knots().0.domain(), s.knots().1.domain());
-    let side = |f: &dyn Fn(f64) -> (f64, f64)| -> Vec<Vec3> {
-        (0..=64)
-            .map(|k| {
-                let (u, v) = f(k as f64 / 64.0);
-                s.eval(u, v)
-            })
-            .collect()
-    };
-    let boundary = vec![
-        side(&|t| (u0, v0 + t * (v1 - v0))),
-        side(&|t| (u0 + t * (u1 - u0), v1)),
-        side(&|t| (u1, v1 - t * (v1 - v0))),
-        side(&|t| (u1 - t * (u1 - u0), v0)),
-    ];
     // Handles: the scene's given points that are held. With "refine" the
     // solved net is finer; the held points are then the scene's rings.
     let rows = &scene.surface.control_points;
@@ -86,12 +71,12 @@ pub(super) fn bspline_view(solved: &SolvedBSplineScene) -> View<'_> {
         kind: "bspline",
         table,
         result: json!(solved.result_scene()),
-        mesh: mesh_view(&SurfaceMesh::from_bspline(s, 48, 48)),
+        mesh: mesh_view(&SurfaceMesh::from_patch(s, 48, 48)),
         net: Net {
             points: s.points(),
             edges: grid_edges(cu, cv),
         },
-        boundary,
+        boundary: s.boundary(64).into(),
         normals,
         operators,
         handles,
@@ -107,15 +92,7 @@ pub(super) fn tensor_view(solved: &SolvedTensorScene) -> View<'_> {
     let size = size_of(patch.points());
     let scene_json = serde_json::to_value(scene).expect("json");
 
-    let boundary: Vec<Vec<Vec3>> = [
-        (0..=m).map(|j| patch.point(0, j)).collect::<Vec<_>>(),
-        (0..=n).map(|i| patch.point(i, m)).collect(),
-        (0..=m).rev().map(|j| patch.point(n, j)).collect(),
-        (0..=n).rev().map(|i| patch.point(i, 0)).collect(),
-    ]
-    .into_iter()
-    .map(|pts| polyline(pts, 48))
-    .collect();
+    let boundary = patch.boundary(64).into();
 
     let mut normals = Vec::new();
     if let Some(f) = &solved.built.normal_field {
