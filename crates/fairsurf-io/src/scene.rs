@@ -65,8 +65,10 @@ impl SurfaceType {
     }
 }
 
-/// A scene of any kind, as read from a file.
-#[derive(Clone, Debug)]
+/// A scene of any kind, as read from a file; it writes as that kind's
+/// scene (its `surface.type` says which).
+#[derive(Clone, Debug, serde::Serialize)]
+#[serde(untagged)]
 pub enum Scene {
     /// `surface.type` `"tensor"`.
     Tensor(TensorScene),

@@ -2,10 +2,10 @@
 //! directions and planes the editor drags (`editor/API.md`,
 //! `handles[].edit`).
 
-use super::vec3;
+use super::{vec3, Edit, Handle};
 use fairsurf::vector::{add, dot, normalize, scale};
 use fairsurf::Vec3;
-use serde_json::{json, Value};
+use serde_json::Value;
 
 /// An entry of the scene (an operator or a constraint) whose fields become
 /// handles (see `editor/API.md`, `handles[].edit`).
@@ -47,21 +47,20 @@ impl<'a> Field<'a> {
             })
     }
 
-    pub(super) fn handle(&self, field: &str, position: Vec3, edit: Option<Value>) -> Value {
-        let mut h = json!({
-            "pointer": format!("{}/{field}", self.prefix),
-            "position": position,
-            "label": format!("{}: {field}", self.label),
-            "kind": self.kind,
-        });
-        if let Some(e) = edit {
-            h["edit"] = e;
+    pub(super) fn handle(&self, field: &str, position: Vec3, edit: Option<Edit>) -> Handle {
+        Handle {
+            edit,
+            ..Handle::point(
+                format!("{}/{field}", self.prefix),
+                position,
+                format!("{}: {field}", self.label),
+                self.kind,
+            )
         }
-        h
     }
 
     /// The point `field`: the handle is where the value is.
-    pub(super) fn point(&self, handles: &mut Vec<Value>, field: &str) {
+    pub(super) fn point(&self, handles: &mut Vec<Handle>, field: &str) {
         if let Some(p) = vec3(&self.entry[field]) {
             handles.push(self.handle(field, p, None));
         }
@@ -70,22 +69,32 @@ impl<'a> Field<'a> {
     /// The direction `field`, drawn `length` from `anchor` along it.
     pub(super) fn direction(
         &self,
-        handles: &mut Vec<Value>,
+        handles: &mut Vec<Handle>,
         field: &str,
         anchor: Option<Vec3>,
         length: f64,
     ) {
-        if let Some(h) = self.direction_handle(field, anchor, length) {
+        if let Some(h) = self.direction_handle(field, anchor, length, None) {
             handles.push(h);
         }
     }
 
-    fn direction_handle(&self, field: &str, anchor: Option<Vec3>, length: f64) -> Option<Value> {
+    fn direction_handle(
+        &self,
+        field: &str,
+        anchor: Option<Vec3>,
+        length: f64,
+        offset: Option<String>,
+    ) -> Option<Handle> {
         let (anchor, d) = (anchor?, normalize(vec3(&self.entry[field])?)?);
         Some(self.handle(
             field,
             add(anchor, scale(d, length)),
-            Some(json!({"type": "direction", "anchor": anchor, "length": length})),
+            Some(Edit::Direction {
+                anchor,
+                length,
+                offset,
+            }),
         ))
     }
 
@@ -93,7 +102,7 @@ impl<'a> Field<'a> {
     /// a handle at the foot of `at` on the plane that moves the plane along
     /// its normal, and one for the normal that turns the plane about that
     /// foot.
-    pub(super) fn plane(&self, handles: &mut Vec<Value>, at: Option<Vec3>, length: f64) {
+    pub(super) fn plane(&self, handles: &mut Vec<Handle>, at: Option<Vec3>, length: f64) {
         let (Some(s), Some(n), Some(a)) = (
             at,
             vec3(&self.entry["normal"]),
@@ -109,10 +118,13 @@ impl<'a> Field<'a> {
         handles.push(self.handle(
             "offset",
             foot,
-            Some(json!({"type": "offset", "anchor": s, "normal": n})),
+            Some(Edit::Offset {
+                anchor: s,
+                normal: n,
+            }),
         ));
-        if let Some(mut h) = self.direction_handle("normal", Some(foot), length) {
-            h["edit"]["offset"] = json!(format!("{}/offset", self.prefix));
+        let offset = Some(format!("{}/offset", self.prefix));
+        if let Some(h) = self.direction_handle("normal", Some(foot), length, offset) {
             handles.push(h);
         }
     }

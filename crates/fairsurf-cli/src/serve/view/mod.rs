@@ -1,7 +1,9 @@
 //! What the editor draws and edits, from a solved scene: the mesh coloured
 //! by mean curvature, the control net, boundary, normals, operators, the
 //! draggable handles and sliders (as JSON pointers into the scene), and the
-//! energy/area table (see `editor/API.md`).
+//! energy/area table (see `editor/API.md`), as typed structs that mirror it
+//! (`View`, `Row`, `Handle`, `Edit`, `Slider`, `Arrow`, `Marker`), written
+//! straight to JSON text.
 
 use super::{ApiError, ApiResult, Limits};
 use axum::http::StatusCode;
@@ -66,7 +68,7 @@ pub(crate) fn analyse(text: &str, limits: &Limits) -> ApiResult<Value> {
     let start = Instant::now();
     let scene = Scene::from_json(text)?;
     check_size(&scene, limits)?;
-    let table: Vec<Value> = scene
+    let table: Vec<Row> = scene
         .analyse()?
         .into_iter()
         .map(|(l, v)| row(l, v))
@@ -221,8 +223,134 @@ fn check_size(scene: &Scene, limits: &Limits) -> ApiResult<()> {
     Ok(())
 }
 
-fn row(label: impl Into<String>, value: impl Into<Value>) -> Value {
-    json!({"label": label.into(), "value": value.into()})
+/// A row of the table (`editor/API.md`, `table`).
+#[derive(serde::Serialize)]
+pub(super) struct Row {
+    label: String,
+    value: Cell,
+}
+
+/// A table cell: a number (null when absent or not finite) or text.
+#[derive(serde::Serialize)]
+#[serde(untagged)]
+pub(super) enum Cell {
+    Number(Option<f64>),
+    Text(String),
+}
+
+impl From<f64> for Cell {
+    fn from(x: f64) -> Self {
+        Cell::Number(Some(x))
+    }
+}
+
+impl From<Option<f64>> for Cell {
+    fn from(x: Option<f64>) -> Self {
+        Cell::Number(x)
+    }
+}
+
+impl From<&str> for Cell {
+    fn from(s: &str) -> Self {
+        Cell::Text(s.into())
+    }
+}
+
+impl From<String> for Cell {
+    fn from(s: String) -> Self {
+        Cell::Text(s)
+    }
+}
+
+impl From<Value> for Cell {
+    /// A measure of `analyse`: a number or its text.
+    fn from(v: Value) -> Self {
+        match v {
+            Value::Number(n) => Cell::Number(n.as_f64()),
+            Value::Null => Cell::Number(None),
+            Value::String(s) => Cell::Text(s),
+            other => Cell::Text(other.to_string()),
+        }
+    }
+}
+
+fn row(label: impl Into<String>, value: impl Into<Cell>) -> Row {
+    Row {
+        label: label.into(),
+        value: value.into(),
+    }
+}
+
+/// A draggable handle: a JSON pointer into the scene and where it is
+/// (`editor/API.md`, `handles`).
+#[derive(serde::Serialize)]
+pub(super) struct Handle {
+    pointer: String,
+    position: Vec3,
+    label: String,
+    /// `control_point` or `operator` (its colour).
+    kind: &'static str,
+    /// How a drag edits the value when it is not the position itself.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    edit: Option<Edit>,
+}
+
+impl Handle {
+    /// A handle whose drag writes its position at `pointer`.
+    fn point(pointer: String, position: Vec3, label: String, kind: &'static str) -> Self {
+        Handle {
+            pointer,
+            position,
+            label,
+            kind,
+            edit: None,
+        }
+    }
+}
+
+/// What dragging a handle edits (`editor/API.md`, `handles[].edit`).
+#[derive(serde::Serialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub(super) enum Edit {
+    /// A unit direction drawn `length` from `anchor`; with `offset`, the
+    /// pointer of a plane's offset kept through the foot while it turns.
+    Direction {
+        anchor: Vec3,
+        length: f64,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        offset: Option<String>,
+    },
+    /// A plane's offset, moved along its normal from the surface point
+    /// `anchor`.
+    Offset { anchor: Vec3, normal: Vec3 },
+}
+
+/// A weight or strength slider (`editor/API.md`, `sliders`).
+#[derive(serde::Serialize)]
+pub(super) struct Slider {
+    pointer: String,
+    label: String,
+    value: f64,
+    min: f64,
+    max: f64,
+    scale: &'static str,
+}
+
+/// An arrow: a guiding or prescribed normal.
+#[derive(serde::Serialize)]
+pub(super) struct Arrow {
+    at: Vec3,
+    dir: Vec3,
+}
+
+/// An operator's marker: where it acts on the surface and what it pulls
+/// toward.
+#[derive(serde::Serialize)]
+pub(super) struct Marker {
+    name: String,
+    kind: String,
+    at: Option<Vec3>,
+    target: Option<Vec3>,
 }
 
 /// What the page draws and edits (`editor/API.md`, `POST /api/solve`),
@@ -232,9 +360,9 @@ pub(super) struct View<'a> {
     /// "tensor", "triangular" or "bspline".
     kind: &'static str,
     /// Rows `{label, value}`.
-    table: Vec<Value>,
+    table: Vec<Row>,
     /// The result file's content.
-    result: Value,
+    result: Scene,
     /// Positions, indices, colours by mean curvature and their legend.
     mesh: MeshView,
     /// The control net.
@@ -242,15 +370,33 @@ pub(super) struct View<'a> {
     /// Boundary curves as polylines.
     boundary: Vec<Vec<Vec3>>,
     /// Arrows of the guiding normals (`{at, dir}`).
-    normals: Vec<Value>,
+    normals: Vec<Arrow>,
     /// Operator markers.
-    operators: Vec<Value>,
+    operators: Vec<Marker>,
     /// Draggable handles (JSON pointers into the scene).
-    handles: Vec<Value>,
+    handles: Vec<Handle>,
     /// Weight sliders (JSON pointers into the scene).
-    sliders: Vec<Value>,
+    sliders: Vec<Slider>,
     /// The construction method's select (tensor scenes), else null.
-    methods: Option<Value>,
+    methods: Option<Methods>,
+}
+
+/// The select of a tensor scene's `method`.
+#[derive(serde::Serialize)]
+pub(super) struct Methods {
+    pointer: &'static str,
+    value: fairsurf_io::Method,
+    options: [&'static str; 5],
+}
+
+impl Methods {
+    const OPTIONS: [&'static str; 5] = [
+        "minimize",
+        "harmonic",
+        "biharmonic",
+        "harmonic_mask",
+        "biharmonic_mask",
+    ];
 }
 
 /// Control points and the index pairs of the net's edges.
@@ -303,7 +449,7 @@ fn weight_sliders(
     (stretch, bend, rings): (Option<f64>, Option<f64>, Option<usize>),
     lambda: Option<f64>,
     gamma: Option<f64>,
-) -> Vec<Value> {
+) -> Vec<Slider> {
     let (stretch, bend, _) = fairsurf_io::default_weights(stretch, bend, rings);
     let mut out = vec![
         slider(
@@ -332,8 +478,15 @@ fn weight_sliders(
     out
 }
 
-fn slider(pointer: String, label: String, value: f64, min: f64, max: f64) -> Value {
-    json!({"pointer": pointer, "label": label, "value": value, "min": min, "max": max, "scale": "log"})
+fn slider(pointer: String, label: String, value: f64, min: f64, max: f64) -> Slider {
+    Slider {
+        pointer,
+        label,
+        value,
+        min,
+        max,
+        scale: "log",
+    }
 }
 
 /// The diagonal of the points' bounding box (1 if degenerate).
@@ -442,7 +595,7 @@ fn operator_markers(
     operators: &Value,
     outcomes: &[fairsurf::operator::OperatorOutcome],
     size: f64,
-) -> Vec<Value> {
+) -> Vec<Marker> {
     operators
         .as_array()
         .into_iter()
@@ -454,7 +607,7 @@ fn operator_markers(
 
 /// Where an operator's marker goes and what it points at, from its scene
 /// entry and where it acts on the result (its outcome's `at`).
-fn operator_json(o: &Value, at: Option<Vec3>, size: f64) -> Value {
+fn operator_json(o: &Value, at: Option<Vec3>, size: f64) -> Marker {
     let kind = o["type"].as_str().unwrap_or("operator");
     let target = at.and_then(|s| match kind {
         "point_attractor" | "repellor" => vec3(&o["point"]),
@@ -477,16 +630,21 @@ fn operator_json(o: &Value, at: Option<Vec3>, size: f64) -> Value {
         }
         _ => None,
     });
-    json!({
-        "name": o["name"].as_str().unwrap_or(kind),
-        "kind": if o["repel"].as_bool() == Some(true) { "repellor" } else { kind },
-        "at": at,
-        "target": target,
-    })
+    Marker {
+        name: o["name"].as_str().unwrap_or(kind).into(),
+        kind: if o["repel"].as_bool() == Some(true) {
+            "repellor"
+        } else {
+            kind
+        }
+        .into(),
+        at,
+        target,
+    }
 }
 
 /// Each operator's energy and how far its target is met.
-fn operator_rows(table: &mut Vec<Value>, operators: &[fairsurf::operator::OperatorOutcome]) {
+fn operator_rows(table: &mut Vec<Row>, operators: &[fairsurf::operator::OperatorOutcome]) {
     for o in operators {
         let what = if o.kind == "director" {
             "angle (rad)"
@@ -501,11 +659,7 @@ fn operator_rows(table: &mut Vec<Value>, operators: &[fairsurf::operator::Operat
 /// A minimization's rows, the same for every tensor kind: the energy and
 /// its terms, the operators, the measures (when analysed), then `extra`
 /// (the kind's own figures) and how good the result is.
-fn report_rows(
-    table: &mut Vec<Value>,
-    r: &fairsurf::SolveReport,
-    extra: impl FnOnce(&mut Vec<Value>),
-) {
+fn report_rows(table: &mut Vec<Row>, r: &fairsurf::SolveReport, extra: impl FnOnce(&mut Vec<Row>)) {
     table.push(row("energy", r.energy));
     for t in &r.terms {
         table.push(row(t.name.replace('_', " "), t.value));
@@ -534,7 +688,7 @@ fn report_rows(
 }
 
 /// Area, functionals and |H| of a tensor patch.
-fn measure_rows(table: &mut Vec<Value>, m: Option<&fairsurf::SurfaceMeasures>) {
+fn measure_rows(table: &mut Vec<Row>, m: Option<&fairsurf::SurfaceMeasures>) {
     if let Some(m) = m {
         table.push(row("area", m.area));
         table.push(row("Dirichlet", m.dirichlet));
@@ -548,14 +702,14 @@ fn measure_rows(table: &mut Vec<Value>, m: Option<&fairsurf::SurfaceMeasures>) {
 /// [`operator_json`] entries (where each acts on the surface).
 fn operator_controls(
     scene: &Value,
-    markers: &[Value],
+    markers: &[Marker],
     size: f64,
-    handles: &mut Vec<Value>,
-    sliders: &mut Vec<Value>,
+    handles: &mut Vec<Handle>,
+    sliders: &mut Vec<Slider>,
 ) {
     for (k, field) in Field::entries(scene, "operators", "operator").enumerate() {
         let o = field.entry;
-        let at = markers.get(k).and_then(|m| vec3(&m["at"]));
+        let at = markers.get(k).and_then(|m| m.at);
         field.point(handles, "point");
         match o["type"].as_str() {
             Some("director") => field.direction(handles, "direction", at, ARROW * size),
@@ -583,8 +737,8 @@ fn constraint_controls(
     scene: &Value,
     at: impl Fn(&Value) -> Option<Vec3>,
     size: f64,
-    handles: &mut Vec<Value>,
-    normals: &mut Vec<Value>,
+    handles: &mut Vec<Handle>,
+    normals: &mut Vec<Arrow>,
 ) {
     for field in Field::entries(scene, "constraints", "constraint") {
         let c = field.entry;
@@ -592,7 +746,10 @@ fn constraint_controls(
             Some("point") => field.point(handles, "target"),
             Some("normal") => {
                 if let (Some(s), Some(n)) = (at(c), vec3(&c["normal"]).and_then(normalize)) {
-                    normals.push(json!({"at": s, "dir": scale(n, ARROW * size)}));
+                    normals.push(Arrow {
+                        at: s,
+                        dir: scale(n, ARROW * size),
+                    });
                 }
                 field.direction(handles, "normal", at(c), ARROW * size);
             }
@@ -629,7 +786,29 @@ fn vec3(v: &Value) -> Option<Vec3> {
 
 #[cfg(test)]
 mod tests {
-    use super::decimal;
+    use super::{decimal, Methods};
+
+    /// The method select's options are methods of the scene format, each
+    /// once, named as scenes write them.
+    #[test]
+    fn the_method_select_offers_every_scene_method() {
+        let mut seen = std::collections::BTreeSet::new();
+        for o in Methods::OPTIONS {
+            let m: fairsurf_io::Method = serde_json::from_value(serde_json::json!(o)).unwrap();
+            assert_eq!(serde_json::to_value(m).unwrap(), o);
+            assert!(seen.insert(o));
+        }
+        // And every method the scene format's schema names is offered.
+        let schema = fairsurf_io::TensorScene::json_schema();
+        let defs = schema.get("$defs").or(schema.get("definitions")).unwrap();
+        let named: std::collections::BTreeSet<&str> = defs["Method"]["oneOf"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|m| m["const"].as_str().unwrap())
+            .collect();
+        assert_eq!(named, seen);
+    }
 
     /// Rounded to 10^k and printed as the short decimal, within half a
     /// step of the value; signs, steps above one and non-finite values.

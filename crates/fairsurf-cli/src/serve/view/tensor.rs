@@ -27,13 +27,14 @@ pub(super) fn bspline_view(solved: &SolvedBSplineScene) -> View<'_> {
     let mut handles = Vec::new();
     for (i, row) in rows.iter().enumerate() {
         for (j, p) in row.iter().enumerate() {
+            let p = p.as_deref().and_then(|p| <[f64; 3]>::try_from(p).ok());
             if let (Some(p), true) = (p, held(i, j)) {
-                handles.push(json!({
-                    "pointer": format!("/surface/control_points/{i}/{j}"),
-                    "position": p,
-                    "label": format!("P({i},{j})"),
-                    "kind": "control_point",
-                }));
+                handles.push(Handle::point(
+                    format!("/surface/control_points/{i}/{j}"),
+                    p,
+                    format!("P({i},{j})"),
+                    "control_point",
+                ));
             }
         }
     }
@@ -58,7 +59,10 @@ pub(super) fn bspline_view(solved: &SolvedBSplineScene) -> View<'_> {
             let (a, b) = (t[k / 9], t[k % 9]);
             if let Some(d) = d {
                 let at = s.eval_unit(a, b);
-                normals.push(json!({"at": at, "dir": scale(d, 0.08 * size)}));
+                normals.push(Arrow {
+                    at,
+                    dir: scale(d, 0.08 * size),
+                });
             }
         }
     }
@@ -70,7 +74,7 @@ pub(super) fn bspline_view(solved: &SolvedBSplineScene) -> View<'_> {
     View {
         kind: "bspline",
         table,
-        result: json!(solved.result_scene()),
+        result: Scene::BSpline(solved.result_scene()),
         mesh: mesh_view(&SurfaceMesh::from_patch(s, 48, 48)),
         net: Net {
             points: s.points(),
@@ -100,7 +104,10 @@ pub(super) fn tensor_view(solved: &SolvedTensorScene) -> View<'_> {
             for b in 0..=8 {
                 let (u, v) = (a as f64 / 8.0, b as f64 / 8.0);
                 if let Some(d) = f.direction(u, v) {
-                    normals.push(json!({"at": patch.eval(u, v), "dir": scale(d, 0.08 * size)}));
+                    normals.push(Arrow {
+                        at: patch.eval(u, v),
+                        dir: scale(d, 0.08 * size),
+                    });
                 }
             }
         }
@@ -119,14 +126,15 @@ pub(super) fn tensor_view(solved: &SolvedTensorScene) -> View<'_> {
     for (i, row) in scene.surface.control_points.iter().enumerate() {
         for (j, p) in row.iter().enumerate() {
             let k = i * (m + 1) + j;
+            let p = p.as_deref().and_then(|p| <[f64; 3]>::try_from(p).ok());
             if let Some(p) = p {
                 if !solved.built.free.get(k).copied().unwrap_or(true) {
-                    handles.push(json!({
-                        "pointer": format!("/surface/control_points/{i}/{j}"),
-                        "position": p,
-                        "label": format!("P({i},{j})"),
-                        "kind": "control_point",
-                    }));
+                    handles.push(Handle::point(
+                        format!("/surface/control_points/{i}/{j}"),
+                        p,
+                        format!("P({i},{j})"),
+                        "control_point",
+                    ));
                 }
             }
         }
@@ -172,7 +180,7 @@ pub(super) fn tensor_view(solved: &SolvedTensorScene) -> View<'_> {
     View {
         kind: "tensor",
         table,
-        result: json!(solved.result_scene()),
+        result: Scene::Tensor(solved.result_scene()),
         mesh: mesh_view(&SurfaceMesh::from_patch(patch, 48, 48)),
         net: Net {
             points: patch.points(),
@@ -183,10 +191,10 @@ pub(super) fn tensor_view(solved: &SolvedTensorScene) -> View<'_> {
         operators,
         handles,
         sliders,
-        methods: Some(json!({
-            "pointer": "/method",
-            "value": scene_json.get("method").and_then(Value::as_str).unwrap_or("minimize"),
-            "options": ["minimize", "harmonic", "biharmonic", "harmonic_mask", "biharmonic_mask"],
-        })),
+        methods: Some(Methods {
+            pointer: "/method",
+            value: scene.method,
+            options: Methods::OPTIONS,
+        }),
     }
 }

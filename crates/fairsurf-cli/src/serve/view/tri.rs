@@ -32,12 +32,12 @@ pub(super) fn tri_view(solved: &SolvedTriScene) -> View<'_> {
         let boundary_vertices: BTreeSet<usize> = s.boundary_vertices().into_iter().collect();
         for (k, p) in scene.surface.vertices.iter().enumerate() {
             if boundary_vertices.contains(&k) {
-                handles.push(json!({
-                    "pointer": format!("/surface/vertices/{k}"),
-                    "position": p,
-                    "label": format!("vertex {k}"),
-                    "kind": "control_point",
-                }));
+                handles.push(Handle::point(
+                    format!("/surface/vertices/{k}"),
+                    *p,
+                    format!("vertex {k}"),
+                    "control_point",
+                ));
             }
         }
     }
@@ -52,23 +52,20 @@ pub(super) fn tri_view(solved: &SolvedTriScene) -> View<'_> {
         // (dragging writes `value`).
         if c["type"] == "fixed" {
             let position = if c["value"].is_array() {
-                Some(c["value"].clone())
+                vec3(&c["value"])
             } else {
-                c["index"]
-                    .as_u64()
-                    .and_then(|g| {
-                        let net = initial.get_or_init(|| scene.surface().ok()).as_ref()?;
-                        net.points().get(g as usize).copied()
-                    })
-                    .map(|p| json!(p))
+                c["index"].as_u64().and_then(|g| {
+                    let net = initial.get_or_init(|| scene.surface().ok()).as_ref()?;
+                    net.points().get(g as usize).copied()
+                })
             };
             if let Some(position) = position {
-                handles.push(json!({
-                    "pointer": format!("{}/value", field.prefix),
-                    "position": position,
-                    "label": field.label,
-                    "kind": "control_point",
-                }));
+                handles.push(Handle::point(
+                    format!("{}/value", field.prefix),
+                    position,
+                    field.label.clone(),
+                    "control_point",
+                ));
             }
         }
     }
@@ -123,7 +120,7 @@ pub(super) fn tri_view(solved: &SolvedTriScene) -> View<'_> {
     View {
         kind: "triangular",
         table,
-        result: json!(solved.result_scene()),
+        result: Scene::Triangular(solved.result_scene()),
         mesh: mesh_view(&SurfaceMesh::from_tri_surface(s, resolution)),
         net: Net {
             points: s.points(),
