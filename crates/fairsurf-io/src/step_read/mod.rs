@@ -1,0 +1,266 @@
+//! Reading STEP files (ISO 10303-21) for `fill` and `blend`: the faces of
+//! every shell (OPEN_SHELL, CLOSED_SHELL, in whichever representation holds
+//! them), by the `truck-stepio` crate (ruststep's parser), each as a
+//! polynomial or rational B-spline bounded by its four sides
+//! ([`read_step`]): B-spline and Bézier faces (rational or not), planes
+//! bounded by four straight edges, cylinders and cones bounded by two arcs
+//! and two rulings, spheres and tori bounded by two parallels and two
+//! meridians. Every other face is refused by name, nothing is dropped
+//! silently.
+
+use crate::{Error, Result};
+use fairsurf::bspline::{BSplineSurface, KnotVector, RationalSurface};
+use fairsurf::Vec3;
+use truck_stepio::r#in::alias::{
+    Curve3D, ElementarySurface, ParametricCurve, ParametricSurface, ParametricSurface3D, Point3,
+    SearchNearestParameter, Surface as StepSurface, Vector3, D2,
+};
+use truck_stepio::r#in::Table;
+use truck_topology::compress::{CompressedEdgeIndex, CompressedFace, CompressedShell};
+
+mod analytic;
+mod edges;
+mod spline;
+use analytic::*;
+use edges::*;
+use spline::*;
+#[cfg(test)]
+mod tests;
+
+/// The error for a STEP file's content (as a scene error with the entity
+/// or face as its path).
+fn bad(path: impl Into<String>, message: impl Into<String>) -> Error {
+    Error::scene(path, message)
+}
+
+/// A face's surface, exactly as the file gives it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum FaceSurface {
+    /// A polynomial B-spline (Bézier faces, B-spline faces, rational ones
+    /// with equal weights, planes bounded by four straight edges).
+    Polynomial(BSplineSurface),
+    /// A rational B-spline (rational faces with unequal weights, cylinders
+    /// and cones bounded by two arcs and two rulings).
+    Rational(RationalSurface),
+}
+
+/// A face of a STEP file bounded by four sides of its surface.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StepFace {
+    /// What the file's surface is: "B-spline", "rational B-spline",
+    /// "plane", "cylinder", "cone", "sphere" or "torus".
+    pub kind: &'static str,
+    /// The surface, whose four sides are the face's boundary.
+    pub surface: FaceSurface,
+}
+
+impl StepFace {
+    /// The surface as a polynomial B-spline, when it is one.
+    pub fn polynomial(&self) -> Option<&BSplineSurface> {
+        match &self.surface {
+            FaceSurface::Polynomial(s) => Some(s),
+            FaceSurface::Rational(_) => None,
+        }
+    }
+}
+
+/// The polynomial faces of every shell in a STEP file's text ([`read_step`]
+/// with every face polynomial); a rational face (a cylinder, …) is an
+/// error naming it.
+pub fn read_step_faces(text: &str) -> Result<Vec<BSplineSurface>> {
+    read_step(text)?
+        .into_iter()
+        .enumerate()
+        .map(|(k, f)| match f.surface {
+            FaceSurface::Polynomial(s) => Ok(s),
+            FaceSurface::Rational(_) => Err(bad(
+                format!("face {k}"),
+                format!(
+                    "a {} face (a rational surface): only polynomial faces are taken here",
+                    f.kind
+                ),
+            )),
+        })
+        .collect()
+}
+
+/// The faces of every shell in a STEP file's text, in the order of the
+/// shells' entity numbers and their faces in each, each exactly as a
+/// polynomial or rational B-spline bounded by its four sides:
+/// B-spline and Bézier faces (rational or not) whose boundary is their
+/// surface's four sides; planes bounded by four straight edges (a
+/// bilinear patch); cylinders and cones bounded by two circular arcs and
+/// two rulings (rational quadratic in the arcs' direction, The NURBS Book
+/// §7.5); spheres and tori bounded by two parallels and two meridians (the
+/// rational biquadratic surface of revolution, §8.5) — each conversion
+/// checked against the file's own surface and edges.
+///
+/// Errors name what is wrong: not STEP (with the parser's message), no
+/// shell, a face of another kind (a swept surface; a sphere or torus
+/// face bounded otherwise), a face
+/// with holes or with a boundary that is not four sides of its surface
+/// (trimmed), a face the reader could not convert.
+pub fn read_step(text: &str) -> Result<Vec<StepFace>> {
+    // A SURFACE_CURVE's preferred representation is read as its 3-D curve:
+    // truck-stepio follows a PCURVE_S1/S2 preference through the pcurve on
+    // the surface, and on a periodic surface (a torus, a sphere) its
+    // parameters wrap to [0, 2π) — an arc from v = −0.4 to 1.2 came out as
+    // the other 4.68 rad of the circle. The 3-D curve is the edge's own
+    // geometry; the pcurves only describe it on each face.
+    let text = text
+        .replace(".PCURVE_S1.", ".CURVE_3D.")
+        .replace(".PCURVE_S2.", ".CURVE_3D.");
+    let exchange = ruststep::parser::parse(&text).map_err(|e| {
+        bad(
+            "",
+            format!("not a STEP file (ISO 10303-21) this reader can parse: {e}"),
+        )
+    })?;
+    let mut exchange = exchange;
+    let Some(data) = exchange.data.first_mut() else {
+        return Err(bad("", "the STEP file has no DATA section"));
+    };
+    same_sense_edges(data);
+    let data = &*data;
+    let table = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        Table::from_data_section(data)
+    }))
+    .map_err(|_| bad("", "the STEP reader (truck-stepio) failed on this file"))?;
+    let mut shells: Vec<_> = table.shell.iter().collect();
+    if shells.is_empty() {
+        return Err(bad(
+            "",
+            "no shell (OPEN_SHELL or CLOSED_SHELL) in the STEP file: fill reads the faces of shells",
+        ));
+    }
+    shells.sort_by_key(|(id, _)| **id);
+    let mut faces = Vec::new();
+    for (id, shell) in shells {
+        let compressed = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            table.to_compressed_shell(shell)
+        }))
+        .map_err(|_| {
+            bad(
+                format!("#{id}"),
+                "the STEP reader (truck-stepio) failed on the shell",
+            )
+        })?
+        .map_err(|e| bad(format!("#{id}"), format!("cannot read the shell: {e}")))?;
+        if compressed.faces.len() != shell.cfs_faces.len() {
+            return Err(bad(
+                format!("#{id}"),
+                format!(
+                    "the shell has {} faces and the reader converted {}: some face's surface is \
+                     of a kind it does not read",
+                    shell.cfs_faces.len(),
+                    compressed.faces.len()
+                ),
+            ));
+        }
+        for (k, face) in compressed.faces.iter().enumerate() {
+            let path = format!("#{id} face {k}");
+            let f = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                step_face(face, &compressed)
+            }))
+            .unwrap_or_else(|_| Err("the face's geometry could not be evaluated".into()))
+            .map_err(|m| bad(&path, m))?;
+            faces.push(f);
+        }
+    }
+    Ok(faces)
+}
+
+/// Every EDGE_CURVE of same_sense `.F.` rewritten as its equal of
+/// same_sense `.T.` (its vertices swapped), and the ORIENTED_EDGEs that
+/// use it turned: truck-stepio turns a `.F.` edge's curve twice on the
+/// path of a SURFACE_CURVE read by its 3-D curve (which [`read_step`]
+/// asks for), so such an edge would run backwards.
+fn same_sense_edges(data: &mut ruststep::ast::DataSection) {
+    use ruststep::ast::{EntityInstance, Name, Parameter};
+    let (yes, no) = (
+        Parameter::Enumeration("T".into()),
+        Parameter::Enumeration("F".into()),
+    );
+    let mut turned = std::collections::HashSet::new();
+    for e in &mut data.entities {
+        if let EntityInstance::Simple { id, record } = e {
+            if record.name != "EDGE_CURVE" {
+                continue;
+            }
+            if let Parameter::List(ps) = &mut record.parameter {
+                if ps.len() == 5 && ps[4] == no {
+                    ps.swap(1, 2);
+                    ps[4] = yes.clone();
+                    turned.insert(*id);
+                }
+            }
+        }
+    }
+    if turned.is_empty() {
+        return;
+    }
+    for e in &mut data.entities {
+        if let EntityInstance::Simple { record, .. } = e {
+            if record.name != "ORIENTED_EDGE" {
+                continue;
+            }
+            if let Parameter::List(ps) = &mut record.parameter {
+                let uses = matches!(ps.get(3), Some(Parameter::Ref(Name::Entity(k))) if turned.contains(k));
+                if ps.len() == 5 && uses {
+                    ps[4] = if ps[4] == yes {
+                        no.clone()
+                    } else {
+                        yes.clone()
+                    };
+                }
+            }
+        }
+    }
+}
+
+type Shell = CompressedShell<Point3, Curve3D, StepSurface>;
+type Face = CompressedFace<StepSurface>;
+
+fn v3(p: Point3) -> Vec3 {
+    [p.x, p.y, p.z]
+}
+
+fn dist(a: Vec3, b: Vec3) -> f64 {
+    fairsurf::vector::norm(fairsurf::vector::sub(a, b))
+}
+
+/// One face as a polynomial or rational B-spline bounded by its four
+/// sides, or why not.
+fn step_face(face: &Face, shell: &Shell) -> std::result::Result<StepFace, String> {
+    if face.boundaries.len() != 1 {
+        return Err(format!(
+            "the face has {} boundary loops: faces with holes in them are not filled around yet",
+            face.boundaries.len()
+        ));
+    }
+    let edges: Vec<LoopEdge> = face.boundaries[0]
+        .iter()
+        .map(|e| LoopEdge::new(shell, *e))
+        .collect::<std::result::Result<_, String>>()?;
+    let (kind, surface) = match &face.surface {
+        StepSurface::BSplineSurface(_) | StepSurface::NurbsSurface(_) => {
+            let (kind, surface) = spline(&face.surface)?;
+            (kind, restricted(surface, &edges)?)
+        }
+        StepSurface::ElementarySurface(e) => match e.as_ref() {
+            ElementarySurface::Plane(_) => ("plane", plane(&edges)?),
+            ElementarySurface::CylindricalSurface(_) => ("cylinder", ruled(&edges)?),
+            ElementarySurface::ConicalSurface(_) => ("cone", ruled(&edges)?),
+            ElementarySurface::Sphere(_) => ("sphere", revolved(&edges, "sphere")?),
+            ElementarySurface::ToroidalSurface(_) => ("torus", revolved(&edges, "torus")?),
+        },
+        StepSurface::SweptCurve(_) => {
+            return Err("a swept surface (extrusion or revolution): not filled around yet".into())
+        }
+    };
+    // A B-spline face is the file's surface itself; a converted one is
+    // checked against it.
+    let converted = !matches!(kind, "B-spline" | "rational B-spline");
+    let surface = oriented_like(surface, face, &edges, converted)?;
+    Ok(StepFace { kind, surface })
+}

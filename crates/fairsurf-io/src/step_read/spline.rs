@@ -1,0 +1,434 @@
+//! B-spline and NURBS faces: the file's surface, closest points on it, the
+//! part of it the loop bounds, and its orientation against the face.
+
+use super::*;
+
+/// A B-spline or NURBS surface of the file.
+pub(super) fn spline(s: &StepSurface) -> std::result::Result<(&'static str, FaceSurface), String> {
+    type Net = Vec<Vec<Vec3>>;
+    type Knots = (Vec<f64>, Vec<f64>);
+    let (knots, points, weights): (Knots, Net, Option<Vec<f64>>) = match s {
+        StepSurface::BSplineSurface(b) => (
+            (b.uknot_vec().to_vec(), b.vknot_vec().to_vec()),
+            b.control_points()
+                .iter()
+                .map(|row| row.iter().map(|p| v3(*p)).collect())
+                .collect(),
+            None,
+        ),
+        StepSurface::NurbsSurface(n) => {
+            let b = n.non_rationalized();
+            let cp = b.control_points();
+            if cp.iter().flatten().any(|p| !(p.w.is_finite() && p.w > 0.0)) {
+                return Err("a rational B-spline face with a weight that is not positive".into());
+            }
+            (
+                (b.uknot_vec().to_vec(), b.vknot_vec().to_vec()),
+                cp.iter()
+                    .map(|row| {
+                        row.iter()
+                            .map(|p| [p.x / p.w, p.y / p.w, p.z / p.w])
+                            .collect()
+                    })
+                    .collect(),
+                Some(cp.iter().flatten().map(|p| p.w).collect()),
+            )
+        }
+        _ => unreachable!("called for B-spline surfaces"),
+    };
+    let (cu, cv) = (points.len(), points.first().map_or(0, Vec::len));
+    if points.iter().any(|r| r.len() != cv) {
+        return Err(format!(
+            "a control net of {cu} rows that are not all {cv} long"
+        ));
+    }
+    if cu < 2 || cv < 2 {
+        return Err(format!(
+            "a control net of {cu} × {cv} points: a surface needs at least 2 × 2"
+        ));
+    }
+    let (p, q) = (
+        knots.0.len().saturating_sub(cu + 1),
+        knots.1.len().saturating_sub(cv + 1),
+    );
+    let kv = |d: usize, k: Vec<f64>, name: &str| {
+        KnotVector::new(d, k).map_err(|e| format!("its {name} knots: {e}"))
+    };
+    let u = kv(p, knots.0, "u")?;
+    let v = kv(q, knots.1, "v")?;
+    let net = BSplineSurface::new(u, v, points.into_iter().flatten().collect())
+        .map_err(|e| e.to_string())?;
+    match weights {
+        None => Ok(("B-spline", FaceSurface::Polynomial(net))),
+        Some(w) => {
+            let r = RationalSurface::new(net, w).map_err(|e| e.to_string())?;
+            Ok(if r.is_polynomial() {
+                ("B-spline", FaceSurface::Polynomial(r.net().clone()))
+            } else {
+                ("rational B-spline", FaceSurface::Rational(r))
+            })
+        }
+    }
+}
+
+pub(super) fn eval(s: &FaceSurface, u: f64, v: f64) -> Vec3 {
+    match s {
+        FaceSurface::Polynomial(b) => b.eval(u, v),
+        FaceSurface::Rational(r) => r.eval(u, v),
+    }
+}
+
+pub(super) fn net(s: &FaceSurface) -> &BSplineSurface {
+    match s {
+        FaceSurface::Polynomial(b) => b,
+        FaceSurface::Rational(r) => r.net(),
+    }
+}
+
+pub(super) fn derivatives(s: &FaceSurface, u: f64, v: f64) -> fairsurf::SurfaceDerivatives {
+    match s {
+        FaceSurface::Polynomial(b) => b.derivatives(u, v),
+        FaceSurface::Rational(r) => r.derivatives(u, v),
+    }
+}
+
+/// The parameters of the point of `s` nearest to p, and the distance: the
+/// best of a 17 × 17 grid, then Newton steps on (S − p)·S_u = (S − p)·S_v
+/// = 0 kept in the domain.
+pub(super) fn nearest(s: &FaceSurface, p: Vec3) -> ((f64, f64), f64) {
+    let (ku, kv) = net(s).knots();
+    let ((a, b), (c, d)) = (ku.domain(), kv.domain());
+    let (mut best, mut at) = (f64::MAX, (a, c));
+    for i in 0..=16 {
+        for j in 0..=16 {
+            let (u, v) = (a + (b - a) * i as f64 / 16.0, c + (d - c) * j as f64 / 16.0);
+            let e = dist(eval(s, u, v), p);
+            if e < best {
+                (best, at) = (e, (u, v));
+            }
+        }
+    }
+    foot(&|u, v| derivatives(s, u, v), p, at, best, ((a, b), (c, d)))
+}
+
+/// Newton steps on (S − p)·S_u = (S − p)·S_v = 0 from `at` (at `best`
+/// from p), kept in `domain`, while they bring the point closer: the
+/// parameters of the foot of p and its distance.
+pub(super) fn foot(
+    s: &dyn Fn(f64, f64) -> fairsurf::SurfaceDerivatives,
+    p: Vec3,
+    mut at: (f64, f64),
+    mut best: f64,
+    ((a, b), (c, d)): ((f64, f64), (f64, f64)),
+) -> ((f64, f64), f64) {
+    let dot = fairsurf::vector::dot;
+    for _ in 0..40 {
+        let (u, v) = at;
+        let x = s(u, v);
+        let r = fairsurf::vector::sub(x.point, p);
+        let (f1, f2) = (dot(r, x.du), dot(r, x.dv));
+        let a11 = dot(x.du, x.du) + dot(r, x.duu);
+        let a12 = dot(x.du, x.dv) + dot(r, x.duv);
+        let a22 = dot(x.dv, x.dv) + dot(r, x.dvv);
+        let det = a11 * a22 - a12 * a12;
+        if det == 0.0 || det.is_nan() {
+            break;
+        }
+        let next = (
+            (u - (a22 * f1 - a12 * f2) / det).clamp(a, b),
+            (v - (a11 * f2 - a12 * f1) / det).clamp(c, d),
+        );
+        let e = dist(s(next.0, next.1).point, p);
+        if e.is_nan() || e >= best {
+            break;
+        }
+        (best, at) = (e, next);
+    }
+    (at, best)
+}
+
+/// The face's surface cut to the parameter rectangle its loop bounds: the
+/// whole surface when the loop runs around its four sides, else (Open
+/// CASCADE's `MakeFace(surface, u0, u1, v0, v1)`) the surface cut to the
+/// rectangle exactly (knot insertion). A side may be made of several
+/// edges (a writer splits a side where another face's corner lies on it).
+/// Checked: every vertex and edge lies on the rectangle's sides, each of
+/// its corners is a vertex, and its sides lie on the edges. Other trimmed
+/// faces are refused.
+pub(super) fn restricted(
+    s: FaceSurface,
+    edges: &[LoopEdge],
+) -> std::result::Result<FaceSurface, String> {
+    let tol = edge_tolerance(edges);
+    let trimmed = |why: &str| {
+        format!(
+            "the face is trimmed ({why}): only faces bounded by the four sides of a parameter \
+             rectangle of their surface are filled around so far"
+        )
+    };
+    // The parameters of every vertex and of seven points inside every edge
+    // (each found by Newton steps from the point before it).
+    let (ku, kv) = net(&s).knots();
+    let ((a, b), (c, d)) = (ku.domain(), kv.domain());
+    let mut vertices = Vec::with_capacity(edges.len());
+    let mut inside = Vec::with_capacity(7 * edges.len());
+    for e in edges {
+        let (mut uv, off) = nearest(&s, e.start);
+        if off > tol {
+            return Err(trimmed(&format!("a vertex is {off:e} off its surface")));
+        }
+        vertices.push(uv);
+        for k in 1..8 {
+            let p = e.at(k as f64 / 8.0).0;
+            let start = dist(eval(&s, uv.0, uv.1), p);
+            let ders = |u: f64, v: f64| derivatives(&s, u, v);
+            let (mut q, mut off) = foot(&ders, p, uv, start, ((a, b), (c, d)));
+            if off > tol {
+                (q, off) = nearest(&s, p);
+            }
+            if off > tol {
+                return Err(trimmed(&format!("an edge is {off:e} off its surface")));
+            }
+            inside.push(q);
+            uv = q;
+        }
+    }
+    let (eu, ev) = (1e-6 * (b - a), 1e-6 * (d - c));
+    // Which sides of [u0, u1] × [v0, v1] a parameter pair lies on.
+    let sides = |(u, v): (f64, f64), [u0, u1, v0, v1]: [f64; 4]| {
+        [
+            (u - u0).abs() <= eu,
+            (u - u1).abs() <= eu,
+            (v - v0).abs() <= ev,
+            (v - v1).abs() <= ev,
+        ]
+    };
+    // The whole surface: every vertex a corner of it in space (a side may
+    // be collapsed to a point, and then has no edge) and every edge along
+    // the domain's sides.
+    let corners = [
+        eval(&s, a, c),
+        eval(&s, b, c),
+        eval(&s, a, d),
+        eval(&s, b, d),
+    ];
+    let whole = edges
+        .iter()
+        .all(|e| corners.iter().any(|k| dist(*k, e.start) <= tol))
+        && inside
+            .iter()
+            .all(|&uv| sides(uv, [a, b, c, d]).iter().any(|&on| on));
+    if whole {
+        return Ok(s);
+    }
+    if edges.len() < 4 {
+        return Err(trimmed(&format!("its loop has {} edges", edges.len())));
+    }
+    let range = |pick: fn(&(f64, f64)) -> f64| {
+        let xs: Vec<f64> = vertices.iter().map(pick).collect();
+        (
+            xs.iter().copied().fold(f64::MAX, f64::min),
+            xs.iter().copied().fold(f64::MIN, f64::max),
+        )
+    };
+    let ((u0, u1), (v0, v1)) = (range(|p| p.0), range(|p| p.1));
+    // Every vertex and edge point on a side of [u0, u1] × [v0, v1], each
+    // corner a vertex once.
+    let rect = [u0, u1, v0, v1];
+    if inside
+        .iter()
+        .chain(&vertices)
+        .any(|&uv| !sides(uv, rect).iter().any(|&on| on))
+    {
+        return Err(trimmed(
+            "its boundary does not run along the sides of a parameter rectangle",
+        ));
+    }
+    let mut corners = [0; 4];
+    for &uv in &vertices {
+        let [lo_u, hi_u, lo_v, hi_v] = sides(uv, rect);
+        if (lo_u || hi_u) && (lo_v || hi_v) {
+            corners[2 * usize::from(hi_u) + usize::from(hi_v)] += 1;
+        }
+    }
+    if corners != [1; 4] || u1 - u0 <= eu || v1 - v0 <= ev {
+        return Err(trimmed(
+            "its vertices are not the corners of a parameter rectangle",
+        ));
+    }
+    let snap = |x: f64, lo: f64, hi: f64, e: f64| {
+        if (x - lo).abs() <= e {
+            lo
+        } else if (x - hi).abs() <= e {
+            hi
+        } else {
+            x
+        }
+    };
+    let (u0, u1) = (snap(u0, a, b, eu), snap(u1, a, b, eu));
+    let (v0, v1) = (snap(v0, c, d, ev), snap(v1, c, d, ev));
+    let cut = |x: &BSplineSurface| x.restricted_u(u0, u1)?.restricted_v(v0, v1);
+    let sub = match &s {
+        FaceSurface::Polynomial(p) => FaceSurface::Polynomial(cut(p).map_err(|e| e.to_string())?),
+        FaceSurface::Rational(r) => {
+            // The homogeneous surfaces w·P and w cut alike.
+            let scaled = |f: &dyn Fn(usize) -> Vec3| {
+                BSplineSurface::new(
+                    r.net().knots().0.clone(),
+                    r.net().knots().1.clone(),
+                    (0..r.weights().len()).map(f).collect(),
+                )
+            };
+            let w = r.weights();
+            let pts = r.net().points();
+            let num = scaled(&|k| fairsurf::vector::scale(pts[k], w[k]))
+                .and_then(|x| cut(&x))
+                .map_err(|e| e.to_string())?;
+            let den = scaled(&|k| [w[k], 0.0, 0.0])
+                .and_then(|x| cut(&x))
+                .map_err(|e| e.to_string())?;
+            let weights: Vec<f64> = den.points().iter().map(|p| p[0]).collect();
+            let points = num
+                .points()
+                .iter()
+                .zip(&weights)
+                .map(|(p, w)| fairsurf::vector::scale(*p, 1.0 / w))
+                .collect();
+            let (nu, nv) = num.knots();
+            let net =
+                BSplineSurface::new(nu.clone(), nv.clone(), points).map_err(|e| e.to_string())?;
+            FaceSurface::Rational(RationalSurface::new(net, weights).map_err(|e| e.to_string())?)
+        }
+    };
+    // Its four sides lie on the face's edges.
+    let (ku, kv) = net(&sub).knots();
+    let ((a, b), (c, d)) = (ku.domain(), kv.domain());
+    for k in 0..=8 {
+        let t = k as f64 / 8.0;
+        for (u, v) in [
+            (a + (b - a) * t, c),
+            (a + (b - a) * t, d),
+            (a, c + (d - c) * t),
+            (b, c + (d - c) * t),
+        ] {
+            let p = eval(&sub, u, v);
+            let off = edges.iter().map(|e| e.distance(p)).fold(f64::MAX, f64::min);
+            if off > tol {
+                return Err(trimmed(&format!(
+                    "its edges are not the sides of a parameter rectangle (off by {off:e})"
+                )));
+            }
+        }
+    }
+    Ok(sub)
+}
+
+/// The surface turned (u and v exchanged) when its normal R_u × R_v does
+/// not agree with the face's (the file's surface normal, which the reader
+/// has turned for a face of opposite sense, reversed again for an oriented
+/// face used backwards); when `converted`, first checked to lie on the
+/// file's surface.
+pub(super) fn oriented_like(
+    s: FaceSurface,
+    face: &Face,
+    edges: &[LoopEdge],
+    converted: bool,
+) -> std::result::Result<FaceSurface, String> {
+    if !converted {
+        return turned(s, face.orientation);
+    }
+    let tol = edge_tolerance(edges);
+    let (ku, kv) = net(&s).knots();
+    let ((a, b), (c, d)) = (ku.domain(), kv.domain());
+    let mid = ((a + b) / 2.0, (c + d) / 2.0);
+    let der = match &s {
+        FaceSurface::Polynomial(p) => p.derivatives(mid.0, mid.1),
+        FaceSurface::Rational(r) => r.derivatives(mid.0, mid.1),
+    };
+    let ours = fairsurf::vector::cross(der.du, der.dv);
+    let file = &face.surface;
+    // The file's nearest point: its own search, then Newton steps on
+    // (S − p)·S_u = (S − p)·S_v = 0 to rounding.
+    let on = |p: Vec3| -> Option<((f64, f64), f64)> {
+        let q = Point3::new(p[0], p[1], p[2]);
+        let found = SearchNearestParameter::<D2>::search_nearest_parameter(file, q, None, 100)
+            .filter(|uv| uv.0.is_finite() && uv.1.is_finite());
+        // Where truck's own search fails (its sphere's at the seam: NaN),
+        // the nearest of a 33 × 33 grid of a bounded parameter range.
+        let uv = match (found, file.try_range_tuple()) {
+            (Some(uv), _) => uv,
+            (None, (Some((u0, u1)), Some((v0, v1)))) => (0..=32)
+                .flat_map(|i| (0..=32).map(move |j| (i, j)))
+                .map(|(i, j)| {
+                    (
+                        u0 + (u1 - u0) * i as f64 / 32.0,
+                        v0 + (v1 - v0) * j as f64 / 32.0,
+                    )
+                })
+                .min_by(|x, y| {
+                    dist(v3(file.subs(x.0, x.1)), p).total_cmp(&dist(v3(file.subs(y.0, y.1)), p))
+                })?,
+            (None, _) => return None,
+        };
+        let w = |x: Vector3| [x.x, x.y, x.z];
+        let derivatives = |u: f64, v: f64| fairsurf::SurfaceDerivatives {
+            point: v3(file.subs(u, v)),
+            du: w(file.uder(u, v)),
+            dv: w(file.vder(u, v)),
+            duu: w(file.uuder(u, v)),
+            duv: w(file.uvder(u, v)),
+            dvv: w(file.vvder(u, v)),
+        };
+        let unbounded = ((f64::MIN, f64::MAX), (f64::MIN, f64::MAX));
+        let start = dist(v3(file.subs(uv.0, uv.1)), p);
+        Some(foot(&derivatives, p, uv, start, unbounded))
+    };
+    // Points of the converted surface lie on the file's.
+    for i in 0..=4 {
+        for j in 0..=4 {
+            let (u, v) = (a + (b - a) * i as f64 / 4.0, c + (d - c) * j as f64 / 4.0);
+            let p = eval(&s, u, v);
+            match on(p) {
+                Some((_, e)) if e <= tol => {}
+                Some((_, e)) => {
+                    return Err(format!(
+                        "the face as a B-spline is off the file's surface by {e:e} at ({}, {}, {})",
+                        p[0], p[1], p[2]
+                    ))
+                }
+                None => {
+                    return Err("the file's surface could not be evaluated near the face".into())
+                }
+            }
+        }
+    }
+    let Some(((u, v), _)) = on(der.point) else {
+        return Err("the file's surface could not be evaluated near the face".into());
+    };
+    let n = file.normal(u, v);
+    let theirs = [n.x, n.y, n.z];
+    let agree = fairsurf::vector::dot(ours, theirs) > 0.0;
+    turned(s, agree == face.orientation)
+}
+
+/// `s`, or with u and v exchanged (its normal reversed) unless `keep`.
+pub(super) fn turned(s: FaceSurface, keep: bool) -> std::result::Result<FaceSurface, String> {
+    Ok(if keep {
+        s
+    } else {
+        match s {
+            FaceSurface::Polynomial(p) => FaceSurface::Polynomial(p.transposed()),
+            FaceSurface::Rational(r) => {
+                let (cu, cv) = r.net().counts();
+                let w = r.weights();
+                let weights = (0..cv)
+                    .flat_map(|j| (0..cu).map(move |i| w[i * cv + j]))
+                    .collect();
+                FaceSurface::Rational(
+                    RationalSurface::new(r.net().transposed(), weights)
+                        .map_err(|e| e.to_string())?,
+                )
+            }
+        }
+    })
+}
