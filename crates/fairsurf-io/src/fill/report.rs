@@ -1,0 +1,295 @@
+//! Which holes a fill job fills (`--list`, `--hole`, the default), and what
+//! it reports: per fill its size, sides, corners, W and solve, and the
+//! surfaces written.
+
+use super::*;
+
+/// The holes of a set of faces and which of them to fill.
+#[derive(Clone, Debug)]
+pub struct HoleChoice {
+    /// Every hole, longest first.
+    pub holes: Vec<Hole>,
+    /// The indices to fill.
+    pub chosen: Vec<usize>,
+    /// The index taken for the outer rim of an open sheet (not filled
+    /// unless asked), when there are several holes.
+    pub rim: Option<usize>,
+}
+
+impl HoleChoice {
+    /// The holes of `faces`; `asked` (indices) or, without it, every hole
+    /// but the longest when there are several (the outer rim), the one
+    /// hole otherwise. Errors: no hole, an index out of range (named as
+    /// `holes[k]`).
+    pub fn new(faces: &[BSplineSurface], asked: Option<&[usize]>) -> Result<HoleChoice> {
+        Self::within(faces, asked, tolerance(faces))
+    }
+
+    /// [`new`](Self::new) for a read input (its stand-ins' tolerance).
+    pub fn of(input: &FillInput, asked: Option<&[usize]>) -> Result<HoleChoice> {
+        Self::within(&input.faces, asked, input.hole_tolerance())
+    }
+
+    /// [`new`](Self::new) with boundary points within `tol` taken as one.
+    pub fn within(
+        faces: &[BSplineSurface],
+        asked: Option<&[usize]>,
+        tol: f64,
+    ) -> Result<HoleChoice> {
+        let holes = find_holes_within(faces, tol)?;
+        if holes.is_empty() {
+            return Err(Error::Solve(fairsurf::Error::Fill {
+                why: "there is no hole: every face boundary is shared by two faces".into(),
+            }));
+        }
+        let rim = (holes.len() > 1).then_some(0);
+        let chosen = match asked {
+            Some(a) => {
+                for (k, &h) in a.iter().enumerate() {
+                    if h >= holes.len() {
+                        return Err(Error::scene(
+                            format!("holes[{k}]"),
+                            format!(
+                                "there is no hole {h}: the faces have {} (0 to {})",
+                                holes.len(),
+                                holes.len() - 1
+                            ),
+                        ));
+                    }
+                }
+                // Each hole once, in the order first asked.
+                let mut c: Vec<usize> = Vec::new();
+                for &h in a {
+                    if !c.contains(&h) {
+                        c.push(h);
+                    }
+                }
+                c
+            }
+            None if holes.len() == 1 => vec![0],
+            None => (1..holes.len()).collect(),
+        };
+        Ok(HoleChoice { holes, chosen, rim })
+    }
+
+    /// Fills the chosen holes: one patch for 4 sides, a fan of triangular
+    /// patches otherwise.
+    pub fn fill(&self, faces: &[BSplineSurface], options: &FillOptions) -> Result<Vec<HoleFill>> {
+        self.chosen
+            .iter()
+            .map(|&h| {
+                HoleFill::new(faces, &self.holes[h], options).map_err(|e| match e {
+                    fairsurf::Error::Fill { why } => fairsurf::Error::Fill {
+                        why: format!("hole {h}: {why}"),
+                    },
+                    e => e,
+                })
+            })
+            .collect::<fairsurf::Result<_>>()
+            .map_err(Error::Solve)
+    }
+
+    /// The `--list` table: index, sides, length, faces, and whether it is
+    /// filled by default.
+    pub fn list_json(&self) -> Value {
+        Value::Array(
+            self.holes
+                .iter()
+                .enumerate()
+                .map(|(k, h)| {
+                    json!({
+                        "index": k,
+                        "sides": h.sides.len(),
+                        "length": h.length,
+                        "faces": h.faces(),
+                        "rim": self.rim == Some(k),
+                        "chosen": self.chosen.contains(&k),
+                    })
+                })
+                .collect(),
+        )
+    }
+}
+
+pub(crate) fn edge_name(e: Edge) -> &'static str {
+    match e {
+        Edge::U0 => "u0",
+        Edge::U1 => "u1",
+        Edge::V0 => "v0",
+        Edge::V1 => "v1",
+    }
+}
+
+/// One side's fit as JSON, `face` the neighbour's index in the output.
+pub(crate) fn side_json(f: &SideFit, face: usize) -> Value {
+    json!({
+        "face": face,
+        "edge": edge_name(f.side.edge),
+        "reversed": f.side.reversed,
+        "range": f.side.range,
+        "gap": f.gap,
+        "angle_deg": f.angle.to_degrees(),
+        "samples": f.samples,
+        "singular": f.singular,
+        "exact": f.exact,
+    })
+}
+
+/// The fields a fill and a blend report alike: size, sides, corners, W,
+/// the solve and the time.
+pub(crate) fn patch_json(
+    surface: &BSplineSurface,
+    sides: Vec<Value>,
+    fits: &[SideFit],
+    corners: &CornerMismatch,
+    curvature: &TotalCurvature,
+    willmore: &[f64],
+    normal_weight: f64,
+    s: &fairsurf::SolveReport,
+    seconds: &FillSeconds,
+) -> Value {
+    let (ku, kv) = surface.knots();
+    json!({
+        "degree": surface.degree(),
+        "control_points": surface.counts(),
+        "spans": [ku.spans().len(), kv.spans().len()],
+        "sides": sides,
+        "max_gap": fits.iter().map(|f| f.gap).fold(0.0, f64::max),
+        "max_angle_deg": fits.iter().map(|f| f.angle.to_degrees()).fold(0.0, f64::max),
+        "corners": {
+            "position": corners.position,
+            "tangent": corners.tangent,
+            "twist": corners.twist,
+        },
+        "curvature_w": curvature.value,
+        "curvature_w_error": curvature.error,
+        "willmore_w": willmore,
+        "normal_weight": normal_weight,
+        "solve": crate::result::report_json(s),
+        "seconds": {
+            "setup": seconds.setup,
+            "solve": seconds.solve,
+            "measure": seconds.measure,
+            "total": seconds.setup + seconds.solve + seconds.measure,
+        },
+    })
+}
+
+/// One fill's report (`"kind"`: `"patch"` or `"fan"`): the surface's
+/// size, per side the gap and normal angle measured on it, the corner
+/// mismatches, W, the solve's figures and the time.
+pub fn fill_json(hole: usize, fill: &HoleFill) -> Value {
+    match fill {
+        HoleFill::Patch(f) => patch_fill_json(hole, f),
+        HoleFill::Fan(f) => fan_fill_json(hole, f),
+    }
+}
+
+/// A fan's report (one triangular patch for a 3-sided hole when that is
+/// fairer: `"patches": 1`): as a patch's, with the fan's own G¹ (the largest
+/// normal angle between its patches, the conditions kept and dropped) and
+/// the triangular solve's check.
+pub(super) fn fan_fill_json(hole: usize, fan: &FanFill) -> Value {
+    let r = &fan.report;
+    let s = &r.solve;
+    let sides: Vec<Value> = r.sides.iter().map(|f| side_json(f, f.side.face)).collect();
+    json!({
+        "hole": hole,
+        "kind": "fan",
+        "patches": fan.surface.patch_count(),
+        "degree": fan.surface.degree(),
+        "control_points": fan.surface.point_count(),
+        "sides": sides,
+        "max_gap": r.sides.iter().map(|f| f.gap).fold(0.0, f64::max),
+        "max_angle_deg": r.sides.iter().map(|f| f.angle.to_degrees()).fold(0.0, f64::max),
+        "inner_angle_deg": r.inner_angle.to_degrees(),
+        "corners": {
+            "position": r.corners.position,
+            "tangent": r.corners.tangent,
+            "twist": r.corners.twist,
+        },
+        "curvature_w": r.curvature.value,
+        "curvature_w_error": r.curvature.error,
+        "solve": {
+            "energy": s.total,
+            "terms": {"stretch": s.stretch, "bend": s.bend},
+            "relative_gradient": s.relative_gradient,
+            "free_coordinates": s.unknowns,
+            "conditions": s.rows,
+            "conditions_kept": s.independent_rows,
+            "conditions_implied": s.dependent_rows,
+            "conditions_dropped": s.dropped.iter().map(|d| json!({"name": d.name, "residual": d.residual})).collect::<Vec<_>>(),
+            "row_tolerance": s.row_tolerance,
+            "check": s.check.as_ref().map(|c| json!({
+                "energy": c.energy,
+                "energy_error": c.energy_error,
+                "excess": c.excess,
+                "tolerance": fairsurf::CHECK_TOLERANCE,
+            })),
+        },
+        "seconds": {
+            "setup": r.seconds.setup,
+            "solve": r.seconds.solve,
+            "measure": r.seconds.measure,
+            "other_candidate": r.other_seconds,
+            "total": r.seconds.setup + r.seconds.solve + r.seconds.measure + r.other_seconds,
+        },
+    })
+}
+
+/// A 4-sided fill's report.
+pub(super) fn patch_fill_json(hole: usize, fill: &Fill) -> Value {
+    let r = &fill.report;
+    let sides = r.sides.iter().map(|f| side_json(f, f.side.face)).collect();
+    let mut out = patch_json(
+        &fill.surface,
+        sides,
+        &r.sides,
+        &r.corners,
+        &r.curvature,
+        &r.willmore,
+        r.normal_weight,
+        &r.solve,
+        &r.seconds,
+    );
+    out["hole"] = json!(hole);
+    out["kind"] = json!("patch");
+    out["alpha"] = json!(r.alpha);
+    out
+}
+
+/// The whole report of a fill job: the number of faces, every hole (as
+/// `--list` gives them) and each fill's report ([`fill_json`]).
+pub fn fill_report_json(faces: usize, choice: &HoleChoice, fills: &[HoleFill]) -> Value {
+    json!({
+        "faces": faces,
+        "holes": choice.list_json(),
+        "fills": choice
+            .chosen
+            .iter()
+            .zip(fills)
+            .map(|(&h, f)| fill_json(h, f))
+            .collect::<Vec<_>>(),
+        "fairsurf_version": env!("CARGO_PKG_VERSION"),
+    })
+}
+
+/// The input faces followed by the fills (a fan as its patches), for the
+/// CAD writers; a face that stands in for a rational one (`rational`, per
+/// face, as [`FillOptions::rational_faces`]) is written as that.
+pub fn fill_surfaces(
+    faces: &[BSplineSurface],
+    rational: &[Option<Arc<RationalSurface>>],
+    fills: &[HoleFill],
+) -> Vec<CadSurface> {
+    let patches: Vec<BSplineSurface> = fills.iter().flat_map(HoleFill::patches).collect();
+    let own =
+        faces
+            .iter()
+            .enumerate()
+            .map(|(k, f)| match rational.get(k).and_then(Option::as_deref) {
+                Some(r) => CadSurface::from(r),
+                None => CadSurface::from(f),
+            });
+    own.chain(patches.iter().map(CadSurface::from)).collect()
+}
