@@ -20,9 +20,9 @@ pub struct Side {
     pub face: usize,
     /// Which boundary.
     pub edge: Edge,
-    /// Traversed from t = range[1] to t = range[0].
+    /// Traversed from t = `range[1]` to t = `range[0]`.
     pub reversed: bool,
-    /// The part of the boundary, 0 ≤ range[0] < range[1] ≤ 1: [0, 1] for
+    /// The part of the boundary, 0 ≤ `range[0]` < `range[1]` ≤ 1: [0, 1] for
     /// the whole boundary.
     pub range: [f64; 2],
 }

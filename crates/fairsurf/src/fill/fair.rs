@@ -1,0 +1,109 @@
+//! The fill made fair inside its fixed rings: the thin plate guided by the
+//! boundary's normal field, then the linearized Willmore steps that lower W.
+
+use super::*;
+
+/// A patch made fair inside fixed boundary rows: the solve, then the
+/// linearized Willmore steps.
+pub(super) struct Faired {
+    pub(super) surface: BSplineSurface,
+    pub(super) solve: SolveReport,
+    pub(super) corners: CornerMismatch,
+    pub(super) curvature: TotalCurvature,
+    pub(super) willmore: Vec<f64>,
+    pub(super) setup: f64,
+    pub(super) solve_seconds: f64,
+    /// W and the Willmore steps.
+    pub(super) improve_seconds: f64,
+}
+
+/// The patch of the unified sides `s` (their D already scaled: the
+/// patch's cross derivative) with the rows [`rings`] fixes, every other point
+/// free, made fair by `options` (see the module documentation, steps 2–3).
+pub(super) fn fair(
+    s: &[Strip; 4],
+    across: [bool; 4],
+    options: &FillOptions,
+    t0: Instant,
+) -> Result<Faired> {
+    if options.samples == 0 {
+        return Err(Error::Fill {
+            why: "samples must be at least 1".into(),
+        });
+    }
+    let (ku, kv, net, corners) = rings(s, across);
+    let (cu, cv) = (ku.count(), kv.count());
+    let patch = coons::Coons::new(s);
+    let greville = |k: &KnotVector, i: usize| {
+        let p = k.degree();
+        k.knots()[i + 1..=i + p].iter().sum::<f64>() / p as f64
+    };
+    let free: Vec<bool> = net.iter().map(Option::is_none).collect();
+    let points: Vec<Vec3> = net
+        .iter()
+        .enumerate()
+        .map(|(k, p)| p.unwrap_or_else(|| patch.at(greville(&ku, k / cv), greville(&kv, k % cv)).0))
+        .collect();
+    let surface = BSplineSurface::new(ku, kv, points)?;
+    let mut problem = BSplineProblem::new(surface)
+        .with_free(free)?
+        .with_stretch(options.stretch)
+        .with_bend(options.bend);
+    if options.normal_weight > 0.0 {
+        let grid = SampleGrid::try_new(options.samples * cu, options.samples * cv)?;
+        let normals = patch
+            .on_grid(&grid.us(), &grid.vs())
+            .into_iter()
+            .map(|(_, fu, fv)| cross(fu, fv))
+            .collect();
+        let weight = options.normal_weight / grid.len() as f64;
+        problem = problem.with_sampled_normals(weight, grid, normals, None)?;
+    }
+    let setup = t0.elapsed().as_secs_f64();
+    let t1 = Instant::now();
+    let solved = problem.solve()?;
+    let solve_seconds = t1.elapsed().as_secs_f64();
+    let t2 = Instant::now();
+    let mut surface = solved.surface;
+    let mut curvature = total_curvature(&surface);
+    let mut history = vec![curvature.value];
+    let free = problem.free().to_vec();
+    for _ in 0..options.willmore_steps {
+        // A step whose system is not positive definite ends the steps; the
+        // surface so far stands (its W and side fits are measured after).
+        let Ok(next) = willmore::step(&surface, &free) else {
+            break;
+        };
+        let w = total_curvature(&next);
+        history.push(w.value);
+        if w.value.is_nan() || w.value >= curvature.value {
+            break;
+        }
+        let done = curvature.value - w.value <= 1e-6 * curvature.value;
+        surface = next;
+        curvature = w;
+        if done {
+            break;
+        }
+    }
+    if options.descent_steps > 0 {
+        let (s, steps) =
+            willmore::descend(surface, curvature.value, &free, options.descent_steps, 1e-8);
+        surface = s;
+        if let Some(&w) = steps.last() {
+            curvature = total_curvature(&surface);
+            debug_assert!((curvature.value - w).abs() <= 1e-12 * w.abs().max(1.0));
+        }
+        history.extend(steps);
+    }
+    Ok(Faired {
+        surface,
+        solve: solved.report,
+        corners,
+        curvature,
+        willmore: history,
+        setup,
+        solve_seconds,
+        improve_seconds: t2.elapsed().as_secs_f64(),
+    })
+}
