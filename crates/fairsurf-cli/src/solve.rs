@@ -407,11 +407,21 @@ fn report_lines(lines: &mut Vec<String>, r: &fairsurf::SolveReport, road: &str) 
             r.max_violation
         ));
     }
-    lines.push(check_line(
+    let mut check = check_line(
         r.check.as_ref(),
         road,
         "a term does not describe its integrand",
-    ));
+    );
+    if r.newton.is_some() && r.check.is_some_and(|c| c.excess == 0.0) {
+        // Not measured (a B-spline with repellors): Newton's stationarity
+        // stands for it.
+        check = check.replace(
+            "0.0e0 above the minimum (relative; tolerance",
+            "the excess not measured (the energy is not quadratic: Newton's relative gradient \
+             stands for it; tolerance",
+        );
+    }
+    lines.push(check);
     measures_lines(lines, r.measures.as_ref());
     lines.push(match &r.kkt {
         Some(k) => kkt_line(r.gradient_norm, r.relative_gradient, k),

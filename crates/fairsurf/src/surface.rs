@@ -145,6 +145,39 @@ mod tests {
         }
         check(&patch);
         check(&spline);
+        // A rational surface: its quotient grid, over its net's domain.
+        let weights: Vec<f64> = (0..12).map(|k| 1.0 + 0.1 * (k % 5) as f64).collect();
+        let nurbs = RationalSurface::new(spline.clone(), weights).unwrap();
+        check(&nurbs);
+        assert_eq!(nurbs.domain(), spline.domain());
+        // The trait's own defaults (a kind that gives only the required
+        // methods) agree with a kind's fast ones.
+        struct Plain<'a>(&'a BSplineSurface);
+        impl ParamSurface for Plain<'_> {
+            fn domain(&self) -> [(f64, f64); 2] {
+                self.0.domain()
+            }
+            fn eval(&self, u: f64, v: f64) -> Vec3 {
+                self.0.eval(u, v)
+            }
+            fn derivatives(&self, u: f64, v: f64) -> SurfaceDerivatives {
+                self.0.derivatives(u, v)
+            }
+        }
+        let plain = Plain(&spline);
+        check(&plain);
+        let (us, vs) = plain.uniform_grid(3, 3);
+        let (a, b) = (
+            plain.derivatives_on(&us, &vs),
+            spline.derivatives_on(&us, &vs),
+        );
+        for (x, y) in a.iter().zip(&b) {
+            for c in 0..3 {
+                assert!((x.dvv[c] - y.dvv[c]).abs() < 1e-12);
+            }
+        }
+        assert_eq!(plain.normal(0.3, 2.0), spline.normal(0.3, 2.0));
+        assert_eq!(plain.boundary(4), spline.boundary(4));
         // The boundary runs around the domain, corner to corner.
         let [s0, s1, s2, s3] = spline.boundary(8);
         assert_eq!(s0.len(), 9);

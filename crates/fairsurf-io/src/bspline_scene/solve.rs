@@ -215,7 +215,9 @@ impl BSplineScene {
 
     /// Validates and solves; with `opts.analyse` the report carries the
     /// result's measures (area, functionals, |H|: [`BSplineSurface::measures`]),
-    /// their time in `timings.analyse` and `timings.total`.
+    /// their time in `timings.analyse` and `timings.total`. `analyse` is
+    /// the only option a B-spline solve reads (the others tune the Bézier
+    /// patch's dense solve).
     pub fn solve_with(&self, opts: &SolveOptions) -> Result<SolvedBSplineScene> {
         let problem = self.problem()?;
         let mut solution = problem.solve()?;

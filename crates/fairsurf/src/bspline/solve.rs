@@ -36,9 +36,16 @@ pub const ENERGY_TOLERANCE: f64 = 1e-10;
 pub struct BSplineSolution {
     /// The surface with the free points solved.
     pub surface: BSplineSurface,
-    /// How good it is: the report of every tensor surface kind (the check
-    /// is Gauss quadrature span by span, `basis` is "b-spline", `measures`
-    /// is `None`).
+    /// How good it is: the report of every tensor surface kind. Here
+    /// `energy` is the closed forms' (Bernstein products on the Bézier
+    /// pieces), which the check's Gauss quadrature span by span confirms to
+    /// [`ENERGY_TOLERANCE`] of its scale; `basis` is "b-spline";
+    /// `condition_estimate` is Hager's ‖H‖₁‖H⁻¹‖₁ of the matrix factored;
+    /// `timings.analyse` is the energy's two roads (also `check.seconds`),
+    /// `timings.solve` the factorization's solves, refinement and the
+    /// excess (with constraints the KKT factorization too, `factor` then
+    /// 0); `measures` is `None` (the scene layer adds them,
+    /// [`BSplineSurface::measures`]).
     pub report: SolveReport,
 }
 
@@ -151,7 +158,12 @@ impl BSplineProblem {
             _ => {}
         }
         let analyse = t3.elapsed().as_secs_f64();
-        let energy_error = (total - check_energy).abs() / total.abs().max(f64::MIN_POSITIVE);
+        // Rounding the free points to doubles can change the energy by about
+        // ε² · max H_ii · Σ x_i²: below that, neither the energy's two roads
+        // nor the excess tell anything (the scale of both, as the tensor
+        // check's).
+        let scale = check::scale(total, sys.h_diag * solved.xx);
+        let energy_error = (total - check_energy).abs() / scale;
         // A zero energy (a reproduced linear surface) is confirmed when the
         // second road finds it at rounding level of the data.
         if energy_error > ENERGY_TOLERANCE && (total - check_energy).abs() > 1e-24 {
@@ -163,9 +175,6 @@ impl BSplineProblem {
                 hint: "the closed forms and the quadrature of its energy disagree".into(),
             });
         }
-        // Rounding the free points to doubles can change the energy by about
-        // ε² · max H_ii · Σ x_i²: below that, the excess tells nothing.
-        let scale = check::scale(total, sys.h_diag * solved.xx);
         // With repellors the energy is not quadratic: Newton's stationarity
         // (its relative gradient, ≤ 1e-10 or an error) stands for the excess.
         let excess = if newton.is_some() {
@@ -191,8 +200,7 @@ impl BSplineProblem {
             .zip(&placed)
             .map(|(op, (nodes, res))| op.outcome_on(nodes, res, &surface, &x_flat))
             .collect();
-        // The terms the problem has (a zero weight is no term), as a Bézier
-        // patch's report names them.
+        // The terms the problem has: a zero weight is no term.
         let mut terms = Vec::new();
         for (name, weight, value) in [
             ("stretch", self.stretch, stretch),

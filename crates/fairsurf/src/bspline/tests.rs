@@ -262,6 +262,31 @@ fn measures_of_one_span_are_the_bezier_patchs_and_knots_change_none() {
     }
     midpoint /= (n * n) as f64;
     assert!(close(ms.area, midpoint, 1e-4), "{} vs {midpoint}", ms.area);
+    // The same net over a domain twice as large ([0, 2]², knots doubled):
+    // the same surface, so the same area and |H|; R_u and R_v halve, so the
+    // Dirichlet integral (½∫|R_u|² + |R_v|² over 4× the area) stays and
+    // the thin plate's (second derivatives a quarter) is divided by 4.
+    let doubled = |k: &KnotVector| {
+        KnotVector::new(k.degree(), k.knots().iter().map(|t| 2.0 * t).collect()).unwrap()
+    };
+    let (ku, kv) = s.knots();
+    let big = BSplineSurface::new(doubled(ku), doubled(kv), s.points().to_vec()).unwrap();
+    let mb = big.measures();
+    assert!((mb.area - ms.area).abs() <= mb.area_error + ms.area_error + 1e-13 * ms.area);
+    assert!(
+        close(mb.dirichlet, ms.dirichlet, 1e-12),
+        "{} vs {}",
+        mb.dirichlet,
+        ms.dirichlet
+    );
+    assert!(close(4.0 * mb.biharmonic, ms.biharmonic, 1e-12));
+    let (h, g) = (mb.abs_mean_curvature, ms.abs_mean_curvature);
+    assert!(
+        close(h.max, g.max, 1e-12) && close(h.mean, g.mean, 1e-12),
+        "{h:?} vs {g:?}"
+    );
+    let (t, u) = (mb.normal_turn.unwrap(), ms.normal_turn.unwrap());
+    assert!(close(t.angle, u.angle, 1e-12) && t.at == (2.0 * u.at.0, 2.0 * u.at.1));
 }
 
 /// The B-spline coefficients of Σ c_ab u^a v^b by blossoming: the

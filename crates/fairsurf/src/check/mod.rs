@@ -53,14 +53,21 @@ pub(crate) const ROW_ROUNDING: f64 = 16.0 * f64::EPSILON;
 /// What the independent check found on the written net.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Check {
-    /// The energy recomputed in double-double by quadrature (the report's
-    /// energy).
+    /// The energy recomputed on the written net by a second road: in
+    /// double-double by quadrature (Bézier patches and triangular
+    /// surfaces, where the report's energy is this one), or by Gauss
+    /// quadrature span by span in doubles (B-spline surfaces, whose
+    /// report keeps the closed forms' energy).
     pub energy: f64,
     /// |closed-form energy in double precision − recomputed energy| / scale:
-    /// how many digits the solve's own evaluation kept (not a criterion).
+    /// how many digits the solve's own evaluation kept (not a criterion for
+    /// Bézier patches; a B-spline solve refuses above
+    /// [`crate::bspline::ENERGY_TOLERANCE`]).
     pub energy_error: f64,
     /// Estimated E(x) − min E, over scale: how far above its minimum the
-    /// written net is.
+    /// written net is. 0 when not measured: a B-spline surface with
+    /// repellors, where Newton's relative gradient (the report's `newton`)
+    /// stands for it.
     pub excess: f64,
     /// The scale of the relative figures: the recomputed energy, or when it
     /// is smaller the change rounding the free points to doubles can make
@@ -70,7 +77,8 @@ pub struct Check {
     pub corrections: usize,
     /// The tolerance the excess met ([`TOLERANCE`]).
     pub tolerance: f64,
-    /// Seconds spent checking (and correcting).
+    /// Seconds spent checking (and correcting); for a B-spline surface the
+    /// energy's second road (its excess is in the solve's time).
     pub seconds: f64,
 }
 

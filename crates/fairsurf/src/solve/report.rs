@@ -9,7 +9,8 @@ pub struct TermEnergy {
     pub value: f64,
 }
 
-/// Wall-clock seconds spent in each stage.
+/// Wall-clock seconds spent in each stage (for a B-spline surface see
+/// [`crate::bspline::BSplineSolution::report`] for what each holds).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Timings {
     /// Building every term's quadratic form and the system.
@@ -31,12 +32,17 @@ pub struct Timings {
 pub struct SolveReport {
     /// Each term's energy at the solution.
     pub terms: Vec<TermEnergy>,
-    /// Their sum and the operators': the minimized energy.
+    /// Their sum and the operators': the minimized energy (a Bézier patch's
+    /// as the check recomputed it, a B-spline surface's from the closed
+    /// forms, which its check confirms).
     pub energy: f64,
-    /// The independent check of the written net (energy and gradient
-    /// recomputed in double-double); `None` only when a term does not
-    /// describe its integrand ([`crate::EnergyTerm::integrand`]). A report is
-    /// returned only when its check passed.
+    /// The independent check of the written net ([`crate::Check`]: for a
+    /// Bézier patch energy and gradient recomputed in double-double, for a
+    /// B-spline surface the energy by Gauss quadrature span by span and the
+    /// excess from the assembled system in compensated arithmetic); `None`
+    /// only when a term does not describe its integrand
+    /// ([`crate::EnergyTerm::integrand`]). A report is returned only when
+    /// its check passed.
     pub check: Option<crate::Check>,
     /// The external operators' energy (Veltkamp & Wesselink §5), in `energy`.
     pub external: f64,
@@ -60,8 +66,10 @@ pub struct SolveReport {
     /// ‖rhs − H x‖∞ / ‖rhs‖∞ of the reduced system solved (the absolute
     /// figure when the right-hand side is 0).
     pub residual: f64,
-    /// Estimated 2-norm condition number of the matrix actually factored:
-    /// the equilibrated reduced system, in the basis named by `basis`.
+    /// Estimated condition number of the matrix actually factored: for a
+    /// Bézier patch the 2-norm one of the equilibrated reduced system, in
+    /// the basis named by `basis`; for a B-spline surface Hager's
+    /// ‖H‖₁‖H⁻¹‖₁ (of the KKT matrix with constraints).
     pub condition_estimate: f64,
     /// The basis the system was factored in: "jacobi" (tensor block of free
     /// points: orthogonal Jacobi-weighted polynomials, refinement on the
