@@ -41,7 +41,7 @@ impl Outcome {
     /// The surface.
     pub fn patch(&self) -> &TensorPatch {
         match self {
-            Outcome::Minimized(s) => &s.patch,
+            Outcome::Minimized(s) => &s.surface,
             Outcome::Constructed(c) => &c.patch,
         }
     }

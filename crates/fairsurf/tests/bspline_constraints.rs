@@ -94,7 +94,7 @@ fn a_bezier_knot_bspline_gives_the_tensor_solve_surface() {
     )
     .solve()
     .unwrap();
-    let worst = common::max_distance(t.patch.points(), s.surface.points());
+    let worst = common::max_distance(t.surface.points(), s.surface.points());
     assert!(worst < 1e-10, "nets differ by {worst:e}");
     assert!((t.report.energy - s.report.energy).abs() < 1e-12 * t.report.energy);
     assert_eq!(s.report.constraints.len(), 4);

@@ -95,7 +95,7 @@ fn a_bezier_knot_bspline_gives_the_tensor_solve_surface() {
         .with_stretch(0.1)
         .with_bend(1.0);
     let s = with_all(base, &ops).solve().unwrap();
-    let worst = common::max_distance(t.patch.points(), s.surface.points());
+    let worst = common::max_distance(t.surface.points(), s.surface.points());
     assert!(worst < 1e-10, "nets differ by {worst:e}");
     let r = &s.report;
     assert!((t.report.energy - r.energy).abs() < 1e-11 * t.report.energy);
@@ -248,7 +248,7 @@ fn a_repellor_pushes_like_the_tensor_solves() {
         .with_bend(1.0);
     let plain = base.clone().solve().unwrap();
     let s = with_all(base, &[push]).solve().unwrap();
-    let worst = common::max_distance(t.patch.points(), s.surface.points());
+    let worst = common::max_distance(t.surface.points(), s.surface.points());
     assert!(worst < 1e-8, "nets differ by {worst:e}");
     assert!((t.report.energy - s.report.energy).abs() < 1e-10 * t.report.energy);
     let n = s.report.newton.expect("Newton's report");
@@ -347,7 +347,7 @@ fn an_edge_attractor_pulls_a_boundary_curve() {
         .unwrap()
         .solve()
         .unwrap();
-    let worst = common::max_distance(t.patch.points(), b.surface.points());
+    let worst = common::max_distance(t.surface.points(), b.surface.points());
     assert!(worst < 1e-9, "nets differ by {worst:e}");
     let (et, eb) = (t.report.external, b.report.external);
     assert!((et - eb).abs() < 1e-9 * et, "{et} vs {eb}");

@@ -265,7 +265,7 @@ fn net_errors() {
             .solve_with(&fairsurf::SolveOptions::default().with_analyse(false))
             .unwrap();
         let err = s
-            .patch
+            .surface
             .points()
             .iter()
             .zip(net.points())
@@ -276,7 +276,7 @@ fn net_errors() {
         for a in 0..=20 {
             for b in 0..=20 {
                 let (u, v) = (a as f64 / 20.0, b as f64 / 20.0);
-                let (p, q) = (s.patch.eval(u, v), net.eval(u, v));
+                let (p, q) = (s.surface.eval(u, v), net.eval(u, v));
                 surface = surface.max((0..3).map(|c| (p[c] - q[c]).abs()).fold(0.0, f64::max));
             }
         }

@@ -25,10 +25,10 @@ fn problem(net: &TensorPatch, rings: usize, lambda: f64) -> Problem {
 
 /// max |P − Q| over the control points, relative to the net's size.
 fn difference(a: &Solution, b: &Solution) -> f64 {
-    a.patch
+    a.surface
         .points()
         .iter()
-        .zip(b.patch.points())
+        .zip(b.surface.points())
         .flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).abs()))
         .fold(0.0, f64::max)
 }

@@ -387,11 +387,11 @@ fn extremals_are_smallest_in_their_own_functional() {
         assert_eq!(c.biharmonic_extremal.measures.biharmonic, b_min, "{n}×{m}");
         // And minimal under perturbation of an inner point.
         let e = extremal(&net, Functional::Dirichlet).unwrap();
-        let mut q = e.patch.clone();
+        let mut q = e.surface.clone();
         let mut x = q.point(2, 2);
         x[0] += 1e-3;
         q.set_point(2, 2, x);
-        assert!(fairsurf::analysis::dirichlet(&q) > fairsurf::analysis::dirichlet(&e.patch));
+        assert!(fairsurf::analysis::dirichlet(&q) > fairsurf::analysis::dirichlet(&e.surface));
     }
 }
 

@@ -44,11 +44,11 @@ fn solution_is_a_true_minimizer_up_to_degree_12() {
             );
             assert!(r.coupled);
             // Perturb free points: energy must rise.
-            let e0 = total(pb.terms(), (deg, deg), sol.patch.points());
+            let e0 = total(pb.terms(), (deg, deg), sol.surface.points());
             assert!((e0 - r.energy).abs() <= 1e-12 * e0);
             let mut rng = Rng::new(deg as u64 + 100);
             for scale in [1e-3, 1e-1] {
-                let mut x = sol.patch.points().to_vec();
+                let mut x = sol.surface.points().to_vec();
                 for (k, p) in x.iter_mut().enumerate() {
                     if pb.known()[k].is_none() {
                         let d = rng.vec3();
@@ -88,7 +88,7 @@ fn zero_weights_give_the_plain_extremals() {
             .with_term(GuideSurface::new(0.0, net.clone()));
         let a = plain.solve().unwrap();
         let b = ext.solve().unwrap();
-        assert!(max_dist(&a.patch, &b.patch) < 1e-12);
+        assert!(max_dist(&a.surface, &b.surface) < 1e-12);
     }
 }
 
@@ -117,9 +117,9 @@ fn harmonic_and_biharmonic_polynomials_are_reproduced() {
         .solve()
         .unwrap();
     assert!(
-        max_dist(&h.patch, &harmonic) < 1e-12,
+        max_dist(&h.surface, &harmonic) < 1e-12,
         "harmonic: {}",
-        max_dist(&h.patch, &harmonic)
+        max_dist(&h.surface, &harmonic)
     );
     let b = Problem::new((5, 5))
         .with_known(fixed_boundary(&biharm, 2))
@@ -128,9 +128,9 @@ fn harmonic_and_biharmonic_polynomials_are_reproduced() {
         .solve()
         .unwrap();
     assert!(
-        max_dist(&b.patch, &biharm) < 1e-12,
+        max_dist(&b.surface, &biharm) < 1e-12,
         "biharmonic: {}",
-        max_dist(&b.patch, &biharm)
+        max_dist(&b.surface, &biharm)
     );
 }
 
@@ -175,7 +175,7 @@ fn planar_boundary_gives_a_planar_surface() {
             .with_term(GuideSurface::new(3.0, net.clone()));
         let sol = pb.solve().unwrap();
         let off = sol
-            .patch
+            .surface
             .points()
             .iter()
             .map(|p| fairsurf::vector::dot(fairsurf::vector::sub(*p, net.point(0, 0)), nrm).abs())
@@ -207,7 +207,7 @@ fn raising_lambda_lowers_the_normal_misfit() {
             .with_term(NormalField::new(lam, field.clone()))
             .solve()
             .unwrap();
-        let m = misfit(&sol.patch);
+        let m = misfit(&sol.surface);
         assert!(m < last, "λ={lam}: misfit {m} ≥ {last}");
         last = m;
     }
@@ -246,8 +246,8 @@ fn raising_lambda_lowers_the_measured_normal_angle() {
             .with_term(NormalField::sampled(lam, grid, normals.clone(), None))
             .solve()
             .unwrap();
-        let dev = normal_deviation(&sol.patch, &field, (28, 28));
-        let dist = max_dist(&sol.patch, &truth);
+        let dev = normal_deviation(&sol.surface, &field, (28, 28));
+        let dist = max_dist(&sol.surface, &truth);
         assert!(
             dev.mean < last.0,
             "λ={lam}: mean angle {} ≥ {}",
@@ -286,7 +286,7 @@ fn raising_gamma_lowers_the_distance_to_the_guide() {
             .with_term(GuideSurface::new(gamma, guide.clone()))
             .solve()
             .unwrap();
-        let d = dist(&sol.patch);
+        let d = dist(&sol.surface);
         assert!(d < last, "γ={gamma}: {d} ≥ {last}");
         last = d;
     }
@@ -309,7 +309,7 @@ fn coupled_and_per_coordinate_paths_agree() {
         .solve()
         .unwrap();
     assert!(!a.report.coupled && b.report.coupled);
-    assert!(max_dist(&a.patch, &b.patch) < 1e-12);
+    assert!(max_dist(&a.surface, &b.surface) < 1e-12);
 }
 
 /// Eq. (5) is a plain sum over the samples, so (after dividing by the
@@ -348,7 +348,7 @@ fn sampled_minimizer_converges_at_first_order() {
             .with_term(NormalField::sampled(10.0, g, normals, Some(w)))
             .solve()
             .unwrap();
-        errs.push(max_dist(&s.patch, &cont.patch));
+        errs.push(max_dist(&s.surface, &cont.surface));
     }
     for w in errs.windows(2) {
         let ratio = w[0] / w[1];
@@ -469,7 +469,7 @@ fn report_is_complete() {
         )
         .unwrap();
     assert!(quick.report.measures.is_none() && quick.report.condition_estimate.is_nan());
-    assert!(max_dist(&quick.patch, &sol.patch) == 0.0);
+    assert!(max_dist(&quick.surface, &sol.surface) == 0.0);
 }
 
 /// The Jacobi-basis preconditioner and the plain equilibrated Bernstein
@@ -492,7 +492,7 @@ fn both_bases_agree_where_both_work() {
             (a.report.basis.as_str(), b.report.basis.as_str()),
             ("bernstein", "jacobi")
         );
-        let d = max_dist(&a.patch, &b.patch);
+        let d = max_dist(&a.surface, &b.surface);
         assert!(
             d < 1e-10 * a.report.condition_estimate.max(1.0),
             "deg {deg}: {d}"
@@ -550,9 +550,9 @@ fn high_degree_needs_and_gets_the_better_basis() {
             "rings {rings}: {}",
             r.condition_estimate
         );
-        let e0 = total(pb.terms(), (deg, deg), sol.patch.points());
+        let e0 = total(pb.terms(), (deg, deg), sol.surface.points());
         let mut rng = Rng::new(rings as u64);
-        let mut x = sol.patch.points().to_vec();
+        let mut x = sol.surface.points().to_vec();
         for (k, p) in x.iter_mut().enumerate() {
             if pb.known()[k].is_none() {
                 let d = rng.vec3();

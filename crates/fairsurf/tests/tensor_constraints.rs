@@ -55,7 +55,7 @@ fn miss(patch: &TensorPatch, c: &TensorConstraint) -> f64 {
 fn every_kind_holds_on_the_written_patch() {
     let sol = constrained().solve().unwrap();
     for (name, c) in constraints() {
-        let m = miss(&sol.patch, &c);
+        let m = miss(&sol.surface, &c);
         assert!(m < 1e-12, "{name}: missed by {m:e}");
     }
     let r = &sol.report;
@@ -66,7 +66,7 @@ fn every_kind_holds_on_the_written_patch() {
     // Without them the surface misses them all.
     let free = base().solve().unwrap();
     for (name, c) in constraints() {
-        assert!(miss(&free.patch, &c) > 1e-3, "{name}");
+        assert!(miss(&free.surface, &c) > 1e-3, "{name}");
     }
     assert!(r.energy > free.report.energy);
 }
@@ -86,15 +86,15 @@ fn no_move_along_the_constraints_lowers_the_energy() {
     let rows: Vec<Row> = problem
         .constraints()
         .iter()
-        .flat_map(|c| c.constraint.rows(&sol.patch, &c.name))
+        .flat_map(|c| c.constraint.rows(&sol.surface, &c.name))
         .collect();
-    let e0 = energy(&sol.patch);
+    let e0 = energy(&sol.surface);
     for (trial, d) in common::moves_along(&rows, &free, 12345, 20)
         .iter()
         .enumerate()
     {
         for eps in [1e-3, -1e-3] {
-            let mut pts = sol.patch.points().to_vec();
+            let mut pts = sol.surface.points().to_vec();
             for (k, &p) in free.iter().enumerate() {
                 for c in 0..3 {
                     pts[p][c] += eps * d[3 * k + c];
@@ -116,8 +116,8 @@ fn no_move_along_the_constraints_lowers_the_energy() {
 fn a_constraint_already_met_changes_nothing() {
     let free = base().solve().unwrap();
     let at = [0.4, 0.55];
-    let target = free.patch.eval(at[0], at[1]);
-    let normal = free.patch.normal(0.7, 0.3).unwrap();
+    let target = free.surface.eval(at[0], at[1]);
+    let normal = free.surface.normal(0.7, 0.3).unwrap();
     let sol = base()
         .with_constraint("here", TensorConstraint::Point { at, target })
         .with_constraint(
@@ -129,7 +129,7 @@ fn a_constraint_already_met_changes_nothing() {
         )
         .solve()
         .unwrap();
-    for (a, b) in sol.patch.points().iter().zip(free.patch.points()) {
+    for (a, b) in sol.surface.points().iter().zip(free.surface.points()) {
         assert!(norm(sub(*a, *b)) < 1e-12, "{a:?} {b:?}");
     }
     assert!((sol.report.energy - free.report.energy).abs() < 1e-12 * free.report.energy);
@@ -296,7 +296,7 @@ fn targets_move_with_a_kept_factorization() {
     let fresh = moved().solve().unwrap();
     let again = f2.solve(&moved(), &opts).unwrap();
     assert!(again.report.reused);
-    for (a, b) in again.patch.points().iter().zip(fresh.patch.points()) {
+    for (a, b) in again.surface.points().iter().zip(fresh.surface.points()) {
         assert!(norm(sub(*a, *b)) < 1e-13);
     }
     // Another place: the factorization does not fit.
@@ -413,9 +413,9 @@ fn a_high_degree_constrained_solve_verifies() {
     let check = sol.report.check.unwrap();
     assert!(check.passed(), "{check:?}");
     assert!(sol.report.max_violation < 1e-12);
-    assert!((sol.patch.eval(0.5, 0.5)[2] - 0.25).abs() < 1e-12);
+    assert!((sol.surface.eval(0.5, 0.5)[2] - 0.25).abs() < 1e-12);
     // Symmetric data, symmetric answer.
-    let p = |u: f64, v: f64| sol.patch.eval(u, v)[2];
+    let p = |u: f64, v: f64| sol.surface.eval(u, v)[2];
     assert!((p(0.3, 0.6) - p(0.6, 0.3)).abs() < 1e-12);
 }
 
@@ -442,7 +442,7 @@ fn every_degree_verifies_or_is_refused() {
             Ok(sol) => {
                 assert!(sol.report.check.unwrap().passed(), "degree {n}");
                 for (name, c) in constraints() {
-                    let m = miss(&sol.patch, &c);
+                    let m = miss(&sol.surface, &c);
                     assert!(m <= 1e-10, "degree {n}: {name} missed by {m:e}");
                 }
                 verified.push(n);

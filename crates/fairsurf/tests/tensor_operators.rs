@@ -90,7 +90,7 @@ fn region_energies_equal_independent_quadrature() {
             0.7,
         ),
     ]);
-    let p = &s.patch;
+    let p = &s.surface;
     let ops = &s.report.operators;
     let point = 2.0
         * region_integral(|u, v| {
@@ -204,7 +204,7 @@ fn edge_to_curve_attractor() {
                 .unwrap();
             // The u = 0 edge is the curve of P_0j: its rms distance to the
             // target by the midpoint rule agrees with the report's.
-            let edge = BezierCurve::new((0..5).map(|j| sol.patch.point(0, j)).collect());
+            let edge = BezierCurve::new((0..5).map(|j| sol.surface.point(0, j)).collect());
             let k = 4000;
             let rms = ((0..k)
                 .map(|i| {
@@ -241,7 +241,7 @@ fn outcomes_say_where_they_act() {
         op("region", target, TensorPlace::Region(REGION.to_vec()), 5.0),
     ]);
     let ops = &sol.report.operators;
-    assert_eq!(ops[0].at, Some(sol.patch.eval(0.4, 0.55)));
+    assert_eq!(ops[0].at, Some(sol.surface.eval(0.4, 0.55)));
     let at = ops[1].at.unwrap();
     // Within the sampling error of a fine grid over the region.
     let inside = |u: f64, v: f64| {
@@ -254,7 +254,7 @@ fn outcomes_say_where_they_act() {
     let nearest = (0..=k)
         .flat_map(|i| (0..=k).map(move |j| (i as f64 / k as f64, j as f64 / k as f64)))
         .filter(|&(u, v)| inside(u, v))
-        .map(|(u, v)| norm(sub(sol.patch.eval(u, v), at)))
+        .map(|(u, v)| norm(sub(sol.surface.eval(u, v), at)))
         .fold(f64::INFINITY, f64::min);
     assert!(
         nearest < 5e-3,
@@ -265,9 +265,9 @@ fn outcomes_say_where_they_act() {
     let c = REGION
         .iter()
         .fold([0.0; 2], |m, p| [m[0] + p[0] / 4.0, m[1] + p[1] / 4.0]);
-    let middle = norm(sub(sol.patch.eval(c[0], c[1]), at));
+    let middle = norm(sub(sol.surface.eval(c[0], c[1]), at));
     assert!(middle < 0.06, "{at:?} is {middle} from the region's middle");
-    let corner = norm(sub(sol.patch.eval(REGION[0][0], REGION[0][1]), at));
+    let corner = norm(sub(sol.surface.eval(REGION[0][0], REGION[0][1]), at));
     assert!(corner > 0.2, "{corner}");
 }
 
@@ -289,7 +289,7 @@ fn regions_are_additive() {
         op("left", t.clone(), TensorPlace::Region(left.to_vec()), 3.0),
         op("right", t, TensorPlace::Region(right.to_vec()), 3.0),
     ]);
-    assert!(common::max_dist(&a.patch, &b.patch) < 1e-13);
+    assert!(common::max_dist(&a.surface, &b.surface) < 1e-13);
     let split: f64 = b.report.operators.iter().map(|o| o.energy).sum();
     assert!((a.report.external - split).abs() < 1e-13 * split);
 }
@@ -333,8 +333,8 @@ fn translation_invariance() {
         p = p.with_operator(o);
     }
     let b = p.solve().unwrap();
-    let back = b.patch.map(|p| sub(*p, shift));
-    assert!(common::max_dist(&a.patch, &back) < 1e-12);
+    let back = b.surface.map(|p| sub(*p, shift));
+    assert!(common::max_dist(&a.surface, &back) < 1e-12);
     assert!((a.report.external - b.report.external).abs() < 1e-10 * a.report.external);
 }
 
@@ -366,7 +366,7 @@ fn repellor_by_newton() {
         last = d;
         // The frame holds.
         for j in 0..5 {
-            assert_eq!(sol.patch.point(0, j), frame().point(0, j));
+            assert_eq!(sol.surface.point(0, j), frame().point(0, j));
         }
     }
 }

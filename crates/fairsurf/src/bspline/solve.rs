@@ -31,12 +31,15 @@ use std::time::Instant;
 /// written net.
 pub const ENERGY_TOLERANCE: f64 = 1e-10;
 
-/// The faired surface and its report.
-#[derive(Clone, Debug)]
-pub struct BSplineSolution {
-    /// The surface with the free points solved.
-    pub surface: BSplineSurface,
-    /// How good it is: the report of every tensor surface kind. Here
+/// A B-spline surface with its free points solved, and its report.
+pub type BSplineSolution = crate::Solution<BSplineSurface>;
+
+impl BSplineProblem {
+    /// Minimizes; refuses no free point, no energy, a negative weight, a
+    /// singular system, and an answer whose energy the second road does
+    /// not confirm.
+    ///
+    /// The report is every tensor kind's [`crate::SolveReport`]. Here
     /// `energy` is the closed forms' (Bernstein products on the Bézier
     /// pieces), which the check's Gauss quadrature span by span confirms to
     /// [`ENERGY_TOLERANCE`] of its scale; `basis` is "b-spline";
@@ -46,13 +49,6 @@ pub struct BSplineSolution {
     /// excess (with constraints the KKT factorization too, `factor` then
     /// 0); `measures` is `None` (the scene layer adds them,
     /// [`BSplineSurface::measures`]).
-    pub report: SolveReport,
-}
-
-impl BSplineProblem {
-    /// Minimizes; refuses no free point, no energy, a negative weight, a
-    /// singular system, and an answer whose energy the second road does
-    /// not confirm.
     pub fn solve(&self) -> Result<BSplineSolution> {
         check_weight("stretch weight", self.stretch)?;
         check_weight("bend weight", self.bend)?;

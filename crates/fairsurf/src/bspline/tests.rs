@@ -466,7 +466,7 @@ fn without_interior_knots_the_guided_problem_is_the_tensor_problem() {
         .unwrap()
         .solve()
         .unwrap();
-    let worst = net_gap(ours.surface.points(), tensor.patch.points());
+    let worst = net_gap(ours.surface.points(), tensor.surface.points());
     assert!(worst < 1e-12, "nets differ by {worst:e}");
     let r = &ours.report;
     assert!(
@@ -648,7 +648,7 @@ fn sampled_normal_fields_match_the_tensor_problem_and_are_minimal() {
         .unwrap()
         .solve()
         .unwrap();
-    let worst = net_gap(ours.surface.points(), tensor.patch.points());
+    let worst = net_gap(ours.surface.points(), tensor.surface.points());
     assert!(worst < 1e-12, "nets differ by {worst:e}");
     let r = &ours.report;
     assert!(

@@ -82,7 +82,7 @@ impl Comparison {
 pub fn compare(net: &TensorPatch) -> Result<Comparison> {
     let from_solution = |s: Solution| Column {
         measures: s.report.measures.expect("analysis is on by default"),
-        patch: s.patch,
+        patch: s.surface,
         exact: true,
         residual: 0.0,
     };

@@ -222,10 +222,10 @@ mod tests {
                         let got = cache.solve(&p, &opts).unwrap();
                         let fresh = p.solve_with(&opts).unwrap();
                         let d = got
-                            .patch
+                            .surface
                             .points()
                             .iter()
-                            .zip(fresh.patch.points())
+                            .zip(fresh.surface.points())
                             .map(|(a, b)| (a[2] - b[2]).abs())
                             .fold(0.0, f64::max);
                         assert!(d < 1e-13, "{d}");

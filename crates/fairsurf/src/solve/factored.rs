@@ -47,7 +47,7 @@ use std::time::Instant;
 /// let moved = factored.solve(&problem(0.5), &opts).unwrap();
 /// assert!(moved.report.reused);
 /// let fresh = problem(0.5).solve_with(&opts).unwrap();
-/// assert!((moved.patch.point(1, 1)[2] - fresh.patch.point(1, 1)[2]).abs() < 1e-14);
+/// assert!((moved.surface.point(1, 1)[2] - fresh.surface.point(1, 1)[2]).abs() < 1e-14);
 /// ```
 #[derive(Debug)]
 pub struct Factored {
@@ -488,7 +488,10 @@ impl Factored {
                 total: t_total.elapsed().as_secs_f64(),
             },
         };
-        Ok(Solution { patch, report })
+        Ok(Solution {
+            surface: patch,
+            report,
+        })
     }
 }
 

@@ -37,7 +37,7 @@ use std::time::Instant;
 /// let net = TensorPatch::from_fn(2, 2, |i, j| [i as f64, j as f64, if (i, j) == (1, 1) { 5.0 } else { 0.0 }]);
 /// let sol = Problem::new((2, 2)).with_fixed_rings(&net, 1).with_term(Stretch::new(1.0)).solve().unwrap();
 /// // The Dirichlet extremal of a planar boundary is planar.
-/// assert!(sol.patch.point(1, 1)[2].abs() < 1e-14);
+/// assert!(sol.surface.point(1, 1)[2].abs() < 1e-14);
 /// assert!(sol.report.relative_gradient < 1e-14);
 /// ```
 #[derive(Debug)]
@@ -92,12 +92,16 @@ impl SolveOptions {
     }
 }
 
-/// A solved problem: the surface and how good it is.
+/// A solved problem of a tensor kind: the surface and how good it is —
+/// `Solution` for a Bézier patch ([`Problem`]), `Solution<BSplineSurface>`
+/// ([`crate::bspline::BSplineSolution`]) for a B-spline surface
+/// ([`crate::bspline::BSplineProblem`]).
 #[derive(Clone, Debug)]
-pub struct Solution {
-    /// The patch with every control point filled.
-    pub patch: TensorPatch,
-    /// Energies, gradient, residual, conditioning, timings.
+pub struct Solution<S = TensorPatch> {
+    /// The surface with every control point filled.
+    pub surface: S,
+    /// Energies, gradient, residual, conditioning, timings: one report for
+    /// every tensor kind.
     pub report: SolveReport,
 }
 

@@ -10,7 +10,7 @@ pub struct TermEnergy {
 }
 
 /// Wall-clock seconds spent in each stage (for a B-spline surface see
-/// [`crate::bspline::BSplineSolution::report`] for what each holds).
+/// [`crate::bspline::BSplineProblem::solve`] for what each holds).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Timings {
     /// Building every term's quadratic form and the system.
