@@ -257,24 +257,35 @@ pub fn render(panels: &[Panel], opts: &RenderOptions) -> Result<Picture> {
         0.0
     };
     let n = panels.len();
-    let cols = if n <= 4 {
-        n
-    } else {
-        (n as f64).sqrt().ceil() as usize
+    let has_title = panels.iter().any(|p| p.title.is_some());
+    // The panels' grid: one row unless fewer columns let the surfaces be
+    // drawn at least 1.25 times larger (a wide surface in a tall picture
+    // stacked, four in a 4:3 picture 2 × 2), so that they fill their panels;
+    // of those grids the largest scale.
+    let layout = |cols: usize| {
+        let rows = n.div_ceil(cols);
+        let (pw, ph) = (((w - bar) / cols as f32).floor(), (h / rows as f32).floor());
+        let title_h = if has_title {
+            TITLE_H.min(0.2 * ph)
+        } else {
+            0.0
+        };
+        let viewport = (pw.max(1.0) as f64, (ph - title_h).max(1.0) as f64);
+        let cams: Vec<Camera> = prepared
+            .iter()
+            .map(|p| Camera::fit(opts.view, &p.frame_points, viewport, 0.05))
+            .collect();
+        let common = cams.iter().map(|c| c.scale).fold(f64::INFINITY, f64::min);
+        (common, cols, pw, ph, title_h, cams)
     };
-    let rows = n.div_ceil(cols);
-    let (pw, ph) = (((w - bar) / cols as f32).floor(), (h / rows as f32).floor());
-    let title_h = if panels.iter().any(|p| p.title.is_some()) {
-        TITLE_H.min(0.2 * ph)
-    } else {
-        0.0
+    let row = layout(n);
+    let grid = (1..n)
+        .map(layout)
+        .reduce(|best, next| if next.0 > best.0 { next } else { best });
+    let (common, cols, pw, ph, title_h, mut cams) = match grid {
+        Some(g) if g.0 > 1.25 * row.0 => g,
+        _ => row,
     };
-    let viewport = (pw.max(1.0) as f64, (ph - title_h).max(1.0) as f64);
-    let mut cams: Vec<Camera> = prepared
-        .iter()
-        .map(|p| Camera::fit(opts.view, &p.frame_points, viewport, 0.05))
-        .collect();
-    let common = cams.iter().map(|c| c.scale).fold(f64::INFINITY, f64::min);
     for c in &mut cams {
         c.scale = common;
     }

@@ -153,6 +153,44 @@ fn grid_layout_for_more_than_four_panels() {
     }
 }
 
+/// The grid is the one whose panels let the surfaces be largest: four
+/// squares in a 4:3 picture go 2 × 2 (each 0.9 of a 450-pixel panel height:
+/// 405² of 600 × 450, against 270² of 300 × 900 in a row), and two wide
+/// strips in a tall picture are stacked, two tall ones side by side.
+#[test]
+fn the_grid_lets_the_surfaces_fill_their_panels() {
+    let four: Vec<Panel> = (0..4).map(|_| Panel::new(square(1.0))).collect();
+    let pic = render(&four, &plain(1200, 900).with_view(View::TOP)).unwrap();
+    for s in &pic.panels {
+        let want = 405.0 * 405.0 / (600.0 * 450.0);
+        assert!((s.coverage - want).abs() < 0.01, "{} vs {want}", s.coverage);
+    }
+    // A 4 × 1 strip (x from 0 to 4), seen from the top.
+    let strip = |wide: bool| {
+        let (a, b) = if wide { (4.0, 1.0) } else { (1.0, 4.0) };
+        Panel::new(TensorPatch::from_fn(1, 1, |i, j| {
+            [a * i as f64, b * j as f64, 0.0]
+        }))
+    };
+    for (wide, (w, h)) in [(true, (400, 800)), (false, (800, 400))] {
+        let pic = render(
+            &[strip(wide), strip(wide)],
+            &plain(w, h).with_view(View::TOP),
+        )
+        .unwrap();
+        // Stacked (or side by side): 400 × 400 panels, the strip 360 × 90
+        // of them; the other way round it would be 45 pixels across.
+        for s in &pic.panels {
+            let want = 360.0 * 90.0 / (400.0 * 400.0);
+            assert!(
+                (s.coverage - want).abs() < 0.01,
+                "wide {wide}: {} vs {want}",
+                s.coverage
+            );
+        }
+    }
+}
+
 #[test]
 fn colour_bar_runs_from_the_range_top_to_bottom() {
     let opts = RenderOptions::default()
