@@ -3,6 +3,16 @@
 
 use super::*;
 
+/// The scene's operators and constraints as JSON, what the markers and
+/// handles read (`Field::entries`), without the rest of the scene (whose net
+/// a drag would otherwise copy into a value tree at every step).
+pub(super) fn entries_json(
+    operators: &impl serde::Serialize,
+    constraints: &impl serde::Serialize,
+) -> Value {
+    json!({"operators": operators, "constraints": constraints})
+}
+
 /// The operators' markers: each entry with its outcome's point.
 pub(super) fn operator_markers(
     operators: &Value,

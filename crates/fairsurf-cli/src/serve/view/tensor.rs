@@ -12,7 +12,7 @@ pub(super) fn bspline_view(solved: &SolvedBSplineScene) -> View<'_> {
     let scene = &solved.scene;
     let s = solved.surface();
     let size = size_of(s.points());
-    let scene_json = serde_json::to_value(scene).expect("json");
+    let scene_json = entries_json(&scene.operators, &scene.constraints);
     let (cu, cv) = s.counts();
     // Handles: the scene's given points that are held. With "refine" the
     // solved net is finer; the held points are then the scene's rings.
@@ -94,7 +94,7 @@ pub(super) fn tensor_view(solved: &SolvedTensorScene) -> View<'_> {
     let patch = solved.patch();
     let (n, m) = patch.degree();
     let size = size_of(patch.points());
-    let scene_json = serde_json::to_value(scene).expect("json");
+    let scene_json = entries_json(&scene.operators, &scene.constraints);
 
     let boundary = patch.boundary(64).into();
 

@@ -14,7 +14,7 @@ pub(super) fn tri_view(solved: &SolvedTriScene) -> View<'_> {
     let s = solved.surface();
     let r = &solved.solution.report;
     let size = size_of(s.points());
-    let scene_json = serde_json::to_value(scene).expect("json");
+    let scene_json = entries_json(&scene.operators, &scene.constraints);
     let resolution = match s.patch_count() {
         0..=200 => 8,
         201..=2000 => 4,
