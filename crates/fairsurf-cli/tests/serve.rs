@@ -262,6 +262,22 @@ fn bspline_scenes_in_the_editor() {
     }
 }
 
+/// The largest coordinate difference between a result file's net (rows of
+/// points) and `points` (row-major).
+fn net_gap(result: &Value, points: &[[f64; 3]]) -> f64 {
+    let rows = result["surface"]["control_points"].as_array().unwrap();
+    let cols = rows[0].as_array().unwrap().len();
+    let mut worst: f64 = 0.0;
+    for (i, row) in rows.iter().enumerate() {
+        for (j, p) in row.as_array().unwrap().iter().enumerate() {
+            for c in 0..3 {
+                worst = worst.max((p[c].as_f64().unwrap() - points[i * cols + j][c]).abs());
+            }
+        }
+    }
+    worst
+}
+
 /// A drag: quick solves of a moved boundary point reuse the kept
 /// factorization and give the library's fresh solution; the full solve on
 /// letting go adds the analysis; a weight change factors anew.
@@ -286,17 +302,7 @@ fn drags_reuse_the_factorization() {
             .unwrap()
             .solve()
             .unwrap();
-        let fresh = direct.patch().points();
-        let got = v["result"]["surface"]["control_points"].as_array().unwrap();
-        let mut worst: f64 = 0.0;
-        for (i, row) in got.iter().enumerate() {
-            for (j, p) in row.as_array().unwrap().iter().enumerate() {
-                for c in 0..3 {
-                    let a = p[c].as_f64().unwrap();
-                    worst = worst.max((a - fresh[i * 11 + j][c]).abs());
-                }
-            }
-        }
+        let worst = net_gap(&v["result"], direct.patch().points());
         assert!(
             worst < 1e-12,
             "step {k}: reused and fresh differ by {worst}"
@@ -311,6 +317,40 @@ fn drags_reuse_the_factorization() {
     scene["energy"]["normal_field"]["weight"] = json!(20);
     let (_, v) = post(&s, "/api/solve", &json!({ "scene": scene, "quick": true }));
     assert_eq!(rows(&v)["factorization"], "new", "λ changed the matrix");
+}
+
+/// A drag on a B-spline surface: a moved held point reuses the kept sparse
+/// factor (the library's fresh solution), a weight change keeps only its
+/// ordering, the full answer on letting go adds the measures.
+#[test]
+fn bspline_drags_reuse_the_factor() {
+    let s = start(&[]);
+    let mut scene = example("bspline_hole.json");
+    let (status, v) = post(&s, "/api/solve", &json!({ "scene": scene, "quick": true }));
+    assert_eq!(status, 200, "{v}");
+    assert_eq!(rows(&v)["factorization"], "new");
+    for k in 1..=2 {
+        scene["surface"]["control_points"][0][3][2] = json!(0.2 * k as f64);
+        let (status, v) = post(&s, "/api/solve", &json!({ "scene": scene, "quick": true }));
+        assert_eq!(status, 200, "{v}");
+        let r = rows(&v);
+        assert_eq!(r["factorization"], "reused", "step {k}");
+        assert!(!r.contains_key("area"), "a quick answer skips the area");
+        let direct = fairsurf_io::BSplineScene::from_json(&scene.to_string())
+            .unwrap()
+            .solve()
+            .unwrap();
+        let worst = net_gap(&v["result"], direct.surface().points());
+        assert!(
+            worst < 1e-12,
+            "step {k}: reused and fresh differ by {worst}"
+        );
+    }
+    scene["energy"]["bend"] = json!(3);
+    let (_, v) = post(&s, "/api/solve", &json!({ "scene": scene }));
+    let r = rows(&v);
+    assert_eq!(r["factorization"], "refactored (ordering kept)");
+    assert!(r["area"].as_f64().unwrap() > 1.0);
 }
 
 /// Triangular scenes: a fixed control point is a handle (at the net's value

@@ -263,6 +263,7 @@ pub fn report_json(r: &SolveReport) -> Value {
         "free_points": r.free_points,
         "coupled": r.coupled,
         "reused_factorization": r.reused,
+        "reused_symbolic": r.reused_symbolic,
         "timings_s": {
             "assemble": r.timings.assemble, "factor": r.timings.factor, "solve": r.timings.solve,
             "analyse": r.timings.analyse, "total": r.timings.total,

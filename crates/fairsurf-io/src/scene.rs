@@ -147,7 +147,10 @@ impl Scene {
             (Scene::Tensor(s), None) => SolvedScene::Tensor(s.solve_with(opts)?),
             (Scene::Triangular(s), Some(c)) => SolvedScene::Triangular(s.solve_cached(c)?),
             (Scene::Triangular(s), None) => SolvedScene::Triangular(s.solve()?),
-            (Scene::BSpline(s), _) => SolvedScene::BSpline(Box::new(s.solve_with(opts)?)),
+            (Scene::BSpline(s), Some(c)) => {
+                SolvedScene::BSpline(Box::new(s.solve_cached(opts, c)?))
+            }
+            (Scene::BSpline(s), None) => SolvedScene::BSpline(Box::new(s.solve_with(opts)?)),
         })
     }
 

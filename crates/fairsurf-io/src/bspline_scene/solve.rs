@@ -219,8 +219,30 @@ impl BSplineScene {
     /// the only option a B-spline solve reads (the others tune the Bézier
     /// patch's dense solve).
     pub fn solve_with(&self, opts: &SolveOptions) -> Result<SolvedBSplineScene> {
+        self.solve_using(opts, None)
+    }
+
+    /// [`Self::solve_with`], reusing a factorization from `cache` when one
+    /// fits (and keeping this one there): for a designer dragging points
+    /// ([`fairsurf::FactorCache::solve_bspline`]).
+    pub fn solve_cached(
+        &self,
+        opts: &SolveOptions,
+        cache: &fairsurf::FactorCache,
+    ) -> Result<SolvedBSplineScene> {
+        self.solve_using(opts, Some(cache))
+    }
+
+    fn solve_using(
+        &self,
+        opts: &SolveOptions,
+        cache: Option<&fairsurf::FactorCache>,
+    ) -> Result<SolvedBSplineScene> {
         let problem = self.problem()?;
-        let mut solution = problem.solve()?;
+        let mut solution = match cache {
+            Some(c) => c.solve_bspline(&problem)?,
+            None => problem.solve()?,
+        };
         let t = std::time::Instant::now();
         let normal_turn = if opts.analyse {
             let measures = solution.surface.measures();

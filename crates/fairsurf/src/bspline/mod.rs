@@ -48,6 +48,7 @@ pub use problem::BSplineProblem;
 pub use rational::{FitTolerance, RationalSurface, StandIn};
 pub use solve::{BSplineSolution, ENERGY_TOLERANCE};
 pub use surface::{BSplineSurface, BezierPiece};
+pub(crate) use system::{BSplineFactor, Reuse};
 
 /// Gaussian elimination with partial pivoting on a small dense system
 /// with right-hand sides of K components (collocation systems); None when

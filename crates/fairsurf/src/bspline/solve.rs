@@ -14,7 +14,7 @@ use super::energy::{energy_by_pieces, energy_by_quadrature, patterns, Gram1d};
 use super::guidance::{guide_value, guide_value_by_pieces, NormalTerm};
 use super::problem::BSplineProblem;
 use super::project::guide_value_by_quadrature;
-use super::system::{unconstrained, Solved, System};
+use super::system::{unconstrained, BSplineFactor, Reuse, Solved, System};
 use super::BSplineSurface;
 use crate::check::{self, Check};
 use crate::energy::check_weight;
@@ -25,11 +25,16 @@ use crate::solve::{SolveReport, TermEnergy, Timings};
 use crate::{Error, Result, Vec3};
 use faer::sparse::Triplet;
 use faer::Mat;
+use std::sync::Arc;
 use std::time::Instant;
 
 /// Relative agreement required between the two roads to the energy of the
 /// written net.
 pub const ENERGY_TOLERANCE: f64 = 1e-10;
+
+/// The factor a solve used and how much of it was kept from before (`None`
+/// with constraints).
+pub(crate) type UsedFactor = Option<(Arc<BSplineFactor>, Reuse)>;
 
 /// A B-spline surface with its free points solved, and its report.
 pub type BSplineSolution = crate::Solution<BSplineSurface>;
@@ -50,6 +55,19 @@ impl BSplineProblem {
     /// 0); `measures` is `None` (the scene layer adds them,
     /// [`BSplineSurface::measures`]).
     pub fn solve(&self) -> Result<BSplineSolution> {
+        self.solve_kept(&[]).map(|(solution, _)| solution)
+    }
+
+    /// [`Self::solve`] with kept factorizations (the editor's drags,
+    /// [`crate::FactorCache::solve_bspline`]): without constraints, the one
+    /// of this very matrix is used as it is (only the right-hand side is
+    /// new: `report.reused`), else the ordering of one with this pattern
+    /// (`report.reused_symbolic`). Returns the factor used, to keep (`None`
+    /// with constraints, which the core's KKT solve factors).
+    pub(crate) fn solve_kept(
+        &self,
+        kept: &[Arc<BSplineFactor>],
+    ) -> Result<(BSplineSolution, UsedFactor)> {
         check_weight("stretch weight", self.stretch)?;
         check_weight("bend weight", self.bend)?;
         let lambda = self.normal.as_ref().map_or(0.0, |n| n.weight);
@@ -85,8 +103,11 @@ impl BSplineProblem {
         let sys = self.assemble(&free, &gu, &gv, &pats, (normal, coupled), &quadratic);
         let assemble = t0.elapsed().as_secs_f64();
 
+        let mut factor = None;
         let mut solved = if self.constraints.is_empty() {
-            unconstrained(&sys, coupled, free.len())?
+            let (solved, f, reuse) = unconstrained(&sys, coupled, free.len(), kept)?;
+            factor = Some((f, reuse));
+            solved
         } else {
             let rows = self.constraint_rows()?;
             let mut slot = vec![usize::MAX; self.free.len()];
@@ -221,7 +242,8 @@ impl BSplineProblem {
                 value: guide_surface,
             });
         }
-        Ok(BSplineSolution {
+        let reuse = factor.as_ref().map_or(Reuse::New, |f| f.1);
+        let solution = BSplineSolution {
             surface,
             report: SolveReport {
                 terms,
@@ -249,7 +271,8 @@ impl BSplineProblem {
                 unknowns: 3 * free.len(),
                 free_points: free.len(),
                 coupled,
-                reused: false,
+                reused: reuse == Reuse::Numeric,
+                reused_symbolic: reuse == Reuse::Symbolic,
                 measures: None,
                 factor_nonzeros: solved.kkt.is_none().then_some(solved.factor_nonzeros),
                 kkt: solved.kkt,
@@ -261,7 +284,8 @@ impl BSplineProblem {
                     total: t0.elapsed().as_secs_f64(),
                 },
             },
-        })
+        };
+        Ok((solution, factor))
     }
 
     /// With repellors (Veltkamp & Wesselink eq. 23, s/E_attr): Newton's

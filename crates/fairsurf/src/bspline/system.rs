@@ -7,10 +7,59 @@ use crate::solve::kkt::KktInfo;
 use crate::solve::kkt::{hager, sparse_llt, LltFailure};
 use crate::{Error, Result, Vec3};
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::sparse::linalg::cholesky::LltRef;
+use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky};
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Conj, Mat, Par};
+use std::sync::Arc;
 use std::time::Instant;
+
+/// A B-spline system's sparse Cholesky factor, kept between solves for the
+/// editor's drags ([`crate::FactorCache::solve_bspline`]): the lower
+/// triangle it factors, its symbolic analysis (AMD ordering, elimination
+/// tree), the numbers, and the matrix's condition estimate.
+#[derive(Debug)]
+pub(crate) struct BSplineFactor {
+    lower: SparseColMat<usize, f64>,
+    symbolic: Arc<SymbolicCholesky<usize>>,
+    values: Vec<f64>,
+    condition: f64,
+}
+
+impl BSplineFactor {
+    /// Bytes held (matrix and factor).
+    pub(crate) fn bytes(&self) -> usize {
+        16 * (self.values.len() + self.lower.val().len()) + 8 * self.lower.ncols()
+    }
+
+    /// Whether `lower` has this matrix's nonzero pattern.
+    fn same_pattern(&self, lower: &SparseColMat<usize, f64>) -> bool {
+        let (a, b) = (self.lower.symbolic(), lower.symbolic());
+        a.nrows() == b.nrows() && a.col_ptr() == b.col_ptr() && a.row_idx() == b.row_idx()
+    }
+
+    /// Whether `lower` is this matrix, value for value.
+    fn same_matrix(&self, lower: &SparseColMat<usize, f64>) -> bool {
+        self.same_pattern(lower) && self.lower.val() == lower.val()
+    }
+
+    /// Whether the kept factor is of the same matrix as `other`'s.
+    pub(crate) fn same_as(&self, other: &BSplineFactor) -> bool {
+        self.same_matrix(&other.lower)
+    }
+}
+
+/// How much of a kept factorization a solve used.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Reuse {
+    /// None: ordering and numbers computed.
+    New,
+    /// The ordering and elimination tree of one with the same pattern (a
+    /// weight changed): only the numbers were computed.
+    Symbolic,
+    /// The whole factor of the same matrix (a fixed point moved): only the
+    /// right-hand side was new.
+    Numeric,
+}
 
 /// The assembled free block.
 pub(super) struct System {
@@ -92,28 +141,73 @@ pub(super) struct Solved {
 /// Sparse Cholesky of the free block (AMD ordering), one step of iterative
 /// refinement, then the check's Newton corrections while the excess
 /// ½ gᵀH⁻¹g (g = b − Hx in compensated products) falls.
-pub(super) fn unconstrained(sys: &System, coupled: bool, nf: usize) -> Result<Solved> {
+/// With `kept` factorizations: the one of this very matrix is used as it is
+/// (`Reuse::Numeric`), or the ordering of one with this pattern
+/// (`Reuse::Symbolic`). Returns the factor used, to keep.
+pub(super) fn unconstrained(
+    sys: &System,
+    coupled: bool,
+    nf: usize,
+    kept: &[Arc<BSplineFactor>],
+) -> Result<(Solved, Arc<BSplineFactor>, Reuse)> {
     let t1 = Instant::now();
     let lower = SparseColMat::try_new_from_triplets(sys.dim, sys.dim, &sys.lower)
         .expect("the triplets index the free block");
-    let (symbolic, values) = sparse_llt(&lower, None).map_err(|e| match e {
-        LltFailure::NotPositive => Error::NotPositiveDefinite {
-            unknowns: 3 * nf,
-            pivot: 0,
-            hint: "the energy does not determine the free control points: add bend or \
-                   stretch, or fix more points"
-                .into(),
-        },
-        LltFailure::Symbolic(why) => Error::Mismatch {
-            what: "B-spline system".into(),
-            expected: "a size that fits in memory".into(),
-            got: format!("{nf} free points ({why})"),
-        },
-    })?;
+    let same = kept.iter().find(|f| f.same_matrix(&lower));
+    let pattern = kept.iter().find(|f| f.same_pattern(&lower));
+    let (factored, reuse) = match (same, pattern) {
+        (Some(f), _) => (f.clone(), Reuse::Numeric),
+        (None, p) => {
+            let (symbolic, values) =
+                sparse_llt(&lower, p.map(|f| &f.symbolic)).map_err(|e| match e {
+                    LltFailure::NotPositive => Error::NotPositiveDefinite {
+                        unknowns: 3 * nf,
+                        pivot: 0,
+                        hint: "the energy does not determine the free control points: add bend \
+                               or stretch, or fix more points"
+                            .into(),
+                    },
+                    LltFailure::Symbolic(why) => Error::Mismatch {
+                        what: "B-spline system".into(),
+                        expected: "a size that fits in memory".into(),
+                        got: format!("{nf} free points ({why})"),
+                    },
+                })?;
+            let reuse = if p.is_some() {
+                Reuse::Symbolic
+            } else {
+                Reuse::New
+            };
+            let mut f = BSplineFactor {
+                lower,
+                symbolic,
+                values,
+                condition: f64::NAN,
+            };
+            // ‖H‖₁‖H⁻¹‖₁ (H symmetric: its 1-norm is its ∞-norm), Hager's
+            // estimate through the factor.
+            let llt = LltRef::new(f.symbolic.as_ref(), &f.values);
+            let par = Par::Seq;
+            f.condition = sys.h_inf
+                * hager(sys.dim, |v| {
+                    let mut m = Mat::from_fn(sys.dim, 1, |i, _| v[i]);
+                    let mut mem = MemBuffer::new(f.symbolic.solve_in_place_scratch::<f64>(1, par));
+                    llt.solve_in_place_with_conj(
+                        Conj::No,
+                        m.as_mut(),
+                        par,
+                        MemStack::new(&mut mem),
+                    );
+                    (0..sys.dim).map(|i| m[(i, 0)]).collect()
+                });
+            (Arc::new(f), reuse)
+        }
+    };
+    let (symbolic, values) = (&factored.symbolic, &factored.values);
     let factor = t1.elapsed().as_secs_f64();
 
     let t2 = Instant::now();
-    let llt = LltRef::new(symbolic.as_ref(), &values);
+    let llt = LltRef::new(symbolic.as_ref(), values);
     let par = Par::Seq;
     let cols = sys.b.ncols();
     let mut mem = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(cols, par));
@@ -147,15 +241,7 @@ pub(super) fn unconstrained(sys: &System, coupled: bool, nf: usize) -> Result<So
         (x, excess, r, d) = (next, e2, r2, d2);
         corrections += 1;
     }
-    // ‖H‖₁‖H⁻¹‖₁ (H symmetric: its 1-norm is its ∞-norm), Hager's
-    // estimate through the factor.
-    let condition_estimate = sys.h_inf
-        * hager(sys.dim, |v| {
-            let mut m = Mat::from_fn(sys.dim, 1, |i, _| v[i]);
-            let mut mem1 = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, par));
-            llt.solve_in_place_with_conj(Conj::No, m.as_mut(), par, MemStack::new(&mut mem1));
-            (0..sys.dim).map(|i| m[(i, 0)]).collect()
-        });
+    let condition_estimate = factored.condition;
     let solve_s = t2.elapsed().as_secs_f64();
     let x_free: Vec<Vec3> = (0..nf)
         .map(|row| {
@@ -178,7 +264,7 @@ pub(super) fn unconstrained(sys: &System, coupled: bool, nf: usize) -> Result<So
     } else {
         gradient_norm
     };
-    Ok(Solved {
+    let solved = Solved {
         x: x_free,
         xx: dot(&x, &x),
         gradient_norm,
@@ -191,7 +277,8 @@ pub(super) fn unconstrained(sys: &System, coupled: bool, nf: usize) -> Result<So
         kkt: None,
         factor,
         solve: solve_s,
-    })
+    };
+    Ok((solved, factored, reuse))
 }
 
 /// Σ a_ij b_ij.

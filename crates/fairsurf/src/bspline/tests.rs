@@ -741,3 +741,52 @@ fn derivatives_on_a_grid_are_the_pointwise_ones() {
         }
     }
 }
+
+/// The editor's drags on a B-spline surface: a kept factor is used as it is
+/// when only a fixed point moved (the same answer as a fresh solve), its
+/// ordering when a weight changed, and neither for another free set —
+/// counted by the reports and the cache, not timed.
+#[test]
+fn a_cache_reuses_the_factor_for_moved_points_and_the_ordering_for_weights() {
+    let cache = crate::FactorCache::new(8, 1 << 30);
+    let (u, v) = uneven();
+    let s = wavy(u, v);
+    let problem = |s: &BSplineSurface, rings: usize, bend: f64| {
+        BSplineProblem::new(s.clone())
+            .with_fixed_rings(rings)
+            .with_stretch(0.1)
+            .with_bend(bend)
+    };
+    let same = |a: &BSplineSolution, b: &BSplineSolution| {
+        assert!(net_gap(a.surface.points(), b.surface.points()) < 1e-12);
+        assert!((a.report.energy - b.report.energy).abs() < 1e-12 * b.report.energy);
+        assert!(a.report.relative_gradient < 1e-14 && a.report.check.unwrap().excess < 1e-10);
+    };
+    let first = cache.solve_bspline(&problem(&s, 2, 1.0)).unwrap();
+    assert!(!first.report.reused && !first.report.reused_symbolic);
+    same(&first, &problem(&s, 2, 1.0).solve().unwrap());
+    assert_eq!(cache.len(), 1);
+    // A fixed corner moved: the same matrix, only the right-hand side new.
+    let mut points = s.points().to_vec();
+    points[0][2] += 0.3;
+    let moved = s.with_points(points);
+    let dragged = cache.solve_bspline(&problem(&moved, 2, 1.0)).unwrap();
+    assert!(dragged.report.reused);
+    let fresh = problem(&moved, 2, 1.0).solve().unwrap();
+    same(&dragged, &fresh);
+    assert!(net_gap(dragged.surface.points(), first.surface.points()) > 1e-3);
+    assert_eq!(
+        dragged.report.condition_estimate,
+        first.report.condition_estimate
+    );
+    assert_eq!(cache.len(), 1);
+    // The bend weight doubled: the pattern kept, the numbers new.
+    let heavier = cache.solve_bspline(&problem(&moved, 2, 2.0)).unwrap();
+    assert!(!heavier.report.reused && heavier.report.reused_symbolic);
+    same(&heavier, &problem(&moved, 2, 2.0).solve().unwrap());
+    assert_eq!(cache.len(), 2);
+    // One ring fixed: another free set, nothing reused.
+    let wider = cache.solve_bspline(&problem(&moved, 1, 2.0)).unwrap();
+    assert!(!wider.report.reused && !wider.report.reused_symbolic);
+    assert_eq!(cache.len(), 3);
+}

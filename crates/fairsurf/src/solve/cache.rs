@@ -2,6 +2,7 @@
 
 use super::factored::Factored;
 use super::problem::{Prepared, Problem, Solution, SolveOptions};
+use crate::bspline::{BSplineFactor, BSplineProblem, BSplineSolution, Reuse};
 use crate::triangle::solve::Factor;
 use crate::triangle::{TriFactored, TriProblem, TriSolution};
 use crate::Result;
@@ -12,8 +13,9 @@ use std::time::Instant;
 /// The most recently used factorizations, shared between threads: a solve
 /// reuses one that [fits](Factored::fits) the problem, or factors the
 /// problem and keeps it, dropping the least recently used ones beyond the
-/// limits on count and bytes. Tensor-product ([`Self::solve`]) and
-/// triangular ([`Self::solve_triangular`]) solves share the limits.
+/// limits on count and bytes. Bézier ([`Self::solve`]), B-spline
+/// ([`Self::solve_bspline`]) and triangular ([`Self::solve_triangular`])
+/// solves share the limits.
 ///
 /// ```
 /// use fairsurf::{FactorCache, Problem, SolveOptions, Stretch, TensorPatch};
@@ -31,11 +33,12 @@ pub struct FactorCache {
     entries: Mutex<VecDeque<Kept>>,
 }
 
-/// A kept factorization of either kind.
+/// A kept factorization of any kind.
 #[derive(Clone, Debug)]
 enum Kept {
     Tensor(Arc<Factored>),
     Triangular(Arc<TriFactored>),
+    BSpline(Arc<BSplineFactor>),
 }
 
 impl Kept {
@@ -43,6 +46,7 @@ impl Kept {
         match self {
             Kept::Tensor(f) => f.bytes(),
             Kept::Triangular(f) => f.bytes(),
+            Kept::BSpline(f) => f.bytes(),
         }
     }
 }
@@ -68,7 +72,7 @@ impl FactorCache {
         let (f, solution) = problem.factor_and_solve_prepared(&prep, opts, t_total)?;
         self.keep(Kept::Tensor(Arc::new(f)), |e| match e {
             Kept::Tensor(e) => e.mismatch(problem, &prep).is_none(),
-            Kept::Triangular(_) => false,
+            Kept::Triangular(_) | Kept::BSpline(_) => false,
         });
         Ok(solution)
     }
@@ -83,7 +87,7 @@ impl FactorCache {
             .iter()
             .filter_map(|e| match e {
                 Kept::Triangular(f) => Some(f.clone()),
-                Kept::Tensor(_) => None,
+                Kept::Tensor(_) | Kept::BSpline(_) => None,
             })
             .collect();
         let refs: Vec<&TriFactored> = kept.iter().map(|f| &**f).collect();
@@ -100,6 +104,37 @@ impl FactorCache {
                 );
             }
             Factor::None => {}
+        }
+        Ok(solution)
+    }
+
+    /// Solves the B-spline `problem`, reusing a kept sparse Cholesky
+    /// factor: as it is when its matrix is this problem's, value for value
+    /// (only fixed points or guide targets moved: `report.reused`), or its
+    /// ordering when only the numbers differ (a weight changed:
+    /// `report.reused_symbolic`). With constraints nothing is kept (the
+    /// core's KKT solve factors them each time).
+    pub fn solve_bspline(&self, problem: &BSplineProblem) -> Result<BSplineSolution> {
+        let kept: Vec<Arc<BSplineFactor>> = self
+            .lock()
+            .iter()
+            .filter_map(|e| match e {
+                Kept::BSpline(f) => Some(f.clone()),
+                Kept::Tensor(_) | Kept::Triangular(_) => None,
+            })
+            .collect();
+        let (solution, factor) = problem.solve_kept(&kept)?;
+        match factor {
+            Some((f, Reuse::Numeric)) => {
+                self.touch(|e| matches!(e, Kept::BSpline(k) if Arc::ptr_eq(k, &f)));
+            }
+            Some((f, _)) => {
+                self.keep(
+                    Kept::BSpline(f.clone()),
+                    |e| matches!(e, Kept::BSpline(k) if k.same_as(&f)),
+                );
+            }
+            None => {}
         }
         Ok(solution)
     }
@@ -125,7 +160,7 @@ impl FactorCache {
             self.touch(|e| matches!(e, Kept::Tensor(f) if f.mismatch(problem, prep).is_none()))?;
         match f {
             Kept::Tensor(f) => Some(f),
-            Kept::Triangular(_) => None,
+            Kept::Triangular(_) | Kept::BSpline(_) => None,
         }
     }
 

@@ -477,6 +477,7 @@ impl Factored {
             free_points: free.len(),
             coupled: self.coupled,
             reused,
+            reused_symbolic: false,
             measures,
             factor_nonzeros: None,
             kkt: None,

@@ -90,6 +90,12 @@ pub struct SolveReport {
     /// `timings.factor` is then 0 and `timings.assemble` is the right-hand
     /// side's).
     pub reused: bool,
+    /// Whether the factorization of an earlier solve with the same
+    /// pattern lent its ordering and elimination tree (a weight changed;
+    /// only the numbers were factored): B-spline surfaces through
+    /// [`crate::FactorCache::solve_bspline`]; always false for the dense
+    /// Bézier solve, which has no ordering.
+    pub reused_symbolic: bool,
     /// Area and functionals of the result (`None` when analysis was off).
     pub measures: Option<crate::analysis::SurfaceMeasures>,
     /// Nonzeros of the sparse Cholesky factor (a B-spline surface without

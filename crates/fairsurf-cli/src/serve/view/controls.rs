@@ -109,7 +109,11 @@ pub(super) fn report_rows(
     table.push(row("unknowns", r.unknowns as f64));
     table.push(row(
         "factorization",
-        if r.reused { "reused" } else { "new" },
+        match (r.reused, r.reused_symbolic) {
+            (true, _) => "reused",
+            (false, true) => "refactored (ordering kept)",
+            _ => "new",
+        },
     ));
     table.push(row("solve (ms)", 1e3 * r.timings.total));
     if let Some(nr) = &r.newton {
