@@ -225,8 +225,9 @@ fn colour_range(opts: &RenderOptions, prepared: &[Prepared]) -> Option<(f64, f64
     })
 }
 
-/// Renders panels side by side (a row of up to four, else a near-square
-/// grid) with one shared scale, view and colour range.
+/// Renders panels side by side with one shared scale, view and colour
+/// range: in one row, or in the grid whose panels let the surfaces be
+/// drawn more than 1.25 times larger (the largest such).
 ///
 /// ```
 /// use fairsurf::TensorPatch;

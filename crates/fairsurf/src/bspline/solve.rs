@@ -50,10 +50,11 @@ impl BSplineProblem {
     /// [`ENERGY_TOLERANCE`] of its scale; `basis` is "b-spline";
     /// `condition_estimate` is Hager's ‖H‖₁‖H⁻¹‖₁ of the matrix factored;
     /// `timings.analyse` is the energy's two roads (also `check.seconds`),
-    /// `timings.solve` the factorization's solves, refinement and the
-    /// excess (with constraints the KKT factorization too, `factor` then
-    /// 0); `measures` is `None` (the scene layer adds them,
-    /// [`BSplineSurface::measures`]).
+    /// `timings.factor` the sparse Cholesky factorization with its
+    /// condition estimate (Hager's, several solves), `timings.solve` the
+    /// solves, refinement and the excess (with constraints the KKT
+    /// factorization too, `factor` then 0); `measures` is `None` (the
+    /// scene layer adds them, [`BSplineSurface::measures`]).
     pub fn solve(&self) -> Result<BSplineSolution> {
         self.solve_kept(&[]).map(|(solution, _)| solution)
     }

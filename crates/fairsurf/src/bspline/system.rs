@@ -42,9 +42,10 @@ impl BSplineFactor {
         self.same_pattern(lower) && self.lower.val() == lower.val()
     }
 
-    /// Whether the kept factor is of the same matrix as `other`'s.
-    pub(crate) fn same_as(&self, other: &BSplineFactor) -> bool {
-        self.same_matrix(&other.lower)
+    /// Whether `other` factors a matrix of this one's pattern (a weight
+    /// slider's steps: the newest replaces the others in the cache).
+    pub(crate) fn same_pattern_as(&self, other: &BSplineFactor) -> bool {
+        self.same_pattern(&other.lower)
     }
 }
 

@@ -112,8 +112,9 @@ impl FactorCache {
     /// factor: as it is when its matrix is this problem's, value for value
     /// (only fixed points or guide targets moved: `report.reused`), or its
     /// ordering when only the numbers differ (a weight changed:
-    /// `report.reused_symbolic`). With constraints nothing is kept (the
-    /// core's KKT solve factors them each time).
+    /// `report.reused_symbolic`; the new factor then replaces the kept
+    /// one). With constraints nothing is kept (the core's KKT solve factors
+    /// them each time).
     pub fn solve_bspline(&self, problem: &BSplineProblem) -> Result<BSplineSolution> {
         let kept: Vec<Arc<BSplineFactor>> = self
             .lock()
@@ -129,9 +130,11 @@ impl FactorCache {
                 self.touch(|e| matches!(e, Kept::BSpline(k) if Arc::ptr_eq(k, &f)));
             }
             Some((f, _)) => {
+                // A factor of the same pattern is replaced (a weight
+                // slider's steps would otherwise crowd out the others).
                 self.keep(
                     Kept::BSpline(f.clone()),
-                    |e| matches!(e, Kept::BSpline(k) if k.same_as(&f)),
+                    |e| matches!(e, Kept::BSpline(k) if k.same_pattern_as(&f)),
                 );
             }
             None => {}

@@ -85,10 +85,14 @@ pub struct SolveReport {
     /// Whether the coordinates were coupled (a normal-field term) or solved
     /// as three systems with one matrix.
     pub coupled: bool,
-    /// Whether the factorization came from an earlier solve
-    /// ([`crate::Factored::solve`]: only the right-hand side was rebuilt;
-    /// `timings.factor` is then 0 and `timings.assemble` is the right-hand
-    /// side's).
+    /// Whether the factorization came from an earlier solve. A Bézier
+    /// patch ([`crate::Factored::solve`]): only the right-hand side was
+    /// rebuilt, `timings.factor` is then 0 and `timings.assemble` is the
+    /// right-hand side's. A B-spline surface
+    /// ([`crate::FactorCache::solve_bspline`]): the system was assembled
+    /// anew and found equal, value for value, to the kept factor's;
+    /// `timings.factor` is then building and comparing the sparse matrix.
+    /// With repellors Newton's method still factors its own steps.
     pub reused: bool,
     /// Whether the factorization of an earlier solve with the same
     /// pattern lent its ordering and elimination tree (a weight changed;
