@@ -69,7 +69,9 @@ pub(super) struct System {
     pub(super) lower: Vec<Triplet<usize, usize, f64>>,
     /// Right-hand side, one column per coordinate or one.
     pub(super) b: Mat<f64>,
-    /// ‖H‖∞ of the free block.
+    /// ‖H‖∞ over the free rows, the columns of fixed points included (as the
+    /// Bézier solve's relative gradient takes it; an upper bound of the free
+    /// block's norm in the condition estimate).
     pub(super) h_inf: f64,
     /// max H_ii of the free block.
     pub(super) h_diag: f64,
