@@ -329,6 +329,7 @@ fn tri_summary(path: &Path, s: &SolvedTriScene, written: &[String]) -> String {
         r.check.as_ref(),
         "double-double quadrature",
         "nothing was free",
+        false,
     ));
     for note in &s.notes() {
         lines.push(format!("  note: {note}"));
@@ -407,21 +408,12 @@ fn report_lines(lines: &mut Vec<String>, r: &fairsurf::SolveReport, road: &str) 
             r.max_violation
         ));
     }
-    let mut check = check_line(
+    lines.push(check_line(
         r.check.as_ref(),
         road,
         "a term does not describe its integrand",
-    );
-    if r.newton.is_some() && r.check.is_some_and(|c| c.excess == 0.0) {
-        // Not measured (a B-spline with repellors): Newton's stationarity
-        // stands for it.
-        check = check.replace(
-            "0.0e0 above the minimum (relative; tolerance",
-            "the excess not measured (the energy is not quadratic: Newton's relative gradient \
-             stands for it; tolerance",
-        );
-    }
-    lines.push(check);
+        r.newton.is_some(),
+    ));
     measures_lines(lines, r.measures.as_ref());
     lines.push(match &r.kkt {
         Some(k) => kkt_line(r.gradient_norm, r.relative_gradient, k),
@@ -464,14 +456,30 @@ fn solved_line(seconds: f64, written: &[String]) -> String {
 }
 
 /// The summary's line for the independent check of the written net; `road`
-/// says how it recomputed the energy.
-fn check_line(check: Option<&fairsurf::Check>, road: &str, why_not: &str) -> String {
+/// says how it recomputed the energy. With `repellors` an excess of 0 is
+/// not a measurement (a B-spline solve leaves it to Newton's relative
+/// gradient, [`fairsurf::Check::excess`]) and is said so.
+fn check_line(
+    check: Option<&fairsurf::Check>,
+    road: &str,
+    why_not: &str,
+    repellors: bool,
+) -> String {
     match check {
-        Some(c) => format!(
-            "  checked on the written net: energy {:.10e} by {road} (closed forms agree to {:.1e}), \
-             {:.1e} above the minimum (relative; tolerance {:.0e}), {} correction(s)",
-            c.energy, c.energy_error, c.excess, c.tolerance, c.corrections
-        ),
+        Some(c) => {
+            let excess = if repellors && c.excess == 0.0 {
+                "the excess not measured (the energy is not quadratic: Newton's relative gradient \
+                 stands for it"
+                    .to_string()
+            } else {
+                format!("{:.1e} above the minimum (relative", c.excess)
+            };
+            format!(
+                "  checked on the written net: energy {:.10e} by {road} (closed forms agree to \
+                 {:.1e}), {excess}; tolerance {:.0e}), {} correction(s)",
+                c.energy, c.energy_error, c.tolerance, c.corrections
+            )
+        }
         None => format!("  not checked: {why_not}"),
     }
 }
