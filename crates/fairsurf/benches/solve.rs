@@ -152,7 +152,7 @@ fn bspline_bend(bencher: divan::Bencher, c: usize) {
 #[divan::bench(args = [50, 100], sample_count = 3)]
 fn bspline_bend_normal_field(bencher: divan::Bencher, c: usize) {
     let field = TensorPatch::from_fn(3, 3, |i, j| [0.1 * i as f64 - 0.15, 0.05 * j as f64, 1.0]);
-    let problem = bspline_problem(c).with_normal_field(10.0, field);
+    let problem = bspline_problem(c).with_term(NormalField::new(10.0, field));
     bencher.bench(|| problem.solve().unwrap());
 }
 
@@ -168,7 +168,7 @@ fn bspline_problem(c: usize) -> fairsurf::bspline::BSplineProblem {
         })
         .collect();
     let surface = BSplineSurface::new(k.clone(), k, points).unwrap();
-    BSplineProblem::new(surface)
+    BSplineProblem::from_surface(surface)
         .with_fixed_rings(2)
-        .with_bend(1.0)
+        .with_term(Bend::new(1.0))
 }

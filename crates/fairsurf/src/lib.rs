@@ -60,15 +60,15 @@ pub use analysis::SurfaceMeasures;
 pub use check::{Check, TOLERANCE as CHECK_TOLERANCE};
 pub use curve::{nearest_parameter, BezierCurve};
 pub use energy::{
-    Bend, EnergyTerm, GuideSurface, Integrand, Measure, NormalField, NormalGuide, SampleGrid,
-    Stretch,
+    Bend, EnergyTerm, Guide, GuideSurface, Integrand, Measure, NormalField, NormalGuide,
+    SampleGrid, Stretch,
 };
 pub use error::{Error, Result};
 pub use mesh::TriMesh;
 pub use solve::{
     FactorCache, Factored, Problem, Solution, SolveOptions, SolveReport, TermEnergy, Timings,
 };
-pub use surface::ParamSurface;
+pub use surface::{ControlNet, ParamSurface};
 pub use tensor::{SurfaceDerivatives, TensorConstraint, TensorPatch};
 pub use triangle::{TriPatch, TriSurface};
 pub use vec3::Vec3;

@@ -76,6 +76,22 @@ fn uniform(a: f64, b: f64, k: usize) -> Vec<f64> {
         .collect()
 }
 
+/// A surface kind the solver core minimizes over ([`crate::Problem`]): a
+/// tensor net of control points, row-major, which are the unknowns. A
+/// Bézier patch and a B-spline surface implement it; a rational surface
+/// does not (its energies are not quadratic in the points).
+pub trait ControlNet: ParamSurface + Clone + std::fmt::Debug {
+    /// Control points per direction, (rows, columns): point (i, j) is
+    /// `points()[i · columns + j]`.
+    fn counts(&self) -> (usize, usize);
+
+    /// The control points, row-major.
+    fn points(&self) -> &[Vec3];
+
+    /// The control points, row-major, to change in place.
+    fn points_mut(&mut self) -> &mut [Vec3];
+}
+
 /// Implements [`ParamSurface`] by the kind's inherent methods.
 macro_rules! by_inherent {
     ($kind:ty, $domain:expr) => {

@@ -9,6 +9,7 @@
 mod common;
 
 use fairsurf::bspline::{BSplineProblem, BSplineSurface, KnotVector};
+use fairsurf::{Bend, GuideSurface};
 use fairsurf::{TensorPatch, Vec3};
 
 fn sheet() -> BSplineSurface {
@@ -31,13 +32,11 @@ fn a_guide_inside_the_space_gives_its_refinements_solution() {
     let refined = coarse.refined(&[1.0 / 6.0, 0.5, 5.0 / 6.0], &[]).unwrap();
     assert_eq!(refined.knots().0.knots(), sheet().knots().0.knots());
     let a = base()
-        .with_guide_spline(30.0, coarse)
-        .unwrap()
+        .with_term(GuideSurface::spline(30.0, coarse))
         .solve()
         .unwrap();
     let b = base()
-        .with_guide_surface(30.0, Some(refined.points().to_vec()))
-        .unwrap()
+        .with_term(GuideSurface::spline(30.0, refined.clone()))
         .solve()
         .unwrap();
     let worst = common::max_distance(a.surface.points(), b.surface.points());
@@ -66,7 +65,7 @@ fn a_guide_outside_the_space_is_confirmed_by_quadrature_and_minimal() {
         ]
     });
     let guide = BSplineSurface::from_bezier(&patch);
-    let problem = base().with_guide_spline(50.0, guide).unwrap();
+    let problem = base().with_term(GuideSurface::spline(50.0, guide));
     let sol = problem.solve().unwrap();
     let r = &sol.report;
     // The closed forms (projection + constant) against quadrature of
@@ -89,14 +88,16 @@ fn a_guide_over_another_domain_is_refused() {
     )
     .unwrap();
     let e = base()
-        .with_guide_spline(1.0, other)
+        .with_term(GuideSurface::spline(1.0, other))
+        .solve()
         .unwrap_err()
         .to_string();
     assert!(e.contains("guide surface") && e.contains("domain"), "{e}");
 }
 
 /// Far from the origin (x shifted by 100, CAD-like coordinates) a guide
-/// given on its own knots — here the surface's own, so PS = S — solves as
+/// given on its own knots — here the surface's own degree-elevated, so
+/// PS = S — solves as
 /// the same-knots guide does: the constant ∫|S − PS|² is integrated as it
 /// stands (as ∫|S|² − s*ᵀMs* it cancelled to 1e-7 of the energy and the
 /// check refused the solve).
@@ -114,18 +115,16 @@ fn a_guide_far_from_the_origin_is_not_lost_to_cancellation() {
         let (ku, kv) = sheet.knots();
         let s = BSplineSurface::new(ku.clone(), kv.clone(), points).unwrap();
         let base = || {
-            BSplineProblem::new(s.clone())
+            BSplineProblem::from_surface(s.clone())
                 .with_fixed_rings(1)
-                .with_bend(1e-3)
+                .with_term(Bend::new(1e-3))
         };
         let own = base()
-            .with_guide_spline(1e3, s.clone())
-            .unwrap()
+            .with_term(GuideSurface::spline(1e3, s.elevated(1, 1).unwrap()))
             .solve()
             .unwrap();
         let same = base()
-            .with_guide_surface(1e3, Some(s.points().to_vec()))
-            .unwrap()
+            .with_term(GuideSurface::spline(1e3, s.clone()))
             .solve()
             .unwrap();
         let worst = common::max_distance(own.surface.points(), same.surface.points());

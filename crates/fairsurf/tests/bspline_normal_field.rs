@@ -74,12 +74,14 @@ fn union(a: &[f64], b: &[f64]) -> Vec<f64> {
 fn a_field_without_interior_knots_is_the_bezier_field() {
     let patch = TensorPatch::from_fn(2, 1, |i, j| [0.2 * i as f64, -0.1 * j as f64, 1.0]);
     let a = base()
-        .with_normal_field(40.0, patch.clone())
+        .with_term(NormalField::new(40.0, patch.clone()))
         .solve()
         .unwrap();
     let b = base()
-        .with_normal_spline(40.0, BSplineSurface::from_bezier(&patch))
-        .unwrap()
+        .with_term(NormalField::spline(
+            40.0,
+            BSplineSurface::from_bezier(&patch),
+        ))
         .solve()
         .unwrap();
     let worst = common::max_distance(a.surface.points(), b.surface.points());
@@ -118,17 +120,16 @@ fn on_a_wider_domain_the_field_lives_on_the_knot_domain_itself() {
     )
     .unwrap();
     let base = || {
-        BSplineProblem::new(surface.clone())
+        BSplineProblem::from_surface(surface.clone())
             .with_fixed_rings(2)
-            .with_bend(1.0)
+            .with_term(Bend::new(1.0))
     };
     let a = base()
-        .with_normal_field(30.0, patch.clone())
+        .with_term(NormalField::new(30.0, patch.clone()))
         .solve()
         .unwrap();
     let b = base()
-        .with_normal_spline(30.0, same.clone())
-        .unwrap()
+        .with_term(NormalField::spline(30.0, same.clone()))
         .solve()
         .unwrap();
     let worst = common::max_distance(a.surface.points(), b.surface.points());
@@ -145,10 +146,12 @@ fn on_a_wider_domain_the_field_lives_on_the_knot_domain_itself() {
 fn inserting_knots_into_the_field_changes_nothing() {
     let n = field();
     let refined = n.refined(&[0.5, 0.9], &[0.2]).unwrap();
-    let a = base().with_normal_spline(25.0, n).unwrap().solve().unwrap();
+    let a = base()
+        .with_term(NormalField::spline(25.0, n))
+        .solve()
+        .unwrap();
     let b = base()
-        .with_normal_spline(25.0, refined)
-        .unwrap()
+        .with_term(NormalField::spline(25.0, refined))
         .solve()
         .unwrap();
     let worst = common::max_distance(a.surface.points(), b.surface.points());
@@ -159,7 +162,7 @@ fn inserting_knots_into_the_field_changes_nothing() {
 #[test]
 fn the_term_is_the_quadrature_between_both_knot_sets_and_minimal() {
     let (n, lambda) = (field(), 25.0);
-    let problem = base().with_normal_spline(lambda, n.clone()).unwrap();
+    let problem = base().with_term(NormalField::spline(lambda, n.clone()));
     let sol = problem.solve().unwrap();
     let r = &sol.report;
     assert!(
@@ -207,7 +210,8 @@ fn a_field_over_another_domain_or_on_a_bezier_problem_is_refused() {
     )
     .unwrap();
     let e = base()
-        .with_normal_spline(1.0, other)
+        .with_term(NormalField::spline(1.0, other))
+        .solve()
         .unwrap_err()
         .to_string();
     assert!(e.contains("normal field") && e.contains("domain"), "{e}");

@@ -74,7 +74,7 @@ fn frame() -> TensorPatch {
 
 fn with_all(mut p: BSplineProblem, ops: &[TensorOperator]) -> BSplineProblem {
     for o in ops {
-        p = p.with_operator(o.clone()).unwrap();
+        p = p.with_operator(o.clone());
     }
     p
 }
@@ -90,10 +90,10 @@ fn a_bezier_knot_bspline_gives_the_tensor_solve_surface() {
         tensor = tensor.with_operator(o.clone());
     }
     let t = tensor.solve().unwrap();
-    let base = BSplineProblem::new(BSplineSurface::from_bezier(&frame()))
+    let base = BSplineProblem::from_surface(BSplineSurface::from_bezier(&frame()))
         .with_fixed_rings(1)
-        .with_stretch(0.1)
-        .with_bend(1.0);
+        .with_term(Stretch::new(0.1))
+        .with_term(Bend::new(1.0));
     let s = with_all(base, &ops).solve().unwrap();
     let worst = common::max_distance(t.surface.points(), s.surface.points());
     assert!(worst < 1e-10, "nets differ by {worst:e}");
@@ -179,9 +179,9 @@ fn regions_across_knot_lines_have_the_independent_quadratures_energy() {
         ),
     ];
     let problem = with_all(
-        BSplineProblem::new(sheet())
+        BSplineProblem::from_surface(sheet())
             .with_fixed_rings(2)
-            .with_bend(1.0),
+            .with_term(Bend::new(1.0)),
         &ops,
     );
     let sol = problem.solve().unwrap();
@@ -202,7 +202,7 @@ fn regions_across_knot_lines_have_the_independent_quadratures_energy() {
     assert!((sol.report.external - plane - tilt).abs() < 1e-12 * (plane + tilt));
     // The solve is the minimum of the total energy: random moves of the
     // free points raise it.
-    let e0 = problem.energy_at(s);
+    let e0 = problem.energy_at(s).unwrap();
     assert!((e0 - sol.report.energy).abs() < 1e-12 * e0);
     let free: Vec<usize> = (0..problem.free().len())
         .filter(|&k| problem.free()[k])
@@ -220,7 +220,7 @@ fn regions_across_knot_lines_have_the_independent_quadratures_energy() {
             }
         }
         let moved = BSplineSurface::new(ku.clone(), kv.clone(), points).unwrap();
-        let e = problem.energy_at(&moved);
+        let e = problem.energy_at(&moved).unwrap();
         assert!(e > e0, "trial {trial}: {e} ≤ {e0}");
     }
 }
@@ -243,11 +243,13 @@ fn a_repellor_pushes_like_the_tensor_solves() {
         .with_operator(push.clone())
         .solve()
         .unwrap();
-    let base = BSplineProblem::new(BSplineSurface::from_bezier(&frame()))
-        .with_fixed_rings(1)
-        .with_bend(1.0);
-    let plain = base.clone().solve().unwrap();
-    let s = with_all(base, &[push]).solve().unwrap();
+    let base = || {
+        BSplineProblem::from_surface(BSplineSurface::from_bezier(&frame()))
+            .with_fixed_rings(1)
+            .with_term(Bend::new(1.0))
+    };
+    let plain = base().solve().unwrap();
+    let s = with_all(base(), &[push]).solve().unwrap();
     let worst = common::max_distance(t.surface.points(), s.surface.points());
     assert!(worst < 1e-8, "nets differ by {worst:e}");
     assert!((t.report.energy - s.report.energy).abs() < 1e-10 * t.report.energy);
@@ -339,12 +341,11 @@ fn an_edge_attractor_pulls_a_boundary_curve() {
         .with_operator(hem(20.0))
         .solve()
         .unwrap();
-    let b = BSplineProblem::new(BSplineSurface::from_bezier(&f))
+    let b = BSplineProblem::from_surface(BSplineSurface::from_bezier(&f))
         .with_free(free)
         .unwrap()
-        .with_bend(1.0)
+        .with_term(Bend::new(1.0))
         .with_operator(hem(20.0))
-        .unwrap()
         .solve()
         .unwrap();
     let worst = common::max_distance(t.surface.points(), b.surface.points());
@@ -358,12 +359,11 @@ fn an_edge_attractor_pulls_a_boundary_curve() {
     let free = free_edge(&s0, true);
     let (mut first, mut last) = (f64::NAN, f64::INFINITY);
     for strength in [1.0, 10.0, 100.0] {
-        let sol = BSplineProblem::new(s0.clone())
+        let sol = BSplineProblem::from_surface(s0.clone())
             .with_free(free.clone())
             .unwrap()
-            .with_bend(1.0)
+            .with_term(Bend::new(1.0))
             .with_operator(hem(strength))
-            .unwrap()
             .solve()
             .unwrap();
         let r = &sol.report;
@@ -398,17 +398,16 @@ fn an_edge_attractor_along_a_wider_knot_domain() {
     let s0 = sheet();
     let free = free_edge(&s0, false);
     let strength = 10.0;
-    let sol = BSplineProblem::new(s0)
+    let sol = BSplineProblem::from_surface(s0)
         .with_free(free)
         .unwrap()
-        .with_bend(1.0)
+        .with_term(Bend::new(1.0))
         .with_operator(op(
             "hem",
             Target::Curve(curve.clone()),
             TensorPlace::Edge(PatchEdge::V0),
             strength,
         ))
-        .unwrap()
         .solve()
         .unwrap();
     let r = &sol.report;
@@ -428,9 +427,9 @@ fn an_edge_attractor_along_a_wider_knot_domain() {
 #[test]
 fn bad_operators_are_refused_naming_them() {
     let base = || {
-        BSplineProblem::new(sheet())
+        BSplineProblem::from_surface(sheet())
             .with_fixed_rings(2)
-            .with_bend(1.0)
+            .with_term(Bend::new(1.0))
     };
     let far = op(
         "far",
@@ -438,7 +437,7 @@ fn bad_operators_are_refused_naming_them() {
         TensorPlace::Point([0.5, 1.5]),
         1.0,
     );
-    let e = base().with_operator(far).unwrap_err().to_string();
+    let e = base().with_operator(far).solve().unwrap_err().to_string();
     assert!(
         e.contains("far") && e.contains("knot domain [0, 2] × [0, 1]"),
         "{e}"
@@ -450,7 +449,7 @@ fn bad_operators_are_refused_naming_them() {
         1.0,
     );
     turn.repel = true;
-    let e = base().with_operator(turn).unwrap_err().to_string();
+    let e = base().with_operator(turn).solve().unwrap_err().to_string();
     assert!(e.contains("turn") && e.contains("director"), "{e}");
     let edge = op(
         "hem",
@@ -458,7 +457,7 @@ fn bad_operators_are_refused_naming_them() {
         TensorPlace::Point([0.5, 0.5]),
         1.0,
     );
-    let e = base().with_operator(edge).unwrap_err().to_string();
+    let e = base().with_operator(edge).solve().unwrap_err().to_string();
     assert!(e.contains("hem") && e.contains("an edge"), "{e}");
     let bent = op(
         "bent",
@@ -466,6 +465,6 @@ fn bad_operators_are_refused_naming_them() {
         TensorPlace::Region(vec![[0.1, 0.1], [0.9, 0.1], [0.5, 0.3], [0.5, 0.9]]),
         1.0,
     );
-    let e = base().with_operator(bent).unwrap_err().to_string();
+    let e = base().with_operator(bent).solve().unwrap_err().to_string();
     assert!(e.contains("bent") && e.contains("convex"), "{e}");
 }

@@ -96,13 +96,15 @@ impl BSplineScene {
         let e = &self.energy;
         let (stretch, bend, _) =
             crate::validate::default_weights(e.stretch, e.bend, self.fixed_rings);
-        let (stretch, bend) = (stretch.unwrap_or(0.0), bend.unwrap_or(0.0));
-        check_weight("energy.stretch", stretch)?;
-        check_weight("energy.bend", bend)?;
-        let mut problem = BSplineProblem::new(surface)
-            .with_free(free)?
-            .with_stretch(stretch)
-            .with_bend(bend);
+        let mut problem = BSplineProblem::from_surface(surface).with_free(free)?;
+        if let Some(w) = stretch {
+            check_weight("energy.stretch", w)?;
+            problem = problem.with_term(Stretch::new(w));
+        }
+        if let Some(w) = bend {
+            check_weight("energy.bend", w)?;
+            problem = problem.with_term(Bend::new(w));
+        }
         if e.sampling
             .as_ref()
             .is_some_and(|s| s.guide_weights.is_some())
@@ -119,7 +121,7 @@ impl BSplineScene {
             Some(f) => f.spline(problem.surface())?,
             None => None,
         };
-        match crate::validate::normal_field_term(
+        if let Some(field) = crate::validate::normal_field_term(
             e.normal_field
                 .as_deref()
                 .map(BSplineNormalFieldSpec::bezier)
@@ -128,68 +130,57 @@ impl BSplineScene {
             e.sampling.as_ref(),
             grid,
         )? {
-            Some(NormalField {
-                weight,
-                guide: NormalGuide::Field(patch),
-            }) => problem = problem.with_normal_field(weight, patch),
-            Some(NormalField {
-                weight,
-                guide:
-                    NormalGuide::Samples {
-                        grid,
-                        normals,
-                        weights,
-                    },
-            }) => problem = problem.with_sampled_normals(weight, grid, normals, weights)?,
-            Some(NormalField {
-                weight,
-                guide: NormalGuide::Spline(field),
-            }) => {
-                problem = problem
-                    .with_normal_spline(weight, field)
-                    .map_err(|err| Error::scene("energy.normal_field", err.to_string()))?
+            if let NormalGuide::Spline(f) = &field.guide {
+                problem
+                    .surface()
+                    .check_domain(f, "normal field")
+                    .map_err(|err| Error::scene("energy.normal_field", err.to_string()))?;
             }
-            None => {}
+            problem = problem.with_term(field);
         }
-        if let Some(own) = match &e.guide_surface {
-            Some(g) => g.own_surface(domain)?,
-            None => None,
-        } {
-            let g = e.guide_surface.as_ref().expect("a guide");
+        if let Some(g) = &e.guide_surface {
             check_weight("energy.guide_surface.weight", g.weight)?;
-            problem = problem
-                .with_guide_spline(g.weight, own)
-                .map_err(|err| Error::scene("energy.guide_surface", err.to_string()))?;
-        } else if let Some(g) = &e.guide_surface {
-            check_weight("energy.guide_surface.weight", g.weight)?;
-            let points = match &g.control_points {
-                Some(net) => {
-                    let (u, v, _) = self.given()?;
-                    let (gu, gv) = (u.count(), v.count());
-                    let pts: Vec<Vec3> = parse_net(
-                        net,
-                        "energy.guide_surface.control_points",
-                        (gu - 1, gv - 1),
-                        false,
-                    )?
-                    .into_iter()
-                    .map(|p| p.expect("no null"))
-                    .collect();
-                    match &self.refine {
-                        Some(r) => refined(&BSplineSurface::new(u, v, pts)?, r)?
-                            .points()
-                            .to_vec(),
-                        None => pts,
-                    }
+            let guide = match g.own_surface(domain)? {
+                Some(own) => {
+                    problem
+                        .surface()
+                        .check_domain(&own, "guide surface")
+                        .map_err(|err| Error::scene("energy.guide_surface", err.to_string()))?;
+                    own
                 }
-                None => every_point(
-                    &given,
-                    cv,
-                    "is null, but energy.guide_surface has no control_points and defaults to \
-                     the initial net: give this point or the guide's net",
-                )?,
+                None => {
+                    let points = match &g.control_points {
+                        Some(net) => {
+                            let (u, v, _) = self.given()?;
+                            let (gu, gv) = (u.count(), v.count());
+                            let pts: Vec<Vec3> = parse_net(
+                                net,
+                                "energy.guide_surface.control_points",
+                                (gu - 1, gv - 1),
+                                false,
+                            )?
+                            .into_iter()
+                            .map(|p| p.expect("no null"))
+                            .collect();
+                            match &self.refine {
+                                Some(r) => refined(&BSplineSurface::new(u, v, pts)?, r)?
+                                    .points()
+                                    .to_vec(),
+                                None => pts,
+                            }
+                        }
+                        None => every_point(
+                            &given,
+                            cv,
+                            "is null, but energy.guide_surface has no control_points and \
+                             defaults to the initial net: give this point or the guide's net",
+                        )?,
+                    };
+                    let (ku, kv) = problem.surface().knots();
+                    BSplineSurface::new(ku.clone(), kv.clone(), points)?
+                }
             };
-            problem = problem.with_guide_surface(g.weight, Some(points))?;
+            problem = problem.with_term(GuideSurface::spline(g.weight, guide));
         }
         let (ku, kv) = problem.surface().knots();
         let domain = [ku.domain(), kv.domain()];
@@ -201,9 +192,9 @@ impl BSplineScene {
         }
         for (i, o) in self.operators.iter().enumerate() {
             let op = crate::operators::unchecked_operator(o, i)?;
-            problem = problem
-                .with_operator(op)
+            op.validate_on(problem.surface())
                 .map_err(|e| Error::scene(format!("operators[{i}]"), e.to_string()))?;
+            problem = problem.with_operator(op);
         }
         Ok(problem)
     }
@@ -258,7 +249,14 @@ impl BSplineScene {
         };
         Ok(SolvedBSplineScene {
             scene: self.clone(),
-            guide_points: problem.guide().map(|g| g.1.to_vec()).unwrap_or_default(),
+            guide_points: problem
+                .terms()
+                .iter()
+                .find_map(|t| match t.integrand() {
+                    Some(Integrand::GuideSpline { surface, .. }) => Some(surface.points().to_vec()),
+                    _ => None,
+                })
+                .unwrap_or_default(),
             normal_field: problem.normal_field().map(Box::new),
             free: problem.free().to_vec(),
             solution,

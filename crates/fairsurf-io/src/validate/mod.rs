@@ -258,7 +258,7 @@ impl TensorScene {
             pb.push_term(Box::new(nf));
         }
         if let Some(g) = self.guide_term(grid, given, (n, m))? {
-            built.guide = Some(g.surface.clone());
+            built.guide = g.bezier().ok().cloned();
             pb.push_term(Box::new(g));
         }
         Ok(())

@@ -4,14 +4,18 @@
 //! grow with the number of spans).
 //!
 //! [`KnotVector`] (clamped, validated), [`BSplineSurface`] (de Boor
-//! evaluation and derivatives, knot insertion, Bézier pieces), the exact
-//! membrane and thin-plate energies of Wu & Yang eq. 1–2 (without the
-//! guidance terms so far) and [`BSplineProblem`], which minimizes them over
-//! the free control points by sparse Cholesky and confirms the energy on
-//! the written net through the Bézier pieces' closed forms.
+//! evaluation and derivatives, knot insertion, elevation, Bézier pieces),
+//! the exact energies of Wu & Yang eq. 1–2 on B-spline bases (membrane,
+//! thin plate, normal field, guide surface; the sampled normal field of
+//! eq. 5) and [`BSplineProblem`] — the core's [`crate::Problem`] over a
+//! B-spline surface, with the same energy terms, constraints and operators
+//! as a Bézier patch — which minimizes them over the free control points by
+//! sparse Cholesky and confirms the energy on the written net through the
+//! Bézier pieces' closed forms.
 //!
 //! ```
 //! use fairsurf::bspline::{BSplineProblem, BSplineSurface, KnotVector};
+//! use fairsurf::Bend;
 //! // A bicubic surface of 4 × 3 spans over the unit square, a bump inside.
 //! let (u, v) = (KnotVector::uniform(3, 4), KnotVector::uniform(3, 3));
 //! let (cu, cv) = (u.count(), v.count());
@@ -23,9 +27,9 @@
 //!     })
 //!     .collect();
 //! let surface = BSplineSurface::new(u, v, points).unwrap();
-//! let faired = BSplineProblem::new(surface)
+//! let faired = BSplineProblem::from_surface(surface)
 //!     .with_fixed_rings(2)
-//!     .with_bend(1.0)
+//!     .with_term(Bend::new(1.0))
 //!     .solve()
 //!     .unwrap();
 //! assert!(faired.report.relative_gradient < 1e-14);

@@ -10,14 +10,13 @@
 //! or Gauss quadrature from de Boor derivatives, against Gauss quadrature
 //! on the pieces with more nodes.
 
-use super::energy::{energy_by_pieces, energy_by_quadrature, patterns, Gram1d};
+use super::energy::{energy_by_pieces, energy_by_quadrature, Gram1d};
 use super::guidance::{guide_value, guide_value_by_pieces, NormalTerm};
-use super::problem::BSplineProblem;
+use super::problem::{BSplineProblem, Energies, Part};
 use super::project::guide_value_by_quadrature;
 use super::system::{unconstrained, BSplineFactor, Reuse, Solved, System};
 use super::BSplineSurface;
 use crate::check::{self, Check};
-use crate::energy::check_weight;
 use crate::operator::bspline::Nodes;
 use crate::operator::newton::{newton, repellors};
 use crate::operator::{NewtonReport, Residual};
@@ -69,17 +68,14 @@ impl BSplineProblem {
         &self,
         kept: &[Arc<BSplineFactor>],
     ) -> Result<(BSplineSolution, UsedFactor)> {
-        check_weight("stretch weight", self.stretch)?;
-        check_weight("bend weight", self.bend)?;
-        let lambda = self.normal.as_ref().map_or(0.0, |n| n.weight);
-        let gamma = self.guide.as_ref().map_or(0.0, |g| g.0);
-        check_weight("normal field weight", lambda)?;
-        check_weight("guide surface weight", gamma)?;
-        let pats = patterns(self.stretch, self.bend);
+        let en = self.energies()?;
+        let lambda = en.normal.as_ref().map_or(0.0, |n| n.weight);
+        let gamma = en.guide.as_ref().map_or(0.0, |g| g.0);
+        let pats = &en.pats;
         if pats.is_empty() && lambda == 0.0 && gamma == 0.0 {
             return Err(Error::NoEnergy);
         }
-        let free: Vec<usize> = (0..self.free.len()).filter(|&k| self.free[k]).collect();
+        let free = self.free_list();
         if free.is_empty() {
             let (cu, cv) = self.surface.counts();
             return Err(Error::NoFreePoints {
@@ -89,7 +85,7 @@ impl BSplineProblem {
         let t0 = Instant::now();
         let (ku, kv) = self.surface.knots();
         let (gu, gv) = (Gram1d::new(ku), Gram1d::new(kv));
-        let normal = self.normal.as_ref().filter(|n| n.weight > 0.0);
+        let normal = en.normal.as_ref().filter(|n| n.weight > 0.0);
         let placed = self.place_operators()?;
         // Attractors and directors: s Σ w (a·x − t)² adds 2sw a aᵀ to H and
         // 2sw t a to b.
@@ -101,7 +97,7 @@ impl BSplineProblem {
             .flat_map(|(op, (_, res))| res.iter().map(move |r| (2.0 * op.strength * r.weight, r)))
             .collect();
         let coupled = normal.is_some() || !self.operators.is_empty();
-        let sys = self.assemble(&free, &gu, &gv, &pats, (normal, coupled), &quadratic);
+        let sys = self.assemble(&free, (&gu, &gv), &en, (normal, coupled), &quadratic);
         let assemble = t0.elapsed().as_secs_f64();
 
         let mut factor = None;
@@ -147,25 +143,33 @@ impl BSplineProblem {
         let surface = self.surface.with_points(points);
         let t3 = Instant::now();
         let (pieces, degree) = (surface.bezier_pieces(), surface.degree());
-        let part = |pats: Vec<(f64, usize, usize)>| energy_by_pieces(&pieces, degree, &pats);
-        let (stretch, bend) = (
-            part(patterns(self.stretch, 0.0)),
-            part(patterns(0.0, self.bend)),
-        );
         let normal_field = normal.map_or(0.0, |n| n.value(&surface));
-        let guide_surface = self
+        let guide_surface = en
             .guide
             .as_ref()
             .map_or(0.0, |(g, s)| guide_value(&gu, &gv, *g, surface.points(), s))
-            + self.guide_rest();
+            + en.guide_rest();
+        // The terms in the problem's order, each with its value.
+        let terms: Vec<TermEnergy> = en
+            .parts
+            .iter()
+            .map(|(name, part)| TermEnergy {
+                name: (*name).into(),
+                value: match part {
+                    Part::Fairness(p) => energy_by_pieces(&pieces, degree, p),
+                    Part::Normal => normal_field,
+                    Part::Guide => guide_surface,
+                },
+            })
+            .collect();
         let x_flat: Vec<f64> = surface.points().iter().flatten().copied().collect();
         let (external, external_check) = self.external(&placed, &x_flat);
-        let total = stretch + bend + normal_field + guide_surface + external;
-        let mut check_energy = energy_by_quadrature(&pieces, degree, &pats) + external_check;
+        let total = terms.iter().map(|t| t.value).sum::<f64>() + external;
+        let mut check_energy = energy_by_quadrature(&pieces, degree, pats) + external_check;
         if let Some(n) = normal {
             check_energy += n.value_by_pieces(&surface, &pieces);
         }
-        match (&self.guide, &self.guide_source) {
+        match (&en.guide, &en.guide_source) {
             (Some((g, _)), Some((source, _))) => {
                 check_energy += guide_value_by_quadrature(&surface, source, *g);
             }
@@ -211,38 +215,13 @@ impl BSplineProblem {
                     .into(),
             });
         }
-        let (constraints, max_violation) = self.outcomes(&surface)?;
+        let (constraints, max_violation) = self.outcomes(&surface, &en)?;
         let operators = self
             .operators
             .iter()
             .zip(&placed)
             .map(|(op, (nodes, res))| op.outcome_on(nodes, res, &surface, &x_flat))
             .collect();
-        // The terms the problem has: a zero weight is no term.
-        let mut terms = Vec::new();
-        for (name, weight, value) in [
-            ("stretch", self.stretch, stretch),
-            ("bend", self.bend, bend),
-        ] {
-            if weight != 0.0 {
-                terms.push(TermEnergy {
-                    name: name.into(),
-                    value,
-                });
-            }
-        }
-        if self.normal.is_some() {
-            terms.push(TermEnergy {
-                name: "normal_field".into(),
-                value: normal_field,
-            });
-        }
-        if self.guide.is_some() {
-            terms.push(TermEnergy {
-                name: "guide_surface".into(),
-                value: guide_surface,
-            });
-        }
         let reuse = factor.as_ref().map_or(Reuse::New, |f| f.1);
         let solution = BSplineSolution {
             surface,
@@ -335,23 +314,23 @@ impl BSplineProblem {
     }
 
     /// The problem's energy at the net of `surface` (same knots): the sum
-    /// of its terms as the report computes them.
-    pub fn energy_at(&self, surface: &BSplineSurface) -> f64 {
+    /// of its terms as the report computes them; the terms' and operators'
+    /// errors as a solve gives them.
+    pub fn energy_at(&self, surface: &BSplineSurface) -> Result<f64> {
+        let en = self.energies()?;
         let (ku, kv) = surface.knots();
         let (pieces, degree) = (surface.bezier_pieces(), surface.degree());
-        let mut e = energy_by_pieces(&pieces, degree, &patterns(self.stretch, self.bend));
-        if let Some(n) = &self.normal {
+        let mut e = energy_by_pieces(&pieces, degree, &en.pats);
+        if let Some(n) = &en.normal {
             e += n.value(surface);
         }
-        if let Some((g, s)) = &self.guide {
+        if let Some((g, s)) = &en.guide {
             e += guide_value(&Gram1d::new(ku), &Gram1d::new(kv), *g, surface.points(), s);
-            e += self.guide_rest();
+            e += en.guide_rest();
         }
-        if let Ok(placed) = self.place_operators() {
-            let x: Vec<f64> = surface.points().iter().flatten().copied().collect();
-            e += self.external(&placed, &x).0;
-        }
-        e
+        let placed = self.place_operators()?;
+        let x: Vec<f64> = surface.points().iter().flatten().copied().collect();
+        Ok(e + self.external(&placed, &x).0)
     }
 
     /// The free block's lower triangle and right-hand side: one matrix for
@@ -361,9 +340,8 @@ impl BSplineProblem {
     fn assemble(
         &self,
         free: &[usize],
-        gu: &Gram1d,
-        gv: &Gram1d,
-        pats: &[(f64, usize, usize)],
+        (gu, gv): (&Gram1d, &Gram1d),
+        en: &Energies,
         (normal, coupled): (Option<&NormalTerm>, bool),
         operators: &[(f64, &Residual)],
     ) -> System {
@@ -373,7 +351,7 @@ impl BSplineProblem {
             slot[k] = s;
         }
         let x0 = self.surface.points();
-        let gamma = self.guide.as_ref().map_or(0.0, |g| g.0);
+        let (pats, gamma) = (&en.pats, en.guide.as_ref().map_or(0.0, |g| g.0));
         let nf = free.len();
         let (dim, cols) = if coupled { (3 * nf, 1) } else { (nf, 3) };
         let mut sys = System {
@@ -425,7 +403,7 @@ impl BSplineProblem {
                         }
                     }
                     // The guide's linear term: + γ M s.
-                    if let Some((g, s)) = &self.guide {
+                    if let Some((g, s)) = &en.guide {
                         for c in 0..3 {
                             let (row, rc) = at(slot[k], c);
                             sys.b[(row, rc)] += g * mu * mv * s[l][c];

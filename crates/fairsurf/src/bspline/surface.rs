@@ -28,6 +28,20 @@ pub struct BezierPiece {
     pub patch: TensorPatch,
 }
 
+impl crate::surface::ControlNet for BSplineSurface {
+    fn counts(&self) -> (usize, usize) {
+        BSplineSurface::counts(self)
+    }
+
+    fn points(&self) -> &[Vec3] {
+        &self.points
+    }
+
+    fn points_mut(&mut self) -> &mut [Vec3] {
+        &mut self.points
+    }
+}
+
 impl BSplineSurface {
     /// The surface with knot vectors `u`, `v` and `points` (row-major,
     /// `u.count() × v.count()`); errors name a wrong count or a point that

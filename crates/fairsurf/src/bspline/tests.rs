@@ -7,6 +7,7 @@
 
 use super::energy::{energy_by_pieces, energy_by_quadrature, patterns};
 use super::*;
+use crate::{Bend, GuideSurface, NormalField, Stretch};
 use crate::{Error, TensorPatch, Vec3};
 
 fn knots(p: usize, k: &[f64]) -> KnotVector {
@@ -48,9 +49,9 @@ fn dist(a: Vec3, b: Vec3) -> f64 {
 
 /// The thin plate with two rings fixed, solved.
 fn ring_thin_plate(s: BSplineSurface) -> BSplineSolution {
-    BSplineProblem::new(s)
+    BSplineProblem::from_surface(s)
         .with_fixed_rings(2)
-        .with_bend(1.0)
+        .with_term(Bend::new(1.0))
         .solve()
         .unwrap()
 }
@@ -367,9 +368,9 @@ fn two_fixed_rings_of_a_biharmonic_polynomial_give_it_back_at_any_knots() {
                 }
             })
             .collect();
-        let sol = BSplineProblem::new(BSplineSurface::new(u, v, start).unwrap())
+        let sol = BSplineProblem::from_surface(BSplineSurface::new(u, v, start).unwrap())
             .with_fixed_rings(2)
-            .with_bend(1.0)
+            .with_term(Bend::new(1.0))
             .solve()
             .unwrap();
         let worst = sol
@@ -424,17 +425,21 @@ fn refinement_never_raises_the_minimum_and_lowers_it_for_a_general_boundary() {
 fn solves_refuse_what_they_cannot_do() {
     let s = wavy(KnotVector::uniform(2, 2), KnotVector::uniform(2, 2));
     assert!(matches!(
-        BSplineProblem::new(s.clone()).with_bend(1.0).solve(),
+        BSplineProblem::from_surface(s.clone())
+            .with_term(Bend::new(1.0))
+            .solve(),
         Err(Error::NoFreePoints { .. })
     ));
     assert!(matches!(
-        BSplineProblem::new(s.clone()).with_fixed_rings(1).solve(),
+        BSplineProblem::from_surface(s.clone())
+            .with_fixed_rings(1)
+            .solve(),
         Err(Error::NoEnergy)
     ));
     assert!(matches!(
-        BSplineProblem::new(s)
+        BSplineProblem::from_surface(s)
             .with_fixed_rings(1)
-            .with_bend(-1.0)
+            .with_term(Bend::new(-1.0))
             .solve(),
         Err(Error::NegativeWeight { .. })
     ));
@@ -458,12 +463,12 @@ fn without_interior_knots_the_guided_problem_is_the_tensor_problem() {
         .with_term(GuideSurface::new(3.0, net.clone()))
         .solve()
         .unwrap();
-    let ours = BSplineProblem::new(BSplineSurface::from_bezier(&net))
+    let initial = BSplineSurface::from_bezier(&net);
+    let ours = BSplineProblem::from_surface(initial.clone())
         .with_fixed_rings(1)
-        .with_stretch(1.0)
-        .with_normal_field(10.0, field)
-        .with_guide_surface(3.0, None)
-        .unwrap()
+        .with_term(Stretch::new(1.0))
+        .with_term(NormalField::new(10.0, field))
+        .with_term(GuideSurface::spline(3.0, initial))
         .solve()
         .unwrap();
     let worst = net_gap(ours.surface.points(), tensor.surface.points());
@@ -492,12 +497,11 @@ fn the_guided_thin_plate_is_minimal_under_perturbation() {
     let (u, v) = uneven();
     let s = wavy(u, v);
     let field = TensorPatch::from_fn(1, 1, |i, j| [0.3 * i as f64, -0.2 * j as f64, 1.0]);
-    let problem = BSplineProblem::new(s)
+    let problem = BSplineProblem::from_surface(s.clone())
         .with_fixed_rings(2)
-        .with_bend(1.0)
-        .with_normal_field(50.0, field)
-        .with_guide_surface(0.5, None)
-        .unwrap();
+        .with_term(Bend::new(1.0))
+        .with_term(NormalField::new(50.0, field))
+        .with_term(GuideSurface::spline(0.5, s));
     let sol = problem.solve().unwrap();
     let e0 = sol.report.energy;
     assert!(
@@ -518,7 +522,7 @@ fn the_guided_thin_plate_is_minimal_under_perturbation() {
 fn energy_of(problem: &BSplineProblem, at: &BSplineSurface, k: usize, c: usize, step: f64) -> f64 {
     let mut pts = at.points().to_vec();
     pts[k][c] += step;
-    problem.energy_at(&at.with_points(pts))
+    problem.energy_at(&at.with_points(pts)).unwrap()
 }
 
 /// The B-spline basis stays well conditioned as spans are added (de Boor:
@@ -553,9 +557,9 @@ fn the_basis_condition_stays_bounded_as_spans_are_added() {
         let points = (0..c * c)
             .map(|q| [(q / c) as f64, (q % c) as f64, noise(q)])
             .collect();
-        BSplineProblem::new(BSplineSurface::new(k.clone(), k, points).unwrap())
+        BSplineProblem::from_surface(BSplineSurface::new(k.clone(), k, points).unwrap())
             .with_fixed_rings(2)
-            .with_bend(1.0)
+            .with_term(Bend::new(1.0))
             .solve()
             .unwrap()
             .report
@@ -630,22 +634,18 @@ fn sampled_normal_fields_match_the_tensor_problem_and_are_minimal() {
     let weights: Vec<f64> = (0..grid.len())
         .map(|k| 1.0 + 0.5 * noise(k).abs())
         .collect();
+    // One term, given to both kinds.
+    let sampled = NormalField::sampled(20.0, grid, normals.clone(), Some(weights.clone()));
     let tensor = Problem::new((4, 4))
         .with_fixed_rings(&net, 1)
         .with_term(Stretch::new(1.0))
-        .with_term(NormalField::sampled(
-            20.0,
-            grid,
-            normals.clone(),
-            Some(weights.clone()),
-        ))
+        .with_term(sampled.clone())
         .solve()
         .unwrap();
-    let ours = BSplineProblem::new(BSplineSurface::from_bezier(&net))
+    let ours = BSplineProblem::from_surface(BSplineSurface::from_bezier(&net))
         .with_fixed_rings(1)
-        .with_stretch(1.0)
-        .with_sampled_normals(20.0, grid, normals.clone(), Some(weights.clone()))
-        .unwrap()
+        .with_term(Stretch::new(1.0))
+        .with_term(sampled)
         .solve()
         .unwrap();
     let worst = net_gap(ours.surface.points(), tensor.surface.points());
@@ -666,11 +666,10 @@ fn sampled_normal_fields_match_the_tensor_problem_and_are_minimal() {
             [0.3 * u, -0.2 * v, 1.0]
         })
         .collect();
-    let problem = BSplineProblem::new(wavy(u, v))
+    let problem = BSplineProblem::from_surface(wavy(u, v))
         .with_fixed_rings(2)
-        .with_bend(1.0)
-        .with_sampled_normals(30.0, grid, normals, None)
-        .unwrap();
+        .with_term(Bend::new(1.0))
+        .with_term(NormalField::sampled(30.0, grid, normals, None));
     let sol = problem.solve().unwrap();
     assert!(
         sol.report.check.unwrap().energy_error < 1e-12 && sol.report.check.unwrap().excess < 1e-20,
@@ -685,26 +684,37 @@ fn sampled_normal_fields_match_the_tensor_problem_and_are_minimal() {
         for (c, d) in [(0, -1e-4), (1, 1e-4), (2, -1e-4), (2, 1e-4)] {
             let mut pts = sol.surface.points().to_vec();
             pts[k][c] += d;
-            let e1 = problem.energy_at(&sol.surface.with_points(pts));
+            let e1 = problem.energy_at(&sol.surface.with_points(pts)).unwrap();
             assert!(e1 > e0, "{e1} vs {e0} at point {k}");
         }
     }
     // Errors: a zero normal, a wrong count, a negative weight.
     let grid = SampleGrid::new(1, 1);
-    let p = || BSplineProblem::new(wavy(KnotVector::uniform(3, 1), KnotVector::uniform(3, 1)));
+    let p = || {
+        BSplineProblem::from_surface(wavy(KnotVector::uniform(3, 1), KnotVector::uniform(3, 1)))
+            .with_fixed_rings(1)
+    };
     let zero = vec![[0.0, 0.0, 1.0], [0.0; 3], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0]];
     assert!(matches!(
-        p().with_sampled_normals(1.0, grid, zero, None),
+        p().with_term(NormalField::sampled(1.0, grid, zero, None))
+            .solve(),
         Err(Error::ZeroNormal { .. })
     ));
     let three = vec![[0.0, 0.0, 1.0]; 3];
     assert!(matches!(
-        p().with_sampled_normals(1.0, grid, three, None),
+        p().with_term(NormalField::sampled(1.0, grid, three, None))
+            .solve(),
         Err(Error::Mismatch { .. })
     ));
     let four = vec![[0.0, 0.0, 1.0]; 4];
     assert!(p()
-        .with_sampled_normals(1.0, grid, four, Some(vec![1.0, -1.0, 1.0, 1.0]))
+        .with_term(NormalField::sampled(
+            1.0,
+            grid,
+            four,
+            Some(vec![1.0, -1.0, 1.0, 1.0])
+        ))
+        .solve()
         .is_err());
 }
 
@@ -752,10 +762,10 @@ fn a_cache_reuses_the_factor_for_moved_points_and_the_ordering_for_weights() {
     let (u, v) = uneven();
     let s = wavy(u, v);
     let problem = |s: &BSplineSurface, rings: usize, bend: f64| {
-        BSplineProblem::new(s.clone())
+        BSplineProblem::from_surface(s.clone())
             .with_fixed_rings(rings)
-            .with_stretch(0.1)
-            .with_bend(bend)
+            .with_term(Stretch::new(0.1))
+            .with_term(Bend::new(bend))
     };
     let same = |a: &BSplineSolution, b: &BSplineSolution| {
         assert!(net_gap(a.surface.points(), b.surface.points()) < 1e-12);

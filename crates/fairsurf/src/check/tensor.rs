@@ -164,6 +164,8 @@ pub(crate) fn energy_at(
                 degree,
                 &mut gradient,
             ),
+            // A B-spline guide is refused by a Bézier patch's problem.
+            Integrand::GuideSpline { .. } => return None,
         };
         total += e;
         terms.push(e);

@@ -1,20 +1,37 @@
 //! The guide-surface term of Wu & Yang 2015: `½ γ ∫∫ |R − S|² du dv` (eq. 1–2)
 //! or `½ Σ γ_ij |R(u_i,v_j) − S(u_i,v_j)|²` (eq. 5). It keeps the surface close
-//! to a given Bézier surface S (by default the initial one).
+//! to a given surface S (by default the initial one): a Bézier patch, or
+//! for a B-spline surface a B-spline on any knots over its domain.
 
 use super::{
     check_weight, check_weights, derivative_net, form, pattern_value, EnergyTerm, Hessian,
     HessianKey, Integrand, Measure, Space, TermForm,
 };
+use crate::bspline::BSplineSurface;
 use crate::{Error, Result, TensorPatch};
+
+/// The guide surface S.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Guide {
+    /// A Bézier patch: of the solved patch's degree or lower (then
+    /// degree-elevated, exactly); on a B-spline surface, over its knot
+    /// domain mapped onto [0, 1]².
+    Bezier(TensorPatch),
+    /// A B-spline surface on its own knots and degrees over the solved
+    /// B-spline surface's knot domain: the term is its L² projection onto
+    /// the surface's space plus the constant ∫|S − PS|², exact by Gauss
+    /// rules between both surfaces' knot lines. For B-spline surfaces only;
+    /// a Bézier patch's problem refuses it.
+    Spline(BSplineSurface),
+}
 
 /// `γ · ½ ∫∫ |R − S|²` (exact) or the sampled sum with per-sample weights.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GuideSurface {
     /// γ (≥ 0).
     pub weight: f64,
-    /// S; of the solved patch's degree or lower (then degree-elevated, exactly).
-    pub surface: TensorPatch,
+    /// S.
+    pub surface: Guide,
     /// Exact integral or sample sum.
     pub measure: Measure,
     /// Per-sample weights γ_ij for [`Measure::Grid`] (multiplied with `weight`).
@@ -22,13 +39,38 @@ pub struct GuideSurface {
 }
 
 impl GuideSurface {
-    /// The exact term.
+    /// The exact term with a Bézier guide.
     pub fn new(weight: f64, surface: TensorPatch) -> Self {
         Self {
             weight,
-            surface,
+            surface: Guide::Bezier(surface),
             measure: Measure::Exact,
             sample_weights: None,
+        }
+    }
+
+    /// The exact term with a B-spline guide over the solved B-spline
+    /// surface's knot domain (B-spline surfaces only; the surface itself on
+    /// its own knots is the usual "stay near the initial net").
+    pub fn spline(weight: f64, surface: BSplineSurface) -> Self {
+        Self {
+            weight,
+            surface: Guide::Spline(surface),
+            measure: Measure::Exact,
+            sample_weights: None,
+        }
+    }
+
+    /// The Bézier guide, or an error for a B-spline one (which only a
+    /// B-spline surface's problem takes).
+    pub fn bezier(&self) -> Result<&TensorPatch> {
+        match &self.surface {
+            Guide::Bezier(p) => Ok(p),
+            Guide::Spline(_) => Err(Error::Mismatch {
+                what: "guide surface".into(),
+                expected: "a Bézier patch (a B-spline guide is for B-spline surfaces)".into(),
+                got: "a B-spline surface".into(),
+            }),
         }
     }
 
@@ -41,7 +83,8 @@ impl GuideSurface {
 
     /// S written at degree (n, m).
     fn surface_at(&self, (n, m): (usize, usize)) -> Result<TensorPatch> {
-        let (a, b) = self.surface.degree();
+        let surface = self.bezier()?;
+        let (a, b) = surface.degree();
         if a > n || b > m {
             return Err(Error::Mismatch {
                 what: "guide surface degree".into(),
@@ -49,7 +92,7 @@ impl GuideSurface {
                 got: format!("({a}, {b})"),
             });
         }
-        Ok(self.surface.elevate(n - a, m - b))
+        Ok(surface.elevate(n - a, m - b))
     }
 }
 
@@ -75,11 +118,17 @@ impl EnergyTerm for GuideSurface {
     }
 
     fn integrand(&self) -> Option<Integrand<'_>> {
-        Some(Integrand::GuideSurface {
-            weight: self.weight,
-            surface: &self.surface,
-            measure: &self.measure,
-            sample_weights: self.sample_weights.as_deref(),
+        Some(match &self.surface {
+            Guide::Spline(surface) => Integrand::GuideSpline {
+                weight: self.weight,
+                surface,
+            },
+            Guide::Bezier(surface) => Integrand::GuideSurface {
+                weight: self.weight,
+                surface,
+                measure: &self.measure,
+                sample_weights: self.sample_weights.as_deref(),
+            },
         })
     }
 

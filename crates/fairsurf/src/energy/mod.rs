@@ -24,7 +24,7 @@ mod space;
 mod stretch;
 
 pub use bend::Bend;
-pub use guide_surface::GuideSurface;
+pub use guide_surface::{Guide, GuideSurface};
 pub use normal_field::{NormalField, NormalGuide};
 pub use space::Space;
 pub use stretch::Stretch;
@@ -119,6 +119,15 @@ pub enum Integrand<'a> {
         measure: &'a Measure,
         /// Per-sample γ_ij (multiplied with γ).
         sample_weights: Option<&'a [f64]>,
+    },
+    /// `½ γ ∫ |R − S|²` with S a B-spline surface on its own knots
+    /// (B-spline surfaces only: their solve's check integrates it span by
+    /// span; a Bézier patch's check has no road for it).
+    GuideSpline {
+        /// γ.
+        weight: f64,
+        /// S.
+        surface: &'a crate::bspline::BSplineSurface,
     },
 }
 

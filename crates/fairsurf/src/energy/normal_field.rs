@@ -36,7 +36,7 @@ pub enum NormalGuide {
     /// A B-spline field N(u, v) = Σ N_i^{n1}(u) N_j^{m1}(v) N_ij on its own
     /// knots over the surface's knot domain, integrated exactly (Gauss rules
     /// between both surfaces' knot lines). For B-spline surfaces only
-    /// (`BSplineProblem::with_normal_spline`); a Bézier patch's problem
+    /// ([`NormalField::spline`]); a Bézier patch's problem
     /// refuses it. N as given, not normalized.
     Spline(crate::bspline::BSplineSurface),
 }

@@ -2,6 +2,7 @@
 //! boundary's normal field, then the linearized Willmore steps that lower W.
 
 use super::*;
+use crate::{Bend, NormalField, Stretch};
 
 /// A patch made fair inside fixed boundary rows: the solve, then the
 /// linearized Willmore steps.
@@ -45,10 +46,14 @@ pub(super) fn fair(
         .map(|(k, p)| p.unwrap_or_else(|| patch.at(greville(&ku, k / cv), greville(&kv, k % cv)).0))
         .collect();
     let surface = BSplineSurface::new(ku, kv, points)?;
-    let mut problem = BSplineProblem::new(surface)
-        .with_free(free)?
-        .with_stretch(options.stretch)
-        .with_bend(options.bend);
+    let mut problem = BSplineProblem::from_surface(surface).with_free(free)?;
+    // A zero weight is no term (the report lists the fill's terms).
+    if options.stretch != 0.0 {
+        problem = problem.with_term(Stretch::new(options.stretch));
+    }
+    if options.bend != 0.0 {
+        problem = problem.with_term(Bend::new(options.bend));
+    }
     if options.normal_weight > 0.0 {
         let grid = SampleGrid::try_new(options.samples * cu, options.samples * cv)?;
         let normals = patch
@@ -57,7 +62,7 @@ pub(super) fn fair(
             .map(|(_, fu, fv)| cross(fu, fv))
             .collect();
         let weight = options.normal_weight / grid.len() as f64;
-        problem = problem.with_sampled_normals(weight, grid, normals, None)?;
+        problem = problem.with_term(NormalField::sampled(weight, grid, normals, None));
     }
     let setup = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();

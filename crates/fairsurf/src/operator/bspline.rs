@@ -75,7 +75,7 @@ impl Operator<TensorPlace> {
     /// Checks the operator on a B-spline surface: strength and target, a
     /// place in the knot domain, a curve target exactly at an edge; refuses
     /// triangular surface targets.
-    pub(crate) fn validate_on(&self, s: &BSplineSurface) -> Result<()> {
+    pub fn validate_on(&self, s: &BSplineSurface) -> Result<()> {
         self.check_target()?;
         if let Target::TensorSurface(t) = &self.target {
             let (n, m) = t.degree();

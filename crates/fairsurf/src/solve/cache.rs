@@ -1,7 +1,8 @@
 //! A few factorizations kept for interactive use (the editor's drags).
 
+use super::builder::Problem;
 use super::factored::Factored;
-use super::problem::{Prepared, Problem, Solution, SolveOptions};
+use super::problem::{Prepared, Solution, SolveOptions};
 use crate::bspline::{BSplineFactor, BSplineProblem, BSplineSolution, Reuse};
 use crate::triangle::solve::Factor;
 use crate::triangle::{TriFactored, TriProblem, TriSolution};

@@ -3,9 +3,10 @@
 //! rows, Newton's method for repellors) and the report, for a fresh solve
 //! and for every later one that moves only what the matrix does not see.
 
+use super::builder::Problem;
 use super::dense::{norm_max, SpdFactor};
 use super::problem::{
-    center_rhs, free_rows, quadratic_residuals, Placed, Prepared, Problem, ResidualShape, Solution,
+    center_rhs, free_rows, quadratic_residuals, Placed, Prepared, ResidualShape, Solution,
     SolveOptions,
 };
 use super::report::{SolveReport, TermEnergy, Timings};
@@ -141,16 +142,15 @@ impl Factored {
 
     /// What makes `problem`'s matrix differ from this one, if anything.
     pub(crate) fn mismatch(&self, problem: &Problem, prep: &Prepared) -> Option<String> {
-        if problem.degree != self.degree {
+        if problem.degree() != self.degree {
             return Some(format!(
                 "degree {:?} instead of {:?}",
-                problem.degree, self.degree
+                problem.degree(),
+                self.degree
             ));
         }
         let m = self.degree.1;
-        if let Some(k) =
-            (0..self.known.len()).find(|&k| problem.known[k].is_some() != self.known[k])
-        {
+        if let Some(k) = (0..self.known.len()).find(|&k| problem.free[k] == self.known[k]) {
             return Some(format!(
                 "control point ({}, {}) is {} here",
                 k / (m + 1),
@@ -247,8 +247,8 @@ impl Factored {
             }
         }
         let mut x = Mat::<f64>::zeros(dim, cols);
-        for (p, k) in problem.known.iter().enumerate() {
-            if let Some(v) = k {
+        for p in 0..problem.free.len() {
+            if let Some(v) = problem.known_at(p) {
                 for c in 0..3 {
                     let (r, col) = if coupled { (3 * p + c, 0) } else { (p, c) };
                     x[(r, col)] = v[c];
@@ -301,7 +301,7 @@ impl Factored {
         };
         // Repellors: Newton's method on the total energy from the
         // quadratic solution (no constraints but the known points).
-        let repellors = repellors(&problem.operators, placed, &problem.known, free);
+        let repellors = repellors(&problem.operators, placed, &problem.known(), free);
         let mut xf = sol.x.clone();
         let mut newton_report = None;
         let mut total_gradient = None;

@@ -5,6 +5,7 @@
 //! else the KKT system by LDLᵀ or LU), a few rows on a dense factor by the
 //! range-space method (`rows`), refined least squares (`lstsq`).
 
+mod builder;
 mod cache;
 pub(crate) mod dense;
 mod factored;
@@ -17,8 +18,9 @@ mod report;
 mod rows;
 mod verify;
 
+pub use builder::Problem;
 pub use cache::FactorCache;
 pub use factored::Factored;
-pub use problem::{Problem, Solution, SolveOptions};
+pub use problem::{Solution, SolveOptions};
 pub use report::{SolveReport, TermEnergy, Timings};
 pub(crate) use rows::{first_dependent_row, known_row_met};

@@ -11,43 +11,23 @@
 //! [`crate::constraint`]) add rows F x = c, solved on the same factor by the
 //! range-space method (`rows.rs`).
 
+use super::builder::Problem;
 use super::dense::{SpdFactor, SpdOptions};
 use super::factored::Factored;
 use super::jacobi::TensorBasis;
 use super::report::SolveReport;
 use super::rows::FreeRows;
 use crate::budget;
-use crate::constraint::{NamedConstraint, Row};
+use crate::constraint::Row;
 use crate::energy::Integrand;
 use crate::energy::Space;
-use crate::energy::{EnergyTerm, Hessian, TermForm};
+use crate::energy::{Hessian, TermForm};
 use crate::operator::tensor::TensorLocated;
 use crate::operator::{Residual, TensorOperator};
-use crate::tensor::{TensorConstraint, Uv};
 use crate::vec3::{is_finite, Vec3};
 use crate::{Error, Result, TensorPatch};
 use faer::Mat;
 use std::time::Instant;
-
-/// A problem: degree, known control points, and energy terms.
-///
-/// ```
-/// use fairsurf::{Problem, Stretch, TensorPatch};
-/// // A 3×3 net with a lifted middle: fix the boundary, free the centre.
-/// let net = TensorPatch::from_fn(2, 2, |i, j| [i as f64, j as f64, if (i, j) == (1, 1) { 5.0 } else { 0.0 }]);
-/// let sol = Problem::new((2, 2)).with_fixed_rings(&net, 1).with_term(Stretch::new(1.0)).solve().unwrap();
-/// // The Dirichlet extremal of a planar boundary is planar.
-/// assert!(sol.surface.point(1, 1)[2].abs() < 1e-14);
-/// assert!(sol.report.relative_gradient < 1e-14);
-/// ```
-#[derive(Debug)]
-pub struct Problem {
-    pub(super) degree: (usize, usize),
-    pub(super) known: Vec<Option<Vec3>>,
-    pub(super) terms: Vec<Box<dyn EnergyTerm>>,
-    pub(super) operators: Vec<TensorOperator>,
-    pub(super) constraints: Vec<NamedConstraint<Uv>>,
-}
 
 /// Options for [`Problem::solve_with`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -109,28 +89,23 @@ impl Problem {
     /// A problem of degree (n, m) with every control point free and no terms.
     pub fn new(degree: (usize, usize)) -> Self {
         let n = (degree.0 + 1) * (degree.1 + 1);
-        Self {
-            degree,
-            known: vec![None; n],
-            terms: Vec::new(),
-            operators: Vec::new(),
-            constraints: Vec::new(),
-        }
+        let zero = TensorPatch::new(degree.0, degree.1, vec![[0.0; 3]; n]);
+        Self::over(zero, vec![true; n])
     }
 
     /// (n, m).
     pub fn degree(&self) -> (usize, usize) {
-        self.degree
+        self.surface.degree()
     }
 
     /// Known control points (`None` = free), row-major.
-    pub fn known(&self) -> &[Option<Vec3>] {
-        &self.known
+    pub fn known(&self) -> Vec<Option<Vec3>> {
+        (0..self.free.len()).map(|k| self.known_at(k)).collect()
     }
 
-    /// The energy terms.
-    pub fn terms(&self) -> &[Box<dyn EnergyTerm>] {
-        &self.terms
+    /// Control point k (row-major) when it is known.
+    pub(crate) fn known_at(&self, k: usize) -> Option<Vec3> {
+        (!self.free[k]).then(|| self.surface.points()[k])
     }
 
     /// Fixes P_ij at p.
@@ -138,25 +113,27 @@ impl Problem {
     /// # Panics
     /// If (i, j) is outside the net.
     pub fn fix(&mut self, i: usize, j: usize, p: Vec3) -> &mut Self {
-        let m = self.degree.1;
-        assert!(
-            i <= self.degree.0 && j <= m,
-            "control point ({i}, {j}) outside the net"
-        );
-        self.known[i * (m + 1) + j] = Some(p);
+        let (n, m) = self.degree();
+        assert!(i <= n && j <= m, "control point ({i}, {j}) outside the net");
+        self.hold(i * (m + 1) + j, p);
         self
     }
 
     /// Sets the known points all at once (`None` = free), row-major.
     pub fn with_known(mut self, known: Vec<Option<Vec3>>) -> Result<Self> {
-        if known.len() != self.known.len() {
+        if known.len() != self.free.len() {
             return Err(Error::ControlPointCount {
-                degree: self.degree,
-                expected: self.known.len(),
+                degree: self.degree(),
+                expected: self.free.len(),
                 got: known.len(),
             });
         }
-        self.known = known;
+        for (k, p) in known.into_iter().enumerate() {
+            match p {
+                Some(p) => self.hold(k, p),
+                None => self.free[k] = true,
+            }
+        }
         Ok(self)
     }
 
@@ -168,77 +145,18 @@ impl Problem {
     /// # Panics
     /// If `net` has another degree.
     pub fn with_fixed_rings(mut self, net: &TensorPatch, k: usize) -> Self {
-        assert_eq!(net.degree(), self.degree, "net degree");
-        let (n, m) = self.degree;
-        for i in 0..=n {
-            for j in 0..=m {
-                let ring = i.min(j).min(n - i).min(m - j);
-                self.known[i * (m + 1) + j] = (ring < k).then(|| net.point(i, j));
-            }
-        }
-        self
-    }
-
-    /// Adds an energy term.
-    pub fn with_term(mut self, term: impl EnergyTerm + 'static) -> Self {
-        self.terms.push(Box::new(term));
-        self
-    }
-
-    /// Adds a boxed energy term.
-    pub fn push_term(&mut self, term: Box<dyn EnergyTerm>) {
-        self.terms.push(term);
-    }
-
-    /// Adds an external energy operator (Veltkamp & Wesselink §5):
-    /// attractors and directors join the quadratic energy; repellors make
-    /// the solve nonlinear (Newton's method from the quadratic solution).
-    pub fn with_operator(mut self, operator: TensorOperator) -> Self {
-        self.operators.push(operator);
-        self
-    }
-
-    /// The external energy operators.
-    pub fn operators(&self) -> &[TensorOperator] {
-        &self.operators
-    }
-
-    /// Adds a linear constraint at a point (u, v) of the patch (Veltkamp &
-    /// Wesselink eq. 31 on a tensor patch): the surface passes through a
-    /// point, has a normal, lies in a plane or on a line there. The solve
-    /// meets it exactly (to rounding) and reports its violation. A
-    /// [`crate::constraint::Constraint::Fixed`] one fixes the control point
-    /// of index i·(m+1) + j instead.
-    pub fn with_constraint(
-        mut self,
-        name: impl Into<String>,
-        constraint: TensorConstraint,
-    ) -> Self {
-        if let TensorConstraint::Fixed { point, value } = constraint {
-            if point < self.known.len() {
-                self.known[point] = Some(value);
-                return self;
-            }
-        }
-        self.constraints.push(NamedConstraint {
-            name: name.into(),
-            constraint,
-        });
-        self
-    }
-
-    /// The constraints at points of the patch.
-    pub fn constraints(&self) -> &[NamedConstraint<Uv>] {
-        &self.constraints
+        assert_eq!(net.degree(), self.degree(), "net degree");
+        self.surface = net.clone();
+        self.fix_rings(k)
     }
 
     /// A patch of this degree with every control point at the origin: what
     /// the constraints' weights need (they depend on the degree only).
     fn blank(&self) -> TensorPatch {
         TensorPatch::new(
-            self.degree.0,
-            self.degree.1,
-            vec![[0.0; 3]; self.known.len()],
+            self.degree().0,
+            self.degree().1,
+            vec![[0.0; 3]; self.free.len()],
         )
     }
 
@@ -302,17 +220,15 @@ impl Problem {
     /// solved at all: some point free, known points finite, an energy,
     /// valid operators.
     fn check(&self) -> Result<Vec<usize>> {
-        let free: Vec<usize> = (0..self.known.len())
-            .filter(|&k| self.known[k].is_none())
-            .collect();
+        let free = self.free_list();
         if free.is_empty() {
             return Err(Error::NoFreePoints {
                 why: "every control point is known".into(),
             });
         }
-        for (k, p) in self.known.iter().enumerate() {
-            if p.is_some_and(|p| !is_finite(p)) {
-                let m = self.degree.1;
+        for k in 0..self.free.len() {
+            if self.known_at(k).is_some_and(|p| !is_finite(p)) {
+                let m = self.degree().1;
                 return Err(Error::NotFinite {
                     what: format!("known control point ({}, {})", k / (m + 1), k % (m + 1)),
                 });
@@ -336,8 +252,8 @@ impl Problem {
         self.operators
             .iter()
             .map(|op| {
-                let at = op.locate(self.degree)?;
-                let res = op.residuals(&at, self.degree);
+                let at = op.locate(self.degree())?;
+                let res = op.residuals(&at, self.degree());
                 Ok((at, res))
             })
             .collect()
@@ -346,7 +262,7 @@ impl Problem {
     pub(super) fn factor_prepared(&self, opts: &SolveOptions, prep: &Prepared) -> Result<Factored> {
         let (free, placed) = (&prep.free, &prep.placed[..]);
         budget::reserve(
-            &format!("the degree {:?} system", self.degree),
+            &format!("the degree {:?} system", self.degree()),
             self.memory_estimate(),
         )?;
         let t = Instant::now();
@@ -361,7 +277,7 @@ impl Problem {
         // side on two threads.
         let bernstein = || self.bernstein_system(free, placed);
         let jacobi = || self.jacobi_system(block, !self.constraints.is_empty());
-        let (system, pre) = if self.known.len() >= PARALLEL_ASSEMBLY {
+        let (system, pre) = if self.free.len() >= PARALLEL_ASSEMBLY {
             budget::join(bernstein, jacobi)
         } else {
             (bernstein(), jacobi())
@@ -393,9 +309,9 @@ impl Problem {
             centers.push(f.center);
         }
         Ok(Factored {
-            degree: self.degree,
+            degree: self.degree(),
             free: free.clone(),
-            known: self.known.iter().map(Option::is_some).collect(),
+            known: self.free.iter().map(|f| !f).collect(),
             coupled,
             keys: prep.keys.clone(),
             names: self.terms.iter().map(|t| t.name()).collect(),
@@ -424,7 +340,7 @@ impl Problem {
             .iter()
             .map(|t| {
                 budget::checkpoint()?;
-                t.form(self.degree)
+                t.form(self.degree())
             })
             .collect::<Result<Vec<_>>>()?;
         // Operators and constraints couple the coordinates.
@@ -433,7 +349,7 @@ impl Problem {
             || forms
                 .iter()
                 .any(|f| matches!(f.hessian, Hessian::Coupled(_)));
-        let mut h = hessian_sum(&forms, self.known.len(), coupled);
+        let mut h = hessian_sum(&forms, self.free.len(), coupled);
         for (c, r) in quadratic_residuals(&self.operators, placed) {
             for &(i, a) in &r.terms {
                 for &(j, b) in &r.terms {
@@ -456,7 +372,7 @@ impl Problem {
         let Some((ru, rv)) = block else {
             return Ok(None);
         };
-        let space = Space::jacobi(self.degree, ru, rv);
+        let space = Space::jacobi(self.degree(), ru, rv);
         let forms = self
             .terms
             .iter()
@@ -478,7 +394,7 @@ impl Problem {
     /// coordinates), one such matrix per term's form, H, H_FF, the factor
     /// and the basis change: 8 · dim² · (terms + 4).
     pub fn memory_estimate(&self) -> f64 {
-        let np = self.known.len() as f64;
+        let np = self.free.len() as f64;
         let per_coordinate = self.operators.is_empty()
             && self.constraints.is_empty()
             && self.terms.iter().all(|t| {
@@ -495,7 +411,7 @@ impl Problem {
     /// contiguous columns, its margins ((a, b), (c, d)): rows a..=n−b,
     /// columns c..=m−d.
     fn free_block(&self, free: &[usize]) -> Option<((usize, usize), (usize, usize))> {
-        let (n, m) = self.degree;
+        let (n, m) = self.degree();
         let (mut i0, mut i1, mut j0, mut j1) = (usize::MAX, 0, usize::MAX, 0);
         for &p in free {
             let (i, j) = (p / (m + 1), p % (m + 1));

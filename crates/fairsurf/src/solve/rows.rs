@@ -11,8 +11,9 @@
 //! solve per row and S = F Y is small and dense. Every solve is refined on
 //! the whole system [H Fᵀ; F 0] with compensated residuals.
 
+use super::builder::Problem;
 use super::dense::{dot2_residual, residual, SpdFactor};
-use super::problem::{Problem, SolveOptions};
+use super::problem::SolveOptions;
 use crate::constraint::Row;
 use crate::energy::Integrand;
 use crate::vec3::Vec3;
@@ -363,10 +364,10 @@ impl FreeRows {
         // targets, guide surfaces.
         let max_abs = |v: &[Vec3]| v.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
         let mut size = problem
-            .known
-            .iter()
+            .known()
+            .into_iter()
             .flatten()
-            .fold(0.0f64, |m, p| m.max(max_abs(&[*p])));
+            .fold(0.0f64, |m, p| m.max(max_abs(&[p])));
         for r in &self.all {
             size = size.max(r.rhs.abs());
         }

@@ -3,9 +3,10 @@
 //! minimum (over the constraints' rows, when there are some), and Newton
 //! corrections while they lower the recomputed energy.
 
+use super::builder::Problem;
 use super::dense::norm_max;
 use super::factored::{Factored, Rhs};
-use super::problem::{Placed, Problem};
+use super::problem::Placed;
 use crate::budget;
 use crate::check::{self, dd::Dd, tensor::EnergyAt};
 use crate::energy::Integrand;
@@ -54,12 +55,12 @@ impl Factored {
             .map(|i| self.h_ff[(i, i)])
             .fold(0.0, f64::max);
         let data = problem
-            .known
-            .iter()
+            .known()
+            .into_iter()
             .flatten()
             .chain(integrands.iter().flatten().flat_map(|i| match i {
-                Integrand::GuideSurface { surface, .. } => surface.points(),
-                _ => &[],
+                Integrand::GuideSurface { surface, .. } => surface.points().to_vec(),
+                _ => Vec::new(),
             }))
             .flatten()
             .fold(0.0, |r: f64, v| r.max(v.abs()));

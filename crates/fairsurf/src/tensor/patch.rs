@@ -61,6 +61,20 @@ impl SurfaceDerivatives {
     }
 }
 
+impl crate::surface::ControlNet for TensorPatch {
+    fn counts(&self) -> (usize, usize) {
+        (self.degree.0 + 1, self.degree.1 + 1)
+    }
+
+    fn points(&self) -> &[Vec3] {
+        &self.points
+    }
+
+    fn points_mut(&mut self) -> &mut [Vec3] {
+        &mut self.points
+    }
+}
+
 impl TensorPatch {
     /// A patch of degree (n, m) from its (n+1)(m+1) control points, row-major.
     ///

@@ -1,6 +1,7 @@
 //! Shared helpers for the integration tests (a tiny deterministic RNG, nets).
 #![allow(dead_code, missing_docs)]
 
+use fairsurf::Bend;
 use fairsurf::{TensorPatch, Vec3};
 
 /// xorshift64*: deterministic, dependency-free pseudo-random numbers.
@@ -239,7 +240,7 @@ pub fn assert_bspline_minimal(
     energy: f64,
     seed: u64,
 ) {
-    let e0 = problem.energy_at(s);
+    let e0 = problem.energy_at(s).unwrap();
     assert!((e0 - energy).abs() < 1e-12 * energy, "{e0} vs {energy}");
     let free: Vec<usize> = (0..problem.free().len())
         .filter(|&k| problem.free()[k])
@@ -254,14 +255,14 @@ pub fn assert_bspline_minimal(
             }
         }
         let moved = fairsurf::bspline::BSplineSurface::new(ku.clone(), kv.clone(), points).unwrap();
-        assert!(problem.energy_at(&moved) > e0, "trial {trial}");
+        assert!(problem.energy_at(&moved).unwrap() > e0, "trial {trial}");
     }
 }
 
 /// The thin plate on [`wavy_sheet`] with two rings fixed.
 #[allow(dead_code)]
 pub fn wavy_problem() -> fairsurf::bspline::BSplineProblem {
-    fairsurf::bspline::BSplineProblem::new(wavy_sheet())
+    fairsurf::bspline::BSplineProblem::from_surface(wavy_sheet())
         .with_fixed_rings(2)
-        .with_bend(1.0)
+        .with_term(Bend::new(1.0))
 }

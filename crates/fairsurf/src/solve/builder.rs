@@ -1,0 +1,192 @@
+//! One problem type for every tensor kind: the surface (its basis, the
+//! known points' values, where the free ones start), which control points
+//! are free, the energy terms, the constraints at (u, v) and the external
+//! energy operators. What the kinds share is built here once; each kind
+//! adds its constructors and its solve (a Bézier patch's dense solve in
+//! `problem.rs`, a B-spline's sparse one in `crate::bspline`).
+
+use crate::constraint::NamedConstraint;
+use crate::energy::{EnergyTerm, Integrand, NormalField};
+use crate::operator::TensorOperator;
+use crate::surface::ControlNet;
+use crate::tensor::{TensorConstraint, Uv};
+use crate::{Error, Result, TensorPatch};
+
+/// A variational problem over a surface of kind `S`: a Bézier patch
+/// (`Problem`, the default) or a B-spline surface
+/// (`Problem<BSplineSurface>`, [`crate::bspline::BSplineProblem`]).
+///
+/// The same energy terms ([`crate::Stretch`], [`crate::Bend`],
+/// [`crate::NormalField`], [`crate::GuideSurface`]), constraints
+/// ([`TensorConstraint`] at (u, v)) and operators ([`TensorOperator`]) serve
+/// both kinds; the kinds differ in how a problem is made (a degree, or a
+/// B-spline surface with its knots) and in how it is solved (dense with the
+/// Jacobi basis, or sparse and banded).
+///
+/// ```
+/// use fairsurf::{Problem, Stretch, TensorPatch};
+/// // A 3×3 net with a lifted middle: fix the boundary, free the centre.
+/// let net = TensorPatch::from_fn(2, 2, |i, j| [i as f64, j as f64, if (i, j) == (1, 1) { 5.0 } else { 0.0 }]);
+/// let sol = Problem::new((2, 2)).with_fixed_rings(&net, 1).with_term(Stretch::new(1.0)).solve().unwrap();
+/// // The Dirichlet extremal of a planar boundary is planar.
+/// assert!(sol.surface.point(1, 1)[2].abs() < 1e-14);
+/// assert!(sol.report.relative_gradient < 1e-14);
+/// ```
+#[derive(Debug)]
+pub struct Problem<S = TensorPatch> {
+    /// The basis and every control point: the known points' values, and
+    /// where the free ones start (a quadratic energy ignores it; Newton's
+    /// method for repellors starts from the quadratic solution).
+    pub(crate) surface: S,
+    /// One flag per control point, row-major.
+    pub(crate) free: Vec<bool>,
+    pub(crate) terms: Vec<Box<dyn EnergyTerm>>,
+    pub(crate) operators: Vec<TensorOperator>,
+    pub(crate) constraints: Vec<NamedConstraint<Uv>>,
+}
+
+impl<S: ControlNet> Problem<S> {
+    /// A problem over `surface` with every control point held at its value
+    /// and no energy yet: free points with [`Self::with_free`] (or a kind's
+    /// `with_fixed_rings`), then terms, constraints and operators.
+    pub fn from_surface(surface: S) -> Self {
+        let n = surface.points().len();
+        Self::over(surface, vec![false; n])
+    }
+
+    /// A problem over `surface` with the given free flags and nothing else.
+    pub(crate) fn over(surface: S, free: Vec<bool>) -> Self {
+        Self {
+            surface,
+            free,
+            terms: Vec::new(),
+            operators: Vec::new(),
+            constraints: Vec::new(),
+        }
+    }
+
+    /// The surface: its basis, the known points' values and the free
+    /// points' starting values.
+    pub fn surface(&self) -> &S {
+        &self.surface
+    }
+
+    /// The free flags, one per control point (row-major).
+    pub fn free(&self) -> &[bool] {
+        &self.free
+    }
+
+    /// Sets which control points are free (row-major, one flag per point).
+    pub fn with_free(mut self, free: Vec<bool>) -> Result<Self> {
+        if free.len() != self.free.len() {
+            let (a, b) = self.surface.counts();
+            return Err(Error::Mismatch {
+                what: format!("free flags of the {a} × {b} net"),
+                expected: self.free.len().to_string(),
+                got: free.len().to_string(),
+            });
+        }
+        self.free = free;
+        Ok(self)
+    }
+
+    /// The outer `k` rings of the surface's net held at their values and
+    /// every other point freed.
+    pub(crate) fn fix_rings(mut self, k: usize) -> Self {
+        let (cu, cv) = self.surface.counts();
+        for i in 0..cu {
+            for j in 0..cv {
+                let ring = i.min(j).min(cu - 1 - i).min(cv - 1 - j);
+                self.free[i * cv + j] = ring >= k;
+            }
+        }
+        self
+    }
+
+    /// Holds control point `k` (row-major) at `p`.
+    pub(crate) fn hold(&mut self, k: usize, p: crate::Vec3) {
+        self.surface.points_mut()[k] = p;
+        self.free[k] = false;
+    }
+
+    /// Adds an energy term: [`crate::Stretch`], [`crate::Bend`],
+    /// [`crate::NormalField`], [`crate::GuideSurface`] or one of your own
+    /// (a Bézier patch's solve takes any [`EnergyTerm`]; a B-spline's
+    /// assembles the terms from their [`EnergyTerm::integrand`] and
+    /// refuses one without).
+    pub fn with_term(mut self, term: impl EnergyTerm + 'static) -> Self {
+        self.terms.push(Box::new(term));
+        self
+    }
+
+    /// Adds a boxed energy term.
+    pub fn push_term(&mut self, term: Box<dyn EnergyTerm>) {
+        self.terms.push(term);
+    }
+
+    /// The energy terms.
+    pub fn terms(&self) -> &[Box<dyn EnergyTerm>] {
+        &self.terms
+    }
+
+    /// The (first) normal-field term's λ and guide, when there is one (the
+    /// normals a report's deviation is measured against).
+    pub fn normal_field(&self) -> Option<NormalField> {
+        self.terms.iter().find_map(|t| match t.integrand() {
+            Some(Integrand::NormalField { weight, guide }) => Some(NormalField {
+                weight,
+                guide: guide.clone(),
+            }),
+            _ => None,
+        })
+    }
+
+    /// Adds an external energy operator (Veltkamp & Wesselink §5) at a point
+    /// or a convex region of the parameter domain: a director, or a point,
+    /// plane, line or surface attractor join the quadratic energy; a
+    /// repellor makes the solve nonlinear (Newton's method from the
+    /// quadratic solution). The solve refuses an invalid one, naming it.
+    pub fn with_operator(mut self, operator: TensorOperator) -> Self {
+        self.operators.push(operator);
+        self
+    }
+
+    /// The external energy operators.
+    pub fn operators(&self) -> &[TensorOperator] {
+        &self.operators
+    }
+
+    /// Adds a linear constraint at a point (u, v) of the parameter domain
+    /// (Veltkamp & Wesselink eq. 31 on a tensor surface): the surface
+    /// passes through a point, has a normal, lies in a plane or on a line
+    /// there. The solve meets it exactly (to rounding) and reports its
+    /// violation. A [`crate::constraint::Constraint::Fixed`] one holds the
+    /// control point of that row-major index at its value instead.
+    pub fn with_constraint(
+        mut self,
+        name: impl Into<String>,
+        constraint: TensorConstraint,
+    ) -> Self {
+        if let TensorConstraint::Fixed { point, value } = constraint {
+            if point < self.free.len() {
+                self.hold(point, value);
+                return self;
+            }
+        }
+        self.constraints.push(NamedConstraint {
+            name: name.into(),
+            constraint,
+        });
+        self
+    }
+
+    /// The constraints at points of the parameter domain.
+    pub fn constraints(&self) -> &[NamedConstraint<Uv>] {
+        &self.constraints
+    }
+
+    /// The indices of the free control points, in order.
+    pub(crate) fn free_list(&self) -> Vec<usize> {
+        (0..self.free.len()).filter(|&k| self.free[k]).collect()
+    }
+}
