@@ -433,7 +433,7 @@ def test_polygonal_holes_are_filled_by_sewn_g1_fans(cli: Path, tmp_path: Path):
         step_in = tmp_path / f"polygon{n}.step"
         sewn_step(polygon_network(n), step_in)
         fill = check_fan(cli, step_in, tmp_path, n)
-        assert fill["solve"]["conditions_dropped"] == []
+        assert fill["solve"]["dropped_continuity"] == []
 
 
 def wavy_bezier():

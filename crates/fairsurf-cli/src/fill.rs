@@ -242,8 +242,8 @@ fn summary(
                          {fit}; between the patches {:.1e}°, {} of {} G1 conditions dropped; \
                          {ms:.1} ms",
                         r.inner_angle.to_degrees(),
-                        r.solve.dropped.len(),
-                        r.solve.rows,
+                        r.solve.triangular.as_ref().map_or(0, |t| t.dropped.len()),
+                        r.solve.triangular.as_ref().map_or(0, |t| t.rows),
                     )
                 });
                 let c = &r.corners;

@@ -251,35 +251,40 @@ fn write_outputs(
 }
 
 fn tri_summary(path: &Path, s: &SolvedTriScene, written: &[String]) -> String {
-    let r = &s.solution.report;
+    let (r, t) = (&s.solution.report, s.solution.figures());
     let n = s.surface().degree();
     let mut lines = vec![format!(
         "{}: triangular, degree {n}, {} patches ({} vertices, {} control points), {} unknowns",
         path.display(),
-        r.patches,
-        r.vertices,
-        r.points,
+        t.patches,
+        t.vertices,
+        t.points,
         r.unknowns
     )];
     if r.operators.is_empty() {
         lines.push(format!(
             "  energy {:.10e} = stretch {:.10e} + bend {:.10e}",
-            r.total, r.stretch, r.bend
+            r.energy,
+            r.term("stretch"),
+            r.term("bend")
         ));
     } else {
         lines.push(format!(
             "  energy {:.10e} = stretch {:.10e} + bend {:.10e} + operators {:.10e}",
-            r.total, r.stretch, r.bend, r.external
+            r.energy,
+            r.term("stretch"),
+            r.term("bend"),
+            r.external
         ));
     }
     operator_lines(&mut lines, &r.operators, r.newton.as_ref());
     lines.push(format!(
         "  constraint rows {}: {} independent, {} dependent (reduced), {} continuity dropped, {} inconsistent",
-        r.rows,
-        r.independent_rows,
-        r.dependent_rows,
-        r.dropped.len(),
-        r.inconsistent.len()
+        t.rows,
+        t.independent_rows,
+        t.dependent_rows,
+        t.dropped.len(),
+        t.inconsistent.len()
     ));
     let fixed: Vec<f64> = r
         .constraints
@@ -297,21 +302,21 @@ fn tri_summary(path: &Path, s: &SolvedTriScene, written: &[String]) -> String {
     constraint_lines(&mut lines, &r.constraints);
     lines.push(format!(
         "  max constraint violation {:.2e}; continuity rows off by {:.2e} (kept), {:.2e} (left out)",
-        r.max_violation, r.continuity_residual, r.unenforced_residual
+        r.max_violation, t.continuity_residual, t.unenforced_residual
     ));
-    if r.row_tolerance > 1e-9 {
+    if t.row_tolerance > 1e-9 {
         lines.push(format!(
             "  note: the continuity conditions are nearly dependent; they were reduced with pivot tolerance {:.0e}",
-            r.row_tolerance
+            t.row_tolerance
         ));
     }
-    if let Some((angle, [a, b])) = r.max_edge_normal_angle {
+    if let Some((angle, [a, b])) = t.max_edge_normal_angle {
         lines.push(format!(
             "  largest normal angle across interior edges {angle:.2e} rad (edge {a}–{b})"
         ));
     }
     const LIST: usize = 5;
-    for (what, list) in [("dropped", &r.dropped), ("inconsistent", &r.inconsistent)] {
+    for (what, list) in [("dropped", &t.dropped), ("inconsistent", &t.inconsistent)] {
         for d in list.iter().take(LIST) {
             lines.push(format!(
                 "  {what}: {} (residual {:.2e})",
@@ -337,7 +342,7 @@ fn tri_summary(path: &Path, s: &SolvedTriScene, written: &[String]) -> String {
     if let Some(k) = &r.kkt {
         lines.push(kkt_line(r.gradient_norm, r.relative_gradient, k));
     }
-    lines.push(solved_line(r.seconds.total, written));
+    lines.push(solved_line(r.timings.total, written));
     lines.join("\n")
 }
 

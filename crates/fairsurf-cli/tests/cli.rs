@@ -1448,7 +1448,7 @@ fn fill_fills_a_pentagonal_hole_with_a_fan() {
     assert!(fill["max_angle_deg"].as_f64().unwrap() < 1e-9, "{fill}");
     assert!(fill["max_gap"].as_f64().unwrap() < 1e-12, "{fill}");
     assert!(fill["inner_angle_deg"].as_f64().unwrap() < 1e-8, "{fill}");
-    assert_eq!(fill["solve"]["conditions_dropped"], serde_json::json!([]));
+    assert_eq!(fill["solve"]["dropped_continuity"], serde_json::json!([]));
     assert!(fill["solve"]["check"]["energy_error"].as_f64().unwrap() < 1e-10);
     let text = std::fs::read_to_string(&out).unwrap();
     assert_eq!(text.matches("=ADVANCED_FACE(").count(), 10);

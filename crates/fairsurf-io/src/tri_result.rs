@@ -6,7 +6,8 @@ use crate::tri_scene::{domain_point, operator, set_region};
 use crate::{
     ConstraintKind, ConstraintSpec, DomainPointSpec, Error, OperatorKind, TriScene, TriSurfaceSpec,
 };
-use fairsurf::triangle::{Refinement, TriReport, TriSolution};
+use fairsurf::triangle::{Refinement, TriSolution};
+use fairsurf::SolveReport;
 use fairsurf::TriSurface;
 use serde_json::{json, Value};
 
@@ -141,7 +142,9 @@ impl SolvedTriScene {
     /// What the result's reader should know: a fold inside a patch, when
     /// the normal turns by more than 90° between neighbouring samples.
     pub fn notes(&self) -> Vec<String> {
-        let fold = self.solution.report.normal_turn.filter(|t| t.is_fold());
+        let fold = (self.solution.report.triangular.as_ref())
+            .and_then(|t| t.normal_turn)
+            .filter(|t| t.is_fold());
         fold.map(|t| {
             format!(
                 "the surface folds: its normal turns by {:.1}° between neighbouring samples \
@@ -199,56 +202,43 @@ pub(crate) fn kkt_json(k: &fairsurf::triangle::KktInfo) -> Value {
     })
 }
 
-/// A [`TriReport`] as JSON.
-pub fn tri_report_json(r: &TriReport) -> Value {
+/// A triangular surface's report as JSON: every kind's keys
+/// ([`crate::result::report_json`]) and the triangular figures (mesh,
+/// constraint rows, continuity residuals, edge angles, normal turn; the
+/// refine and classify phases in `timings_s`).
+pub fn tri_report_json(r: &SolveReport) -> Value {
+    let mut o = crate::result::report_json(r);
+    let Some(t) = &r.triangular else {
+        return o;
+    };
     let rows = |d: &[fairsurf::triangle::DroppedRow]| -> Vec<Value> {
         d.iter()
             .map(|x| json!({"name": x.name, "residual": x.residual}))
             .collect()
     };
-    let kkt = r.kkt.as_ref();
-    let mut o = json!({
-        "energy": r.total,
-        "terms": {"stretch": r.stretch, "bend": r.bend},
-        "mesh": {"patches": r.patches, "vertices": r.vertices, "control_points": r.points},
-        "unknowns": r.unknowns,
-        "fixed_coordinates": r.fixed_coordinates,
+    let extra = json!({
+        "mesh": {"patches": t.patches, "vertices": t.vertices, "control_points": t.points},
+        "fixed_coordinates": t.fixed_coordinates,
         "constraint_rows": {
-            "total": r.rows,
-            "independent": r.independent_rows,
-            "dependent": r.dependent_rows,
+            "total": t.rows,
+            "independent": t.independent_rows,
+            "dependent": t.dependent_rows,
         },
-        "dropped_continuity": rows(&r.dropped),
-        "inconsistent": rows(&r.inconsistent),
-        "constraints": crate::constraints::outcomes_json(&r.constraints),
-        "max_violation": r.max_violation,
-        "external": r.external,
-        "operators": crate::operators::outcomes_json(&r.operators),
-        "newton": crate::operators::newton_json(r.newton.as_ref()),
-        "continuity_residual": r.continuity_residual,
-        "unenforced_continuity_residual": r.unenforced_residual,
-        "row_tolerance": r.row_tolerance,
-        "max_edge_normal_angle_rad": r.max_edge_normal_angle.map(|(a, _)| a),
-        "max_edge_normal_angle_at": r.max_edge_normal_angle.map(|(_, e)| e),
-        "max_normal_turn_deg": r.normal_turn.map(|t| crate::result::normal_turn_json(
-            t.angle, json!({"patch": t.patch, "bary": t.at}), t.is_fold())),
-        "gradient_norm": r.gradient_norm,
-        "relative_gradient": r.relative_gradient,
-        "residual": kkt.map(|k| k.relative_residual),
-        "condition_estimate": kkt.and_then(|k| crate::result::finite(k.condition)),
-        "refinement_steps": kkt.map_or(0, |k| k.refinement_steps),
-        "kkt": kkt.map(kkt_json),
-        "timings_s": {
-            "refine": r.seconds.refine,
-            "assemble": r.seconds.assemble,
-            "classify": r.seconds.classify,
-            "solve": r.seconds.solve,
-            "total": r.seconds.total,
-        },
-        "fairsurf_version": env!("CARGO_PKG_VERSION"),
+        "dropped_continuity": rows(&t.dropped),
+        "inconsistent": rows(&t.inconsistent),
+        "continuity_residual": t.continuity_residual,
+        "unenforced_continuity_residual": t.unenforced_residual,
+        "row_tolerance": t.row_tolerance,
+        "max_edge_normal_angle_rad": t.max_edge_normal_angle.map(|(a, _)| a),
+        "max_edge_normal_angle_at": t.max_edge_normal_angle.map(|(_, e)| e),
+        "max_normal_turn_deg": t.normal_turn.map(|n| crate::result::normal_turn_json(
+            n.angle, json!({"patch": n.patch, "bary": n.at}), n.is_fold())),
     });
-    if let Some(c) = &r.check {
-        o["check"] = crate::result::check_json(c);
+    let map = o.as_object_mut().expect("an object");
+    for (k, v) in extra.as_object().expect("an object") {
+        map.insert(k.clone(), v.clone());
     }
+    o["timings_s"]["refine"] = json!(t.refine_seconds);
+    o["timings_s"]["classify"] = json!(t.classify_seconds);
     o
 }

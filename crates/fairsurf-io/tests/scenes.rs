@@ -1347,7 +1347,11 @@ fn every_example_solves_to_a_true_minimizer_or_exact_construction() {
                             let r = &f.report;
                             let check = r.solve.check.as_ref().unwrap();
                             assert!(check.energy_error < 1e-10, "{}", p.display());
-                            assert!(r.solve.dropped.is_empty(), "{}", p.display());
+                            assert!(
+                                r.solve.triangular.as_ref().unwrap().dropped.is_empty(),
+                                "{}",
+                                p.display()
+                            );
                             assert!(r.inner_angle < 1e-10, "{}: {}", p.display(), r.inner_angle);
                             for side in &r.sides {
                                 assert!(side.gap < 1e-12 && side.angle < 1e-11, "{side:?}");
@@ -1528,7 +1532,10 @@ fn refined_result_keeps_region_operators() {
         .solve()
         .unwrap();
     let r1 = &first.solution.report;
-    assert!(r1.patches > 32, "the curve splits patches");
+    assert!(
+        first.solution.figures().patches > 32,
+        "the curve splits patches"
+    );
     let result = first.result_scene();
     assert_eq!(result.operators.len(), 3);
     let pieces: Vec<usize> = result.operators[..2]
@@ -1692,13 +1699,13 @@ fn triangular_folds_are_noted() {
             .unwrap()
     };
     let s = solve(true);
-    let turn = s.solution.report.normal_turn.unwrap();
+    let turn = s.solution.figures().normal_turn.unwrap();
     assert!(turn.is_fold(), "{turn:?}");
     let notes = s.notes();
     assert!(notes.iter().any(|n| n.contains("folds")), "{notes:?}");
     assert_eq!(s.report_json()["notes"][0], notes[0]);
     let flat = solve(false);
-    assert!(!flat.solution.report.normal_turn.unwrap().is_fold());
+    assert!(!flat.solution.figures().normal_turn.unwrap().is_fold());
     assert!(flat.notes().is_empty());
 }
 

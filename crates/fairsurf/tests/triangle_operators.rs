@@ -128,7 +128,7 @@ fn region_energies_equal_independent_quadrature() {
     );
     assert!((r.operators[2].energy - 1.5 * plane).abs() < 1e-13 * plane.max(1.0));
     assert!((r.external - r.operators.iter().map(|o| o.energy).sum::<f64>()).abs() < 1e-15);
-    assert!((r.total - r.stretch - r.bend - r.external).abs() < 1e-14 * r.total);
+    assert!((r.energy - r.term("stretch") - r.term("bend") - r.external).abs() < 1e-14 * r.energy);
     assert!(r.relative_gradient < 1e-10, "{:e}", r.relative_gradient);
 }
 

@@ -8,7 +8,7 @@ mod common;
 
 use fairsurf::triangle::{
     Constraint, Continuity, CurveConstraint, DomainPoint, EdgeContinuity, InternalEnergy,
-    TriProblem, TriReport,
+    TriProblem,
 };
 use fairsurf::vector::{norm, sub};
 use fairsurf::{BezierCurve, Error, TriSurface};
@@ -56,7 +56,7 @@ fn bend() -> InternalEnergy {
 }
 
 /// Every solve must be a solution: refined to round-off, stationary.
-fn assert_sound(r: &TriReport) {
+fn assert_sound(r: &fairsurf::SolveReport) {
     let kkt = r.kkt.expect("free points were solved for");
     assert!(
         kkt.relative_residual < 1e-12,
@@ -69,11 +69,13 @@ fn assert_sound(r: &TriReport) {
         r.relative_gradient
     );
     assert!(
-        r.continuity_residual < 1e-10,
+        r.triangular.as_ref().unwrap().continuity_residual < 1e-10,
         "continuity rows off by {:e}",
-        r.continuity_residual
+        r.triangular.as_ref().unwrap().continuity_residual
     );
-    assert!((r.total - r.stretch - r.bend).abs() <= 1e-15 * r.total.abs().max(1.0));
+    assert!(
+        (r.energy - r.term("stretch") - r.term("bend")).abs() <= 1e-15 * r.energy.abs().max(1.0)
+    );
 }
 
 #[test]
@@ -83,9 +85,18 @@ fn exact_g1_holds_along_every_interior_edge_from_degree_four() {
         let s = p.solve().unwrap();
         let r = &s.report;
         assert_sound(r);
-        assert!(r.dropped.is_empty(), "n = {n}: {:?}", r.dropped);
+        assert!(
+            r.triangular.as_ref().unwrap().dropped.is_empty(),
+            "n = {n}: {:?}",
+            r.triangular.as_ref().unwrap().dropped
+        );
         assert_eq!(r.max_violation, 0.0, "fixed boundary points move");
-        let (angle, _) = r.max_edge_normal_angle.unwrap();
+        let (angle, _) = r
+            .triangular
+            .as_ref()
+            .unwrap()
+            .max_edge_normal_angle
+            .unwrap();
         assert!(angle <= 1e-8, "n = {n}: normals differ by {angle:e} rad");
         // Without the edge conditions the same boundary gives a visible crease.
         let off = TriProblem::new(hexagon(n, saddle), bend())
@@ -93,15 +104,15 @@ fn exact_g1_holds_along_every_interior_edge_from_degree_four() {
             .with_continuity(continuity(EdgeContinuity::Off))
             .solve()
             .unwrap();
-        assert!(off.report.max_edge_normal_angle.unwrap().0 > 1e-3);
+        assert!(off.figures().max_edge_normal_angle.unwrap().0 > 1e-3);
         // Relaxed lies in between and costs less energy than exact.
         let relaxed = TriProblem::new(hexagon(n, saddle), bend())
             .with_fixed_boundary()
             .with_continuity(continuity(EdgeContinuity::Relaxed))
             .solve()
             .unwrap();
-        assert!(relaxed.report.total <= r.total + 1e-12);
-        assert!(off.report.total <= relaxed.report.total + 1e-12);
+        assert!(relaxed.report.energy <= r.energy + 1e-12);
+        assert!(off.report.energy <= relaxed.report.energy + 1e-12);
     }
 }
 
@@ -115,14 +126,17 @@ fn cubics_cannot_meet_exact_g1_here_and_the_dropped_conditions_are_named() {
         .unwrap()
         .report;
     assert_sound(&r);
-    assert!(!r.dropped.is_empty());
+    assert!(!r.triangular.as_ref().unwrap().dropped.is_empty());
     assert!(r
+        .triangular
+        .as_ref()
+        .unwrap()
         .dropped
         .iter()
         .all(|d| d.name.starts_with("G1") && d.residual > 1e-9));
     assert_eq!(r.max_violation, 0.0);
     assert!(
-        r.dependent_rows > 0,
+        r.triangular.as_ref().unwrap().dependent_rows > 0,
         "the valence-6 vertex rules repeat themselves"
     );
 }
@@ -142,12 +156,22 @@ fn nearly_dependent_g1_conditions_are_reduced_with_a_looser_tolerance_and_said()
         .unwrap()
         .report;
     assert_sound(&exact);
-    assert!(exact.row_tolerance > 1e-9, "{}", exact.row_tolerance);
+    assert!(
+        exact.triangular.as_ref().unwrap().row_tolerance > 1e-9,
+        "{}",
+        exact.triangular.as_ref().unwrap().row_tolerance
+    );
     let kkt = exact.kkt.unwrap();
     assert!(kkt.condition < 1e12, "{:e}", kkt.condition);
-    assert!(!exact.dropped.is_empty());
-    let worst_dropped = exact.dropped.iter().fold(0.0f64, |m, d| m.max(d.residual));
-    assert!(exact.unenforced_residual >= 1e-6 && worst_dropped > 1e-9);
+    assert!(!exact.triangular.as_ref().unwrap().dropped.is_empty());
+    let worst_dropped = exact
+        .triangular
+        .as_ref()
+        .unwrap()
+        .dropped
+        .iter()
+        .fold(0.0f64, |m, d| m.max(d.residual));
+    assert!(exact.triangular.as_ref().unwrap().unenforced_residual >= 1e-6 && worst_dropped > 1e-9);
     // Still far smoother across edges than G1 at the vertices alone.
     let vertices = TriProblem::new(lifted(grid(8, 3), bump), InternalEnergy::new(0.1, 1.0))
         .with_fixed_boundary()
@@ -156,12 +180,19 @@ fn nearly_dependent_g1_conditions_are_reduced_with_a_looser_tolerance_and_said()
         .unwrap()
         .report;
     assert_sound(&vertices);
-    assert_eq!(vertices.row_tolerance, 1e-9);
+    assert_eq!(vertices.triangular.as_ref().unwrap().row_tolerance, 1e-9);
     assert!(
-        vertices.unenforced_residual < 1e-12,
+        vertices.triangular.as_ref().unwrap().unenforced_residual < 1e-12,
         "only exact repeats left out"
     );
-    let angle = |r: &TriReport| r.max_edge_normal_angle.unwrap().0;
+    let angle = |r: &fairsurf::SolveReport| {
+        r.triangular
+            .as_ref()
+            .unwrap()
+            .max_edge_normal_angle
+            .unwrap()
+            .0
+    };
     assert!(
         angle(&exact) < 0.05 * angle(&vertices),
         "{} vs {}",
@@ -223,10 +254,10 @@ fn a_surface_whose_constraints_admit_a_plane_stays_planar() {
                 "grad {:e} rel {:e} rows {} kept {} dep {} dropped {}",
                 out.report.gradient_norm,
                 out.report.relative_gradient,
-                out.report.rows,
-                out.report.independent_rows,
-                out.report.dependent_rows,
-                out.report.dropped.len()
+                out.figures().rows,
+                out.figures().independent_rows,
+                out.figures().dependent_rows,
+                out.figures().dropped.len()
             );
             assert_sound(&out.report);
             let z = out
@@ -278,7 +309,11 @@ fn point_and_normal_constraints_hold_to_1e_10() {
         let out = p.solve().unwrap();
         let r = &out.report;
         assert_sound(r);
-        assert!(r.inconsistent.is_empty(), "{:?}", r.inconsistent);
+        assert!(
+            r.triangular.as_ref().unwrap().inconsistent.is_empty(),
+            "{:?}",
+            r.triangular.as_ref().unwrap().inconsistent
+        );
         assert!(r.max_violation <= 1e-10, "n = {n}: {:?}", r.constraints);
         let names: Vec<_> = r.constraints.iter().map(|c| c.name.as_str()).collect();
         assert!(names.contains(&"pull") && names.contains(&"tilt"));
@@ -311,7 +346,7 @@ fn the_solution_is_the_constrained_minimum() {
         .unwrap();
     let s = out.surface;
     let e0 = energy.surface_value(&s).unwrap();
-    assert!((e0 - out.report.total).abs() <= 1e-14 * e0);
+    assert!((e0 - out.report.energy).abs() <= 1e-14 * e0);
     let held: Vec<usize> = s.patch_indices(3).to_vec();
     let boundary = s.boundary_points();
     let movable: Vec<usize> = (0..s.point_count())
@@ -395,8 +430,11 @@ fn dependent_rows_are_reduced_and_contradictions_reported_by_name() {
         .solve()
         .unwrap()
         .report;
-    assert_eq!(twice.dependent_rows, once.dependent_rows + 3);
-    assert!(twice.inconsistent.is_empty());
+    assert_eq!(
+        twice.triangular.as_ref().unwrap().dependent_rows,
+        once.triangular.as_ref().unwrap().dependent_rows + 3
+    );
+    assert!(twice.triangular.as_ref().unwrap().inconsistent.is_empty());
     assert!(twice.max_violation <= 1e-10);
     // A different target at the same point: the later one is inconsistent,
     // by name and residual; the first still holds.
@@ -411,8 +449,16 @@ fn dependent_rows_are_reduced_and_contradictions_reported_by_name() {
         .solve()
         .unwrap()
         .report;
-    assert_eq!(r.inconsistent.len(), 1, "{:?}", r.inconsistent);
-    assert_eq!(r.inconsistent[0].name, "clash, z");
+    assert_eq!(
+        r.triangular.as_ref().unwrap().inconsistent.len(),
+        1,
+        "{:?}",
+        r.triangular.as_ref().unwrap().inconsistent
+    );
+    assert_eq!(
+        r.triangular.as_ref().unwrap().inconsistent[0].name,
+        "clash, z"
+    );
     let first = r.constraints.iter().find(|c| c.name == "first").unwrap();
     let clash = r.constraints.iter().find(|c| c.name == "clash").unwrap();
     assert!(first.violation <= 1e-10);
@@ -441,9 +487,14 @@ fn continuity_gives_way_to_interpolation_constraints() {
         .report;
     assert_sound(&r);
     assert!(
-        r.dropped.iter().any(|d| d.name.contains("vertex 1")),
+        r.triangular
+            .as_ref()
+            .unwrap()
+            .dropped
+            .iter()
+            .any(|d| d.name.contains("vertex 1")),
         "{:?}",
-        r.dropped
+        r.triangular.as_ref().unwrap().dropped
     );
     assert_eq!(r.max_violation, 0.0);
 }
@@ -483,7 +534,7 @@ fn a_curve_across_patches_is_interpolated() {
         .unwrap();
     let r = &out.report;
     assert_sound(r);
-    assert!(r.patches > before);
+    assert!(r.triangular.as_ref().unwrap().patches > before);
     let ridge = r.constraints.iter().find(|c| c.name == "ridge").unwrap();
     assert_eq!(ridge.kind, "curve");
     assert!(ridge.violation <= 1e-10, "{}", ridge.violation);
@@ -651,5 +702,5 @@ fn a_surface_nothing_holds_is_singular() {
     );
     let s = point.solve().unwrap();
     // Energy 0 at the minimum: every point collapses onto the target.
-    assert!(s.report.total.abs() < 1e-12, "{}", s.report.total);
+    assert!(s.report.energy.abs() < 1e-12, "{}", s.report.energy);
 }

@@ -263,6 +263,7 @@ impl BSplineProblem {
                     analyse,
                     total: t0.elapsed().as_secs_f64(),
                 },
+                triangular: None,
             },
         };
         Ok((solution, factor))

@@ -43,7 +43,8 @@ use super::{faces_like_side_0, side_face, CornerMismatch, FillOptions, FillSecon
 use crate::bspline::{BSplineSurface, RationalSurface};
 use crate::constraint::Constraint;
 use crate::curve::elevate_points;
-use crate::triangle::{Continuity, InternalEnergy, TriProblem, TriReport, TriSurface};
+use crate::solve::SolveReport;
+use crate::triangle::{Continuity, InternalEnergy, TriProblem, TriSurface};
 use crate::vec3::{add, angle, dist, dot, norm, scale, sub};
 use crate::{Error, Result, Vec3};
 use std::collections::BTreeMap;
@@ -54,7 +55,7 @@ use std::time::Instant;
 pub struct FanReport {
     /// The triangular solve's report: energy, its check, the G¹ rows kept
     /// and dropped, the largest normal angle between the fan's patches.
-    pub solve: TriReport,
+    pub solve: SolveReport,
     /// Per side, in the hole's order: gap and normal angle measured on the
     /// returned surface against the neighbour.
     pub sides: Vec<SideFit>,
@@ -465,7 +466,12 @@ fn finish(
         curvature.value += w.value;
         curvature.error += w.error;
     }
-    let inner_angle = solved.report.max_edge_normal_angle.map_or(0.0, |a| a.0);
+    let inner_angle = solved
+        .report
+        .triangular
+        .as_ref()
+        .and_then(|t| t.max_edge_normal_angle)
+        .map_or(0.0, |a| a.0);
     let measure = t2.elapsed().as_secs_f64();
     Ok(FanFill {
         surface,

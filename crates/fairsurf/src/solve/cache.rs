@@ -81,7 +81,7 @@ impl FactorCache {
     /// Solves the triangular `problem`, reusing a kept KKT factorization
     /// when its matrix is this problem's, value for value (only fixed
     /// values, targets, plane offsets or operator targets moved). The
-    /// report says whether it was ([`crate::triangle::TriReport::reused`]).
+    /// report says whether it was ([`crate::SolveReport::reused`]).
     pub fn solve_triangular(&self, problem: &TriProblem) -> Result<TriSolution> {
         let kept: Vec<Arc<TriFactored>> = self
             .lock()

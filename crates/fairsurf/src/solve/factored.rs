@@ -488,6 +488,7 @@ impl Factored {
                 analyse,
                 total: t_total.elapsed().as_secs_f64(),
             },
+            triangular: None,
         };
         Ok(Solution {
             surface: patch,

@@ -22,5 +22,5 @@ pub use builder::Problem;
 pub use cache::FactorCache;
 pub use factored::Factored;
 pub use problem::{Solution, SolveOptions};
-pub use report::{SolveReport, TermEnergy, Timings};
+pub use report::{SolveReport, TermEnergy, Timings, TriFigures};
 pub(crate) use rows::{first_dependent_row, known_row_met};

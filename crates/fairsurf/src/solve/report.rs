@@ -10,7 +10,12 @@ pub struct TermEnergy {
 }
 
 /// Wall-clock seconds spent in each stage (for a B-spline surface see
-/// [`crate::bspline::BSplineProblem::solve`] for what each holds).
+/// [`crate::bspline::BSplineProblem::solve`] for what each holds; for a
+/// triangular surface `assemble` is the energy matrix and constraint rows,
+/// `factor` 0 (the KKT factorization is in `solve`, with its refinement and
+/// the check's corrections), `analyse` the outcomes, energies and edge
+/// angles measured on the result, and the mesh refinement and row
+/// classification are [`TriFigures`]' own phases).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Timings {
     /// Building every term's quadratic form and the system.
@@ -25,9 +30,12 @@ pub struct Timings {
     pub total: f64,
 }
 
-/// Everything a solve knows about its answer: one report for every tensor
-/// surface kind (a Bézier patch's [`crate::Problem`] and a B-spline
-/// surface's [`crate::bspline::BSplineProblem`]), every figure defined once.
+/// Everything a solve knows about its answer: one report for every surface
+/// kind (a Bézier patch's [`crate::Problem`], a B-spline surface's
+/// [`crate::bspline::BSplineProblem`], a triangular surface's
+/// [`crate::triangle::TriProblem`]), every figure defined once; what only a
+/// triangular surface has (its mesh, continuity rows, edge angles) in
+/// [`SolveReport::triangular`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct SolveReport {
     /// Each term's energy at the solution.
@@ -56,8 +64,7 @@ pub struct SolveReport {
     /// `relative_gradient` are those of the total, nonlinear energy).
     pub newton: Option<crate::operator::NewtonReport>,
     /// ‖∂E/∂x‖∞ over the free coordinates (of the Lagrangian ∂E/∂x + Fᵀλ
-    /// with constraints), computed in twice-working precision: the same
-    /// figure as [`crate::triangle::TriReport::gradient_norm`].
+    /// with constraints), computed in twice-working precision.
     pub gradient_norm: f64,
     /// Normwise backward error ‖g‖∞ / (‖H‖∞‖x‖∞ + ‖b‖∞) (rows of the free
     /// coordinates): how far the energy would have to be perturbed for the
@@ -69,21 +76,26 @@ pub struct SolveReport {
     /// Estimated condition number of the matrix actually factored: for a
     /// Bézier patch the 2-norm one of the equilibrated reduced system, in
     /// the basis named by `basis`; for a B-spline surface Hager's
-    /// ‖H‖₁‖H⁻¹‖₁ (of the KKT matrix with constraints).
+    /// ‖H‖₁‖H⁻¹‖₁ (of the KKT matrix with constraints); for a triangular
+    /// surface its KKT solve's (`kkt`; NaN when nothing was solved).
     pub condition_estimate: f64,
     /// The basis the system was factored in: "jacobi" (tensor block of free
     /// points: orthogonal Jacobi-weighted polynomials, refinement on the
     /// Bernstein system), "bernstein" (any other free set of a Bézier
-    /// patch) or "b-spline" (a B-spline surface's own basis, sparse).
+    /// patch), "b-spline" (a B-spline surface's own basis, sparse) or
+    /// "triangular" (the triangular Bernstein basis of the patches' global
+    /// control points, sparse KKT).
     pub basis: String,
     /// Iterative refinement steps taken.
     pub refinement_steps: usize,
     /// Number of scalar unknowns solved for.
     pub unknowns: usize,
-    /// Number of free control points.
+    /// Number of free control points (of a triangular surface: those with
+    /// a free coordinate).
     pub free_points: usize,
-    /// Whether the coordinates were coupled (a normal-field term) or solved
-    /// as three systems with one matrix.
+    /// Whether the coordinates were coupled (a normal-field term, operators,
+    /// constraints that mix x, y and z) or solved as three systems with one
+    /// matrix.
     pub coupled: bool,
     /// Whether the factorization came from an earlier solve. A Bézier
     /// patch ([`crate::Factored::solve`]): only the right-hand side was
@@ -105,12 +117,68 @@ pub struct SolveReport {
     /// Nonzeros of the sparse Cholesky factor (a B-spline surface without
     /// constraints; with them see `kkt`); `None` for the dense solve.
     pub factor_nonzeros: Option<usize>,
-    /// The sparse KKT solve of a B-spline surface with constraints (which
-    /// factorization, its size, residual and condition; `residual` and
-    /// `condition_estimate` are then its figures); `None` otherwise.
+    /// The sparse KKT solve of a B-spline surface with constraints or of a
+    /// triangular surface (which factorization, its size, residual and
+    /// condition; `residual` and `condition_estimate` are then its
+    /// figures); `None` otherwise.
     pub kkt: Option<crate::solve::kkt::KktInfo>,
     /// Time per stage.
     pub timings: Timings,
+    /// What only a triangular surface's solve has: `None` for the tensor
+    /// kinds.
+    pub triangular: Option<Box<TriFigures>>,
+}
+
+/// The figures of a triangular surface's solve that the tensor kinds do
+/// not have (Veltkamp & Wesselink: a mesh of patches joined by continuity
+/// conditions, refined along curve constraints).
+#[derive(Clone, Debug, PartialEq)]
+pub struct TriFigures {
+    /// Patches of the result (curves refine the mesh).
+    pub patches: usize,
+    /// Mesh vertices.
+    pub vertices: usize,
+    /// Global control points.
+    pub points: usize,
+    /// Coordinates fixed (user fixed points and curve edges).
+    pub fixed_coordinates: usize,
+    /// Constraint rows considered (user and continuity).
+    pub rows: usize,
+    /// Rows kept (independent).
+    pub independent_rows: usize,
+    /// Rows implied by earlier ones (reduced).
+    pub dependent_rows: usize,
+    /// Continuity rows that contradicted the interpolation constraints and
+    /// gave way.
+    pub dropped: Vec<crate::triangle::DroppedRow>,
+    /// User rows that contradict earlier user constraints; the surface
+    /// cannot meet them (their violations say by how much).
+    pub inconsistent: Vec<crate::triangle::DroppedRow>,
+    /// The largest |row residual| of the kept continuity rows.
+    pub continuity_residual: f64,
+    /// The largest |row residual| of the continuity rows left out (reduced
+    /// as dependent or dropped) on the result: about 1e-15 when they are
+    /// truly implied, larger when they were only nearly so (a loose
+    /// [`Self::row_tolerance`]) or gave way.
+    pub unenforced_residual: f64,
+    /// The relative pivot tolerance that classified the continuity rows:
+    /// 1e-9, or 1e-6 / 1e-3 when the stricter one left the KKT system
+    /// singular to working precision (nearly dependent conditions).
+    pub row_tolerance: f64,
+    /// The largest angle (radians) between the two patches' normals along
+    /// any interior edge (65 samples per edge), with the edge's vertices.
+    pub max_edge_normal_angle: Option<(f64, [usize; 2])>,
+    /// The largest turn of the unit normal between neighbouring samples
+    /// inside a patch (a barycentric grid of step 1/(2n + 2) for degree n);
+    /// above 90° the surface folds there.
+    pub normal_turn: Option<crate::analysis::TriNormalTurn>,
+    /// Seconds refining the mesh for curve constraints (a phase of its
+    /// own, before `timings.assemble`; in `timings.total`).
+    pub refine_seconds: f64,
+    /// Seconds classifying the rows as independent, dependent or
+    /// inconsistent (a phase of its own between `timings.assemble` and
+    /// `timings.solve`; in `timings.total`).
+    pub classify_seconds: f64,
 }
 
 impl SolveReport {

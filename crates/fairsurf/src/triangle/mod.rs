@@ -98,7 +98,5 @@ pub use integral::{tri_gram_matrix, tri_product_integral};
 pub use operator::{Place, RegionPiece};
 pub use patch::TriPatch;
 pub use refine::{embed_curve, CurvePath, DomainPoint, Refinement};
-pub use solve::{
-    CurveConstraint, DroppedRow, TriFactored, TriProblem, TriReport, TriSolution, TriTimings,
-};
+pub use solve::{CurveConstraint, DroppedRow, TriFactored, TriProblem, TriSolution};
 pub use surface::{MeshEdge, TriSurface};

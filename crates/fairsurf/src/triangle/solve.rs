@@ -28,13 +28,14 @@ use super::operator::Located;
 use super::reduce::{classify, SparseRow, Verdict};
 use super::refine::{check_point, embed_curve, DomainPoint, Refinement};
 use super::surface::TriSurface;
-use crate::analysis::{largest_tri_normal_turn, TriNormalTurn};
+use crate::analysis::largest_tri_normal_turn;
 use crate::check::triangle::{TriEnergy, Verify};
 use crate::check::Check;
 use crate::constraint::{ConstraintOutcome, Row};
 use crate::operator::newton::{add_quadratic, newton, FreeResiduals, NewtonReport};
 use crate::operator::{Operator, OperatorOutcome, Residual};
 use crate::solve::kkt::{same_terms, try_kkt, KktFactor, KktInfo, KktOutcome};
+use crate::solve::{SolveReport, TermEnergy, Timings, TriFigures};
 use crate::vec3::{norm, sub, Vec3};
 use crate::{BezierCurve, Error, Result};
 use faer::sparse::{SparseColMat, SymbolicSparseColMat};
@@ -158,90 +159,10 @@ pub struct DroppedRow {
     pub residual: f64,
 }
 
-/// How good a solve is.
-#[derive(Clone, Debug, PartialEq)]
-pub struct TriReport {
-    /// α·E_stretch of the result (½∫ convention, equilateral domain of side 1).
-    pub stretch: f64,
-    /// β·E_bend of the result.
-    pub bend: f64,
-    /// The external operators' energy terms (Veltkamp & Wesselink §5).
-    pub external: f64,
-    /// stretch + bend + external: the total energy (eq. 1, 30).
-    pub total: f64,
-    /// The independent check of the written net: energies recomputed in
-    /// double-double (the figures above are those), how far above the
-    /// minimum over the constraints it lies ([`crate::Check`]). `None` when
-    /// nothing was free.
-    pub check: Option<Check>,
-    /// Each operator's energy and how far its target is met.
-    pub operators: Vec<OperatorOutcome>,
-    /// The Newton iterations for repellors (eq. 30), if any.
-    pub newton: Option<NewtonReport>,
-    /// Patches, mesh vertices and global control points of the result
-    /// (curves refine the mesh).
-    pub patches: usize,
-    /// Mesh vertices.
-    pub vertices: usize,
-    /// Global control points.
-    pub points: usize,
-    /// Free coordinates solved for.
-    pub unknowns: usize,
-    /// Coordinates fixed (user fixed points and curve edges).
-    pub fixed_coordinates: usize,
-    /// Constraint rows considered (user and continuity).
-    pub rows: usize,
-    /// Rows kept (independent).
-    pub independent_rows: usize,
-    /// Rows implied by earlier ones (reduced).
-    pub dependent_rows: usize,
-    /// Continuity rows that contradicted the interpolation constraints and
-    /// gave way.
-    pub dropped: Vec<DroppedRow>,
-    /// User rows that contradict earlier user constraints; the surface
-    /// cannot meet them (their violations say by how much).
-    pub inconsistent: Vec<DroppedRow>,
-    /// Each user constraint's violation on the result.
-    pub constraints: Vec<ConstraintOutcome>,
-    /// The largest violation among the user constraints (0 if none).
-    pub max_violation: f64,
-    /// The largest |row residual| of the kept continuity rows.
-    pub continuity_residual: f64,
-    /// The largest |row residual| of the continuity rows left out (reduced
-    /// as dependent or dropped) on the result: about 1e-15 when they are
-    /// truly implied, larger when they were only nearly so (a loose
-    /// [`Self::row_tolerance`]) or gave way.
-    pub unenforced_residual: f64,
-    /// The relative pivot tolerance that classified the continuity rows:
-    /// 1e-9, or 1e-6 / 1e-3 when the stricter one left the KKT system
-    /// singular to working precision (nearly dependent conditions).
-    pub row_tolerance: f64,
-    /// The largest angle (radians) between the two patches' normals along
-    /// any interior edge (65 samples per edge), with the edge's vertices.
-    pub max_edge_normal_angle: Option<(f64, [usize; 2])>,
-    /// The largest turn of the unit normal between neighbouring samples
-    /// inside a patch (a barycentric grid of step 1/(2n + 2) for degree n);
-    /// above 90° the surface folds there.
-    pub normal_turn: Option<TriNormalTurn>,
-    /// ‖H x + b + Fᵀλ‖∞ over the free coordinates: the gradient of the
-    /// Lagrangian at the solution.
-    pub gradient_norm: f64,
-    /// The same over ‖H‖∞‖x‖∞ + ‖b‖∞ (scale-free).
-    pub relative_gradient: f64,
-    /// The KKT solve.
-    pub kkt: Option<KktInfo>,
-    /// Whether the KKT factorization of an earlier solve was reused (only
-    /// the right-hand side was new: fixed values, targets; see
-    /// [`crate::FactorCache::solve_triangular`]).
-    pub reused: bool,
-    /// Seconds spent refining for curves, assembling, classifying rows,
-    /// solving the KKT system, and in total.
-    pub seconds: TriTimings,
-}
-
-/// Wall-clock seconds per phase.
+/// Wall-clock seconds per phase of a solve, gathered into the report's
+/// [`crate::Timings`] and [`crate::TriFigures`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct TriTimings {
+pub(crate) struct Phases {
     /// Mesh refinement for curve constraints.
     pub refine: f64,
     /// Energy matrix and constraint rows.
@@ -250,8 +171,6 @@ pub struct TriTimings {
     pub classify: f64,
     /// KKT factorization and refinement.
     pub solve: f64,
-    /// Everything, measurement included.
-    pub total: f64,
 }
 
 /// The solved surface and its report.
@@ -264,11 +183,22 @@ pub struct TriSolution {
     /// The global control points of the result that were held fixed
     /// (fixed constraints, the boundary if fixed, the curves' chain edges).
     pub fixed: Vec<usize>,
-    /// How good it is.
-    pub report: TriReport,
+    /// How good it is: the report every surface kind gives, with the
+    /// triangular figures in [`SolveReport::triangular`].
+    pub report: SolveReport,
 }
 
 impl TriSolution {
+    /// The triangular figures of the report (mesh, rows, continuity
+    /// residuals, edge angles): [`SolveReport::triangular`], which the
+    /// triangular solve always fills.
+    pub fn figures(&self) -> &TriFigures {
+        self.report
+            .triangular
+            .as_ref()
+            .expect("the triangular solve fills its figures")
+    }
+
     /// The result's point at (`triangle`, `bary`) of the problem's own
     /// mesh: found in the result patch that came from that triangle (curve
     /// constraints split patches) and contains the point, evaluated there.

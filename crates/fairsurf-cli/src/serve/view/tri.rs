@@ -87,36 +87,16 @@ pub(super) fn tri_view(solved: &SolvedTriScene) -> View<'_> {
         ),
     ];
     operator_controls(&scene_json, &operators, size, &mut handles, &mut sliders);
-    let mut table = vec![
-        row("energy", r.total),
-        row("stretch", r.stretch),
-        row("bend", r.bend),
-    ];
-    operator_rows(&mut table, &r.operators);
-    table.extend([
-        row("max constraint violation", r.max_violation),
-        row("gradient (relative)", r.relative_gradient),
-        row(
-            "checked: energy excess (relative)",
-            r.check.as_ref().map(|c| c.excess),
-        ),
-        row(
+    let t = solved.solution.figures();
+    let mut table = Vec::new();
+    report_rows(&mut table, r, |table| {
+        table.push(row(
             "max normal angle across edges (rad)",
-            r.max_edge_normal_angle.map(|(a, _)| a),
-        ),
-        row("patches", r.patches as f64),
-        row("unknowns", r.unknowns as f64),
-        row("continuity rows dropped", r.dropped.len() as f64),
-        row(
-            "factorization",
-            match (r.reused, r.kkt.is_some_and(|k| k.reused_symbolic)) {
-                (true, _) => "reused",
-                (false, true) => "refactored (ordering kept)",
-                _ => "new",
-            },
-        ),
-        row("solve (ms)", 1e3 * r.seconds.total),
-    ]);
+            t.max_edge_normal_angle.map(|(a, _)| a),
+        ));
+        table.push(row("patches", t.patches as f64));
+        table.push(row("continuity rows dropped", t.dropped.len() as f64));
+    });
     View {
         kind: "triangular",
         table,

@@ -70,7 +70,7 @@ struct Classifier<'a> {
 impl Classifier<'_> {
     /// The classification with the continuity rows at `tol` (the user's
     /// rows keep the strict tolerance).
-    fn at(&mut self, tol: f64, seconds: &mut TriTimings) -> Classification {
+    fn at(&mut self, tol: f64, seconds: &mut Phases) -> Classification {
         if let Some((_, c)) = self.done.iter().find(|(t, _)| *t == tol) {
             return c.clone();
         }
@@ -134,7 +134,7 @@ impl TriProblem {
         kept_factors: &[&TriFactored],
     ) -> Result<(TriSolution, Factor)> {
         let start = Instant::now();
-        let mut seconds = TriTimings::default();
+        let mut seconds = Phases::default();
         let a = self.assemble(&mut seconds, start)?;
         crate::budget::checkpoint()?;
         let mut solved = self.factored(&a, kept_factors, &mut seconds)?;
@@ -151,7 +151,7 @@ impl TriProblem {
     /// Steps 1–4. Errors: a bad constraint or operator, a curve that
     /// cannot be embedded, a system too large, a surface nothing holds in
     /// place.
-    fn assemble(&self, seconds: &mut TriTimings, start: Instant) -> Result<Assembled> {
+    fn assemble(&self, seconds: &mut Phases, start: Instant) -> Result<Assembled> {
         self.energy.validate()?;
         for c in &self.constraints {
             c.constraint.validate(&self.surface, &c.name)?;
@@ -353,7 +353,7 @@ impl TriProblem {
         &self,
         a: &Assembled,
         kept_factors: &[&TriFactored],
-        seconds: &mut TriTimings,
+        seconds: &mut Phases,
     ) -> Result<Solved> {
         let mut rows = Classifier {
             a,
@@ -427,7 +427,7 @@ fn reuse_kept(
     a: &Assembled,
     kept_factors: &[&TriFactored],
     rows: &mut Classifier,
-    seconds: &mut TriTimings,
+    seconds: &mut Phases,
 ) -> Option<Solved> {
     for (which, k) in kept_factors.iter().enumerate() {
         if a.free.is_empty() || !k.made_for(&a.h, a.row_terms(), a.user_rows) {
@@ -461,7 +461,7 @@ fn refactor_kept(
     a: &Assembled,
     kept_factors: &[&TriFactored],
     rows: &mut Classifier,
-    seconds: &mut TriTimings,
+    seconds: &mut Phases,
 ) -> Option<Solved> {
     for k in kept_factors {
         if a.free.is_empty()

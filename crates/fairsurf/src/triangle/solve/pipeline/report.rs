@@ -13,7 +13,7 @@ impl TriProblem {
         a: &Assembled,
         sol: Option<(Vec<usize>, KktSolution)>,
         factor: Option<&KktFactor>,
-        seconds: &mut TriTimings,
+        seconds: &mut Phases,
         t: Instant,
     ) -> Result<Solution> {
         let mut out = Solution {
@@ -93,7 +93,7 @@ impl TriProblem {
         a: Assembled,
         solved: Solved,
         sol: Solution,
-        seconds: TriTimings,
+        seconds: Phases,
         start: Instant,
     ) -> Result<(TriSolution, Factor)> {
         let Assembled {
@@ -135,7 +135,7 @@ impl TriProblem {
             .map(|(op, (at, res))| op.outcome(at, res, &surface, x))
             .collect();
         let external = operators.iter().map(|o| o.energy).sum::<f64>();
-        let ([stretch, bend, external, total], check) =
+        let ([stretch, bend, external, total_energy], check) =
             self.energies(&surface, external, sol.verified)?;
         let mut factor = solved.factor;
         if let Some((kkt, true)) = solved.fresh {
@@ -147,43 +147,72 @@ impl TriProblem {
             }));
         }
         let coords = known.len();
-        let report = TriReport {
-            stretch,
-            bend,
-            external,
-            total,
-            check,
-            operators,
-            newton: sol.newton,
+        let kkt = sol.kkt;
+        let fixed: Vec<usize> = (0..surface.point_count())
+            .filter(|g| (0..3).all(|c| known[3 * g + c].is_some()))
+            .collect();
+        let triangular = TriFigures {
             patches: surface.patch_count(),
             vertices: surface.vertex_count(),
             points: surface.point_count(),
-            unknowns: free.len(),
             fixed_coordinates: coords - free.len(),
             rows: rows.len(),
             independent_rows: sol.kept.len(),
             dependent_rows: dependent,
             dropped,
             inconsistent: inconsistent_rows,
-            constraints: outcomes,
-            max_violation,
             continuity_residual,
             unenforced_residual,
             row_tolerance: solved.row_tolerance,
             max_edge_normal_angle: max_edge_normal_angle(&surface, 65),
             normal_turn: largest_tri_normal_turn(&surface, 2 * surface.degree() + 2),
+            refine_seconds: seconds.refine,
+            classify_seconds: seconds.classify,
+        };
+        let before = seconds.refine + seconds.assemble + seconds.classify + seconds.solve;
+        let total = start.elapsed().as_secs_f64();
+        let report = SolveReport {
+            terms: vec![
+                TermEnergy {
+                    name: "stretch".into(),
+                    value: stretch,
+                },
+                TermEnergy {
+                    name: "bend".into(),
+                    value: bend,
+                },
+            ],
+            energy: total_energy,
+            check,
+            external,
+            operators,
+            constraints: outcomes,
+            max_violation,
+            newton: sol.newton,
             gradient_norm: sol.gradient_norm,
             relative_gradient: sol.relative_gradient,
-            kkt: sol.kkt,
+            residual: kkt.map_or(0.0, |k| k.relative_residual),
+            condition_estimate: kkt.map_or(f64::NAN, |k| k.condition),
+            basis: "triangular".into(),
+            refinement_steps: kkt.map_or(0, |k| k.refinement_steps),
+            unknowns: free.len(),
+            free_points: surface.point_count() - fixed.len(),
+            coupled: kkt.is_some_and(|k| !k.per_coordinate),
             reused: solved.reused,
-            seconds: TriTimings {
-                total: start.elapsed().as_secs_f64(),
-                ..seconds
+            reused_symbolic: kkt.is_some_and(|k| k.reused_symbolic),
+            measures: None,
+            factor_nonzeros: kkt.and_then(|k| k.factor_nonzeros),
+            kkt,
+            timings: Timings {
+                assemble: seconds.assemble,
+                factor: 0.0,
+                solve: seconds.solve,
+                // The outcomes, energies and edge angles measured on the result.
+                analyse: (total - before).max(0.0),
+                total,
             },
+            triangular: Some(Box::new(triangular)),
         };
-        let fixed = (0..surface.point_count())
-            .filter(|g| (0..3).all(|c| known[3 * g + c].is_some()))
-            .collect();
         let solution = TriSolution {
             surface,
             origin: refinement.origin,
