@@ -704,3 +704,55 @@ fn a_surface_nothing_holds_is_singular() {
     // Energy 0 at the minimum: every point collapses onto the target.
     assert!(s.report.energy.abs() < 1e-12, "{}", s.report.energy);
 }
+
+/// A triangular solve reports the figures every kind reports, under the
+/// same definitions: the terms sum to the energy, the free points are the
+/// points with a free coordinate, the phases fit in the total, and only
+/// the triangular figures are its own.
+#[test]
+fn a_triangular_report_is_every_kinds_report() {
+    let s = hexagon(3, saddle);
+    let sol = TriProblem::new(s, InternalEnergy::new(0.2, 1.0))
+        .with_fixed_boundary()
+        .solve()
+        .unwrap();
+    let r = &sol.report;
+    assert_sound(r);
+    let names: Vec<&str> = r.terms.iter().map(|t| t.name.as_str()).collect();
+    assert_eq!(names, ["stretch", "bend"]);
+    let sum: f64 = r.terms.iter().map(|t| t.value).sum::<f64>() + r.external;
+    assert!(
+        (sum - r.energy).abs() <= 1e-14 * r.energy,
+        "{sum} vs {}",
+        r.energy
+    );
+    assert_eq!(r.check.unwrap().energy, r.energy);
+    let t = sol.figures();
+    assert_eq!(r.basis, "triangular");
+    assert_eq!(r.free_points, t.points - sol.fixed.len());
+    assert_eq!(r.unknowns, 3 * t.points - t.fixed_coordinates);
+    assert!(r.free_points > 0 && r.unknowns <= 3 * r.free_points);
+    let kkt = r.kkt.unwrap();
+    assert_eq!(r.coupled, !kkt.per_coordinate);
+    assert_eq!(r.residual, kkt.relative_residual);
+    assert_eq!(r.factor_nonzeros, kkt.factor_nonzeros);
+    let phases = r.timings.assemble
+        + r.timings.factor
+        + r.timings.solve
+        + r.timings.analyse
+        + t.refine_seconds
+        + t.classify_seconds;
+    assert!(
+        phases <= r.timings.total * (1.0 + 1e-9) && r.timings.factor == 0.0,
+        "{:?}",
+        r.timings
+    );
+    // A tensor solve has no triangular figures.
+    let net = common::random_net(3, 3, 2);
+    let tensor = fairsurf::Problem::new((3, 3))
+        .with_fixed_rings(&net, 1)
+        .with_term(fairsurf::Bend::new(1.0))
+        .solve()
+        .unwrap();
+    assert!(tensor.report.triangular.is_none());
+}
