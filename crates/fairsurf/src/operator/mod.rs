@@ -31,12 +31,14 @@
 pub(crate) mod bspline;
 pub(crate) mod newton;
 pub(crate) mod tensor;
+pub(crate) mod triangle;
 
 pub use newton::NewtonReport;
 pub use tensor::{PatchEdge, TensorOperator, TensorPlace};
+pub use triangle::{Place, RegionPiece};
 
 use crate::basis::GaussLegendre;
-use crate::triangle::{Place, TriPatch};
+use crate::triangle::TriPatch;
 use crate::vec3::{angle, cross, dot, norm, normalize, sub, Vec3};
 use crate::{BezierCurve, Error, Result, TensorPatch};
 

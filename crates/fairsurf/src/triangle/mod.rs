@@ -75,16 +75,15 @@ mod elevate;
 pub(crate) mod energy;
 mod index;
 mod integral;
-mod operator;
 mod patch;
 mod reduce;
-mod refine;
+pub(crate) mod refine;
 pub(crate) mod solve;
 mod subdivide;
 mod surface;
 
 pub use crate::constraint::{ConstraintOutcome, Row};
-pub use crate::operator::{NewtonReport, Operator, OperatorOutcome, Target};
+pub use crate::operator::{NewtonReport, Operator, OperatorOutcome, Place, RegionPiece, Target};
 pub use crate::solve::kkt::{Factorization, KktInfo};
 pub use bernstein::{tri_bernstein, tri_bernstein_all, trinomial, Bary};
 pub use constraint::{Constraint, NamedConstraint};
@@ -95,7 +94,6 @@ pub use energy::{
 };
 pub use index::{linear_index, multi_index, multi_indices, point_count};
 pub use integral::{tri_gram_matrix, tri_product_integral};
-pub use operator::{Place, RegionPiece};
 pub use patch::TriPatch;
 pub use refine::{embed_curve, CurvePath, DomainPoint, Refinement};
 pub use solve::{CurveConstraint, DroppedRow, TriFactored, TriProblem, TriSolution};

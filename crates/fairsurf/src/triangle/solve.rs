@@ -24,7 +24,6 @@
 use super::constraint::{Constraint, NamedConstraint};
 use super::continuity::{max_edge_normal_angle, Continuity};
 use super::energy::InternalEnergy;
-use super::operator::Located;
 use super::reduce::{classify, SparseRow, Verdict};
 use super::refine::{check_point, embed_curve, DomainPoint, Refinement};
 use super::surface::TriSurface;
@@ -33,6 +32,7 @@ use crate::check::triangle::{TriEnergy, Verify};
 use crate::check::Check;
 use crate::constraint::{ConstraintOutcome, Row};
 use crate::operator::newton::{add_quadratic, newton, FreeResiduals, NewtonReport};
+use crate::operator::triangle::Located;
 use crate::operator::{Operator, OperatorOutcome, Residual};
 use crate::solve::kkt::{same_terms, try_kkt, KktFactor, KktInfo, KktOutcome};
 use crate::solve::{SolveReport, TermEnergy, Timings, TriFigures};

@@ -8,13 +8,12 @@
 //! uses orthonormal directions of that triangle, so it does not depend on
 //! the corners' order.
 
-use super::bernstein::{tri_bernstein_all, Bary};
-use super::energy::EQUILATERAL_AREA;
-use super::index::multi_indices;
-use super::refine::{check_point, DomainPoint, Refinement};
-use super::surface::TriSurface;
+use super::{NodeBasis, Operator, OperatorOutcome, Residual, Tally, Target};
 use crate::basis::polygon::{clip_to_triangle, convex, signed_area, trapezoid_rule, Uv};
-use crate::operator::{NodeBasis, Operator, OperatorOutcome, Residual, Tally, Target};
+use crate::triangle::refine::check_point;
+use crate::triangle::{
+    multi_indices, tri_bernstein_all, Bary, DomainPoint, Refinement, TriSurface, EQUILATERAL_AREA,
+};
 use crate::vec3::Vec3;
 use crate::{BezierCurve, Error, Result};
 
@@ -398,7 +397,7 @@ fn derivative_basis(n: usize, b: Bary, d: Bary) -> Vec<f64> {
         return vec![0.0];
     }
     let lower = tri_bernstein_all(n - 1, b);
-    let index = |l: [usize; 3]| super::index::linear_index(n - 1, l[0], l[1], l[2]);
+    let index = |l: [usize; 3]| crate::triangle::linear_index(n - 1, l[0], l[1], l[2]);
     multi_indices(n)
         .map(|lam| {
             (0..3)
