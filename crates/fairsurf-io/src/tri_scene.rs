@@ -9,9 +9,10 @@ use crate::operators::OperatorKind;
 use crate::tri_result::SolvedTriScene;
 use crate::{Error, Result};
 use fairsurf::triangle::{
-    Constraint, Continuity, CurveConstraint, DomainPoint, EdgeContinuity, InternalEnergy, Operator,
-    Place, RegionPiece, Target, TriProblem,
+    Constraint, Continuity, CurveConstraint, DomainPoint, EdgeContinuity, Operator, Place,
+    RegionPiece, Target, TriProblem,
 };
+use fairsurf::{Bend, Stretch};
 use fairsurf::{BezierCurve, TriPatch, TriSurface};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -364,7 +365,9 @@ impl TriScene {
                 .boundary_angles
                 .push((a.vertex, a.degrees.to_radians()));
         }
-        let mut problem = TriProblem::new(surface.clone(), InternalEnergy::new(stretch, bend))
+        let mut problem = TriProblem::new(surface.clone())
+            .with_term(Stretch::new(stretch))
+            .with_term(Bend::new(bend))
             .with_continuity(continuity);
         if self.fix_boundary {
             problem = problem.with_fixed_boundary();

@@ -14,9 +14,8 @@
 //! slider does). Run: `cargo bench -p fairsurf --bench triangle`.
 #![allow(missing_docs)]
 
-use fairsurf::triangle::{
-    Constraint, Continuity, DomainPoint, EdgeContinuity, InternalEnergy, TriProblem,
-};
+use fairsurf::triangle::{Constraint, Continuity, DomainPoint, EdgeContinuity, TriProblem};
+use fairsurf::{Bend, Stretch};
 use fairsurf::{FactorCache, TriSurface};
 
 #[global_allocator]
@@ -62,7 +61,9 @@ fn sheet(a: usize, b: usize) -> TriSurface {
 }
 
 fn solve(bencher: divan::Bencher, (a, b): (usize, usize), continuity: Continuity) {
-    let problem = TriProblem::new(sheet(a, b), InternalEnergy::new(0.1, 1.0))
+    let problem = TriProblem::new(sheet(a, b))
+        .with_term(Stretch::new(0.1))
+        .with_term(Bend::new(1.0))
         .with_fixed_boundary()
         .with_continuity(continuity);
     bencher.bench(|| {
@@ -123,7 +124,9 @@ fn pulled_with(
     };
     let mut target = s.patch(at.triangle).eval(at.bary);
     target[2] += lift;
-    TriProblem::new(s, InternalEnergy::new(stretch, 1.0))
+    TriProblem::new(s)
+        .with_term(Stretch::new(stretch))
+        .with_term(Bend::new(1.0))
         .with_fixed_boundary()
         .with_continuity(continuity)
         .with_constraint("pull", Constraint::Point { at, target })

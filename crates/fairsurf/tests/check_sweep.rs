@@ -192,7 +192,7 @@ fn guided_energies_report() {
 #[test]
 fn budgets_refuse_large_work_and_cancel() {
     use fairsurf::budget::{with_budget, Budget};
-    use fairsurf::triangle::{InternalEnergy, TriProblem};
+    use fairsurf::triangle::TriProblem;
     use fairsurf::TriSurface;
     use std::sync::atomic::AtomicBool;
     use std::sync::Arc;
@@ -230,7 +230,10 @@ fn budgets_refuse_large_work_and_cancel() {
         3,
     )
     .unwrap();
-    let tri = TriProblem::new(square, InternalEnergy::new(1.0, 1.0)).with_fixed_boundary();
+    let tri = TriProblem::new(square)
+        .with_term(Stretch::new(1.0))
+        .with_term(Bend::new(1.0))
+        .with_fixed_boundary();
     assert!(tri.solve().is_ok());
     assert!(matches!(
         with_budget(cancelled(), || tri.solve()),
@@ -431,7 +434,9 @@ mod triangular {
             } else {
                 InternalEnergy::new(1.0, 0.0)
             };
-            let mut p = TriProblem::new(s.clone(), energy);
+            let mut p = TriProblem::new(s.clone())
+                .with_term(fairsurf::Stretch::new(energy.stretch))
+                .with_term(fairsurf::Bend::new(energy.bend));
             let ring = if self.bend { 1 } else { 0 };
             for [i, j, k] in multi_indices(n).filter(|m| m.iter().min().unwrap() <= &ring) {
                 let g = s.global_index(0, i, j, k);
@@ -552,7 +557,9 @@ mod triangular {
             }
             let s = TriSurface::new(&v, &t, 3);
             for vertices in [false, true] {
-                let p = TriProblem::new(s.clone(), InternalEnergy::new(0.1, 1.0))
+                let p = TriProblem::new(s.clone())
+                    .with_term(fairsurf::Stretch::new(0.1))
+                    .with_term(fairsurf::Bend::new(1.0))
                     .with_fixed_boundary()
                     .with_continuity(Continuity {
                         vertices,

@@ -215,3 +215,61 @@ fn ring_free(cu: usize, cv: usize, k: usize) -> Vec<bool> {
         })
         .collect()
 }
+
+/// A triangular surface takes the same Stretch and Bend terms (their
+/// weights add up) and refuses, naming it, any term its assembly cannot
+/// integrate.
+#[test]
+fn a_triangular_problem_takes_the_same_terms() {
+    use fairsurf::triangle::TriProblem;
+    let s = common::tri_grid(2, 2);
+    let lifted = {
+        let mut s = s.clone();
+        let pts = s
+            .points()
+            .iter()
+            .map(|p| [p[0], p[1], (2.0 * p[0]).sin() * p[1]])
+            .collect();
+        s.set_points(pts).unwrap();
+        s
+    };
+    let solve = |p: TriProblem| p.with_fixed_boundary().solve();
+    let one = solve(
+        TriProblem::new(lifted.clone())
+            .with_term(Stretch::new(0.3))
+            .with_term(Bend::new(1.0)),
+    )
+    .unwrap();
+    let halves = solve(
+        TriProblem::new(lifted.clone())
+            .with_term(Bend::new(0.5))
+            .with_term(Stretch::new(0.3))
+            .with_term(Bend::new(0.5)),
+    )
+    .unwrap();
+    let worst = common::max_distance(one.surface.points(), halves.surface.points());
+    assert!(worst < 1e-13, "{worst:e}");
+    assert!((one.report.energy - halves.report.energy).abs() < 1e-14 * one.report.energy);
+    assert!(one.report.term("stretch") > 0.0 && one.report.term("bend") > 0.0);
+    let message = |p: TriProblem| solve(p).unwrap_err().to_string();
+    let e = message(
+        TriProblem::new(lifted.clone()).with_term(NormalField::new(1.0, common::tilted_field())),
+    );
+    assert!(
+        e.contains("energy term normal_field on a triangular surface"),
+        "{e}"
+    );
+    let grid = SampleGrid::new(3, 3);
+    let e = message(
+        TriProblem::new(lifted.clone()).with_term(Bend::new(1.0).with_measure(Measure::Grid(grid))),
+    );
+    assert!(e.contains("energy term bend") && e.contains("exact"), "{e}");
+    assert!(matches!(
+        solve(TriProblem::new(lifted.clone())),
+        Err(Error::NoEnergy)
+    ));
+    assert!(matches!(
+        solve(TriProblem::new(lifted).with_term(Bend::new(-1.0))),
+        Err(Error::NegativeWeight { .. })
+    ));
+}

@@ -10,10 +10,11 @@ mod common;
 
 use fairsurf::operator::{Operator, Target};
 use fairsurf::triangle::{
-    Constraint, Continuity, DomainPoint, EdgeContinuity, Factorization, InternalEnergy, Place,
-    TriProblem, TriSolution,
+    Constraint, Continuity, DomainPoint, EdgeContinuity, Factorization, Place, TriProblem,
+    TriSolution,
 };
 use fairsurf::FactorCache;
+use fairsurf::{Bend, Stretch};
 
 /// Moves of the right-hand side only.
 #[derive(Clone, Copy)]
@@ -40,7 +41,9 @@ fn problem(m: Moves) -> TriProblem {
     let surface = common::tri_grid(3, 4);
     // An interior control point of patch 7 (not on the fixed boundary).
     let interior = surface.patch_indices(7)[7];
-    TriProblem::new(surface, InternalEnergy::new(m.stretch, 1.0))
+    TriProblem::new(surface)
+        .with_term(Stretch::new(m.stretch))
+        .with_term(Bend::new(1.0))
         .with_fixed_boundary()
         .with_constraint(
             "pull",
@@ -170,7 +173,8 @@ fn rows_that_turn_inconsistent_are_reported_as_fresh() {
         bary: [0.25, 0.25, 0.5],
     };
     let p = |z: f64| {
-        TriProblem::new(common::tri_grid(2, 3), InternalEnergy::new(0.0, 1.0))
+        TriProblem::new(common::tri_grid(2, 3))
+            .with_term(Bend::new(1.0))
             .with_fixed_boundary()
             .with_continuity(Continuity::none())
             .with_constraint(
@@ -219,7 +223,9 @@ fn a_looser_tolerance_chosen_for_the_right_hand_side_is_not_reused() {
             .map(|p| [p[0], p[1], bump(p[0], p[1])])
             .collect();
         s.set_points(pts).unwrap();
-        TriProblem::new(s, InternalEnergy::new(0.1, 1.0))
+        TriProblem::new(s)
+            .with_term(Stretch::new(0.1))
+            .with_term(Bend::new(1.0))
             .with_fixed_boundary()
             .with_constraint(
                 "pull",
@@ -270,7 +276,9 @@ fn a_weight_change_keeps_the_ordering() {
     let pinned = |continuity: Continuity, stretch: f64, z: f64| {
         let grid = common::tri_grid(4, 3);
         let point = grid.patch_indices(9)[7];
-        TriProblem::new(grid, InternalEnergy::new(stretch, 1.0))
+        TriProblem::new(grid)
+            .with_term(Stretch::new(stretch))
+            .with_term(Bend::new(1.0))
             .with_fixed_boundary()
             .with_continuity(continuity)
             .with_constraint(

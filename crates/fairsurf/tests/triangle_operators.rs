@@ -7,10 +7,11 @@ mod common;
 
 use fairsurf::basis::polygon::{fan_rule, Uv};
 use fairsurf::triangle::{
-    Continuity, DomainPoint, EdgeContinuity, InternalEnergy, Operator, Place, RegionPiece, Target,
-    TriProblem, TriSolution,
+    Continuity, DomainPoint, EdgeContinuity, Operator, Place, RegionPiece, Target, TriProblem,
+    TriSolution,
 };
 use fairsurf::vector::{dot, norm, sub};
+use fairsurf::{Bend, Stretch};
 use fairsurf::{BezierCurve, Error, TriPatch, TriSurface};
 
 fn grid(m: usize, n: usize) -> TriSurface {
@@ -22,7 +23,9 @@ fn op(name: &str, target: Target, place: Place, strength: f64) -> Operator {
 }
 
 fn solve(ops: &[Operator]) -> TriSolution {
-    let mut p = TriProblem::new(grid(3, 3), InternalEnergy::new(0.1, 1.0))
+    let mut p = TriProblem::new(grid(3, 3))
+        .with_term(Stretch::new(0.1))
+        .with_term(Bend::new(1.0))
         .with_fixed_boundary()
         .with_continuity(Continuity {
             edges: EdgeContinuity::Relaxed,
@@ -314,7 +317,8 @@ fn a_repellor_pushes_away_and_newton_converges() {
 fn bad_operators_are_errors_naming_them() {
     let surface = grid(2, 3);
     let check = |o: Operator, needle: &str| {
-        let e = TriProblem::new(surface.clone(), InternalEnergy::new(0.0, 1.0))
+        let e = TriProblem::new(surface.clone())
+            .with_term(Bend::new(1.0))
             .with_fixed_boundary()
             .with_operator(o)
             .solve()

@@ -11,6 +11,7 @@ use fairsurf::triangle::{
     TriProblem,
 };
 use fairsurf::vector::{norm, sub};
+use fairsurf::{Bend, Stretch};
 use fairsurf::{BezierCurve, Error, TriSurface};
 use std::f64::consts::PI;
 
@@ -51,10 +52,6 @@ fn continuity(edges: EdgeContinuity) -> Continuity {
     }
 }
 
-fn bend() -> InternalEnergy {
-    InternalEnergy::new(0.0, 1.0)
-}
-
 /// Every solve must be a solution: refined to round-off, stationary.
 fn assert_sound(r: &fairsurf::SolveReport) {
     let kkt = r.kkt.expect("free points were solved for");
@@ -81,7 +78,9 @@ fn assert_sound(r: &fairsurf::SolveReport) {
 #[test]
 fn exact_g1_holds_along_every_interior_edge_from_degree_four() {
     for n in [4, 5, 6] {
-        let p = TriProblem::new(hexagon(n, saddle), bend()).with_fixed_boundary();
+        let p = TriProblem::new(hexagon(n, saddle))
+            .with_term(Bend::new(1.0))
+            .with_fixed_boundary();
         let s = p.solve().unwrap();
         let r = &s.report;
         assert_sound(r);
@@ -99,14 +98,16 @@ fn exact_g1_holds_along_every_interior_edge_from_degree_four() {
             .unwrap();
         assert!(angle <= 1e-8, "n = {n}: normals differ by {angle:e} rad");
         // Without the edge conditions the same boundary gives a visible crease.
-        let off = TriProblem::new(hexagon(n, saddle), bend())
+        let off = TriProblem::new(hexagon(n, saddle))
+            .with_term(Bend::new(1.0))
             .with_fixed_boundary()
             .with_continuity(continuity(EdgeContinuity::Off))
             .solve()
             .unwrap();
         assert!(off.figures().max_edge_normal_angle.unwrap().0 > 1e-3);
         // Relaxed lies in between and costs less energy than exact.
-        let relaxed = TriProblem::new(hexagon(n, saddle), bend())
+        let relaxed = TriProblem::new(hexagon(n, saddle))
+            .with_term(Bend::new(1.0))
             .with_fixed_boundary()
             .with_continuity(continuity(EdgeContinuity::Relaxed))
             .solve()
@@ -120,7 +121,8 @@ fn exact_g1_holds_along_every_interior_edge_from_degree_four() {
 fn cubics_cannot_meet_exact_g1_here_and_the_dropped_conditions_are_named() {
     // 19 free cubic points per coordinate against 22 independent conditions:
     // the conditions that contradict the fixed boundary give way.
-    let r = TriProblem::new(hexagon(3, saddle), bend())
+    let r = TriProblem::new(hexagon(3, saddle))
+        .with_term(Bend::new(1.0))
         .with_fixed_boundary()
         .solve()
         .unwrap()
@@ -150,7 +152,9 @@ fn nearly_dependent_g1_conditions_are_reduced_with_a_looser_tolerance_and_said()
     // system is well conditioned again and every kept row holds to
     // round-off. What was left out is reported, with its residual.
     let bump = |x: f64, y: f64| 0.2 * (3.0 * x).sin() * (2.0 * y + 0.5).cos();
-    let exact = TriProblem::new(lifted(grid(8, 3), bump), InternalEnergy::new(0.1, 1.0))
+    let exact = TriProblem::new(lifted(grid(8, 3), bump))
+        .with_term(Stretch::new(0.1))
+        .with_term(Bend::new(1.0))
         .with_fixed_boundary()
         .solve()
         .unwrap()
@@ -173,7 +177,9 @@ fn nearly_dependent_g1_conditions_are_reduced_with_a_looser_tolerance_and_said()
         .fold(0.0f64, |m, d| m.max(d.residual));
     assert!(exact.triangular.as_ref().unwrap().unenforced_residual >= 1e-6 && worst_dropped > 1e-9);
     // Still far smoother across edges than G1 at the vertices alone.
-    let vertices = TriProblem::new(lifted(grid(8, 3), bump), InternalEnergy::new(0.1, 1.0))
+    let vertices = TriProblem::new(lifted(grid(8, 3), bump))
+        .with_term(Stretch::new(0.1))
+        .with_term(Bend::new(1.0))
         .with_fixed_boundary()
         .with_continuity(continuity(EdgeContinuity::Off))
         .solve()
@@ -230,7 +236,9 @@ fn a_surface_whose_constraints_admit_a_plane_stays_planar() {
                 triangle: 2,
                 bary: [0.2, 0.3, 0.5],
             };
-            let p = TriProblem::new(s, InternalEnergy::new(0.5, 1.0))
+            let p = TriProblem::new(s)
+                .with_term(Stretch::new(0.5))
+                .with_term(Bend::new(1.0))
                 .with_fixed_boundary()
                 .with_constraint(
                     "in plane",
@@ -279,7 +287,9 @@ fn point_and_normal_constraints_hold_to_1e_10() {
             triangle: 9,
             bary: [0.3, 0.3, 0.4],
         };
-        let p = TriProblem::new(grid(3, n), InternalEnergy::new(0.1, 1.0))
+        let p = TriProblem::new(grid(3, n))
+            .with_term(Stretch::new(0.1))
+            .with_term(Bend::new(1.0))
             .with_fixed_boundary()
             .with_constraint(
                 "pull",
@@ -332,7 +342,9 @@ fn the_solution_is_the_constrained_minimum() {
         bary: [0.2, 0.5, 0.3],
     };
     let energy = InternalEnergy::new(0.2, 1.0);
-    let out = TriProblem::new(grid(2, 3), energy)
+    let out = TriProblem::new(grid(2, 3))
+        .with_term(Stretch::new(energy.stretch))
+        .with_term(Bend::new(energy.bend))
         .with_fixed_boundary()
         .with_constraint(
             "p",
@@ -372,7 +384,9 @@ fn the_solution_is_the_constrained_minimum() {
     }
     // Cross-check with a dense Cholesky solve of the same unconstrained
     // problem (no point constraint): H_ff x_f = −H_fk x_k per coordinate.
-    let free_run = TriProblem::new(grid(2, 3), energy)
+    let free_run = TriProblem::new(grid(2, 3))
+        .with_term(Stretch::new(energy.stretch))
+        .with_term(Bend::new(energy.bend))
         .with_fixed_boundary()
         .with_continuity(Continuity::none())
         .solve()
@@ -406,7 +420,8 @@ fn dependent_rows_are_reduced_and_contradictions_reported_by_name() {
         bary: [0.25, 0.25, 0.5],
     };
     let base = || {
-        TriProblem::new(grid(2, 3), bend())
+        TriProblem::new(grid(2, 3))
+            .with_term(Bend::new(1.0))
             .with_fixed_boundary()
             .with_continuity(Continuity::none())
             .with_constraint(
@@ -480,7 +495,8 @@ fn continuity_gives_way_to_interpolation_constraints() {
     let g = s.edge_points(side)[3]; // next to vertex 1
     let p = s.points()[g];
     s.set_point(g, [0.5 - 0.25 * (0.5 - p[0]), p[1], p[2]]);
-    let r = TriProblem::new(s, bend())
+    let r = TriProblem::new(s)
+        .with_term(Bend::new(1.0))
         .with_fixed_boundary()
         .solve()
         .unwrap()
@@ -521,7 +537,9 @@ fn a_curve_across_patches_is_interpolated() {
         },
     );
     let before = s.patch_count();
-    let out = TriProblem::new(s, InternalEnergy::new(0.1, 1.0))
+    let out = TriProblem::new(s)
+        .with_term(Stretch::new(0.1))
+        .with_term(Bend::new(1.0))
         .with_fixed_boundary()
         .with_curve(CurveConstraint {
             name: "ridge".into(),
@@ -581,7 +599,8 @@ fn net_edges_are_each_patch_s_lines_once() {
 fn bad_constraints_are_errors_naming_them() {
     let s = grid(1, 3);
     let solve = |c: Constraint| {
-        TriProblem::new(s.clone(), bend())
+        TriProblem::new(s.clone())
+            .with_term(Bend::new(1.0))
             .with_fixed_boundary()
             .with_constraint("constraints[0]", c)
             .solve()
@@ -643,7 +662,8 @@ fn bad_constraints_are_errors_naming_them() {
         let e = solve(c.clone());
         assert!(e.to_string().contains("constraints[0]"), "{c:?}: {e}");
     }
-    let bad_angle = TriProblem::new(s.clone(), bend())
+    let bad_angle = TriProblem::new(s.clone())
+        .with_term(Bend::new(1.0))
         .with_fixed_boundary()
         .with_continuity(Continuity {
             boundary_angles: vec![(0, 7.0)],
@@ -652,12 +672,17 @@ fn bad_constraints_are_errors_naming_them() {
         .solve()
         .unwrap_err();
     assert!(bad_angle.to_string().contains("vertex 0"), "{bad_angle}");
-    let negative = TriProblem::new(s.clone(), InternalEnergy::new(-1.0, 1.0))
+    let negative = TriProblem::new(s.clone())
+        .with_term(Stretch::new(-1.0))
+        .with_term(Bend::new(1.0))
         .solve()
         .unwrap_err();
     assert!(matches!(negative, Error::NegativeWeight { .. }));
     // Nothing holds the surface: bend alone cannot fix an unconstrained net.
-    let loose = TriProblem::new(s, bend()).solve().unwrap_err();
+    let loose = TriProblem::new(s)
+        .with_term(Bend::new(1.0))
+        .solve()
+        .unwrap_err();
     assert!(matches!(loose, Error::Singular { .. }), "{loose}");
 }
 
@@ -673,19 +698,21 @@ fn a_surface_nothing_holds_is_singular() {
         triangle: 0,
         bary: [0.2, 0.3, 0.5],
     };
-    let free = TriProblem::new(grid(3, 3), bend());
+    let free = TriProblem::new(grid(3, 3)).with_term(Bend::new(1.0));
     match free.solve() {
         Err(Error::Singular { hint, .. }) => assert!(hint.contains("nothing holds"), "{hint}"),
         other => panic!("expected a singular system, got {other:?}"),
     }
-    let plane = TriProblem::new(grid(3, 3), bend()).with_constraint(
-        "plane",
-        Constraint::InPlane {
-            at,
-            normal: [0.0, 0.0, 1.0],
-            offset: 0.0,
-        },
-    );
+    let plane = TriProblem::new(grid(3, 3))
+        .with_term(Bend::new(1.0))
+        .with_constraint(
+            "plane",
+            Constraint::InPlane {
+                at,
+                normal: [0.0, 0.0, 1.0],
+                offset: 0.0,
+            },
+        );
     match plane.solve() {
         Err(Error::Singular { hint, .. }) => {
             assert!(hint.contains("(1.000, 0.000, 0.000)"), "{hint}")
@@ -693,13 +720,15 @@ fn a_surface_nothing_holds_is_singular() {
         other => panic!("expected a singular system, got {other:?}"),
     }
     // With stretch only constants cost nothing, and the point pins them.
-    let point = TriProblem::new(grid(3, 3), InternalEnergy::new(1.0, 0.0)).with_constraint(
-        "point",
-        Constraint::Point {
-            at,
-            target: [0.5, 0.5, 1.0],
-        },
-    );
+    let point = TriProblem::new(grid(3, 3))
+        .with_term(Stretch::new(1.0))
+        .with_constraint(
+            "point",
+            Constraint::Point {
+                at,
+                target: [0.5, 0.5, 1.0],
+            },
+        );
     let s = point.solve().unwrap();
     // Energy 0 at the minimum: every point collapses onto the target.
     assert!(s.report.energy.abs() < 1e-12, "{}", s.report.energy);
@@ -712,7 +741,9 @@ fn a_surface_nothing_holds_is_singular() {
 #[test]
 fn a_triangular_report_is_every_kinds_report() {
     let s = hexagon(3, saddle);
-    let sol = TriProblem::new(s, InternalEnergy::new(0.2, 1.0))
+    let sol = TriProblem::new(s)
+        .with_term(Stretch::new(0.2))
+        .with_term(Bend::new(1.0))
         .with_fixed_boundary()
         .solve()
         .unwrap();

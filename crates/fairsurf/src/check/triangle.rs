@@ -426,6 +426,7 @@ impl Verify<'_> {
 mod tests {
     use super::*;
     use crate::triangle::{Continuity, EdgeContinuity, TriProblem};
+    use crate::Stretch;
 
     fn wavy_surface(n: usize) -> TriSurface {
         let v = [
@@ -491,7 +492,8 @@ mod tests {
         // Flat boundary, fixed; stretch: every interior gradient entry of
         // the solved net vanishes to rounding.
         let s = wavy_surface(4);
-        let sol = TriProblem::new(s, InternalEnergy::new(1.0, 0.0))
+        let sol = TriProblem::new(s)
+            .with_term(Stretch::new(1.0))
             .with_fixed_boundary()
             .with_continuity(Continuity {
                 vertices: false,

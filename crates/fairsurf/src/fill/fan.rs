@@ -44,8 +44,9 @@ use crate::bspline::{BSplineSurface, RationalSurface};
 use crate::constraint::Constraint;
 use crate::curve::elevate_points;
 use crate::solve::SolveReport;
-use crate::triangle::{Continuity, InternalEnergy, TriProblem, TriSurface};
+use crate::triangle::{Continuity, TriProblem, TriSurface};
 use crate::vec3::{add, angle, dist, dot, norm, scale, sub};
+use crate::{Bend, Stretch};
 use crate::{Error, Result, Vec3};
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -413,7 +414,9 @@ fn fixed_problem(
         surface.set_point(g, value);
         held.push((g, value));
     }
-    let mut problem = TriProblem::new(surface, InternalEnergy::new(options.stretch, options.bend))
+    let mut problem = TriProblem::new(surface)
+        .with_term(Stretch::new(options.stretch))
+        .with_term(Bend::new(options.bend))
         .with_continuity(continuity);
     for (g, value) in held {
         problem = problem.with_constraint(

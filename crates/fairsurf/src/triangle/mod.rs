@@ -31,7 +31,9 @@
 //!   integrated exactly over the equilateral domain triangle of side 1
 //!   (eq. 25–27), so each patch's matrix is invariant under permuting its
 //!   corners; ½∫ as for the tensor terms; assembled over a surface as a
-//!   sparse matrix.
+//!   sparse matrix. A [`TriProblem`] is given the same [`crate::Stretch`]
+//!   (α) and [`crate::Bend`] (β) terms as a tensor surface's
+//!   [`crate::Problem`]; `InternalEnergy` is their triangular assembly.
 //!
 //! Sources: R. C. Veltkamp, W. Wesselink, variational modeling of triangular
 //! Bézier surfaces, §2, eq. (2)–(3); G. Farin, "Triangular Bernstein–Bézier

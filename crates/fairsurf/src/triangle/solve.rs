@@ -31,6 +31,7 @@ use crate::analysis::largest_tri_normal_turn;
 use crate::check::triangle::{TriEnergy, Verify};
 use crate::check::Check;
 use crate::constraint::{ConstraintOutcome, Row};
+use crate::energy::{EnergyTerm, Integrand, Measure, BEND_PATTERNS, STRETCH_PATTERNS};
 use crate::operator::newton::{add_quadratic, newton, FreeResiduals, NewtonReport};
 use crate::operator::triangle::Located;
 use crate::operator::{Operator, OperatorOutcome, Residual};
@@ -69,7 +70,8 @@ pub struct CurveConstraint {
 #[derive(Clone, Debug)]
 pub struct TriProblem {
     surface: TriSurface,
-    energy: InternalEnergy,
+    /// The energy terms as the triangular assembly takes them.
+    terms: Vec<TriTerm>,
     constraints: Vec<NamedConstraint>,
     curves: Vec<CurveConstraint>,
     continuity: Continuity,
@@ -225,18 +227,110 @@ impl TriSolution {
     }
 }
 
+/// A term as the triangular assembly takes it: the membrane or the thin
+/// plate with its weight (Veltkamp & Wesselink eq. 6–7), or a term it
+/// cannot integrate, refused by the solve.
+#[derive(Clone, Debug, PartialEq)]
+enum TriTerm {
+    /// α and β added by the term.
+    Weights { stretch: f64, bend: f64 },
+    /// The term's name and what the triangular assembly takes instead.
+    Refused {
+        name: &'static str,
+        expected: &'static str,
+    },
+}
+
+impl TriTerm {
+    /// What `term` adds, from its [`crate::EnergyTerm::integrand`].
+    fn of(term: &dyn EnergyTerm) -> Self {
+        let name = term.name();
+        let refused = |expected| TriTerm::Refused { name, expected };
+        match term.integrand() {
+            Some(Integrand::Fairness {
+                weight,
+                measure,
+                patterns,
+            }) => {
+                if *measure != Measure::Exact {
+                    refused("the exact integral (sampled terms are for tensor surfaces)")
+                } else if patterns == STRETCH_PATTERNS {
+                    TriTerm::Weights {
+                        stretch: weight,
+                        bend: 0.0,
+                    }
+                } else if patterns == BEND_PATTERNS {
+                    TriTerm::Weights {
+                        stretch: 0.0,
+                        bend: weight,
+                    }
+                } else {
+                    refused("the membrane's or the thin plate's derivative patterns")
+                }
+            }
+            None => refused("a term with an integrand (the triangular assembly reads it)"),
+            Some(_) => refused(
+                "stretch or bend (Veltkamp & Wesselink's internal energy; normal fields and \
+                 guide surfaces are for tensor surfaces)",
+            ),
+        }
+    }
+}
+
 impl TriProblem {
-    /// The surface (its points are the initial net), the energy weights, no
+    /// The surface (its points are the initial net), no energy yet, no
     /// constraints and the default continuity ([`Continuity::default`]).
-    pub fn new(surface: TriSurface, energy: InternalEnergy) -> Self {
+    /// Add [`crate::Stretch`] (α) and [`crate::Bend`] (β) terms: the same
+    /// terms a tensor surface's [`crate::Problem`] takes.
+    pub fn new(surface: TriSurface) -> Self {
         Self {
             surface,
-            energy,
+            terms: Vec::new(),
             constraints: Vec::new(),
             curves: Vec::new(),
             continuity: Continuity::default(),
             operators: Vec::new(),
         }
+    }
+
+    /// Adds an energy term: [`crate::Stretch`] or [`crate::Bend`] with the
+    /// exact measure (their weights add up: α·stretch + β·bend, eq. 6–7).
+    /// The solve refuses any other, naming it.
+    pub fn with_term(mut self, term: impl EnergyTerm + 'static) -> Self {
+        self.terms.push(TriTerm::of(&term));
+        self
+    }
+
+    /// Adds a boxed energy term ([`Self::with_term`]).
+    pub fn push_term(&mut self, term: Box<dyn EnergyTerm>) {
+        self.terms.push(TriTerm::of(term.as_ref()));
+    }
+
+    /// α·stretch + β·bend from the terms; an error naming a term the
+    /// triangular assembly cannot take, a bad weight, or no term at all.
+    pub(crate) fn energy(&self) -> Result<InternalEnergy> {
+        if self.terms.is_empty() {
+            return Err(Error::NoEnergy);
+        }
+        let mut e = InternalEnergy::new(0.0, 0.0);
+        for t in &self.terms {
+            match t {
+                TriTerm::Weights { stretch, bend } => {
+                    crate::energy::check_weight("stretch weight α", *stretch)?;
+                    crate::energy::check_weight("bend weight β", *bend)?;
+                    e.stretch += stretch;
+                    e.bend += bend;
+                }
+                TriTerm::Refused { name, expected } => {
+                    return Err(Error::Mismatch {
+                        what: format!("energy term {name} on a triangular surface"),
+                        expected: (*expected).into(),
+                        got: "another".into(),
+                    })
+                }
+            }
+        }
+        Ok(e)
     }
 
     /// Adds a constraint.
@@ -319,7 +413,7 @@ impl TriProblem {
         free_index: &[usize],
         free: usize,
     ) -> Result<(SparseColMat<usize, f64>, Vec<f64>)> {
-        let k = self.energy.surface_matrix(surface)?;
+        let k = self.energy()?.surface_matrix(surface)?;
         let mut b = vec![0.0; free];
         for j in 0..k.ncols() {
             for (i, v) in k.row_idx_of_col(j).zip(k.val_of_col(j)) {

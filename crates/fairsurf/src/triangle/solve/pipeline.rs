@@ -152,7 +152,7 @@ impl TriProblem {
     /// cannot be embedded, a system too large, a surface nothing holds in
     /// place.
     fn assemble(&self, seconds: &mut Phases, start: Instant) -> Result<Assembled> {
-        self.energy.validate()?;
+        self.energy()?;
         for c in &self.constraints {
             c.constraint.validate(&self.surface, &c.name)?;
         }

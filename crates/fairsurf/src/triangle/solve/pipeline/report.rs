@@ -59,7 +59,7 @@ impl TriProblem {
             .fold(0.0, f64::max);
         let v = Verify {
             energy: TriEnergy::new(
-                &self.energy,
+                &self.energy()?,
                 a.surface.degree(),
                 self.operators
                     .iter()
@@ -307,8 +307,9 @@ impl TriProblem {
         external: f64,
         verified: Option<(Checked, Instant)>,
     ) -> Result<([f64; 4], Option<Check>)> {
-        let stretch = InternalEnergy::new(self.energy.stretch, 0.0).surface_value(surface)?;
-        let bend = InternalEnergy::new(0.0, self.energy.bend).surface_value(surface)?;
+        let energy = self.energy()?;
+        let stretch = InternalEnergy::new(energy.stretch, 0.0).surface_value(surface)?;
+        let bend = InternalEnergy::new(0.0, energy.bend).surface_value(surface)?;
         let closed_form = stretch + bend + external;
         let Some((v, t)) = verified else {
             return Ok(([stretch, bend, external, closed_form], None));
