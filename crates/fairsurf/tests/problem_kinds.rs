@@ -128,6 +128,23 @@ fn a_bezier_guide_on_a_bspline_is_the_patch_over_the_knot_domain() {
         b.report.term("guide_surface"),
     );
     assert!((ea - eb).abs() < 1e-13 * eb, "{ea} vs {eb}");
+    // Independently: ½γ∫∫|R(u, v) − S((u − 0)/2, (v − 1)/2)|² du dv over
+    // [0, 2] × [1, 3] by an 8 × 8 Gauss rule (exact: the integrand has
+    // degree 6 in u and in v), R by de Boor, S by de Casteljau.
+    let g = fairsurf::basis::GaussLegendre::new(8);
+    let mut quad = 0.0;
+    for (&x, &wx) in g.nodes.iter().zip(&g.weights) {
+        for (&y, &wy) in g.nodes.iter().zip(&g.weights) {
+            let (u, v) = (2.0 * x, 1.0 + 2.0 * y);
+            let d = fairsurf::vector::sub(a.surface.eval(u, v), guide.eval(x, y));
+            quad += 4.0 * wx * wy * fairsurf::vector::dot(d, d);
+        }
+    }
+    let quad = 0.5 * 5.0 * quad;
+    assert!(
+        (ea - quad).abs() < 1e-12 * quad,
+        "{ea} vs quadrature {quad}"
+    );
 }
 
 /// What a kind cannot integrate is refused by its solve, naming the term.
@@ -147,6 +164,17 @@ fn each_kind_refuses_what_it_cannot_integrate() {
             GuideSurface::new(1.0, net.clone()).with_measure(Measure::Grid(grid), None),
         ));
     assert!(e.contains("energy term guide_surface"), "{e}");
+    // A sampled B-spline guide.
+    let e = message(
+        spline().with_term(Bend::new(1.0)).with_term(
+            GuideSurface::spline(1.0, BSplineSurface::from_bezier(&net))
+                .with_measure(Measure::Grid(grid), None),
+        ),
+    );
+    assert!(
+        e.contains("energy term guide_surface") && e.contains("sampled"),
+        "{e}"
+    );
     // Two normal fields, two guides.
     let field = common::tilted_field();
     let e = message(

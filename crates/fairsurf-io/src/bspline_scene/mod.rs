@@ -403,8 +403,9 @@ pub struct SolvedBSplineScene {
     pub solution: BSplineSolution,
     /// The largest turn of the normal between neighbouring samples, where.
     pub normal_turn: Option<fairsurf::analysis::NormalTurn>,
-    /// The guide surface's net as solved (on the solved knots; empty
-    /// without one).
+    /// The guide surface's net on the solved knots (empty without a guide,
+    /// or for a guide on its own knots, which the result file keeps as
+    /// given).
     pub guide_points: Vec<Vec3>,
     /// The normal field as solved (a Bézier field or samples over the knot
     /// domain mapped onto [0, 1]², or a B-spline field over the knot

@@ -253,7 +253,12 @@ impl BSplineScene {
                 .terms()
                 .iter()
                 .find_map(|t| match t.integrand() {
-                    Some(Integrand::GuideSpline { surface, .. }) => Some(surface.points().to_vec()),
+                    // A guide on the solved knots (not one on its own).
+                    Some(Integrand::GuideSpline { surface, .. })
+                        if surface.knots() == problem.surface().knots() =>
+                    {
+                        Some(surface.points().to_vec())
+                    }
                     _ => None,
                 })
                 .unwrap_or_default(),

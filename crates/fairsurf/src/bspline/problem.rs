@@ -18,6 +18,9 @@ use crate::{Error, Problem, Result, TensorPatch, Vec3};
 /// constraints and operators), solved sparse and banded.
 pub type BSplineProblem = Problem<BSplineSurface>;
 
+/// What a sampled guide on a B-spline surface is refused for.
+const SAMPLED_GUIDE: &str = "the exact integral (B-spline surfaces integrate the guide exactly)";
+
 /// The energy terms read for the B-spline assembly from their integrands
 /// ([`BSplineProblem::energies`]).
 #[derive(Clone, Debug)]
@@ -81,10 +84,10 @@ impl BSplineProblem {
             guide: None,
             guide_source: None,
         };
-        let refuse = |name: &str, why: &str| Error::Mismatch {
+        let refuse = |name: &str, expected: &str, got: &str| Error::Mismatch {
             what: format!("energy term {name} on a B-spline surface"),
-            expected: why.into(),
-            got: "another".into(),
+            expected: expected.into(),
+            got: got.into(),
         };
         for t in &self.terms {
             let name = t.name();
@@ -93,6 +96,7 @@ impl BSplineProblem {
                     return Err(refuse(
                         name,
                         "a term with an integrand (the B-spline assembly builds terms from it)",
+                        "a term without one",
                     ))
                 }
                 Some(Integrand::Fairness {
@@ -105,12 +109,15 @@ impl BSplineProblem {
                         return Err(refuse(
                             name,
                             "the exact integral (sampled terms are for the normal field)",
+                            "a sampled one",
                         ));
                     }
-                    if patterns.iter().any(|&((r, s), _)| r > 2 || s > 2) {
+                    if let Some(((r, s), _)) = patterns.iter().find(|&&((r, s), _)| r > 2 || s > 2)
+                    {
                         return Err(refuse(
                             name,
                             "derivative patterns of order at most 2 per direction",
+                            &format!("∂u^{r} ∂v^{s}"),
                         ));
                     }
                     let pats: Vec<_> = patterns
@@ -121,9 +128,9 @@ impl BSplineProblem {
                     Part::Fairness(pats)
                 }
                 Some(Integrand::NormalField { weight, guide }) => {
-                    check_weight("normal field weight", weight)?;
+                    check_weight(&format!("{name} weight"), weight)?;
                     if out.normal.is_some() {
-                        return Err(refuse(name, "one normal field"));
+                        return Err(refuse(name, "one normal field", "a second one"));
                     }
                     out.normal = Some(self.normal_term(weight, guide)?);
                     Part::Normal
@@ -135,18 +142,23 @@ impl BSplineProblem {
                     sample_weights,
                 }) => {
                     if *measure != Measure::Exact || sample_weights.is_some() {
-                        return Err(refuse(
-                            name,
-                            "the exact integral (B-spline surfaces integrate the guide exactly)",
-                        ));
+                        return Err(refuse(name, SAMPLED_GUIDE, "a sampled guide"));
                     }
                     let [du, dv] = self.surface.domain();
                     let spline = bezier_over(surface, du, dv)?;
-                    self.add_guide(&mut out, weight, &spline)?;
+                    self.add_guide(&mut out, name, weight, &spline)?;
                     Part::Guide
                 }
-                Some(Integrand::GuideSpline { weight, surface }) => {
-                    self.add_guide(&mut out, weight, surface)?;
+                Some(Integrand::GuideSpline {
+                    weight,
+                    surface,
+                    measure,
+                    sample_weights,
+                }) => {
+                    if *measure != Measure::Exact || sample_weights.is_some() {
+                        return Err(refuse(name, SAMPLED_GUIDE, "a sampled guide"));
+                    }
+                    self.add_guide(&mut out, name, weight, surface)?;
                     Part::Guide
                 }
             };
@@ -165,32 +177,11 @@ impl BSplineProblem {
                 grid,
                 normals,
                 weights,
-            } => {
-                grid.check_len("normal_field samples", normals.len())?;
-                if let Some(w) = weights {
-                    grid.check_len("normal_field sample weights", w.len())?;
-                    crate::energy::check_weights("normal_field sample weight", w)?;
-                }
-                let normals = normals
-                    .iter()
-                    .enumerate()
-                    .map(|(k, &n)| {
-                        if !crate::vec3::is_finite(n) {
-                            return Err(Error::NotFinite {
-                                what: format!("normal sample {k}"),
-                            });
-                        }
-                        crate::vec3::normalize(n).ok_or(Error::ZeroNormal {
-                            what: format!("normal sample {k}"),
-                        })
-                    })
-                    .collect::<Result<Vec<_>>>()?;
-                NormalGuide::Samples {
-                    grid: *grid,
-                    normals,
-                    weights: weights.clone(),
-                }
-            }
+            } => NormalGuide::Samples {
+                grid: *grid,
+                normals: crate::energy::unit_samples(*grid, normals, weights.as_deref())?,
+                weights: weights.clone(),
+            },
             NormalGuide::Spline(field) => {
                 self.surface.check_domain(field, "normal field")?;
                 guide.clone()
@@ -203,13 +194,19 @@ impl BSplineProblem {
     /// The guide S with weight γ: its net when it has the surface's knots
     /// and degrees, else its L² projection PS onto this space and the
     /// constant ∫|S − PS|² (their difference is orthogonal to the space).
-    fn add_guide(&self, out: &mut Energies, weight: f64, guide: &BSplineSurface) -> Result<()> {
-        check_weight("guide surface weight", weight)?;
+    fn add_guide(
+        &self,
+        out: &mut Energies,
+        name: &str,
+        weight: f64,
+        guide: &BSplineSurface,
+    ) -> Result<()> {
+        check_weight(&format!("{name} weight"), weight)?;
         if out.guide.is_some() {
             return Err(Error::Mismatch {
-                what: "energy term guide_surface on a B-spline surface".into(),
+                what: format!("energy term {name} on a B-spline surface"),
                 expected: "one guide surface".into(),
-                got: "two".into(),
+                got: "a second one".into(),
             });
         }
         let same = guide.knots() == self.surface.knots();

@@ -68,6 +68,9 @@ impl BSplineProblem {
         &self,
         kept: &[Arc<BSplineFactor>],
     ) -> Result<(BSplineSolution, UsedFactor)> {
+        // The terms read (a guide on other knots projected) count in the
+        // assembly.
+        let t0 = Instant::now();
         let en = self.energies()?;
         let lambda = en.normal.as_ref().map_or(0.0, |n| n.weight);
         let gamma = en.guide.as_ref().map_or(0.0, |g| g.0);
@@ -82,7 +85,6 @@ impl BSplineProblem {
                 why: format!("every control point of the {cu} × {cv} net is fixed"),
             });
         }
-        let t0 = Instant::now();
         let (ku, kv) = self.surface.knots();
         let (gu, gv) = (Gram1d::new(ku), Gram1d::new(kv));
         let normal = en.normal.as_ref().filter(|n| n.weight > 0.0);

@@ -122,6 +122,8 @@ impl EnergyTerm for GuideSurface {
             Guide::Spline(surface) => Integrand::GuideSpline {
                 weight: self.weight,
                 surface,
+                measure: &self.measure,
+                sample_weights: self.sample_weights.as_deref(),
             },
             Guide::Bezier(surface) => Integrand::GuideSurface {
                 weight: self.weight,

@@ -25,6 +25,7 @@ mod stretch;
 
 pub use bend::Bend;
 pub use guide_surface::{Guide, GuideSurface};
+pub(crate) use normal_field::unit_samples;
 pub use normal_field::{NormalField, NormalGuide};
 pub use space::Space;
 pub use stretch::Stretch;
@@ -128,6 +129,11 @@ pub enum Integrand<'a> {
         weight: f64,
         /// S.
         surface: &'a crate::bspline::BSplineSurface,
+        /// Exact integral or sample sum (B-spline surfaces take the exact
+        /// one only).
+        measure: &'a Measure,
+        /// Per-sample γ_ij.
+        sample_weights: Option<&'a [f64]>,
     },
 }
 

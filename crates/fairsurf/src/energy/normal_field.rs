@@ -63,6 +63,35 @@ impl NormalGuide {
     }
 }
 
+/// The samples' normals normalized, after checking the lists against the
+/// grid: a wrong count, a negative or non-finite weight, a zero or
+/// non-finite normal is an error naming the sample.
+pub(crate) fn unit_samples(
+    grid: SampleGrid,
+    normals: &[Vec3],
+    weights: Option<&[f64]>,
+) -> Result<Vec<Vec3>> {
+    grid.check_len("normal_field samples", normals.len())?;
+    if let Some(w) = weights {
+        grid.check_len("normal_field sample weights", w.len())?;
+        check_weights("normal_field sample weight", w)?;
+    }
+    normals
+        .iter()
+        .enumerate()
+        .map(|(k, &nrm)| {
+            if !is_finite(nrm) {
+                return Err(Error::NotFinite {
+                    what: format!("normal sample {k}"),
+                });
+            }
+            normalize(nrm).ok_or(Error::ZeroNormal {
+                what: format!("normal sample {k}"),
+            })
+        })
+        .collect()
+}
+
 /// The normal-field term with weight λ (≥ 0).
 #[derive(Clone, Debug, PartialEq)]
 pub struct NormalField {
@@ -162,25 +191,7 @@ impl NormalField {
                 normals,
                 weights,
             } => {
-                grid.check_len("normal_field samples", normals.len())?;
-                if let Some(w) = weights {
-                    grid.check_len("normal_field sample weights", w.len())?;
-                    check_weights("normal_field sample weight", w)?;
-                }
-                let units = normals
-                    .iter()
-                    .enumerate()
-                    .map(|(k, &nrm)| {
-                        if !is_finite(nrm) {
-                            return Err(Error::NotFinite {
-                                what: format!("normal sample {k}"),
-                            });
-                        }
-                        normalize(nrm).ok_or(Error::ZeroNormal {
-                            what: format!("normal sample {k}"),
-                        })
-                    })
-                    .collect::<Result<Vec<_>>>()?;
+                let units = unit_samples(*grid, normals, weights.as_deref())?;
                 let base = grid.weight_table(weights.as_deref());
                 let (_, mp) = grid.size();
                 let tables = pairs()

@@ -469,10 +469,8 @@ fn finish(
         curvature.value += w.value;
         curvature.error += w.error;
     }
-    let inner_angle = solved
-        .report
-        .triangular
-        .as_ref()
+    // `figures()` would borrow the moved-from solution.
+    let inner_angle = (solved.report.triangular.as_ref())
         .and_then(|t| t.max_edge_normal_angle)
         .map_or(0.0, |a| a.0);
     let measure = t2.elapsed().as_secs_f64();

@@ -77,6 +77,9 @@ impl<S: ControlNet> Problem<S> {
     }
 
     /// Sets which control points are free (row-major, one flag per point).
+    /// The others are held at the surface's values: for a problem made by
+    /// `Problem::new(degree)`, the origin — give their values with `fix`,
+    /// `with_known` or [`Self::from_surface`].
     pub fn with_free(mut self, free: Vec<bool>) -> Result<Self> {
         if free.len() != self.free.len() {
             let (a, b) = self.surface.counts();

@@ -12,10 +12,10 @@ pub struct TermEnergy {
 /// Wall-clock seconds spent in each stage (for a B-spline surface see
 /// [`crate::bspline::BSplineProblem::solve`] for what each holds; for a
 /// triangular surface `assemble` is the energy matrix and constraint rows,
-/// `factor` 0 (the KKT factorization is in `solve`, with its refinement and
-/// the check's corrections), `analyse` the outcomes, energies and edge
-/// angles measured on the result, and the mesh refinement and row
-/// classification are [`TriFigures`]' own phases).
+/// `factor` 0 (the KKT factorization is in `solve`, with its refinement),
+/// `analyse` the check on the written net with its corrections and the
+/// outcomes, energies and edge angles measured on the result, and the mesh
+/// refinement and row classification are [`TriFigures`]' own phases).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Timings {
     /// Building every term's quadratic form and the system.
@@ -47,10 +47,12 @@ pub struct SolveReport {
     /// The independent check of the written net ([`crate::Check`]: for a
     /// Bézier patch energy and gradient recomputed in double-double, for a
     /// B-spline surface the energy by Gauss quadrature span by span and the
-    /// excess from the assembled system in compensated arithmetic); `None`
-    /// only when a term does not describe its integrand
-    /// ([`crate::EnergyTerm::integrand`]). A report is returned only when
-    /// its check passed.
+    /// excess from the assembled system in compensated arithmetic, for a
+    /// triangular surface energy and gradient in double-double); `None`
+    /// when a term does not describe its integrand
+    /// ([`crate::EnergyTerm::integrand`]) or, for a triangular surface,
+    /// when nothing was free. A report is returned only when its check
+    /// passed.
     pub check: Option<crate::Check>,
     /// The external operators' energy (Veltkamp & Wesselink §5), in `energy`.
     pub external: f64,
@@ -71,7 +73,8 @@ pub struct SolveReport {
     /// result to be its exact minimizer. About ε means as good as double allows.
     pub relative_gradient: f64,
     /// ‖rhs − H x‖∞ / ‖rhs‖∞ of the reduced system solved (the absolute
-    /// figure when the right-hand side is 0).
+    /// figure when the right-hand side is 0; NaN for a triangular surface
+    /// with nothing free, which solved nothing).
     pub residual: f64,
     /// Estimated condition number of the matrix actually factored: for a
     /// Bézier patch the 2-norm one of the equilibrated reduced system, in
@@ -104,18 +107,24 @@ pub struct SolveReport {
     /// ([`crate::FactorCache::solve_bspline`]): the system was assembled
     /// anew and found equal, value for value, to the kept factor's;
     /// `timings.factor` is then building and comparing the sparse matrix.
-    /// With repellors Newton's method still factors its own steps.
+    /// A triangular surface ([`crate::FactorCache::solve_triangular`]): the
+    /// KKT matrix was assembled and found equal to the kept one's. With
+    /// repellors Newton's method still factors its own steps.
     pub reused: bool,
     /// Whether the factorization of an earlier solve with the same
     /// pattern lent its ordering and elimination tree (a weight changed;
     /// only the numbers were factored): B-spline surfaces through
-    /// [`crate::FactorCache::solve_bspline`]; always false for the dense
-    /// Bézier solve, which has no ordering.
+    /// [`crate::FactorCache::solve_bspline`], triangular ones' KKT
+    /// factorizations; always false for the dense Bézier solve, which has
+    /// no ordering.
     pub reused_symbolic: bool,
-    /// Area and functionals of the result (`None` when analysis was off).
+    /// Area and functionals of the result (`None` when analysis was off,
+    /// and for a triangular surface, whose measures are in
+    /// [`Self::triangular`] and the analysis functions).
     pub measures: Option<crate::analysis::SurfaceMeasures>,
-    /// Nonzeros of the sparse Cholesky factor (a B-spline surface without
-    /// constraints; with them see `kkt`); `None` for the dense solve.
+    /// Nonzeros of the sparse factor (a B-spline surface without
+    /// constraints; with them, and for a triangular surface, the KKT
+    /// factor's, also in `kkt`); `None` for the dense solve.
     pub factor_nonzeros: Option<usize>,
     /// The sparse KKT solve of a B-spline surface with constraints or of a
     /// triangular surface (which factorization, its size, residual and

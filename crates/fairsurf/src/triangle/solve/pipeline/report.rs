@@ -191,7 +191,8 @@ impl TriProblem {
             newton: sol.newton,
             gradient_norm: sol.gradient_norm,
             relative_gradient: sol.relative_gradient,
-            residual: kkt.map_or(0.0, |k| k.relative_residual),
+            // Nothing solved (every coordinate fixed): no residual to tell.
+            residual: kkt.map_or(f64::NAN, |k| k.relative_residual),
             condition_estimate: kkt.map_or(f64::NAN, |k| k.condition),
             basis: "triangular".into(),
             refinement_steps: kkt.map_or(0, |k| k.refinement_steps),
@@ -207,7 +208,8 @@ impl TriProblem {
                 assemble: seconds.assemble,
                 factor: 0.0,
                 solve: seconds.solve,
-                // The outcomes, energies and edge angles measured on the result.
+                // The check on the written net (its corrections too), the
+                // outcomes, energies and edge angles measured on the result.
                 analyse: (total - before).max(0.0),
                 total,
             },
