@@ -141,12 +141,10 @@ impl BSplineProblem {
                     measure,
                     sample_weights,
                 }) => {
-                    if *measure != Measure::Exact || sample_weights.is_some() {
-                        return Err(refuse(name, SAMPLED_GUIDE, "a sampled guide"));
-                    }
                     let [du, dv] = self.surface.domain();
                     let spline = bezier_over(surface, du, dv)?;
-                    self.add_guide(&mut out, name, weight, &spline)?;
+                    let sampled = *measure != Measure::Exact || sample_weights.is_some();
+                    self.add_guide(&mut out, name, (weight, sampled), &spline)?;
                     Part::Guide
                 }
                 Some(Integrand::GuideSpline {
@@ -155,10 +153,8 @@ impl BSplineProblem {
                     measure,
                     sample_weights,
                 }) => {
-                    if *measure != Measure::Exact || sample_weights.is_some() {
-                        return Err(refuse(name, SAMPLED_GUIDE, "a sampled guide"));
-                    }
-                    self.add_guide(&mut out, name, weight, surface)?;
+                    let sampled = *measure != Measure::Exact || sample_weights.is_some();
+                    self.add_guide(&mut out, name, (weight, sampled), surface)?;
                     Part::Guide
                 }
             };
@@ -191,16 +187,23 @@ impl BSplineProblem {
         Ok(NormalTerm { weight, guide })
     }
 
-    /// The guide S with weight γ: its net when it has the surface's knots
+    /// The guide S with weight γ (refused when sampled): its net when it has the surface's knots
     /// and degrees, else its L² projection PS onto this space and the
     /// constant ∫|S − PS|² (their difference is orthogonal to the space).
     fn add_guide(
         &self,
         out: &mut Energies,
         name: &str,
-        weight: f64,
+        (weight, sampled): (f64, bool),
         guide: &BSplineSurface,
     ) -> Result<()> {
+        if sampled {
+            return Err(Error::Mismatch {
+                what: format!("energy term {name} on a B-spline surface"),
+                expected: SAMPLED_GUIDE.into(),
+                got: "a sampled guide".into(),
+            });
+        }
         check_weight(&format!("{name} weight"), weight)?;
         if out.guide.is_some() {
             return Err(Error::Mismatch {
