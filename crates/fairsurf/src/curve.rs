@@ -116,7 +116,14 @@ pub(crate) fn elevate_points(points: &[Vec3], r: usize) -> Vec<Vec3> {
 /// distance: the nearest of 33 samples, then Newton steps on
 /// (C(t) − p)·C′(t) = 0 kept in the range while they come closer. `c(t)`
 /// gives C, C′ and C″ at t.
-pub fn nearest_parameter(
+pub fn nearest_parameter(c: impl Fn(f64) -> [Vec3; 3], range: (f64, f64), p: Vec3) -> (f64, f64) {
+    nearest_parameter_by(|t| c(t)[0], &c, range, p)
+}
+
+/// [`nearest_parameter`] with the curve's points from `point` alone (the
+/// 33 samples and the distance after each step need no derivatives).
+pub(crate) fn nearest_parameter_by(
+    point: impl Fn(f64) -> Vec3,
     c: impl Fn(f64) -> [Vec3; 3],
     (lo, hi): (f64, f64),
     p: Vec3,
@@ -125,20 +132,20 @@ pub fn nearest_parameter(
     let (mut best, mut t) = (f64::MAX, lo);
     for k in 0..=32 {
         let x = lo + (hi - lo) * k as f64 / 32.0;
-        let d = dist(c(x)[0], p);
+        let d = dist(point(x), p);
         if d < best {
             (best, t) = (d, x);
         }
     }
     for _ in 0..30 {
-        let [point, d1, d2] = c(t);
-        let r = sub(point, p);
+        let [at, d1, d2] = c(t);
+        let r = sub(at, p);
         let h = dot(d1, d1) + dot(r, d2);
         if h.is_nan() || h <= 0.0 {
             break;
         }
         let next = (t - dot(r, d1) / h).clamp(lo, hi);
-        let d = dist(c(next)[0], p);
+        let d = dist(point(next), p);
         if d.is_nan() || d >= best {
             break;
         }

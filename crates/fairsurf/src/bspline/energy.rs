@@ -29,15 +29,17 @@ impl Gram1d {
         let (c, p) = (k.count(), k.degree());
         let gl = GaussLegendre::new(p + 1);
         let mut m = [vec![0.0; c * c], vec![0.0; c * c], vec![0.0; c * c]];
+        let mut d = vec![0.0; 3 * (p + 1)];
         for (span, a, b) in k.spans() {
             let h = b - a;
             for (&x, &w) in gl.nodes.iter().zip(&gl.weights) {
                 let t = a + h * x;
-                let d = k.basis_derivatives(span, t, 2);
+                k.basis_derivatives_into(span, t, 2, &mut d);
                 for (r, mr) in m.iter_mut().enumerate() {
+                    let dr = &d[r * (p + 1)..(r + 1) * (p + 1)];
                     for i in 0..=p {
                         for l in 0..=p {
-                            mr[(span - p + i) * c + span - p + l] += w * h * d[r][i] * d[r][l];
+                            mr[(span - p + i) * c + span - p + l] += w * h * dr[i] * dr[l];
                         }
                     }
                 }

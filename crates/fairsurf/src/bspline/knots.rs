@@ -3,6 +3,10 @@
 
 use crate::{Error, Result};
 
+/// Up to this many basis functions per span (degree 7) the basis
+/// derivatives are computed in stack buffers.
+const SMALL: usize = 8;
+
 /// A clamped knot vector `U = (u₀ ≤ u₁ ≤ … ≤ u_{c+p})` of degree p for c
 /// basis functions: the first and last knots repeated exactly p + 1 times,
 /// interior knots at most p times (so every basis function is continuous),
@@ -169,29 +173,66 @@ impl KnotVector {
     /// `out[r][j]` = the r-th derivative of N_{k−p+j} at t, for r ≤ `order`
     /// and j = 0..=p, in span k (A2.3; derivatives above p are 0).
     pub fn basis_derivatives(&self, k: usize, t: f64, order: usize) -> Vec<Vec<f64>> {
+        let w = self.degree + 1;
+        let mut flat = vec![0.0; (order + 1) * w];
+        self.basis_derivatives_into(k, t, order, &mut flat);
+        flat.chunks_exact(w).map(<[f64]>::to_vec).collect()
+    }
+
+    /// [`Self::basis_derivatives`] written row by row into `out`
+    /// (`out[r·(p+1) + j]`, at least (order + 1)(p + 1) long) without
+    /// allocating for degrees below 8: the evaluation loops of meshes,
+    /// Gram matrices and quadrature call it per node.
+    pub(crate) fn basis_derivatives_into(&self, k: usize, t: f64, order: usize, out: &mut [f64]) {
+        let w = self.degree + 1;
+        if w <= SMALL {
+            let mut ndu = [0.0; SMALL * SMALL];
+            let mut work = [0.0; 4 * SMALL];
+            self.ders_with(k, t, order, out, &mut ndu, &mut work);
+        } else {
+            let mut ndu = vec![0.0; w * w];
+            let mut work = vec![0.0; 4 * w];
+            self.ders_with(k, t, order, out, &mut ndu, &mut work);
+        }
+    }
+
+    /// A2.3 with the triangle `ndu` (row stride p + 1) and `work` (left,
+    /// right, and the two rows of a) given.
+    fn ders_with(
+        &self,
+        k: usize,
+        t: f64,
+        order: usize,
+        ders: &mut [f64],
+        ndu: &mut [f64],
+        work: &mut [f64],
+    ) {
         let p = self.degree;
+        let w = p + 1;
         let u = &self.knots;
+        let (left, rest) = work.split_at_mut(w);
+        let (right, rest) = rest.split_at_mut(w);
+        let (a0, a1) = rest.split_at_mut(w);
+        let a = [a0, a1];
         // ndu[j][r]: basis functions (upper triangle) and knot differences.
-        let mut ndu = vec![vec![0.0; p + 1]; p + 1];
-        let (mut left, mut right) = (vec![0.0; p + 1], vec![0.0; p + 1]);
-        ndu[0][0] = 1.0;
+        let at = |j: usize, r: usize| j * w + r;
+        ndu[0] = 1.0;
         for j in 1..=p {
             left[j] = t - u[k + 1 - j];
             right[j] = u[k + j] - t;
             let mut saved = 0.0;
             for r in 0..j {
-                ndu[j][r] = right[r + 1] + left[j - r];
-                let temp = ndu[r][j - 1] / ndu[j][r];
-                ndu[r][j] = saved + right[r + 1] * temp;
+                ndu[at(j, r)] = right[r + 1] + left[j - r];
+                let temp = ndu[at(r, j - 1)] / ndu[at(j, r)];
+                ndu[at(r, j)] = saved + right[r + 1] * temp;
                 saved = left[j - r] * temp;
             }
-            ndu[j][j] = saved;
+            ndu[at(j, j)] = saved;
         }
-        let mut ders = vec![vec![0.0; p + 1]; order + 1];
+        ders[..(order + 1) * w].fill(0.0);
         for j in 0..=p {
-            ders[0][j] = ndu[j][p];
+            ders[j] = ndu[at(j, p)];
         }
-        let mut a = [vec![0.0; p + 1], vec![0.0; p + 1]];
         for r in 0..=p {
             let (mut s1, mut s2) = (0, 1);
             a[0][0] = 1.0;
@@ -200,36 +241,31 @@ impl KnotVector {
                 let rk = r as isize - kk as isize;
                 let pk = p - kk;
                 if r >= kk {
-                    a[s2][0] = a[s1][0] / ndu[pk + 1][r - kk];
-                    d = a[s2][0] * ndu[r - kk][pk];
+                    a[s2][0] = a[s1][0] / ndu[at(pk + 1, r - kk)];
+                    d = a[s2][0] * ndu[at(r - kk, pk)];
                 }
                 let j1 = if rk >= -1 { 1 } else { (-rk) as usize };
                 let j2 = if r <= pk + 1 { kk - 1 } else { p - r };
                 for j in j1..=j2 {
                     let idx = (rk + j as isize) as usize;
-                    a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][idx];
-                    d += a[s2][j] * ndu[idx][pk];
+                    a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[at(pk + 1, idx)];
+                    d += a[s2][j] * ndu[at(idx, pk)];
                 }
                 if r <= pk {
-                    a[s2][kk] = -a[s1][kk - 1] / ndu[pk + 1][r];
-                    d += a[s2][kk] * ndu[r][pk];
+                    a[s2][kk] = -a[s1][kk - 1] / ndu[at(pk + 1, r)];
+                    d += a[s2][kk] * ndu[at(r, pk)];
                 }
-                ders[kk][r] = d;
+                ders[kk * w + r] = d;
                 std::mem::swap(&mut s1, &mut s2);
             }
         }
         let mut factor = p as f64;
-        for (kk, row) in ders.iter_mut().enumerate().skip(1) {
-            if kk > p {
-                row.fill(0.0);
-                continue;
-            }
-            for x in row.iter_mut() {
+        for kk in 1..=order.min(p) {
+            for x in &mut ders[kk * w..(kk + 1) * w] {
                 *x *= factor;
             }
             factor *= (p - kk) as f64;
         }
-        ders
     }
 
     /// Inserts `t` once (Boehm; A5.1): the new knot vector and the new

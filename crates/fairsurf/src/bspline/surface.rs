@@ -206,28 +206,45 @@ impl BSplineSurface {
         out
     }
 
-    /// `out[r][s]` = ∂^(r+s)R/∂u^r∂v^s for r + s ≤ `order` (A3.6).
-    fn partials(&self, u: f64, v: f64, order: usize) -> Vec<Vec<Vec3>> {
+    /// `out[r][s]` = ∂^(r+s)R/∂u^r∂v^s for r + s ≤ `order` ≤ 2 (A3.6; the
+    /// others 0), without allocating for degrees below 8.
+    fn partials(&self, u: f64, v: f64, order: usize) -> [[Vec3; 3]; 3] {
         let (p, q) = self.degree();
         let (ku, kv) = (self.u.span(u), self.v.span(v));
-        let nu = self.u.basis_derivatives(ku, u, order);
-        let nv = self.v.basis_derivatives(kv, v, order);
+        let (wu, wv) = (p + 1, q + 1);
+        let mut small = [0.0; 2 * 3 * 8];
+        let mut large = Vec::new();
+        let (nu, nv) = if wu.max(wv) <= 8 {
+            small.split_at_mut(3 * 8)
+        } else {
+            large.resize(3 * (wu + wv), 0.0);
+            large.split_at_mut(3 * wu)
+        };
+        self.u.basis_derivatives_into(ku, u, order, nu);
+        self.v.basis_derivatives_into(kv, v, order, nv);
         let cv = self.v.count();
-        let mut out = vec![vec![[0.0; 3]; order + 1]; order + 1];
-        for (r, nur) in nu.iter().enumerate() {
-            // temp[j] = Σ_i N_i^(r)(u) P_{ku−p+i, kv−q+j}
-            let temp: Vec<Vec3> = (0..=q)
-                .map(|j| {
-                    (0..=p).fold([0.0; 3], |acc, i| {
-                        let pt = self.points[(ku - p + i) * cv + kv - q + j];
-                        let w = nur[i];
-                        [acc[0] + w * pt[0], acc[1] + w * pt[1], acc[2] + w * pt[2]]
-                    })
-                })
-                .collect();
-            for (s, nvs) in nv.iter().enumerate().take(order + 1 - r) {
-                out[r][s] = temp.iter().zip(nvs).fold([0.0; 3], |acc, (t, &w)| {
-                    [acc[0] + w * t[0], acc[1] + w * t[1], acc[2] + w * t[2]]
+        let mut out = [[[0.0; 3]; 3]; 3];
+        let mut small_cols = [[0.0; 3]; 8];
+        let mut large_cols = Vec::new();
+        let cols: &mut [Vec3] = if wv <= 8 {
+            &mut small_cols[..wv]
+        } else {
+            large_cols.resize(wv, [0.0; 3]);
+            &mut large_cols
+        };
+        for (r, row) in out.iter_mut().enumerate().take(order + 1) {
+            let nur = &nu[r * wu..(r + 1) * wu];
+            // cols[j] = Σ_i N_i^(r)(u) P_{ku−p+i, kv−q+j}
+            for (j, col) in cols.iter_mut().enumerate() {
+                *col = nur.iter().enumerate().fold([0.0; 3], |acc, (i, &a)| {
+                    let pt = self.points[(ku - p + i) * cv + kv - q + j];
+                    [acc[0] + a * pt[0], acc[1] + a * pt[1], acc[2] + a * pt[2]]
+                });
+            }
+            for (s, o) in row.iter_mut().enumerate().take(order + 1 - r) {
+                let nvs = &nv[s * wv..(s + 1) * wv];
+                *o = cols.iter().zip(nvs).fold([0.0; 3], |acc, (c, &b)| {
+                    [acc[0] + b * c[0], acc[1] + b * c[1], acc[2] + b * c[2]]
                 });
             }
         }

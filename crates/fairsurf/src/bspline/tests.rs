@@ -132,6 +132,49 @@ fn the_basis_sums_to_one_and_its_derivatives_are_limits_of_differences() {
     assert!(d[0].iter().zip(&bern).all(|(x, y)| (x - y).abs() < 1e-16));
 }
 
+/// Degree 7 uses stack buffers and degree 9 and 12 heap ones: every path
+/// gives the Bernstein polynomials and their derivatives without interior
+/// knots, and a B-spline patch's point and derivatives are its Bézier
+/// patch's.
+#[test]
+fn every_degree_evaluates_as_the_bernstein_patch() {
+    for n in [3, 7, 8, 9, 12] {
+        let b = KnotVector::bezier(n);
+        for t in [0.0, 0.27, 0.5, 1.0] {
+            let d = b.basis_derivatives(b.span(t), t, 2);
+            let bern = crate::basis::bernstein_derivatives(n, t, 2);
+            for r in 0..=2 {
+                for j in 0..=n {
+                    let (x, y) = (d[r][j], bern[r][j]);
+                    assert!(
+                        (x - y).abs() < 1e-11 * (1.0 + y.abs()),
+                        "n {n} t {t} r {r} j {j}: {x} vs {y}"
+                    );
+                }
+            }
+        }
+        let patch = TensorPatch::from_fn(n, n - 1, |i, j| [i as f64, j as f64, noise(7 * i + j)]);
+        let s = BSplineSurface::from_bezier(&patch);
+        for (u, v) in [(0.1, 0.9), (0.5, 0.33), (1.0, 0.0)] {
+            let (a, e) = (s.derivatives(u, v), patch.derivatives(u, v));
+            for (x, y) in [
+                (a.point, e.point),
+                (a.du, e.du),
+                (a.dv, e.dv),
+                (a.duu, e.duu),
+                (a.duv, e.duv),
+                (a.dvv, e.dvv),
+            ] {
+                let gap = (0..3).fold(0.0f64, |m, c| m.max((x[c] - y[c]).abs()));
+                assert!(
+                    gap < 1e-9 * (1.0 + y.iter().fold(0.0f64, |m, c| m.max(c.abs()))),
+                    "n {n} ({u}, {v}): {x:?} vs {y:?}"
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn a_bezier_patch_is_a_bspline_without_interior_knots() {
     let p = TensorPatch::from_fn(3, 2, |i, j| [i as f64, j as f64, noise(7 * i + j)]);

@@ -333,5 +333,9 @@ fn nearest_on_boundary(face: &BSplineSurface, edge: Edge, range: [f64; 2], p: Ve
         );
         [x.point, d1, d2]
     };
-    crate::curve::nearest_parameter(curve, (range[0], range[1]), p)
+    let point = |t: f64| {
+        let (u, v) = surface_param(face, edge, t);
+        face.eval(u, v)
+    };
+    crate::curve::nearest_parameter_by(point, curve, (range[0], range[1]), p)
 }
