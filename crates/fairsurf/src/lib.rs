@@ -34,6 +34,41 @@
 //! assert!(sol.report.relative_gradient < 1e-14);
 //! println!("energy {} area {}", sol.report.energy, sol.report.measures.unwrap().area);
 //! ```
+//!
+//! The same terms serve every surface kind: a B-spline surface's problem is
+//! [`Problem`]`<`[`bspline::BSplineSurface`]`>` (sparse and banded), a
+//! triangular surface's a [`triangle::TriProblem`] (Veltkamp & Wesselink),
+//! and all of them report in one [`SolveReport`].
+//!
+//! ```
+//! use fairsurf::bspline::{BSplineProblem, BSplineSurface, KnotVector};
+//! use fairsurf::triangle::TriProblem;
+//! use fairsurf::{Bend, NormalField, Stretch, TensorPatch, TriSurface};
+//! // Bicubic, 6 × 6 spans: the outer two rings hold, the rest is faired.
+//! let (u, v) = (KnotVector::uniform(3, 6), KnotVector::uniform(3, 6));
+//! let (cu, cv) = (u.count(), v.count());
+//! let points = (0..cu * cv)
+//!     .map(|k| [(k / cv) as f64, (k % cv) as f64, ((k * 7) % 5) as f64 * 0.1])
+//!     .collect();
+//! let up = TensorPatch::new(0, 0, vec![[0.0, 0.0, 1.0]]);
+//! let spline = BSplineProblem::from_surface(BSplineSurface::new(u, v, points).unwrap())
+//!     .with_fixed_rings(2)
+//!     .with_term(Bend::new(1.0))
+//!     .with_term(NormalField::new(10.0, up))
+//!     .solve()
+//!     .unwrap();
+//! assert_eq!(spline.report.basis, "b-spline");
+//! // Two triangles, degree 3, the boundary held.
+//! let mesh = TriSurface::new(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.2], [1.0, 1.0, 0.0], [0.0, 1.0, 0.1]],
+//!                            &[[0, 1, 2], [0, 2, 3]], 3);
+//! let tri = TriProblem::new(mesh)
+//!     .with_term(Stretch::new(0.1))
+//!     .with_term(Bend::new(1.0))
+//!     .with_fixed_boundary()
+//!     .solve()
+//!     .unwrap();
+//! assert!(tri.report.relative_gradient < 1e-12 && tri.report.triangular.is_some());
+//! ```
 
 mod check;
 mod curve;
