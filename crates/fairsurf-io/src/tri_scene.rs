@@ -365,7 +365,7 @@ impl TriScene {
                 .boundary_angles
                 .push((a.vertex, a.degrees.to_radians()));
         }
-        let mut problem = TriProblem::new(surface.clone())
+        let mut problem = TriProblem::from_mesh(surface.clone())
             .with_term(Stretch::new(stretch))
             .with_term(Bend::new(bend))
             .with_continuity(continuity);

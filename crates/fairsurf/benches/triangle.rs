@@ -61,7 +61,7 @@ fn sheet(a: usize, b: usize) -> TriSurface {
 }
 
 fn solve(bencher: divan::Bencher, (a, b): (usize, usize), continuity: Continuity) {
-    let problem = TriProblem::new(sheet(a, b))
+    let problem = TriProblem::from_mesh(sheet(a, b))
         .with_term(Stretch::new(0.1))
         .with_term(Bend::new(1.0))
         .with_fixed_boundary()
@@ -124,7 +124,7 @@ fn pulled_with(
     };
     let mut target = s.patch(at.triangle).eval(at.bary);
     target[2] += lift;
-    TriProblem::new(s)
+    TriProblem::from_mesh(s)
         .with_term(Stretch::new(stretch))
         .with_term(Bend::new(1.0))
         .with_fixed_boundary()

@@ -61,7 +61,7 @@
 //! // Two triangles, degree 3, the boundary held.
 //! let mesh = TriSurface::new(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.2], [1.0, 1.0, 0.0], [0.0, 1.0, 0.1]],
 //!                            &[[0, 1, 2], [0, 2, 3]], 3);
-//! let tri = TriProblem::new(mesh)
+//! let tri = TriProblem::from_mesh(mesh)
 //!     .with_term(Stretch::new(0.1))
 //!     .with_term(Bend::new(1.0))
 //!     .with_fixed_boundary()
@@ -101,7 +101,8 @@ pub use energy::{
 pub use error::{Error, Result};
 pub use mesh::TriMesh;
 pub use solve::{
-    FactorCache, Factored, Problem, Solution, SolveOptions, SolveReport, TermEnergy, Timings,
+    FactorCache, Factored, Problem, Solution, SolveOptions, SolveReport, SurfaceKind, TermEnergy,
+    Timings, TriFigures,
 };
 pub use surface::{ControlNet, ParamSurface};
 pub use tensor::{SurfaceDerivatives, TensorConstraint, TensorPatch};

@@ -230,7 +230,7 @@ fn budgets_refuse_large_work_and_cancel() {
         3,
     )
     .unwrap();
-    let tri = TriProblem::new(square)
+    let tri = TriProblem::from_mesh(square)
         .with_term(Stretch::new(1.0))
         .with_term(Bend::new(1.0))
         .with_fixed_boundary();
@@ -434,7 +434,7 @@ mod triangular {
             } else {
                 InternalEnergy::new(1.0, 0.0)
             };
-            let mut p = TriProblem::new(s.clone())
+            let mut p = TriProblem::from_mesh(s.clone())
                 .with_term(fairsurf::Stretch::new(energy.stretch))
                 .with_term(fairsurf::Bend::new(energy.bend));
             let ring = if self.bend { 1 } else { 0 };
@@ -557,7 +557,7 @@ mod triangular {
             }
             let s = TriSurface::new(&v, &t, 3);
             for vertices in [false, true] {
-                let p = TriProblem::new(s.clone())
+                let p = TriProblem::from_mesh(s.clone())
                     .with_term(fairsurf::Stretch::new(0.1))
                     .with_term(fairsurf::Bend::new(1.0))
                     .with_fixed_boundary()

@@ -263,13 +263,13 @@ fn a_triangular_problem_takes_the_same_terms() {
     };
     let solve = |p: TriProblem| p.with_fixed_boundary().solve();
     let one = solve(
-        TriProblem::new(lifted.clone())
+        TriProblem::from_mesh(lifted.clone())
             .with_term(Stretch::new(0.3))
             .with_term(Bend::new(1.0)),
     )
     .unwrap();
     let halves = solve(
-        TriProblem::new(lifted.clone())
+        TriProblem::from_mesh(lifted.clone())
             .with_term(Bend::new(0.5))
             .with_term(Stretch::new(0.3))
             .with_term(Bend::new(0.5)),
@@ -281,7 +281,8 @@ fn a_triangular_problem_takes_the_same_terms() {
     assert!(one.report.term("stretch") > 0.0 && one.report.term("bend") > 0.0);
     let message = |p: TriProblem| solve(p).unwrap_err().to_string();
     let e = message(
-        TriProblem::new(lifted.clone()).with_term(NormalField::new(1.0, common::tilted_field())),
+        TriProblem::from_mesh(lifted.clone())
+            .with_term(NormalField::new(1.0, common::tilted_field())),
     );
     assert!(
         e.contains("energy term normal_field on a triangular surface"),
@@ -289,15 +290,16 @@ fn a_triangular_problem_takes_the_same_terms() {
     );
     let grid = SampleGrid::new(3, 3);
     let e = message(
-        TriProblem::new(lifted.clone()).with_term(Bend::new(1.0).with_measure(Measure::Grid(grid))),
+        TriProblem::from_mesh(lifted.clone())
+            .with_term(Bend::new(1.0).with_measure(Measure::Grid(grid))),
     );
     assert!(e.contains("energy term bend") && e.contains("exact"), "{e}");
     assert!(matches!(
-        solve(TriProblem::new(lifted.clone())),
+        solve(TriProblem::from_mesh(lifted.clone())),
         Err(Error::NoEnergy)
     ));
     assert!(matches!(
-        solve(TriProblem::new(lifted).with_term(Bend::new(-1.0))),
+        solve(TriProblem::from_mesh(lifted).with_term(Bend::new(-1.0))),
         Err(Error::NegativeWeight { .. })
     ));
 }

@@ -41,7 +41,7 @@ fn problem(m: Moves) -> TriProblem {
     let surface = common::tri_grid(3, 4);
     // An interior control point of patch 7 (not on the fixed boundary).
     let interior = surface.patch_indices(7)[7];
-    TriProblem::new(surface)
+    TriProblem::from_mesh(surface)
         .with_term(Stretch::new(m.stretch))
         .with_term(Bend::new(1.0))
         .with_fixed_boundary()
@@ -173,7 +173,7 @@ fn rows_that_turn_inconsistent_are_reported_as_fresh() {
         bary: [0.25, 0.25, 0.5],
     };
     let p = |z: f64| {
-        TriProblem::new(common::tri_grid(2, 3))
+        TriProblem::from_mesh(common::tri_grid(2, 3))
             .with_term(Bend::new(1.0))
             .with_fixed_boundary()
             .with_continuity(Continuity::none())
@@ -223,7 +223,7 @@ fn a_looser_tolerance_chosen_for_the_right_hand_side_is_not_reused() {
             .map(|p| [p[0], p[1], bump(p[0], p[1])])
             .collect();
         s.set_points(pts).unwrap();
-        TriProblem::new(s)
+        TriProblem::from_mesh(s)
             .with_term(Stretch::new(0.1))
             .with_term(Bend::new(1.0))
             .with_fixed_boundary()
@@ -276,7 +276,7 @@ fn a_weight_change_keeps_the_ordering() {
     let pinned = |continuity: Continuity, stretch: f64, z: f64| {
         let grid = common::tri_grid(4, 3);
         let point = grid.patch_indices(9)[7];
-        TriProblem::new(grid)
+        TriProblem::from_mesh(grid)
             .with_term(Stretch::new(stretch))
             .with_term(Bend::new(1.0))
             .with_fixed_boundary()

@@ -23,7 +23,7 @@ fn op(name: &str, target: Target, place: Place, strength: f64) -> Operator {
 }
 
 fn solve(ops: &[Operator]) -> TriSolution {
-    let mut p = TriProblem::new(grid(3, 3))
+    let mut p = TriProblem::from_mesh(grid(3, 3))
         .with_term(Stretch::new(0.1))
         .with_term(Bend::new(1.0))
         .with_fixed_boundary()
@@ -317,7 +317,7 @@ fn a_repellor_pushes_away_and_newton_converges() {
 fn bad_operators_are_errors_naming_them() {
     let surface = grid(2, 3);
     let check = |o: Operator, needle: &str| {
-        let e = TriProblem::new(surface.clone())
+        let e = TriProblem::from_mesh(surface.clone())
             .with_term(Bend::new(1.0))
             .with_fixed_boundary()
             .with_operator(o)

@@ -78,7 +78,7 @@ fn assert_sound(r: &fairsurf::SolveReport) {
 #[test]
 fn exact_g1_holds_along_every_interior_edge_from_degree_four() {
     for n in [4, 5, 6] {
-        let p = TriProblem::new(hexagon(n, saddle))
+        let p = TriProblem::from_mesh(hexagon(n, saddle))
             .with_term(Bend::new(1.0))
             .with_fixed_boundary();
         let s = p.solve().unwrap();
@@ -98,7 +98,7 @@ fn exact_g1_holds_along_every_interior_edge_from_degree_four() {
             .unwrap();
         assert!(angle <= 1e-8, "n = {n}: normals differ by {angle:e} rad");
         // Without the edge conditions the same boundary gives a visible crease.
-        let off = TriProblem::new(hexagon(n, saddle))
+        let off = TriProblem::from_mesh(hexagon(n, saddle))
             .with_term(Bend::new(1.0))
             .with_fixed_boundary()
             .with_continuity(continuity(EdgeContinuity::Off))
@@ -106,7 +106,7 @@ fn exact_g1_holds_along_every_interior_edge_from_degree_four() {
             .unwrap();
         assert!(off.figures().max_edge_normal_angle.unwrap().0 > 1e-3);
         // Relaxed lies in between and costs less energy than exact.
-        let relaxed = TriProblem::new(hexagon(n, saddle))
+        let relaxed = TriProblem::from_mesh(hexagon(n, saddle))
             .with_term(Bend::new(1.0))
             .with_fixed_boundary()
             .with_continuity(continuity(EdgeContinuity::Relaxed))
@@ -121,7 +121,7 @@ fn exact_g1_holds_along_every_interior_edge_from_degree_four() {
 fn cubics_cannot_meet_exact_g1_here_and_the_dropped_conditions_are_named() {
     // 19 free cubic points per coordinate against 22 independent conditions:
     // the conditions that contradict the fixed boundary give way.
-    let r = TriProblem::new(hexagon(3, saddle))
+    let r = TriProblem::from_mesh(hexagon(3, saddle))
         .with_term(Bend::new(1.0))
         .with_fixed_boundary()
         .solve()
@@ -152,7 +152,7 @@ fn nearly_dependent_g1_conditions_are_reduced_with_a_looser_tolerance_and_said()
     // system is well conditioned again and every kept row holds to
     // round-off. What was left out is reported, with its residual.
     let bump = |x: f64, y: f64| 0.2 * (3.0 * x).sin() * (2.0 * y + 0.5).cos();
-    let exact = TriProblem::new(lifted(grid(8, 3), bump))
+    let exact = TriProblem::from_mesh(lifted(grid(8, 3), bump))
         .with_term(Stretch::new(0.1))
         .with_term(Bend::new(1.0))
         .with_fixed_boundary()
@@ -177,7 +177,7 @@ fn nearly_dependent_g1_conditions_are_reduced_with_a_looser_tolerance_and_said()
         .fold(0.0f64, |m, d| m.max(d.residual));
     assert!(exact.triangular.as_ref().unwrap().unenforced_residual >= 1e-6 && worst_dropped > 1e-9);
     // Still far smoother across edges than G1 at the vertices alone.
-    let vertices = TriProblem::new(lifted(grid(8, 3), bump))
+    let vertices = TriProblem::from_mesh(lifted(grid(8, 3), bump))
         .with_term(Stretch::new(0.1))
         .with_term(Bend::new(1.0))
         .with_fixed_boundary()
@@ -236,7 +236,7 @@ fn a_surface_whose_constraints_admit_a_plane_stays_planar() {
                 triangle: 2,
                 bary: [0.2, 0.3, 0.5],
             };
-            let p = TriProblem::new(s)
+            let p = TriProblem::from_mesh(s)
                 .with_term(Stretch::new(0.5))
                 .with_term(Bend::new(1.0))
                 .with_fixed_boundary()
@@ -287,7 +287,7 @@ fn point_and_normal_constraints_hold_to_1e_10() {
             triangle: 9,
             bary: [0.3, 0.3, 0.4],
         };
-        let p = TriProblem::new(grid(3, n))
+        let p = TriProblem::from_mesh(grid(3, n))
             .with_term(Stretch::new(0.1))
             .with_term(Bend::new(1.0))
             .with_fixed_boundary()
@@ -342,7 +342,7 @@ fn the_solution_is_the_constrained_minimum() {
         bary: [0.2, 0.5, 0.3],
     };
     let energy = InternalEnergy::new(0.2, 1.0);
-    let out = TriProblem::new(grid(2, 3))
+    let out = TriProblem::from_mesh(grid(2, 3))
         .with_term(Stretch::new(energy.stretch))
         .with_term(Bend::new(energy.bend))
         .with_fixed_boundary()
@@ -384,7 +384,7 @@ fn the_solution_is_the_constrained_minimum() {
     }
     // Cross-check with a dense Cholesky solve of the same unconstrained
     // problem (no point constraint): H_ff x_f = −H_fk x_k per coordinate.
-    let free_run = TriProblem::new(grid(2, 3))
+    let free_run = TriProblem::from_mesh(grid(2, 3))
         .with_term(Stretch::new(energy.stretch))
         .with_term(Bend::new(energy.bend))
         .with_fixed_boundary()
@@ -420,7 +420,7 @@ fn dependent_rows_are_reduced_and_contradictions_reported_by_name() {
         bary: [0.25, 0.25, 0.5],
     };
     let base = || {
-        TriProblem::new(grid(2, 3))
+        TriProblem::from_mesh(grid(2, 3))
             .with_term(Bend::new(1.0))
             .with_fixed_boundary()
             .with_continuity(Continuity::none())
@@ -495,7 +495,7 @@ fn continuity_gives_way_to_interpolation_constraints() {
     let g = s.edge_points(side)[3]; // next to vertex 1
     let p = s.points()[g];
     s.set_point(g, [0.5 - 0.25 * (0.5 - p[0]), p[1], p[2]]);
-    let r = TriProblem::new(s)
+    let r = TriProblem::from_mesh(s)
         .with_term(Bend::new(1.0))
         .with_fixed_boundary()
         .solve()
@@ -537,7 +537,7 @@ fn a_curve_across_patches_is_interpolated() {
         },
     );
     let before = s.patch_count();
-    let out = TriProblem::new(s)
+    let out = TriProblem::from_mesh(s)
         .with_term(Stretch::new(0.1))
         .with_term(Bend::new(1.0))
         .with_fixed_boundary()
@@ -599,7 +599,7 @@ fn net_edges_are_each_patch_s_lines_once() {
 fn bad_constraints_are_errors_naming_them() {
     let s = grid(1, 3);
     let solve = |c: Constraint| {
-        TriProblem::new(s.clone())
+        TriProblem::from_mesh(s.clone())
             .with_term(Bend::new(1.0))
             .with_fixed_boundary()
             .with_constraint("constraints[0]", c)
@@ -662,7 +662,7 @@ fn bad_constraints_are_errors_naming_them() {
         let e = solve(c.clone());
         assert!(e.to_string().contains("constraints[0]"), "{c:?}: {e}");
     }
-    let bad_angle = TriProblem::new(s.clone())
+    let bad_angle = TriProblem::from_mesh(s.clone())
         .with_term(Bend::new(1.0))
         .with_fixed_boundary()
         .with_continuity(Continuity {
@@ -672,14 +672,14 @@ fn bad_constraints_are_errors_naming_them() {
         .solve()
         .unwrap_err();
     assert!(bad_angle.to_string().contains("vertex 0"), "{bad_angle}");
-    let negative = TriProblem::new(s.clone())
+    let negative = TriProblem::from_mesh(s.clone())
         .with_term(Stretch::new(-1.0))
         .with_term(Bend::new(1.0))
         .solve()
         .unwrap_err();
     assert!(matches!(negative, Error::NegativeWeight { .. }));
     // Nothing holds the surface: bend alone cannot fix an unconstrained net.
-    let loose = TriProblem::new(s)
+    let loose = TriProblem::from_mesh(s)
         .with_term(Bend::new(1.0))
         .solve()
         .unwrap_err();
@@ -698,12 +698,12 @@ fn a_surface_nothing_holds_is_singular() {
         triangle: 0,
         bary: [0.2, 0.3, 0.5],
     };
-    let free = TriProblem::new(grid(3, 3)).with_term(Bend::new(1.0));
+    let free = TriProblem::from_mesh(grid(3, 3)).with_term(Bend::new(1.0));
     match free.solve() {
         Err(Error::Singular { hint, .. }) => assert!(hint.contains("nothing holds"), "{hint}"),
         other => panic!("expected a singular system, got {other:?}"),
     }
-    let plane = TriProblem::new(grid(3, 3))
+    let plane = TriProblem::from_mesh(grid(3, 3))
         .with_term(Bend::new(1.0))
         .with_constraint(
             "plane",
@@ -720,7 +720,7 @@ fn a_surface_nothing_holds_is_singular() {
         other => panic!("expected a singular system, got {other:?}"),
     }
     // With stretch only constants cost nothing, and the point pins them.
-    let point = TriProblem::new(grid(3, 3))
+    let point = TriProblem::from_mesh(grid(3, 3))
         .with_term(Stretch::new(1.0))
         .with_constraint(
             "point",
@@ -741,7 +741,7 @@ fn a_surface_nothing_holds_is_singular() {
 #[test]
 fn a_triangular_report_is_every_kinds_report() {
     let s = hexagon(3, saddle);
-    let sol = TriProblem::new(s)
+    let sol = TriProblem::from_mesh(s)
         .with_term(Stretch::new(0.2))
         .with_term(Bend::new(1.0))
         .with_fixed_boundary()

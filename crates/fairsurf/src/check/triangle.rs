@@ -492,7 +492,7 @@ mod tests {
         // Flat boundary, fixed; stretch: every interior gradient entry of
         // the solved net vanishes to rounding.
         let s = wavy_surface(4);
-        let sol = TriProblem::new(s)
+        let sol = TriProblem::from_mesh(s)
             .with_term(Stretch::new(1.0))
             .with_fixed_boundary()
             .with_continuity(Continuity {

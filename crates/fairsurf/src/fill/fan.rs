@@ -414,7 +414,7 @@ fn fixed_problem(
         surface.set_point(g, value);
         held.push((g, value));
     }
-    let mut problem = TriProblem::new(surface)
+    let mut problem = TriProblem::from_mesh(surface)
         .with_term(Stretch::new(options.stretch))
         .with_term(Bend::new(options.bend))
         .with_continuity(continuity);

@@ -5,23 +5,55 @@
 //! adds its constructors and its solve (a Bézier patch's dense solve in
 //! `problem.rs`, a B-spline's sparse one in `crate::bspline`).
 
+use crate::bspline::BSplineSurface;
 use crate::constraint::NamedConstraint;
 use crate::energy::{EnergyTerm, Integrand, NormalField};
-use crate::operator::TensorOperator;
+use crate::operator::{Operator, TensorPlace};
 use crate::surface::ControlNet;
 use crate::tensor::{TensorConstraint, Uv};
 use crate::{Error, Result, TensorPatch};
 
+/// A surface kind a [`Problem`] is posed on: where its constraints sit,
+/// where its operators act, and what only its problems hold. Bézier
+/// patches, B-spline surfaces and triangular surfaces are the kinds.
+pub trait SurfaceKind: Clone + std::fmt::Debug {
+    /// A point of the surface's domain: (u, v) of a tensor surface, a
+    /// triangle and barycentric coordinates of a triangular one.
+    type At: Clone + std::fmt::Debug + PartialEq;
+    /// Where an operator acts ([`Operator`]).
+    type Place: Clone + std::fmt::Debug + PartialEq;
+    /// What only this kind's problems hold (a triangular surface's curve
+    /// constraints and continuity; nothing for the tensor kinds).
+    type Extra: Clone + std::fmt::Debug + Default;
+}
+
+impl SurfaceKind for TensorPatch {
+    type At = Uv;
+    type Place = TensorPlace;
+    type Extra = ();
+}
+
+impl SurfaceKind for BSplineSurface {
+    type At = Uv;
+    type Place = TensorPlace;
+    type Extra = ();
+}
+
 /// A variational problem over a surface of kind `S`: a Bézier patch
-/// (`Problem`, the default) or a B-spline surface
-/// (`Problem<BSplineSurface>`, [`crate::bspline::BSplineProblem`]).
+/// (`Problem`, the default), a B-spline surface
+/// (`Problem<BSplineSurface>`, [`crate::bspline::BSplineProblem`]) or a
+/// triangular surface (`Problem<TriSurface>`,
+/// [`crate::triangle::TriProblem`]).
 ///
 /// The same energy terms ([`crate::Stretch`], [`crate::Bend`],
-/// [`crate::NormalField`], [`crate::GuideSurface`]), constraints
-/// ([`TensorConstraint`] at (u, v)) and operators ([`TensorOperator`]) serve
-/// both kinds; the kinds differ in how a problem is made (a degree, or a
-/// B-spline surface with its knots) and in how it is solved (dense with the
-/// Jacobi basis, or sparse and banded).
+/// [`crate::NormalField`], [`crate::GuideSurface`]) and operators
+/// ([`Operator`]) serve every kind, and constraints at a point of the
+/// domain ([`crate::constraint::Constraint`] at (u, v) or at a triangle's
+/// barycentric point); the kinds differ in how a problem is made (a
+/// degree, a B-spline surface with its knots, a triangle mesh with curves
+/// and continuity), in which terms their assembly can integrate (a
+/// triangular surface: stretch and bend), and in how it is solved (dense
+/// in the Jacobi basis, sparse and banded, sparse KKT).
 ///
 /// ```
 /// use fairsurf::{Problem, Stretch, TensorPatch};
@@ -33,25 +65,79 @@ use crate::{Error, Result, TensorPatch};
 /// assert!(sol.report.relative_gradient < 1e-14);
 /// ```
 #[derive(Debug)]
-pub struct Problem<S = TensorPatch> {
+pub struct Problem<S: SurfaceKind = TensorPatch> {
     /// The basis and every control point: the known points' values, and
     /// where the free ones start (a quadratic energy ignores it; Newton's
     /// method for repellors starts from the quadratic solution).
     pub(crate) surface: S,
-    /// One flag per control point, row-major.
+    /// One flag per control point, row-major (a triangular surface's
+    /// points are held by `Fixed` constraints instead: all true there).
     pub(crate) free: Vec<bool>,
     pub(crate) terms: Vec<Box<dyn EnergyTerm>>,
-    pub(crate) operators: Vec<TensorOperator>,
-    pub(crate) constraints: Vec<NamedConstraint<Uv>>,
+    pub(crate) operators: Vec<Operator<S::Place>>,
+    pub(crate) constraints: Vec<NamedConstraint<S::At>>,
+    /// What only this kind's problems hold.
+    pub(crate) extra: S::Extra,
 }
 
-impl<S: ControlNet> Problem<S> {
-    /// A problem over `surface` with every control point held at its value
-    /// and no energy yet: free points with [`Self::with_free`] (or a kind's
-    /// `with_fixed_rings`), then terms, constraints and operators.
-    pub fn from_surface(surface: S) -> Self {
-        let n = surface.points().len();
-        Self::over(surface, vec![false; n])
+impl<S: SurfaceKind> Problem<S> {
+    /// The surface: its basis, the known points' values and the free
+    /// points' starting values.
+    pub fn surface(&self) -> &S {
+        &self.surface
+    }
+
+    /// Adds an energy term: [`crate::Stretch`], [`crate::Bend`],
+    /// [`crate::NormalField`], [`crate::GuideSurface`] or one of your own
+    /// (a Bézier patch's solve takes any [`EnergyTerm`]; a B-spline's and a
+    /// triangular surface's assemble the terms from their
+    /// [`EnergyTerm::integrand`] and refuse, naming it, one they cannot
+    /// integrate).
+    pub fn with_term(mut self, term: impl EnergyTerm + 'static) -> Self {
+        self.terms.push(Box::new(term));
+        self
+    }
+
+    /// Adds a boxed energy term.
+    pub fn push_term(&mut self, term: Box<dyn EnergyTerm>) {
+        self.terms.push(term);
+    }
+
+    /// The energy terms.
+    pub fn terms(&self) -> &[Box<dyn EnergyTerm>] {
+        &self.terms
+    }
+
+    /// The (first) normal-field term's λ and guide, when there is one (the
+    /// normals a report's deviation is measured against).
+    pub fn normal_field(&self) -> Option<NormalField> {
+        self.terms.iter().find_map(|t| match t.integrand() {
+            Some(Integrand::NormalField { weight, guide }) => Some(NormalField {
+                weight,
+                guide: guide.clone(),
+            }),
+            _ => None,
+        })
+    }
+
+    /// Adds an external energy operator (Veltkamp & Wesselink §5) at a point
+    /// or a region of the domain: a director, or a point, plane, line or
+    /// surface attractor join the quadratic energy; a repellor makes the
+    /// solve nonlinear (Newton's method from the quadratic solution). The
+    /// solve refuses an invalid one, naming it.
+    pub fn with_operator(mut self, operator: Operator<S::Place>) -> Self {
+        self.operators.push(operator);
+        self
+    }
+
+    /// The external energy operators.
+    pub fn operators(&self) -> &[Operator<S::Place>] {
+        &self.operators
+    }
+
+    /// The constraints at points of the domain.
+    pub fn constraints(&self) -> &[NamedConstraint<S::At>] {
+        &self.constraints
     }
 
     /// A problem over `surface` with the given free flags and nothing else.
@@ -62,13 +148,18 @@ impl<S: ControlNet> Problem<S> {
             terms: Vec::new(),
             operators: Vec::new(),
             constraints: Vec::new(),
+            extra: S::Extra::default(),
         }
     }
+}
 
-    /// The surface: its basis, the known points' values and the free
-    /// points' starting values.
-    pub fn surface(&self) -> &S {
-        &self.surface
+impl<S: ControlNet + SurfaceKind<At = Uv>> Problem<S> {
+    /// A problem over `surface` with every control point held at its value
+    /// and no energy yet: free points with [`Self::with_free`] (or a kind's
+    /// `with_fixed_rings`), then terms, constraints and operators.
+    pub fn from_surface(surface: S) -> Self {
+        let n = surface.points().len();
+        Self::over(surface, vec![false; n])
     }
 
     /// The free flags, one per control point (row-major).
@@ -112,53 +203,6 @@ impl<S: ControlNet> Problem<S> {
         self.free[k] = false;
     }
 
-    /// Adds an energy term: [`crate::Stretch`], [`crate::Bend`],
-    /// [`crate::NormalField`], [`crate::GuideSurface`] or one of your own
-    /// (a Bézier patch's solve takes any [`EnergyTerm`]; a B-spline's
-    /// assembles the terms from their [`EnergyTerm::integrand`] and
-    /// refuses one without).
-    pub fn with_term(mut self, term: impl EnergyTerm + 'static) -> Self {
-        self.terms.push(Box::new(term));
-        self
-    }
-
-    /// Adds a boxed energy term.
-    pub fn push_term(&mut self, term: Box<dyn EnergyTerm>) {
-        self.terms.push(term);
-    }
-
-    /// The energy terms.
-    pub fn terms(&self) -> &[Box<dyn EnergyTerm>] {
-        &self.terms
-    }
-
-    /// The (first) normal-field term's λ and guide, when there is one (the
-    /// normals a report's deviation is measured against).
-    pub fn normal_field(&self) -> Option<NormalField> {
-        self.terms.iter().find_map(|t| match t.integrand() {
-            Some(Integrand::NormalField { weight, guide }) => Some(NormalField {
-                weight,
-                guide: guide.clone(),
-            }),
-            _ => None,
-        })
-    }
-
-    /// Adds an external energy operator (Veltkamp & Wesselink §5) at a point
-    /// or a convex region of the parameter domain: a director, or a point,
-    /// plane, line or surface attractor join the quadratic energy; a
-    /// repellor makes the solve nonlinear (Newton's method from the
-    /// quadratic solution). The solve refuses an invalid one, naming it.
-    pub fn with_operator(mut self, operator: TensorOperator) -> Self {
-        self.operators.push(operator);
-        self
-    }
-
-    /// The external energy operators.
-    pub fn operators(&self) -> &[TensorOperator] {
-        &self.operators
-    }
-
     /// Adds a linear constraint at a point (u, v) of the parameter domain
     /// (Veltkamp & Wesselink eq. 31 on a tensor surface): the surface
     /// passes through a point, has a normal, lies in a plane or on a line
@@ -181,11 +225,6 @@ impl<S: ControlNet> Problem<S> {
             constraint,
         });
         self
-    }
-
-    /// The constraints at points of the parameter domain.
-    pub fn constraints(&self) -> &[NamedConstraint<Uv>] {
-        &self.constraints
     }
 
     /// The indices of the free control points, in order.

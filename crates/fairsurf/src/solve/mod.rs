@@ -18,7 +18,7 @@ mod report;
 mod rows;
 mod verify;
 
-pub use builder::Problem;
+pub use builder::{Problem, SurfaceKind};
 pub use cache::FactorCache;
 pub use factored::Factored;
 pub use problem::{Solution, SolveOptions};

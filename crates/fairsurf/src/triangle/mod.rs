@@ -98,5 +98,5 @@ pub use index::{linear_index, multi_index, multi_indices, point_count};
 pub use integral::{tri_gram_matrix, tri_product_integral};
 pub use patch::TriPatch;
 pub use refine::{embed_curve, CurvePath, DomainPoint, Refinement};
-pub use solve::{CurveConstraint, DroppedRow, TriFactored, TriProblem, TriSolution};
+pub use solve::{CurveConstraint, DroppedRow, TriExtra, TriFactored, TriProblem, TriSolution};
 pub use surface::{MeshEdge, TriSurface};

@@ -34,9 +34,9 @@ use crate::constraint::{ConstraintOutcome, Row};
 use crate::energy::{EnergyTerm, Integrand, Measure, BEND_PATTERNS, STRETCH_PATTERNS};
 use crate::operator::newton::{add_quadratic, newton, FreeResiduals, NewtonReport};
 use crate::operator::triangle::Located;
-use crate::operator::{Operator, OperatorOutcome, Residual};
+use crate::operator::{OperatorOutcome, Residual};
 use crate::solve::kkt::{same_terms, try_kkt, KktFactor, KktInfo, KktOutcome};
-use crate::solve::{SolveReport, TermEnergy, Timings, TriFigures};
+use crate::solve::{SolveReport, SurfaceKind, TermEnergy, Timings, TriFigures};
 use crate::vec3::{norm, sub, Vec3};
 use crate::{BezierCurve, Error, Result};
 use faer::sparse::{SparseColMat, SymbolicSparseColMat};
@@ -66,16 +66,23 @@ pub struct CurveConstraint {
     pub through: Option<Vec<usize>>,
 }
 
-/// A triangular surface, its energy weights and its constraints.
-#[derive(Clone, Debug)]
-pub struct TriProblem {
-    surface: TriSurface,
-    /// The energy terms as the triangular assembly takes them.
-    terms: Vec<TriTerm>,
-    constraints: Vec<NamedConstraint>,
-    curves: Vec<CurveConstraint>,
-    continuity: Continuity,
-    operators: Vec<Operator>,
+/// A triangular surface, its energy terms, constraints, curves, continuity
+/// and operators: the core's [`crate::Problem`] over a [`TriSurface`].
+pub type TriProblem = crate::Problem<TriSurface>;
+
+/// What only a triangular surface's problem holds.
+#[derive(Clone, Debug, Default)]
+pub struct TriExtra {
+    /// Curves the surface interpolates (§4.2).
+    pub(crate) curves: Vec<CurveConstraint>,
+    /// The continuity conditions between the patches.
+    pub(crate) continuity: Continuity,
+}
+
+impl SurfaceKind for TriSurface {
+    type At = DomainPoint;
+    type Place = crate::operator::Place;
+    type Extra = TriExtra;
 }
 
 /// The factored KKT matrix of a solve, kept to solve problems that differ
@@ -281,29 +288,13 @@ impl TriProblem {
     /// The surface (its points are the initial net), no energy yet, no
     /// constraints and the default continuity ([`Continuity::default`]).
     /// Add [`crate::Stretch`] (α) and [`crate::Bend`] (β) terms: the same
-    /// terms a tensor surface's [`crate::Problem`] takes.
-    pub fn new(surface: TriSurface) -> Self {
-        Self {
-            surface,
-            terms: Vec::new(),
-            constraints: Vec::new(),
-            curves: Vec::new(),
-            continuity: Continuity::default(),
-            operators: Vec::new(),
-        }
-    }
-
-    /// Adds an energy term: [`crate::Stretch`] or [`crate::Bend`] with the
-    /// exact measure (their weights add up: α·stretch + β·bend, eq. 6–7).
-    /// The solve refuses any other, naming it.
-    pub fn with_term(mut self, term: impl EnergyTerm + 'static) -> Self {
-        self.terms.push(TriTerm::of(&term));
-        self
-    }
-
-    /// Adds a boxed energy term ([`Self::with_term`]).
-    pub fn push_term(&mut self, term: Box<dyn EnergyTerm>) {
-        self.terms.push(TriTerm::of(term.as_ref()));
+    /// terms a tensor surface's problem takes (their weights add up: α·
+    /// stretch + β·bend, eq. 6–7); the solve refuses any other, naming it.
+    /// Points are held by `Fixed` constraints ([`Self::with_fixed_boundary`]).
+    /// (Not `new`: `Problem::new(degree)` is a Bézier patch's.)
+    pub fn from_mesh(surface: TriSurface) -> Self {
+        let n = surface.point_count();
+        Self::over(surface, vec![true; n])
     }
 
     /// α·stretch + β·bend from the terms; an error naming a term the
@@ -314,17 +305,17 @@ impl TriProblem {
         }
         let mut e = InternalEnergy::new(0.0, 0.0);
         for t in &self.terms {
-            match t {
+            match TriTerm::of(t.as_ref()) {
                 TriTerm::Weights { stretch, bend } => {
-                    crate::energy::check_weight("stretch weight α", *stretch)?;
-                    crate::energy::check_weight("bend weight β", *bend)?;
+                    crate::energy::check_weight("stretch weight α", stretch)?;
+                    crate::energy::check_weight("bend weight β", bend)?;
                     e.stretch += stretch;
                     e.bend += bend;
                 }
                 TriTerm::Refused { name, expected } => {
                     return Err(Error::Mismatch {
                         what: format!("energy term {name} on a triangular surface"),
-                        expected: (*expected).into(),
+                        expected: expected.into(),
                         got: "another".into(),
                     })
                 }
@@ -356,25 +347,14 @@ impl TriProblem {
 
     /// Adds a curve constraint.
     pub fn with_curve(mut self, curve: CurveConstraint) -> Self {
-        self.curves.push(curve);
+        self.extra.curves.push(curve);
         self
     }
 
     /// Sets the continuity conditions.
     pub fn with_continuity(mut self, continuity: Continuity) -> Self {
-        self.continuity = continuity;
+        self.extra.continuity = continuity;
         self
-    }
-
-    /// Adds an external energy operator (§5).
-    pub fn with_operator(mut self, operator: Operator) -> Self {
-        self.operators.push(operator);
-        self
-    }
-
-    /// The surface as given.
-    pub fn surface(&self) -> &TriSurface {
-        &self.surface
     }
 
     /// Solves; errors name the bad constraint or say why the system has no
@@ -388,7 +368,7 @@ impl TriProblem {
     fn embed_curves(&self) -> Result<(Refinement, Vec<Chain>)> {
         let mut r = Refinement::identity(&self.surface);
         let mut chains = Vec::new();
-        for c in &self.curves {
+        for c in &self.extra.curves {
             let locate = |p: DomainPoint, which: &str| {
                 check_point(&self.surface, p, &format!("{}: `{which}` point", c.name))?;
                 Ok::<_, Error>(r.locate(p).expect("checked"))

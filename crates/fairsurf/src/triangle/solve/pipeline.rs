@@ -199,7 +199,7 @@ impl TriProblem {
             rows.extend(c.rows(&surface, &nc.name));
         }
         let user_rows = rows.len();
-        rows.extend(self.continuity.rows(&surface)?);
+        rows.extend(self.extra.continuity.rows(&surface)?);
 
         crate::budget::checkpoint()?;
         // 4. Eliminate known coordinates.

@@ -240,7 +240,7 @@ impl TriProblem {
                 violation: c.violation(surface),
             })
             .collect();
-        for (curve, (name, chain)) in self.curves.iter().zip(chains) {
+        for (curve, (name, chain)) in self.extra.curves.iter().zip(chains) {
             outcomes.push(ConstraintOutcome {
                 name: name.clone(),
                 kind: "curve",
