@@ -120,11 +120,14 @@ impl Failure {
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
-/// No transparent huge pages for this process. mimalloc asks for them on
-/// its arenas, and the kernel zeroes a whole 2 MB page at the first touch
-/// of a few kB: a fill from a JSON scene spent 15% of its process time in
-/// that zeroing (`perf`), 12.5 → 9.6 ms without it; a degree-20 solve, whose
-/// matrices fill their pages, took the same time either way.
+/// No transparent huge pages for this process (and the server's worker
+/// processes, which inherit the flag). mimalloc asks for them on its
+/// arenas, and the kernel zeroes a whole 2 MB page at the first touch of a
+/// few kB: a fill from a JSON scene spent 15% of its process time in that
+/// zeroing (`perf`); `perf stat` of `fairsurf fill fill_network.json` with
+/// and without it, same binary otherwise: 10.3–10.7 → 9.5 ms. A degree-20
+/// solve, whose matrices fill their pages, took the same time either way.
+/// (mimalloc's `MIMALLOC_ALLOW_THP=0` does the same from the environment.)
 /// Failure (an old kernel) leaves the default, which is only slower.
 fn no_huge_pages() {
     #[cfg(target_os = "linux")]

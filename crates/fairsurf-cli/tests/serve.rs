@@ -1095,3 +1095,18 @@ fn stops_using_the_cpu(scene: &Value) {
     let (status, _, _) = request(&s, "GET", "/api/examples", b"");
     assert_eq!(status, 200);
 }
+
+/// The command runs without transparent huge pages (its allocator asked
+/// for them, and the kernel zeroed 2 MB at the first touch of a few kB):
+/// the running server's /proc status says so, where the kernel reports it.
+#[cfg(target_os = "linux")]
+#[test]
+fn the_server_runs_without_transparent_huge_pages() {
+    let s = start(&[]);
+    let status = std::fs::read_to_string(format!("/proc/{}/status", s.child.id())).unwrap();
+    let Some(line) = status.lines().find(|l| l.starts_with("THP_enabled:")) else {
+        // Kernels before 5.0 do not report the flag.
+        return;
+    };
+    assert_eq!(line.split_whitespace().nth(1), Some("0"), "{line}");
+}

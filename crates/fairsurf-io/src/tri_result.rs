@@ -54,7 +54,7 @@ impl SolvedTriScene {
         if refined {
             let r = Refinement {
                 surface: s.clone(),
-                origin: self.solution.origin.clone(),
+                origin: self.solution.figures().origin.clone(),
             };
             // Regions are clipped to the split patches; points move with
             // the mesh. Edge and surface attractors are not carried over: a
@@ -165,6 +165,7 @@ impl SolvedTriScene {
 /// The points the solve held fixed, with their values.
 fn fixed_points(solution: &TriSolution) -> Vec<(usize, [f64; 3])> {
     solution
+        .figures()
         .fixed
         .iter()
         .map(|&g| (g, solution.surface.points()[g]))

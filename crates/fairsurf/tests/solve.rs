@@ -10,7 +10,7 @@ use fairsurf::{
     Stretch, TensorPatch, Vec3,
 };
 
-fn total(terms: &[Box<dyn EnergyTerm>], degree: (usize, usize), x: &[Vec3]) -> f64 {
+fn total(terms: &[std::sync::Arc<dyn EnergyTerm>], degree: (usize, usize), x: &[Vec3]) -> f64 {
     let p = TensorPatch::new(degree.0, degree.1, x.to_vec());
     terms.iter().map(|t| t.value(&p).unwrap()).sum()
 }

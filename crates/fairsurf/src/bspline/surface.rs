@@ -209,6 +209,7 @@ impl BSplineSurface {
     /// `out[r][s]` = ∂^(r+s)R/∂u^r∂v^s for r + s ≤ `order` ≤ 2 (A3.6; the
     /// others 0), without allocating for degrees below 8.
     fn partials(&self, u: f64, v: f64, order: usize) -> [[Vec3; 3]; 3] {
+        debug_assert!(order <= 2, "partials of order {order} > 2");
         let (p, q) = self.degree();
         let (ku, kv) = (self.u.span(u), self.v.span(v));
         let (wu, wv) = (p + 1, q + 1);

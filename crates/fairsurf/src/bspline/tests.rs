@@ -99,28 +99,58 @@ fn knot_rules_name_what_breaks_them() {
 #[test]
 fn the_basis_sums_to_one_and_its_derivatives_are_limits_of_differences() {
     let (u, _) = uneven();
-    let h = 1e-6;
-    for k in 0..=40 {
-        let t = k as f64 / 40.0;
-        let span = u.span(t);
-        let d = u.basis_derivatives(span, t, 3);
-        assert!((d[0].iter().sum::<f64>() - 1.0).abs() < 1e-15, "t = {t}");
-        assert!(d[0].iter().all(|&b| b >= 0.0));
-        assert!(d[1].iter().sum::<f64>().abs() < 1e-12 && d[2].iter().sum::<f64>().abs() < 1e-10);
-        // Central differences inside a span (the basis is a polynomial there).
-        let (a, b) = (u.knots()[span], u.knots()[span + 1]);
-        if t - h > a && t + h < b {
-            let (lo, hi) = (
-                u.basis_derivatives(span, t - h, 2),
-                u.basis_derivatives(span, t + h, 2),
+    // Degree 3 on uneven knots; degrees 1 and 2 (derivative rows above the
+    // degree are 0); degree 9 with interior knots (the heap buffers).
+    let more = [
+        u,
+        KnotVector::uniform(1, 4),
+        KnotVector::uniform(2, 3),
+        KnotVector::new(
+            9,
+            [vec![0.0; 10], vec![0.3, 0.55, 0.55], vec![1.0; 10]].concat(),
+        )
+        .unwrap(),
+    ];
+    for u in &more {
+        let p = u.degree();
+        let h = 1e-6;
+        for k in 0..=40 {
+            let t = k as f64 / 40.0;
+            let span = u.span(t);
+            let d = u.basis_derivatives(span, t, 3);
+            assert!(
+                (d[0].iter().sum::<f64>() - 1.0).abs() < 1e-14,
+                "p {p} t = {t}"
             );
-            for r in 0..2 {
-                for j in 0..=3 {
-                    let fd = (hi[r][j] - lo[r][j]) / (2.0 * h);
-                    assert!(
-                        (fd - d[r + 1][j]).abs() < 1e-6 * (1.0 + d[r + 1][j].abs()),
-                        "r {r} j {j} t {t}"
-                    );
+            assert!(d[0].iter().all(|&b| b >= 0.0));
+            for (r, row) in d.iter().enumerate().skip(1) {
+                let scale = row.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+                assert!(
+                    row.iter().sum::<f64>().abs() < 1e-12 * scale,
+                    "p {p} r {r} t {t}"
+                );
+                if r > p {
+                    assert!(row.iter().all(|&x| x == 0.0), "p {p} r {r}: {row:?}");
+                }
+            }
+            // Central differences inside a span (the basis is a polynomial
+            // there): each of the first three rows' derivative is the next.
+            let (a, b) = (u.knots()[span], u.knots()[span + 1]);
+            if t - h > a && t + h < b {
+                let (lo, hi) = (
+                    u.basis_derivatives(span, t - h, 3),
+                    u.basis_derivatives(span, t + h, 3),
+                );
+                for r in 0..3 {
+                    for j in 0..=p {
+                        let fd = (hi[r][j] - lo[r][j]) / (2.0 * h);
+                        let scale = 1.0 + d[r + 1][j].abs() + d[r][j].abs();
+                        assert!(
+                            (fd - d[r + 1][j]).abs() < 1e-5 * scale,
+                            "p {p} r {r} j {j} t {t}: {fd} vs {}",
+                            d[r + 1][j]
+                        );
+                    }
                 }
             }
         }
@@ -132,7 +162,7 @@ fn the_basis_sums_to_one_and_its_derivatives_are_limits_of_differences() {
     assert!(d[0].iter().zip(&bern).all(|(x, y)| (x - y).abs() < 1e-16));
 }
 
-/// Degree 7 uses stack buffers and degree 9 and 12 heap ones: every path
+/// Degrees up to 7 use stack buffers, 8 and above heap ones: every path
 /// gives the Bernstein polynomials and their derivatives without interior
 /// knots, and a B-spline patch's point and derivatives are its Bézier
 /// patch's.

@@ -503,7 +503,7 @@ mod tests {
             .solve()
             .unwrap();
         let at = TriEnergy::new(&InternalEnergy::new(1.0, 0.0), 4, Vec::new()).at(&sol.surface);
-        let fixed: std::collections::HashSet<_> = sol.fixed.iter().copied().collect();
+        let fixed: std::collections::HashSet<_> = sol.figures().fixed.iter().copied().collect();
         for (i, g) in at.gradient.iter().enumerate() {
             if !fixed.contains(&(i / 3)) {
                 assert!(g.to_f64().abs() < 1e-12, "coordinate {i}: {}", g.to_f64());

@@ -12,11 +12,21 @@ use crate::operator::{Operator, TensorPlace};
 use crate::surface::ControlNet;
 use crate::tensor::{TensorConstraint, Uv};
 use crate::{Error, Result, TensorPatch};
+use std::sync::Arc;
+
+mod sealed {
+    /// Only the crate's surface kinds are [`super::SurfaceKind`]s: each
+    /// needs a solve of its own.
+    pub trait Sealed {}
+    impl Sealed for crate::TensorPatch {}
+    impl Sealed for crate::bspline::BSplineSurface {}
+    impl Sealed for crate::TriSurface {}
+}
 
 /// A surface kind a [`Problem`] is posed on: where its constraints sit,
 /// where its operators act, and what only its problems hold. Bézier
 /// patches, B-spline surfaces and triangular surfaces are the kinds.
-pub trait SurfaceKind: Clone + std::fmt::Debug {
+pub trait SurfaceKind: Clone + std::fmt::Debug + sealed::Sealed {
     /// A point of the surface's domain: (u, v) of a tensor surface, a
     /// triangle and barycentric coordinates of a triangular one.
     type At: Clone + std::fmt::Debug + PartialEq;
@@ -64,7 +74,7 @@ impl SurfaceKind for BSplineSurface {
 /// assert!(sol.surface.point(1, 1)[2].abs() < 1e-14);
 /// assert!(sol.report.relative_gradient < 1e-14);
 /// ```
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct Problem<S: SurfaceKind = TensorPatch> {
     /// The basis and every control point: the known points' values, and
     /// where the free ones start (a quadratic energy ignores it; Newton's
@@ -73,7 +83,8 @@ pub struct Problem<S: SurfaceKind = TensorPatch> {
     /// One flag per control point, row-major (a triangular surface's
     /// points are held by `Fixed` constraints instead: all true there).
     pub(crate) free: Vec<bool>,
-    pub(crate) terms: Vec<Box<dyn EnergyTerm>>,
+    /// Shared, so a problem clones cheaply (the editor's drags, sweeps).
+    pub(crate) terms: Vec<Arc<dyn EnergyTerm>>,
     pub(crate) operators: Vec<Operator<S::Place>>,
     pub(crate) constraints: Vec<NamedConstraint<S::At>>,
     /// What only this kind's problems hold.
@@ -94,22 +105,23 @@ impl<S: SurfaceKind> Problem<S> {
     /// [`EnergyTerm::integrand`] and refuse, naming it, one they cannot
     /// integrate).
     pub fn with_term(mut self, term: impl EnergyTerm + 'static) -> Self {
-        self.terms.push(Box::new(term));
+        self.terms.push(Arc::new(term));
         self
     }
 
     /// Adds a boxed energy term.
     pub fn push_term(&mut self, term: Box<dyn EnergyTerm>) {
-        self.terms.push(term);
+        self.terms.push(Arc::from(term));
     }
 
     /// The energy terms.
-    pub fn terms(&self) -> &[Box<dyn EnergyTerm>] {
+    pub fn terms(&self) -> &[Arc<dyn EnergyTerm>] {
         &self.terms
     }
 
     /// The (first) normal-field term's λ and guide, when there is one (the
-    /// normals a report's deviation is measured against).
+    /// normals a report's deviation is measured against; a triangular
+    /// surface's solve refuses such a term).
     pub fn normal_field(&self) -> Option<NormalField> {
         self.terms.iter().find_map(|t| match t.integrand() {
             Some(Integrand::NormalField { weight, guide }) => Some(NormalField {

@@ -72,16 +72,17 @@ impl SolveOptions {
     }
 }
 
-/// A solved problem of a tensor kind: the surface and how good it is —
-/// `Solution` for a Bézier patch ([`Problem`]), `Solution<BSplineSurface>`
+/// A solved problem: the surface and how good it is — `Solution` for a
+/// Bézier patch ([`Problem`]), `Solution<BSplineSurface>`
 /// ([`crate::bspline::BSplineSolution`]) for a B-spline surface
-/// ([`crate::bspline::BSplineProblem`]).
+/// ([`crate::bspline::BSplineProblem`]), `Solution<TriSurface>`
+/// ([`crate::triangle::TriSolution`]) for a triangular surface.
 #[derive(Clone, Debug)]
 pub struct Solution<S = TensorPatch> {
     /// The surface with every control point filled.
     pub surface: S,
     /// Energies, gradient, residual, conditioning, timings: one report for
-    /// every tensor kind.
+    /// every kind.
     pub report: SolveReport,
 }
 

@@ -188,6 +188,13 @@ pub struct TriFigures {
     /// inconsistent (a phase of its own between `timings.assemble` and
     /// `timings.solve`; in `timings.total`).
     pub classify_seconds: f64,
+    /// Per patch of the result, the problem's triangle it came from and its
+    /// corners there in barycentric coordinates (curve constraints split
+    /// patches; otherwise each patch its own triangle).
+    pub origin: Vec<(usize, [[f64; 3]; 3])>,
+    /// The global control points of the result that were held (fixed
+    /// constraints, the boundary if fixed, the curves' chain edges).
+    pub fixed: Vec<usize>,
 }
 
 impl SolveReport {

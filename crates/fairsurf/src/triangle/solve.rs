@@ -182,22 +182,14 @@ pub(crate) struct Phases {
     pub solve: f64,
 }
 
-/// The solved surface and its report.
-#[derive(Clone, Debug)]
-pub struct TriSolution {
-    /// The result (refined by curve constraints, if any).
-    pub surface: TriSurface,
-    /// Where its triangles lie in the original domain.
-    pub origin: Vec<(usize, [[f64; 3]; 3])>,
-    /// The global control points of the result that were held fixed
-    /// (fixed constraints, the boundary if fixed, the curves' chain edges).
-    pub fixed: Vec<usize>,
-    /// How good it is: the report every surface kind gives, with the
-    /// triangular figures in [`SolveReport::triangular`].
-    pub report: SolveReport,
-}
+/// The solved triangular surface (refined by curve constraints, if any)
+/// and its report: the core's [`crate::Solution`] over a [`TriSurface`];
+/// where the result's triangles lie in the problem's mesh and which points
+/// were held are in its figures ([`TriFigures::origin`],
+/// [`TriFigures::fixed`]).
+pub type TriSolution = crate::Solution<TriSurface>;
 
-impl TriSolution {
+impl crate::Solution<TriSurface> {
     /// The triangular figures of the report (mesh, rows, continuity
     /// residuals, edge angles): [`SolveReport::triangular`], which the
     /// triangular solve always fills.
@@ -213,7 +205,8 @@ impl TriSolution {
     /// constraints split patches) and contains the point, evaluated there.
     /// None when no result patch came from it or contains the point.
     pub fn point_at(&self, triangle: usize, bary: [f64; 3]) -> Option<Vec3> {
-        self.origin
+        self.figures()
+            .origin
             .iter()
             .enumerate()
             .filter(|(_, (from, _))| *from == triangle)
@@ -324,7 +317,12 @@ impl TriProblem {
         Ok(e)
     }
 
-    /// Adds a constraint.
+    /// Adds a constraint at a point of the mesh (Veltkamp & Wesselink
+    /// §4.1). Unlike a tensor surface's, a `Fixed` one stays a constraint:
+    /// it holds the global control point's coordinates in the solve, is
+    /// reported with its violation among `report.constraints`, and two
+    /// that disagree on a point are reported inconsistent (a tensor
+    /// surface's problem holds the point itself, the last value winning).
     pub fn with_constraint(mut self, name: impl Into<String>, constraint: Constraint) -> Self {
         self.constraints.push(NamedConstraint {
             name: name.into(),

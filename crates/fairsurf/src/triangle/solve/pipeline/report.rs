@@ -151,6 +151,7 @@ impl TriProblem {
         let fixed: Vec<usize> = (0..surface.point_count())
             .filter(|g| (0..3).all(|c| known[3 * g + c].is_some()))
             .collect();
+        let free_points = surface.point_count() - fixed.len();
         let triangular = TriFigures {
             patches: surface.patch_count(),
             vertices: surface.vertex_count(),
@@ -168,6 +169,8 @@ impl TriProblem {
             normal_turn: largest_tri_normal_turn(&surface, 2 * surface.degree() + 2),
             refine_seconds: seconds.refine,
             classify_seconds: seconds.classify,
+            origin: refinement.origin,
+            fixed,
         };
         let before = seconds.refine + seconds.assemble + seconds.classify + seconds.solve;
         let total = start.elapsed().as_secs_f64();
@@ -197,7 +200,7 @@ impl TriProblem {
             basis: "triangular".into(),
             refinement_steps: kkt.map_or(0, |k| k.refinement_steps),
             unknowns: free.len(),
-            free_points: surface.point_count() - fixed.len(),
+            free_points,
             coupled: kkt.is_some_and(|k| !k.per_coordinate),
             reused: solved.reused,
             reused_symbolic: kkt.is_some_and(|k| k.reused_symbolic),
@@ -215,12 +218,7 @@ impl TriProblem {
             },
             triangular: Some(Box::new(triangular)),
         };
-        let solution = TriSolution {
-            surface,
-            origin: refinement.origin,
-            fixed,
-            report,
-        };
+        let solution = TriSolution { surface, report };
         Ok((solution, factor))
     }
 
