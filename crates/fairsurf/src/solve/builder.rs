@@ -1,9 +1,10 @@
-//! One problem type for every tensor kind: the surface (its basis, the
+//! One problem type for every surface kind: the surface (its basis, the
 //! known points' values, where the free ones start), which control points
-//! are free, the energy terms, the constraints at (u, v) and the external
-//! energy operators. What the kinds share is built here once; each kind
-//! adds its constructors and its solve (a Bézier patch's dense solve in
-//! `problem.rs`, a B-spline's sparse one in `crate::bspline`).
+//! are free, the energy terms, the constraints at points of the domain and
+//! the external energy operators. What the kinds share is built here once;
+//! each kind adds its constructors and its solve (a Bézier patch's dense
+//! solve in `problem.rs`, a B-spline's sparse one in `crate::bspline`, a
+//! triangular surface's KKT solve in `crate::triangle`).
 
 use crate::bspline::BSplineSurface;
 use crate::constraint::NamedConstraint;
