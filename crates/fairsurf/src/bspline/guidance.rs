@@ -91,16 +91,20 @@ impl SpanGrid {
                                 }
                             }
                         }
+                        // The (c, d) block is symmetric in its basis pair
+                        // (a, b) (both factors are): its upper triangle
+                        // a ≤ b here, the rest mirrored below.
                         let b = &self.bu[s][ku];
                         for i in 0..pu {
-                            for i2 in 0..pu {
+                            for i2 in i..pu {
                                 let f = b[i] * b[i2];
                                 if f == 0.0 {
                                     continue;
                                 }
                                 for j in 0..pv {
                                     let row = 3 * (i * pv + j) + c;
-                                    for j2 in 0..pv {
+                                    let from = if i2 == i { j } else { 0 };
+                                    for j2 in from..pv {
                                         let col = 3 * (i2 * pv + j2) + d;
                                         local[row * m + col] += f * t[j * pv + j2];
                                     }
@@ -109,12 +113,14 @@ impl SpanGrid {
                         }
                     }
                 }
-                if c != d {
-                    // The (d, c) blocks are the transposes' entries.
-                    for a in 0..size {
-                        for b in 0..size {
-                            local[(3 * a + d) * m + 3 * b + c] = local[(3 * b + c) * m + 3 * a + d];
-                        }
+                // Mirror: entry (3b + c, 3a + d) = (3a + c, 3b + d) for a < b,
+                // and the (d, c) block is the (c, d) one.
+                for a in 0..size {
+                    for b in a..size {
+                        let v = local[(3 * a + c) * m + 3 * b + d];
+                        local[(3 * b + c) * m + 3 * a + d] = v;
+                        local[(3 * a + d) * m + 3 * b + c] = v;
+                        local[(3 * b + d) * m + 3 * a + c] = v;
                     }
                 }
             }
