@@ -20,7 +20,7 @@ use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
 };
 use faer::reborrow::{Reborrow, ReborrowMut};
-use faer::{Accum, Mat, MatMut};
+use faer::{Accum, Mat, MatMut, MatRef, Par};
 
 /// Options for [`SpdFactor::new`].
 #[derive(Clone, Copy, Debug)]
@@ -151,6 +151,23 @@ pub(crate) enum CholeskyStop {
 /// system takes a few tens of milliseconds, the longest a cancelled
 /// factorization runs on.
 const PANEL: usize = 256;
+
+/// A B, on this thread below about 4·10⁶ multiply-adds, else with faer's
+/// global parallelism. faer's `*` always takes the global setting, which on
+/// the editor's drags (a 121-point guide's H s, the rows' H x) woke the
+/// pool for microseconds of work and left its threads spinning in
+/// `sched_yield` (14–17% of the server's samples on 2 cores).
+pub(crate) fn product(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
+    let work = a.nrows() * a.ncols() * b.ncols();
+    let par = if work < 4_000_000 {
+        Par::Seq
+    } else {
+        faer::get_global_parallelism()
+    };
+    let mut out = Mat::<f64>::zeros(a.nrows(), b.ncols());
+    faer::linalg::matmul::matmul(out.as_mut(), Accum::Replace, a, b, 1.0, par);
+    out
+}
 
 /// A = L Lᵀ in place (the lower triangle becomes L; the strict upper
 /// triangle is left as it was), right-looking by panels of [`PANEL`]

@@ -274,7 +274,7 @@ impl Factored {
         let free = &self.free;
         let rows = free_rows(free, self.coupled);
         // x has zeros at free rows, so H x = H_FK x_K on the free rows.
-        let hx = &self.h * &sys.x;
+        let hx = super::dense::product(self.h.as_ref(), sys.x.as_ref());
         let rhs = Mat::from_fn(rows.len(), sys.b.ncols(), |i, c| {
             sys.b[(rows[i], c)] - hx[(rows[i], c)]
         });

@@ -471,14 +471,17 @@ pub(super) fn center_rhs(term: &Hessian, s: &[Vec3], coupled: bool) -> Mat<f64> 
     let np = s.len();
     match term {
         Hessian::PerCoordinate(m) => {
-            let r = m * Mat::from_fn(np, 3, |p, c| s[p][c]);
+            let r = super::dense::product(m.as_ref(), Mat::from_fn(np, 3, |p, c| s[p][c]).as_ref());
             if coupled {
                 Mat::from_fn(3 * np, 1, |i, _| r[(i / 3, i % 3)])
             } else {
                 r
             }
         }
-        Hessian::Coupled(m) => m * Mat::from_fn(3 * np, 1, |i, _| s[i / 3][i % 3]),
+        Hessian::Coupled(m) => super::dense::product(
+            m.as_ref(),
+            Mat::from_fn(3 * np, 1, |i, _| s[i / 3][i % 3]).as_ref(),
+        ),
     }
 }
 
