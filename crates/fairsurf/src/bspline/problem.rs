@@ -27,9 +27,6 @@ const SAMPLED_GUIDE: &str = "the exact integral (B-spline surfaces integrate the
 pub(super) struct Energies {
     /// Per term, in the problem's order: its name and what it adds.
     pub(super) parts: Vec<(&'static str, Part)>,
-    /// (coefficient, r, s) of every fairness term's derivative patterns,
-    /// the term's weight multiplied in: Σ c · M_r^u ⊗ M_s^v.
-    pub(super) pats: Vec<(f64, usize, usize)>,
     /// The normal-field term (at most one).
     pub(super) normal: Option<NormalTerm>,
     /// γ and the guide's net on the surface's knots (at most one guide).
@@ -51,6 +48,22 @@ pub(super) enum Part {
 }
 
 impl Energies {
+    /// (coefficient, r, s) of every fairness term's derivative patterns,
+    /// the term's weight multiplied in (zero ones left out): Σ c · M_r^u ⊗
+    /// M_s^v.
+    pub(super) fn pats(&self) -> Vec<(f64, usize, usize)> {
+        self.parts
+            .iter()
+            .filter_map(|(_, part)| match part {
+                Part::Fairness(p) => Some(p),
+                _ => None,
+            })
+            .flatten()
+            .filter(|p| p.0 != 0.0)
+            .copied()
+            .collect()
+    }
+
     /// ½γ∫|S − PS|² for a guide on other knots (0 otherwise).
     pub(super) fn guide_rest(&self) -> f64 {
         match (&self.guide, &self.guide_source) {
@@ -79,7 +92,6 @@ impl BSplineProblem {
     pub(super) fn energies(&self) -> Result<Energies> {
         let mut out = Energies {
             parts: Vec::new(),
-            pats: Vec::new(),
             normal: None,
             guide: None,
             guide_source: None,
@@ -124,7 +136,6 @@ impl BSplineProblem {
                         .iter()
                         .map(|&((r, s), c)| (weight * c, r, s))
                         .collect();
-                    out.pats.extend(pats.iter().filter(|p| p.0 != 0.0));
                     Part::Fairness(pats)
                 }
                 Some(Integrand::NormalField { weight, guide }) => {

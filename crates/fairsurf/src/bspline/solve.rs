@@ -74,7 +74,7 @@ impl BSplineProblem {
         let en = self.energies()?;
         let lambda = en.normal.as_ref().map_or(0.0, |n| n.weight);
         let gamma = en.guide.as_ref().map_or(0.0, |g| g.0);
-        let pats = &en.pats;
+        let pats = &en.pats();
         if pats.is_empty() && lambda == 0.0 && gamma == 0.0 {
             return Err(Error::NoEnergy);
         }
@@ -323,7 +323,7 @@ impl BSplineProblem {
         let en = self.energies()?;
         let (ku, kv) = surface.knots();
         let (pieces, degree) = (surface.bezier_pieces(), surface.degree());
-        let mut e = energy_by_pieces(&pieces, degree, &en.pats);
+        let mut e = energy_by_pieces(&pieces, degree, &en.pats());
         if let Some(n) = &en.normal {
             e += n.value(surface);
         }
@@ -354,7 +354,7 @@ impl BSplineProblem {
             slot[k] = s;
         }
         let x0 = self.surface.points();
-        let (pats, gamma) = (&en.pats, en.guide.as_ref().map_or(0.0, |g| g.0));
+        let (pats, gamma) = (&en.pats(), en.guide.as_ref().map_or(0.0, |g| g.0));
         let nf = free.len();
         let (dim, cols) = if coupled { (3 * nf, 1) } else { (nf, 3) };
         let mut sys = System {

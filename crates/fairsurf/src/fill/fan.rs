@@ -446,6 +446,7 @@ fn finish(
     let solved = problem.solve()?;
     let solve = t1.elapsed().as_secs_f64();
     let t2 = Instant::now();
+    let inner_angle = solved.figures().max_edge_normal_angle.map_or(0.0, |a| a.0);
     let surface = solved.surface;
     let sides = (0..hole.sides.len())
         .map(|k| {
@@ -469,10 +470,6 @@ fn finish(
         curvature.value += w.value;
         curvature.error += w.error;
     }
-    // `figures()` would borrow the moved-from solution.
-    let inner_angle = (solved.report.triangular.as_ref())
-        .and_then(|t| t.max_edge_normal_angle)
-        .map_or(0.0, |a| a.0);
     let measure = t2.elapsed().as_secs_f64();
     Ok(FanFill {
         surface,
