@@ -12,6 +12,7 @@
 //! out.
 
 use crate::basis::GaussLegendre;
+use crate::tensor::{GridRows, GRID_LANES};
 use crate::vec3::{cross, norm};
 use crate::TensorPatch;
 
@@ -44,36 +45,37 @@ pub const AREA_MAX_PANELS: usize = 4_000;
 pub fn area(patch: &TensorPatch) -> Area {
     let (n, m) = patch.degree();
     let gl = GaussLegendre::new(n.max(m) + 4);
-    let mut evaluations = 0;
-    // A leaf: the panel, its rule split in four, and |split − whole|.
-    let mut leaf = |q: (f64, f64, f64), whole: f64| -> Leaf {
-        let c = q.2 / 2.0;
-        let kids = [
-            (q.0, q.1, c),
-            (q.0 + c, q.1, c),
-            (q.0, q.1 + c, c),
-            (q.0 + c, q.1 + c, c),
-        ];
-        let vals = kids.map(|k| panel(patch, &gl, k));
-        evaluations += 4;
+    // A leaf: the panel, its rule on its four children, and |split − whole|.
+    let leaf = |q: (f64, f64, f64), whole: f64, vals: [f64; 4]| -> Leaf {
         let sum: f64 = vals.iter().sum();
         Leaf {
             error: (sum - whole).abs(),
             value: sum,
-            kids,
+            kids: children(q),
             kid_values: vals,
         }
     };
-    // Start from a uniform 2×2 grid of panels, then always split the leaf
-    // with the largest error (global adaptivity: cheap on kinks along curves
-    // as well as at points).
+    let split = |q, whole| leaf(q, whole, children(q).map(|k| panel(patch, &gl, k)));
+    // Start from a uniform 2×2 grid of panels with their 4×4 children (two
+    // tensor grids of nodes, evaluated a row at a time), then always split
+    // the leaf with the largest error (global adaptivity: cheap on kinks
+    // along curves as well as at points).
     let k = 2;
     let h = 1.0 / k as f64;
+    let (whole, kids) = (
+        uniform_panels(patch, &gl, k),
+        uniform_panels(patch, &gl, 2 * k),
+    );
     let mut heap = std::collections::BinaryHeap::new();
     for p in 0..k * k {
-        let q = ((p / k) as f64 * h, (p % k) as f64 * h, h);
-        let whole = panel(patch, &gl, q);
-        heap.push(leaf(q, whole));
+        let (i, j) = (p / k, p % k);
+        let q = (i as f64 * h, j as f64 * h, h);
+        let kid = |di: usize, dj: usize| kids[(2 * i + di) * 2 * k + 2 * j + dj];
+        heap.push(leaf(
+            q,
+            whole[p],
+            [kid(0, 0), kid(1, 0), kid(0, 1), kid(1, 1)],
+        ));
     }
     let total = |heap: &std::collections::BinaryHeap<Leaf>| -> (f64, f64) {
         heap.iter()
@@ -86,12 +88,24 @@ pub fn area(patch: &TensorPatch) -> Area {
     {
         let worst = heap.pop().expect("never empty");
         for (q, v) in worst.kids.into_iter().zip(worst.kid_values) {
-            heap.push(leaf(q, v));
+            heap.push(split(q, v));
         }
         // Re-summing keeps the totals free of cancellation drift.
         (value, error) = total(&heap);
     }
     Area { value, error }
+}
+
+/// The four quarters of the panel (u0, v0, side h), in the order the
+/// uniform start lists them: (0, 0), (1, 0), (0, 1), (1, 1).
+fn children((u0, v0, h): (f64, f64, f64)) -> [(f64, f64, f64); 4] {
+    let c = h / 2.0;
+    [
+        (u0, v0, c),
+        (u0 + c, v0, c),
+        (u0, v0 + c, c),
+        (u0 + c, v0 + c, c),
+    ]
 }
 
 struct Leaf {
@@ -137,9 +151,87 @@ fn panel(patch: &TensorPatch, gl: &GaussLegendre, (u0, v0, h): (f64, f64, f64)) 
     total * h * h
 }
 
+/// [`panel`] on each panel of the uniform k × k partition of [0, 1]²
+/// (u-major: entry i·k + j at (i/k, j/k)), the same sums in the same order,
+/// from one tensor grid of all the panels' nodes evaluated a row at a time.
+fn uniform_panels(patch: &TensorPatch, gl: &GaussLegendre, k: usize) -> Vec<f64> {
+    let h = 1.0 / k as f64;
+    let q = gl.nodes.len();
+    let ts: Vec<f64> = (0..k)
+        .flat_map(|i| gl.nodes.iter().map(move |&s| i as f64 * h + s * h))
+        .collect();
+    let mut sums = Sums {
+        gl,
+        k,
+        dn: vec![0.0; (k * q).next_multiple_of(GRID_LANES)],
+        totals: vec![0.0; k * k],
+    };
+    patch.grid_rows(&ts, &ts, [(1, 0), (0, 1)], &mut sums);
+    sums.totals.iter().map(|t| t * h * h).collect()
+}
+
+/// [`uniform_panels`]' running sums: per panel Σ_a w_a Σ_b w_b |R_u × R_v|.
+struct Sums<'a> {
+    gl: &'a GaussLegendre,
+    k: usize,
+    /// |R_u × R_v| along the row.
+    dn: Vec<f64>,
+    totals: Vec<f64>,
+}
+
+impl GridRows<2> for Sums<'_> {
+    #[inline(always)]
+    fn row(&mut self, a: usize, [du, dv]: &[[Vec<f64>; 3]; 2]) {
+        for (c, dn) in self.dn.chunks_exact_mut(GRID_LANES).enumerate() {
+            let [u0, u1, u2, v0, v1, v2] =
+                [&du[0], &du[1], &du[2], &dv[0], &dv[1], &dv[2]].map(|x| -> &[f64; GRID_LANES] {
+                    x[c * GRID_LANES..][..GRID_LANES]
+                        .try_into()
+                        .expect("GRID_LANES long")
+                });
+            for t in 0..GRID_LANES {
+                let n = cross([u0[t], u1[t], u2[t]], [v0[t], v1[t], v2[t]]);
+                dn[t] = norm(n);
+            }
+        }
+        let q = self.gl.nodes.len();
+        let (i, wa) = (a / q, self.gl.weights[a % q]);
+        for j in 0..self.k {
+            let row: f64 = (0..q)
+                .map(|b| self.gl.weights[b] * self.dn[j * q + b])
+                .sum();
+            self.totals[i * self.k + j] += wa * row;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The uniform start's panels, evaluated from one tensor grid a row at
+    /// a time, are bit for bit the panels evaluated one by one.
+    #[test]
+    fn uniform_panels_are_the_single_panels() {
+        for (n, m) in [(5, 5), (3, 7), (1, 2)] {
+            let p = TensorPatch::from_fn(n, m, |i, j| {
+                let (u, v) = (i as f64 / n as f64, j as f64 / m as f64);
+                [u + 0.2 * v * v, v, 0.4 * (3.0 * u).sin() * (2.0 * v).cos()]
+            });
+            let gl = GaussLegendre::new(n.max(m) + 4);
+            for k in [1, 2, 4, 3] {
+                let h = 1.0 / k as f64;
+                let one_by_one: Vec<f64> = (0..k * k)
+                    .map(|q| panel(&p, &gl, ((q / k) as f64 * h, (q % k) as f64 * h, h)))
+                    .collect();
+                assert_eq!(
+                    uniform_panels(&p, &gl, k),
+                    one_by_one,
+                    "({n}, {m}), k = {k}"
+                );
+            }
+        }
+    }
 
     /// A hemisphere-like patch has no closed-form area, but the paraboloid
     /// z = x² + y² over [0,1]² has: compare with a 1D closed form reduced

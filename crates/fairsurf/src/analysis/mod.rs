@@ -7,6 +7,7 @@ mod curvature;
 mod folds;
 mod functionals;
 mod normals;
+mod scan;
 
 pub use area::{area, Area, AREA_TOLERANCE};
 pub use continuity::{continuity, Continuity, Edge, Stat};
@@ -42,17 +43,15 @@ pub struct SurfaceMeasures {
 /// patch.
 pub fn measures(patch: &TensorPatch) -> SurfaceMeasures {
     let a = area(patch);
-    // One derivative grid serves the |H| statistics and the normal turn.
-    let k = CURVATURE_GRID;
-    let ts = curvature::unit_grid(k);
-    let grid = patch.derivatives_on(&ts, &ts);
-    let (abs_mean_curvature, normals) = curvature::abs_mean_curvature_and_normals(&grid, k);
+    // One pass over the derivative grid serves the |H| statistics and the
+    // normal turn.
+    let (abs_mean_curvature, normal_turn) = scan::curvature_and_turn(patch, CURVATURE_GRID);
     SurfaceMeasures {
         area: a.value,
         area_error: a.error,
         dirichlet: dirichlet(patch),
         biharmonic: biharmonic(patch),
         abs_mean_curvature,
-        normal_turn: folds::largest_normal_turn_of(&normals, k),
+        normal_turn,
     }
 }

@@ -5,4 +5,5 @@ mod patch;
 
 pub use constraint::{TensorConstraint, Uv};
 
+pub(crate) use patch::{GridRows, GRID_LANES};
 pub use patch::{SurfaceDerivatives, TensorPatch};

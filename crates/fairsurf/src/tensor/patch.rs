@@ -3,6 +3,7 @@
 
 use crate::basis::{bernstein_derivatives, bernstein_derivatives_into};
 use crate::curve::{de_casteljau_split, elevate_points};
+use crate::solve::dense::with_fma;
 use crate::vec3::{add, cross, dot, is_finite, norm, normalize, scale, Vec3};
 use crate::{Error, Result};
 
@@ -21,6 +22,20 @@ use crate::{Error, Result};
 pub struct TensorPatch {
     degree: (usize, usize),
     points: Vec<Vec3>,
+}
+
+/// Points per chunk of a row of [`TensorPatch::grid_rows`]: its rows are
+/// padded to a multiple.
+pub(crate) const GRID_LANES: usize = 8;
+
+/// What takes a grid's rows from [`TensorPatch::grid_rows`].
+pub(crate) trait GridRows<const K: usize> {
+    /// Row `a`: `rows[k][c][b]` is coordinate c of the k-th order at the
+    /// row's b-th point, for b below the grid's row length rounded up to a
+    /// multiple of [`GRID_LANES`] (the points past the row repeat its last
+    /// one). Mark it `#[inline(always)]` to have it compiled for the vector
+    /// width with the evaluation.
+    fn row(&mut self, a: usize, rows: &[[Vec<f64>; 3]; K]);
 }
 
 /// Position and partial derivatives up to second order at one (u, v).
@@ -225,15 +240,7 @@ impl TensorPatch {
         let mut bu = vec![0.0; bn];
         let mut q = vec![[0.0; 3]; bm];
         for &u in us {
-            bernstein_derivatives_into(n, u, &mut bu);
-            for r in 0..=top {
-                let w = &bu[r * (n + 1)..(r + 1) * (n + 1)];
-                for j in 0..=m {
-                    q[r * (m + 1) + j] = (0..=n).fold([0.0; 3], |acc, i| {
-                        add(acc, scale(self.points[i * (m + 1) + j], w[i]))
-                    });
-                }
-            }
+            self.contract_u(u, &mut bu, &mut q);
             for b in bv.chunks(bm) {
                 let mut vals = [[0.0; 3]; K];
                 for (val, &(r, s)) in vals.iter_mut().zip(&orders) {
@@ -246,6 +253,103 @@ impl TensorPatch {
                 }
                 emit(vals);
             }
+        }
+    }
+
+    /// q[(r, j)] = Σ_i dʳB_i^n(u) P_ij for r = 0 … (its length over m + 1) − 1,
+    /// summed over i in order; `bu` holds the basis rows (as many as `q`).
+    #[inline(always)]
+    fn contract_u(&self, u: f64, bu: &mut [f64], q: &mut [Vec3]) {
+        let (n, m) = self.degree;
+        bernstein_derivatives_into(n, u, bu);
+        for (r, qr) in q.chunks_exact_mut(m + 1).enumerate() {
+            let w = &bu[r * (n + 1)..(r + 1) * (n + 1)];
+            for (j, qj) in qr.iter_mut().enumerate() {
+                *qj = (0..=n).fold([0.0; 3], |acc, i| {
+                    add(acc, scale(self.points[i * (m + 1) + j], w[i]))
+                });
+            }
+        }
+    }
+
+    /// ∂^(r+s)R/∂u^r∂v^s for each (r, s) of `orders` on a tensor grid, one
+    /// row (one u) at a time, coordinates apart: `sink.row(a, rows)` with
+    /// `rows[k][c][b]` the coordinate c of order k at (`us[a]`, `vs[b]`) (see
+    /// [`GridRows`] for the padding) — the
+    /// same sums in the same order as [`TensorPatch::derivatives_on`], so the
+    /// same bits, but the loop over a row's points is contiguous and
+    /// vectorizes. Compiled for the CPU's vector width ([`with_fma`]), with
+    /// the sink's `row` inlined into it.
+    pub(crate) fn grid_rows<const K: usize>(
+        &self,
+        us: &[f64],
+        vs: &[f64],
+        orders: [(usize, usize); K],
+        sink: &mut impl GridRows<K>,
+    ) {
+        let sink = std::cell::RefCell::new(sink);
+        with_fma(
+            || self.grid_rows_with(us, vs, orders, *sink.borrow_mut()),
+            || self.grid_rows_with(us, vs, orders, *sink.borrow_mut()),
+        )
+    }
+
+    #[inline(always)]
+    fn grid_rows_with<const K: usize>(
+        &self,
+        us: &[f64],
+        vs: &[f64],
+        orders: [(usize, usize); K],
+        sink: &mut impl GridRows<K>,
+    ) {
+        let (n, m) = self.degree;
+        let Some(&last) = vs.last() else { return };
+        // Rows padded to whole chunks of GRID_LANES points (the padding
+        // repeats the last v).
+        let np = vs.len().next_multiple_of(GRID_LANES);
+        let top = orders.iter().map(|&(r, s)| r.max(s)).max().unwrap_or(0);
+        // bv[(s·(m+1) + j)·np + b] = dˢB_j^m(v_b): per (s, j) a row over the
+        // grid's v's.
+        let (bn, bm) = ((top + 1) * (n + 1), (top + 1) * (m + 1));
+        let mut bv = vec![0.0; bm * np];
+        let mut one = vec![0.0; bm];
+        for b in 0..np {
+            bernstein_derivatives_into(m, vs.get(b).copied().unwrap_or(last), &mut one);
+            for (sj, &w) in one.iter().enumerate() {
+                bv[sj * np + b] = w;
+            }
+        }
+        let mut bu = vec![0.0; bn];
+        let mut q = vec![[0.0; 3]; bm];
+        let mut rows: [[Vec<f64>; 3]; K] =
+            std::array::from_fn(|_| std::array::from_fn(|_| vec![0.0; np]));
+        for (a, &u) in us.iter().enumerate() {
+            self.contract_u(u, &mut bu, &mut q);
+            for (row, &(r, s)) in rows.iter_mut().zip(&orders) {
+                let (qr, bs) = (
+                    &q[r * (m + 1)..][..=m],
+                    &bv[s * (m + 1) * np..][..(m + 1) * np],
+                );
+                for k in 0..np / GRID_LANES {
+                    // The chunk's sums (three coordinates) stay in registers
+                    // over j.
+                    let mut acc = [[0.0; GRID_LANES]; 3];
+                    for (j, p) in qr.iter().enumerate() {
+                        let w: &[f64; GRID_LANES] = bs[j * np + k * GRID_LANES..][..GRID_LANES]
+                            .try_into()
+                            .expect("GRID_LANES long");
+                        for (ac, &pc) in acc.iter_mut().zip(p) {
+                            for (o, &wt) in ac.iter_mut().zip(w) {
+                                *o += pc * wt;
+                            }
+                        }
+                    }
+                    for (out, ac) in row.iter_mut().zip(&acc) {
+                        out[k * GRID_LANES..][..GRID_LANES].copy_from_slice(ac);
+                    }
+                }
+            }
+            sink.row(a, &rows);
         }
     }
 
@@ -341,6 +445,43 @@ mod tests {
                 (3.0 * x).sin() * (2.0 * y).cos(),
             ]
         })
+    }
+
+    /// The rows, coordinates apart and padded, are bit for bit the grid
+    /// of derivatives, and the padding repeats the row's last point.
+    #[test]
+    fn grid_rows_are_derivatives_on() {
+        struct Keep(Vec<[Vec<f64>; 3]>);
+        impl GridRows<6> for Keep {
+            fn row(&mut self, _: usize, rows: &[[Vec<f64>; 3]; 6]) {
+                self.0.extend(rows.iter().cloned());
+            }
+        }
+        let p = wavy();
+        let (us, vs) = (
+            [0.0, 0.3, 1.0],
+            [0.1, 0.25, 0.5, 0.7, 0.75, 0.8, 0.9, 0.95, 1.0, 0.05],
+        );
+        let orders = [(0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2)];
+        let mut keep = Keep(Vec::new());
+        p.grid_rows(&us, &vs, orders, &mut keep);
+        let d = p.derivatives_on(&us, &vs);
+        assert_eq!(keep.0.len(), 6 * us.len());
+        let all = |x: &SurfaceDerivatives| [x.point, x.du, x.dv, x.duu, x.duv, x.dvv];
+        for (a, rows) in keep.0.chunks(6).enumerate() {
+            let row_d = &d[a * vs.len()..][..vs.len()];
+            for (o, row) in rows.iter().enumerate() {
+                assert_eq!(row[0].len(), 16);
+                for b in 0..16 {
+                    let want = all(&row_d[b.min(vs.len() - 1)])[o];
+                    assert_eq!(
+                        [row[0][b], row[1][b], row[2][b]],
+                        want,
+                        "row {a}, order {o}"
+                    );
+                }
+            }
+        }
     }
 
     #[test]
