@@ -184,7 +184,11 @@ impl Table {
     /// term, are left out), at a third of the cost, and the loop over a row
     /// of B vectorizes.
     pub fn mul(&self, b: &Table) -> Table {
-        with_fma(|| self.mul_with::<true>(b), || self.mul_with::<false>(b))
+        with_fma(
+            #[inline(always)]
+            || self.mul_with::<true>(b),
+            || self.mul_with::<false>(b),
+        )
     }
 
     #[inline(always)]

@@ -287,21 +287,6 @@ pub(crate) fn power_iteration(n: usize, step: &dyn Fn(&Mat<f64>) -> Mat<f64>) ->
     lambda
 }
 
-/// B − H X with every entry computed by a compensated dot product (about
-/// twice the working precision before the final rounding).
-pub(crate) fn residual(h: &Mat<f64>, x: &Mat<f64>, b: &Mat<f64>) -> Mat<f64> {
-    let n = h.nrows();
-    let mut r = Mat::<f64>::zeros(n, x.ncols());
-    for c in 0..x.ncols() {
-        let (xc, bc) = (x.col_as_slice(c), b.col_as_slice(c));
-        for (i, ri) in r.col_as_slice_mut(c).iter_mut().enumerate() {
-            // Row i of symmetric H is its column i, contiguous in memory.
-            *ri = dot2_residual(bc[i], h.col_as_slice(i), xc);
-        }
-    }
-    r
-}
-
 /// Runs `fast` compiled for and on a CPU with fused multiply-add (x86-64-v3
 /// and up, detected at run time), else `portable`: the two are the same
 /// computation with [`two_product_err`]'s two exact forms. What `fast`
@@ -317,31 +302,68 @@ pub(crate) fn with_fma<R>(fast: impl FnOnce() -> R, portable: impl FnOnce() -> R
     }
 }
 
+/// B − H X with every entry computed by a compensated dot product (about
+/// twice the working precision before the final rounding).
+pub(crate) fn residual(h: &Mat<f64>, x: &Mat<f64>, b: &Mat<f64>) -> Mat<f64> {
+    with_fma(
+        #[inline(always)]
+        || residual_with::<true>(h, x, b),
+        || residual_with::<false>(h, x, b),
+    )
+}
+
+#[inline(always)]
+fn residual_with<const FMA: bool>(h: &Mat<f64>, x: &Mat<f64>, b: &Mat<f64>) -> Mat<f64> {
+    let n = h.nrows();
+    let mut r = Mat::<f64>::zeros(n, x.ncols());
+    for c in 0..x.ncols() {
+        let (xc, bc) = (x.col_as_slice(c), b.col_as_slice(c));
+        for (i, ri) in r.col_as_slice_mut(c).iter_mut().enumerate() {
+            // Row i of symmetric H is its column i, contiguous in memory.
+            *ri = dot2_residual_with::<FMA>(bc[i], h.col_as_slice(i), xc);
+        }
+    }
+    r
+}
+
 /// b − Σ a_j x_j by Ogita, Rump & Oishi's Dot2 (2005): error-free products
-/// (Dekker's TwoProduct) and sums (Knuth's TwoSum), errors accumulated apart.
+/// (TwoProduct) and sums (Knuth's TwoSum), errors accumulated apart.
 ///
-/// Four independent Dot2 accumulators over interleaved terms, joined by
-/// error-free sums at the end: one chain of TwoSums is bound by its latency,
-/// four run side by side (the error bound is Dot2's with n/4 + 4 terms).
-/// Dekker's splitting rather than a fused multiply-add: without the `fma`
-/// target feature (the portable x86-64 build) `mul_add` is a library call,
-/// and compiled for FMA ([`with_fma`]) this loop measured 1.6× slower
-/// (degree-20 refinement residual: 5.5 ms against 3.4 ms). Exact products while |a_j|, |x_j| < 2^995 or so (the
-/// split by 2^27 + 1 must not overflow).
+/// [`DOT2_LANES`] independent Dot2 accumulators over interleaved terms,
+/// joined by error-free sums at the end: one chain of TwoSums is bound by
+/// its latency, many run side by side in vector registers (the error bound
+/// is Dot2's with n/L + L terms). Compiled for and run with fused
+/// multiply-add where the CPU has it ([`with_fma`]: the product's error is
+/// one FMA, the lanes fill AVX2 registers), else with Dekker's split; both
+/// give the product's error exactly, so the same bits. Exact products while
+/// |a_j|, |x_j| < 2^995 or so (the split by 2^27 + 1 must not overflow).
+/// Inside another [`with_fma`] context call [`dot2_residual_with`] instead:
+/// the dispatch is per call here.
 pub(crate) fn dot2_residual(b: f64, a: &[f64], x: &[f64]) -> f64 {
-    const LANES: usize = 4;
-    let mut s = [0.0; LANES];
-    let mut c = [0.0; LANES];
+    with_fma(
+        #[inline(always)]
+        || dot2_residual_with::<true>(b, a, x),
+        || dot2_residual_with::<false>(b, a, x),
+    )
+}
+
+/// Lanes of [`dot2_residual`]: four AVX2 registers of accumulators.
+const DOT2_LANES: usize = 16;
+
+/// [`dot2_residual`] with the product's error by FMA (`FMA = true`: only
+/// inside [`with_fma`]'s fast branch) or by Dekker's split.
+#[inline(always)]
+pub(crate) fn dot2_residual_with<const FMA: bool>(b: f64, a: &[f64], x: &[f64]) -> f64 {
+    const L: usize = DOT2_LANES;
+    let mut s = [0.0; L];
+    let mut c = [0.0; L];
     s[0] = b;
     let n = a.len().min(x.len());
-    let body = n - n % LANES;
-    for (ac, xc) in a[..body]
-        .chunks_exact(LANES)
-        .zip(x[..body].chunks_exact(LANES))
-    {
-        for k in 0..LANES {
+    let body = n - n % L;
+    for (ac, xc) in a[..body].chunks_exact(L).zip(x[..body].chunks_exact(L)) {
+        for k in 0..L {
             let p = -ac[k] * xc[k];
-            let ep = two_product_error(-ac[k], xc[k], p);
+            let ep = two_product_err::<FMA>(-ac[k], xc[k], p);
             let (t, es) = two_sum(s[k], p);
             s[k] = t;
             c[k] += ep + es;
@@ -349,7 +371,7 @@ pub(crate) fn dot2_residual(b: f64, a: &[f64], x: &[f64]) -> f64 {
     }
     for j in body..n {
         let p = -a[j] * x[j];
-        let ep = two_product_error(-a[j], x[j], p);
+        let ep = two_product_err::<FMA>(-a[j], x[j], p);
         let (t, es) = two_sum(s[0], p);
         s[0] = t;
         c[0] += ep + es;
@@ -592,6 +614,39 @@ mod tests {
             if n == 1 || n == 81 {
                 let plain: f64 = a.iter().sum();
                 assert_ne!(plain, exact, "the plain sum loses the odd parts, n = {n}");
+            }
+        }
+    }
+
+    /// The two forms of the product's error (a fused multiply-add, Dekker's
+    /// split) give the same bits, and so do the residual's two builds: on
+    /// long rows of mixed magnitudes, with and without a remainder past
+    /// the lanes.
+    #[test]
+    fn dot2_with_and_without_fma_agree_bit_for_bit() {
+        for n in [3, 16, 17, 243, 250] {
+            let a: Vec<f64> = (0..n)
+                .map(|k| ((k * 7919 % 1013) as f64 - 506.5) * 10f64.powi(k % 9 - 4))
+                .collect();
+            let x: Vec<f64> = (0..n).map(|k| 1.0 / (1.0 + k as f64) - 0.37).collect();
+            let b = 0.1 * n as f64;
+            let fma = dot2_residual_with::<true>(b, &a, &x);
+            assert_eq!(
+                fma.to_bits(),
+                dot2_residual_with::<false>(b, &a, &x).to_bits(),
+                "{n}"
+            );
+            assert_eq!(fma.to_bits(), dot2_residual(b, &a, &x).to_bits(), "{n}");
+        }
+        let h = Mat::from_fn(20, 20, |i, j| 1.0 / (1.0 + i as f64 + j as f64));
+        let x = Mat::from_fn(20, 3, |i, c| (i * 3 + c) as f64 - 7.5);
+        let b = Mat::from_fn(20, 3, |i, c| (i + c) as f64 * 0.25);
+        let r = residual(&h, &x, &b);
+        for c in 0..3 {
+            for i in 0..20 {
+                let want =
+                    dot2_residual_with::<false>(b[(i, c)], h.col_as_slice(i), x.col_as_slice(c));
+                assert_eq!(r[(i, c)].to_bits(), want.to_bits());
             }
         }
     }
