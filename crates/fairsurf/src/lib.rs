@@ -104,7 +104,7 @@ pub use solve::{
     FactorCache, Factored, Problem, Solution, SolveOptions, SolveReport, SurfaceKind, TermEnergy,
     Timings, TriFigures,
 };
-pub use surface::{ControlNet, ParamSurface};
+pub use surface::{ControlNet, ParamSurface, Sample};
 pub use tensor::{SurfaceDerivatives, TensorConstraint, TensorPatch};
 pub use triangle::{TriPatch, TriSurface};
 pub use vec3::Vec3;

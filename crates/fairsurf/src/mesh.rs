@@ -1,9 +1,8 @@
 //! Tessellation of a patch into a triangle mesh with exact normals.
 
-use crate::analysis::{curvature_from, Curvature};
-use crate::surface::ParamSurface;
+use crate::analysis::Curvature;
+use crate::surface::{ParamSurface, Sample};
 use crate::vec3::{cross, normalize, sub, Vec3};
-use crate::SurfaceDerivatives;
 
 /// A triangle mesh: positions, unit normals and (u, v) per vertex,
 /// counter-clockwise triangles (seen from the side the normals point to).
@@ -26,46 +25,44 @@ impl TriMesh {
     /// normal is taken a tiny step inside the domain, and failing that from
     /// the adjacent mesh faces.
     pub fn from_patch(surface: &impl ParamSurface, ru: usize, rv: usize) -> Self {
-        let (us, vs) = surface.uniform_grid(ru, rv);
-        let grid = surface.derivatives_on(&us, &vs);
-        Self::from_grid(&us, &vs, &grid, |u, v| inside_normal(surface, u, v))
+        Self::with_curvature(surface, ru, rv).0
     }
 
     /// [`TriMesh::from_patch`] together with the curvature at every vertex
     /// (`None` where the surface is singular), from the same exact
-    /// derivatives; `uvs` are the surface's own parameters (a B-spline's
-    /// knot domain).
+    /// derivatives ([`ParamSurface::samples_on`]); `uvs` are the surface's
+    /// own parameters (a B-spline's knot domain).
     pub fn with_curvature(
         surface: &impl ParamSurface,
         ru: usize,
         rv: usize,
     ) -> (Self, Vec<Option<Curvature>>) {
         let (us, vs) = surface.uniform_grid(ru, rv);
-        let grid = surface.derivatives_on(&us, &vs);
-        let curvature = grid.iter().map(curvature_from).collect();
+        let samples = surface.samples_on(&us, &vs);
+        let curvature = samples.iter().map(|s| s.curvature).collect();
         let normal = |u, v| inside_normal(surface, u, v);
-        (Self::from_grid(&us, &vs, &grid, normal), curvature)
+        (Self::from_grid(&us, &vs, &samples, normal), curvature)
     }
 
-    /// The mesh of the derivative grid `grid` over `us` × `vs` (row-major).
+    /// The mesh of the samples over `us` × `vs` (row-major).
     /// `fallback(u, v)` gives the normal where the derivatives do not (a
     /// collapsed edge): a tiny step inside the domain.
     fn from_grid(
         us: &[f64],
         vs: &[f64],
-        grid: &[SurfaceDerivatives],
+        samples: &[Sample],
         fallback: impl Fn(f64, f64) -> Option<Vec3>,
     ) -> Self {
         let (ru, rv) = (us.len() - 1, vs.len() - 1);
-        let mut positions = Vec::with_capacity(grid.len());
-        let mut normals = Vec::with_capacity(grid.len());
-        let mut uvs = Vec::with_capacity(grid.len());
+        let mut positions = Vec::with_capacity(samples.len());
+        let mut normals = Vec::with_capacity(samples.len());
+        let mut uvs = Vec::with_capacity(samples.len());
         for (i, &u) in us.iter().enumerate() {
             for (j, &v) in vs.iter().enumerate() {
-                let d = grid[i * (rv + 1) + j];
-                positions.push(d.point);
+                let s = &samples[i * (rv + 1) + j];
+                positions.push(s.point);
                 uvs.push([u, v]);
-                let n = d.normal().or_else(|| fallback(u, v));
+                let n = s.normal.or_else(|| fallback(u, v));
                 normals.push(n.unwrap_or([f64::NAN; 3]));
             }
         }

@@ -7,8 +7,33 @@
 //! statistics and the normal turn ([`crate::analysis`]) are written once
 //! against it.
 
+use crate::analysis::{curvature_from, Curvature};
 use crate::bspline::{BSplineSurface, RationalSurface};
 use crate::{SurfaceDerivatives, TensorPatch, Vec3};
+
+/// What a mesh needs at one parameter point: the position, the unit
+/// normal and the curvatures (both `None` where the surface is not
+/// regular there).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    /// R(u, v).
+    pub point: Vec3,
+    /// [`SurfaceDerivatives::normal`].
+    pub normal: Option<Vec3>,
+    /// [`curvature_from`] the derivatives.
+    pub curvature: Option<Curvature>,
+}
+
+impl Sample {
+    /// The sample from the derivatives at the point.
+    pub fn of(d: &SurfaceDerivatives) -> Self {
+        Sample {
+            point: d.point,
+            normal: d.normal(),
+            curvature: curvature_from(d),
+        }
+    }
+}
 
 /// A parametric surface over a rectangle of (u, v). The kinds' inherent
 /// methods of the same names do the same; generic code calls these.
@@ -31,6 +56,20 @@ pub trait ParamSurface {
             .collect()
     }
 
+    /// R on the grid `us` × `vs`, u-major as [`Self::derivatives_on`].
+    fn eval_on(&self, us: &[f64], vs: &[f64]) -> Vec<Vec3> {
+        us.iter()
+            .flat_map(|&u| vs.iter().map(move |&v| self.eval(u, v)))
+            .collect()
+    }
+
+    /// [`Sample`]s on the grid `us` × `vs`, u-major, as [`Sample::of`]
+    /// gives them from [`Self::derivatives_on`] (a Bézier patch computes
+    /// the same bits a row at a time in vector registers).
+    fn samples_on(&self, us: &[f64], vs: &[f64]) -> Vec<Sample> {
+        self.derivatives_on(us, vs).iter().map(Sample::of).collect()
+    }
+
     /// The unit normal R_u × R_v / |R_u × R_v| at (u, v), `None` where the
     /// surface is not regular.
     fn normal(&self, u: f64, v: f64) -> Option<Vec3> {
@@ -49,11 +88,15 @@ pub trait ParamSurface {
     fn boundary(&self, samples: usize) -> [Vec<Vec3>; 4] {
         let [(a, b), (c, d)] = self.domain();
         let (us, vs) = self.uniform_grid(samples, samples);
+        let reversed = |mut p: Vec<Vec3>| {
+            p.reverse();
+            p
+        };
         [
-            vs.iter().map(|&v| self.eval(a, v)).collect(),
-            us.iter().map(|&u| self.eval(u, d)).collect(),
-            vs.iter().rev().map(|&v| self.eval(b, v)).collect(),
-            us.iter().rev().map(|&u| self.eval(u, c)).collect(),
+            self.eval_on(&[a], &vs),
+            self.eval_on(&us, &[d]),
+            reversed(self.eval_on(&[b], &vs)),
+            reversed(self.eval_on(&us, &[c])),
         ]
     }
 
@@ -92,9 +135,10 @@ pub trait ControlNet: ParamSurface + Clone + std::fmt::Debug {
     fn points_mut(&mut self) -> &mut [Vec3];
 }
 
-/// Implements [`ParamSurface`] by the kind's inherent methods.
+/// Implements [`ParamSurface`] by the kind's inherent methods (and any
+/// further items given).
 macro_rules! by_inherent {
-    ($kind:ty, $domain:expr) => {
+    ($kind:ty, $domain:expr $(, { $($more:item)* })?) => {
         impl ParamSurface for $kind {
             fn domain(&self) -> [(f64, f64); 2] {
                 $domain(self)
@@ -108,11 +152,19 @@ macro_rules! by_inherent {
             fn derivatives_on(&self, us: &[f64], vs: &[f64]) -> Vec<SurfaceDerivatives> {
                 <$kind>::derivatives_on(self, us, vs)
             }
+            $($($more)*)?
         }
     };
 }
 
-by_inherent!(TensorPatch, |_: &TensorPatch| [(0.0, 1.0), (0.0, 1.0)]);
+by_inherent!(TensorPatch, |_: &TensorPatch| [(0.0, 1.0), (0.0, 1.0)], {
+    fn eval_on(&self, us: &[f64], vs: &[f64]) -> Vec<Vec3> {
+        TensorPatch::eval_on(self, us, vs)
+    }
+    fn samples_on(&self, us: &[f64], vs: &[f64]) -> Vec<Sample> {
+        TensorPatch::samples_on(self, us, vs)
+    }
+});
 by_inherent!(BSplineSurface, |s: &BSplineSurface| [
     s.knots().0.domain(),
     s.knots().1.domain()

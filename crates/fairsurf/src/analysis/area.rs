@@ -12,7 +12,7 @@
 //! out.
 
 use crate::basis::GaussLegendre;
-use crate::tensor::{GridRows, GRID_LANES};
+use crate::tensor::{chunk3, GridRows, GRID_LANES};
 use crate::vec3::{cross, norm};
 use crate::TensorPatch;
 
@@ -183,12 +183,7 @@ impl GridRows<2> for Sums<'_> {
     #[inline(always)]
     fn row(&mut self, a: usize, [du, dv]: &[[Vec<f64>; 3]; 2]) {
         for (c, dn) in self.dn.chunks_exact_mut(GRID_LANES).enumerate() {
-            let [u0, u1, u2, v0, v1, v2] =
-                [&du[0], &du[1], &du[2], &dv[0], &dv[1], &dv[2]].map(|x| -> &[f64; GRID_LANES] {
-                    x[c * GRID_LANES..][..GRID_LANES]
-                        .try_into()
-                        .expect("GRID_LANES long")
-                });
+            let ([u0, u1, u2], [v0, v1, v2]) = (chunk3(du, c), chunk3(dv, c));
             for t in 0..GRID_LANES {
                 let n = cross([u0[t], u1[t], u2[t]], [v0[t], v1[t], v2[t]]);
                 dn[t] = norm(n);

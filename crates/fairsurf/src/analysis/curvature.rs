@@ -10,7 +10,7 @@
 //! κ₁,₂ = H ± √(H² − K)
 //! ```
 
-use crate::vec3::{cross, dot, norm};
+use crate::vec3::{cross, dot, norm, Vec3};
 use crate::{ParamSurface, SurfaceDerivatives, TensorPatch};
 
 /// Curvatures at one surface point.
@@ -27,23 +27,66 @@ pub struct Curvature {
 /// The curvatures from second-order derivatives, `None` where the surface is
 /// not regular (|x_u × x_v|² ≤ 1e-24 · (|x_u|² |x_v|²), e.g. at a collapsed corner).
 pub fn curvature_from(d: &SurfaceDerivatives) -> Option<Curvature> {
-    let nn = cross(d.du, d.dv);
-    let (e_, f_, g_) = (dot(d.du, d.du), dot(d.du, d.dv), dot(d.dv, d.dv));
-    let det = e_ * g_ - f_ * f_;
-    let l = norm(nn);
-    if det.is_nan() || det <= 1e-24 * e_ * g_ || l == 0.0 {
-        return None;
+    PointForms::at(d.du, d.dv, d.duu, d.duv, d.dvv).curvature()
+}
+
+/// What [`curvature_from`] computes at one point, branch-free (a loop of
+/// it over a grid's row vectorizes): ñ = R_u × R_v, |ñ|, E = R_u·R_u,
+/// G = R_v·R_v, EG − F², K, H and √max(H² − K, 0). Meaningful where
+/// [`PointForms::regular`].
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PointForms {
+    pub(crate) nn: Vec3,
+    pub(crate) l: f64,
+    pub(crate) e: f64,
+    pub(crate) g: f64,
+    pub(crate) det: f64,
+    pub(crate) k: f64,
+    pub(crate) h: f64,
+    pub(crate) s: f64,
+}
+
+impl PointForms {
+    /// From the first and second derivatives.
+    #[inline(always)]
+    pub(crate) fn at(du: Vec3, dv: Vec3, duu: Vec3, duv: Vec3, dvv: Vec3) -> Self {
+        let nn = cross(du, dv);
+        let (e_, f_, g_) = (dot(du, du), dot(du, dv), dot(dv, dv));
+        let det = e_ * g_ - f_ * f_;
+        let l = norm(nn);
+        let n = [nn[0] / l, nn[1] / l, nn[2] / l];
+        let (e, f, g) = (dot(duu, n), dot(duv, n), dot(dvv, n));
+        let k = (e * g - f * f) / det;
+        let h = (e * g_ - 2.0 * f * f_ + g * e_) / (2.0 * det);
+        let s = (h * h - k).max(0.0).sqrt();
+        PointForms {
+            nn,
+            l,
+            e: e_,
+            g: g_,
+            det,
+            k,
+            h,
+            s,
+        }
     }
-    let n = [nn[0] / l, nn[1] / l, nn[2] / l];
-    let (e, f, g) = (dot(d.duu, n), dot(d.duv, n), dot(d.dvv, n));
-    let k = (e * g - f * f) / det;
-    let h = (e * g_ - 2.0 * f * f_ + g * e_) / (2.0 * det);
-    let s = (h * h - k).max(0.0).sqrt();
-    Some(Curvature {
-        gaussian: k,
-        mean: h,
-        principal: (h + s, h - s),
-    })
+
+    /// Whether the surface is regular here: not |R_u × R_v|² ≤ 1e-24 ·
+    /// |R_u|² |R_v|² (nor NaN, nor a zero normal).
+    #[inline(always)]
+    pub(crate) fn regular(&self) -> bool {
+        !(self.det.is_nan() || self.det <= 1e-24 * self.e * self.g || self.l == 0.0)
+    }
+
+    /// The curvatures, where regular.
+    #[inline(always)]
+    pub(crate) fn curvature(&self) -> Option<Curvature> {
+        self.regular().then_some(Curvature {
+            gaussian: self.k,
+            mean: self.h,
+            principal: (self.h + self.s, self.h - self.s),
+        })
+    }
 }
 
 /// The curvatures of a patch at (u, v).

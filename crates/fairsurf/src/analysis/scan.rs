@@ -7,9 +7,9 @@
 //! [`super::abs_mean_curvature`] and [`super::largest_normal_turn`] on that
 //! grid, so the same bits (a test holds them equal).
 
-use super::curvature::{unit_grid, AbsMeanCurvature, HStats};
+use super::curvature::{unit_grid, AbsMeanCurvature, HStats, PointForms};
 use super::folds::NormalTurn;
-use crate::tensor::{GridRows, GRID_LANES};
+use crate::tensor::{chunk3, GridRows, GRID_LANES};
 use crate::vec3::{angle, dot, normalize, sub, Vec3};
 use crate::TensorPatch;
 
@@ -97,43 +97,29 @@ impl PointRow {
         }
     }
 
-    /// One branch-free loop over the row (it vectorizes inside
-    /// [`TensorPatch::grid_rows`]'s target-feature context).
     /// A chunk of [`GRID_LANES`] points at a time, the chunk copied into
     /// local arrays: one branch-free loop that vectorizes (inside
     /// [`TensorPatch::grid_rows`]'s target-feature context).
     #[inline(always)]
-    fn compute<'a>(&mut self, rows: &'a [[Vec<f64>; 3]; 5]) {
+    fn compute(&mut self, rows: &[[Vec<f64>; 3]; 5]) {
         const L: usize = GRID_LANES;
         for k in 0..self.l.len() / L {
-            let ld3 = |r: &'a [Vec<f64>; 3]| [chunk(&r[0], k), chunk(&r[1], k), chunk(&r[2], k)];
             let [du, dv, duu, duv, dvv] = [
-                ld3(&rows[0]),
-                ld3(&rows[1]),
-                ld3(&rows[2]),
-                ld3(&rows[3]),
-                ld3(&rows[4]),
+                chunk3(&rows[0], k),
+                chunk3(&rows[1], k),
+                chunk3(&rows[2], k),
+                chunk3(&rows[3], k),
+                chunk3(&rows[4], k),
             ];
             let mut out = [[0.0; L]; 8];
             for t in 0..L {
-                let u = [du[0][t], du[1][t], du[2][t]];
-                let v = [dv[0][t], dv[1][t], dv[2][t]];
-                let nn = [
-                    u[1] * v[2] - u[2] * v[1],
-                    u[2] * v[0] - u[0] * v[2],
-                    u[0] * v[1] - u[1] * v[0],
-                ];
-                let (e_, f_, g_) = (dot(u, u), dot(u, v), dot(v, v));
-                let det = e_ * g_ - f_ * f_;
-                let l = dot(nn, nn).sqrt();
-                let n = [nn[0] / l, nn[1] / l, nn[2] / l];
-                let (e, f, g) = (
-                    duu[0][t] * n[0] + duu[1][t] * n[1] + duu[2][t] * n[2],
-                    duv[0][t] * n[0] + duv[1][t] * n[1] + duv[2][t] * n[2],
-                    dvv[0][t] * n[0] + dvv[1][t] * n[1] + dvv[2][t] * n[2],
-                );
-                let h = ((e * g_ - 2.0 * f * f_ + g * e_) / (2.0 * det)).abs();
-                for (o, x) in out.iter_mut().zip([nn[0], nn[1], nn[2], l, e_, g_, det, h]) {
+                let lane = |c: [&[f64; L]; 3]| [c[0][t], c[1][t], c[2][t]];
+                let f = PointForms::at(lane(du), lane(dv), lane(duu), lane(duv), lane(dvv));
+                let [n0, n1, n2] = f.nn;
+                for (o, x) in out
+                    .iter_mut()
+                    .zip([n0, n1, n2, f.l, f.e, f.g, f.det, f.h.abs()])
+                {
                     o[t] = x;
                 }
             }
@@ -153,8 +139,8 @@ impl PointRow {
     /// Where [`super::curvature_from`] gives no curvature.
     #[inline(always)]
     fn singular(&self, b: usize) -> bool {
-        let det = self.det[b];
-        det.is_nan() || det <= 1e-24 * self.e[b] * self.g[b] || self.l[b] == 0.0
+        let (det, e, g, l) = (self.det[b], self.e[b], self.g[b], self.l[b]);
+        det.is_nan() || det <= 1e-24 * e * g || l == 0.0
     }
 
     /// The unit normal, as [`normalize`] gives it (its usual case here:
@@ -169,14 +155,6 @@ impl PointRow {
             normalize(nn)
         }
     }
-}
-
-/// The k-th chunk of [`GRID_LANES`] values.
-#[inline(always)]
-fn chunk(x: &[f64], k: usize) -> &[f64; GRID_LANES] {
-    x[k * GRID_LANES..][..GRID_LANES]
-        .try_into()
-        .expect("GRID_LANES long")
 }
 
 /// The longest chord |n − m| between neighbouring unit normals so far (the

@@ -2,8 +2,9 @@
 
 mod constraint;
 mod patch;
+mod samples;
 
 pub use constraint::{TensorConstraint, Uv};
 
-pub(crate) use patch::{GridRows, GRID_LANES};
+pub(crate) use patch::{chunk3, GridRows, GRID_LANES};
 pub use patch::{SurfaceDerivatives, TensorPatch};

@@ -28,6 +28,20 @@ pub struct TensorPatch {
 /// padded to a multiple.
 pub(crate) const GRID_LANES: usize = 8;
 
+/// The k-th chunk of [`GRID_LANES`] points of a row's three coordinates.
+#[inline(always)]
+pub(crate) fn chunk3(r: &[Vec<f64>; 3], k: usize) -> [&[f64; GRID_LANES]; 3] {
+    [chunk(&r[0], k), chunk(&r[1], k), chunk(&r[2], k)]
+}
+
+/// The k-th chunk of [`GRID_LANES`] values.
+#[inline(always)]
+pub(crate) fn chunk(x: &[f64], k: usize) -> &[f64; GRID_LANES] {
+    x[k * GRID_LANES..]
+        .first_chunk::<GRID_LANES>()
+        .expect("rows are whole chunks")
+}
+
 /// What takes a grid's rows from [`TensorPatch::grid_rows`].
 pub(crate) trait GridRows<const K: usize> {
     /// Row `a`: `rows[k][c][b]` is coordinate c of the k-th order at the
@@ -195,18 +209,29 @@ impl TensorPatch {
     /// `out[a·vs.len() + b]` is at `(us[a], vs[b])`. Contracts the u-direction
     /// once per u-value, so each point costs O(m) rather than O(nm).
     pub fn derivatives_on(&self, us: &[f64], vs: &[f64]) -> Vec<SurfaceDerivatives> {
+        /// The rows' points one after the other.
+        struct Points<'a>(&'a mut Vec<SurfaceDerivatives>, usize);
+        impl GridRows<6> for Points<'_> {
+            #[inline(always)]
+            fn row(&mut self, _: usize, rows: &[[Vec<f64>; 3]; 6]) {
+                let nv = self.1;
+                let [p, du, dv, duu, duv, dvv] = rows
+                    .each_ref()
+                    .map(|r| [&r[0][..nv], &r[1][..nv], &r[2][..nv]]);
+                let at = |x: [&[f64]; 3], b: usize| [x[0][b], x[1][b], x[2][b]];
+                self.0.extend((0..nv).map(|b| SurfaceDerivatives {
+                    point: at(p, b),
+                    du: at(du, b),
+                    dv: at(dv, b),
+                    duu: at(duu, b),
+                    duv: at(duv, b),
+                    dvv: at(dvv, b),
+                }));
+            }
+        }
         const ORDERS: [(usize, usize); 6] = [(0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2)];
         let mut out = Vec::with_capacity(us.len() * vs.len());
-        self.grid_partials(us, vs, ORDERS, |[point, du, dv, duu, duv, dvv]| {
-            out.push(SurfaceDerivatives {
-                point,
-                du,
-                dv,
-                duu,
-                duv,
-                dvv,
-            })
-        });
+        self.grid_rows(us, vs, ORDERS, &mut Points(&mut out, vs.len()));
         out
     }
 
@@ -289,6 +314,7 @@ impl TensorPatch {
     ) {
         let sink = std::cell::RefCell::new(sink);
         with_fma(
+            #[inline(always)]
             || self.grid_rows_with(us, vs, orders, *sink.borrow_mut()),
             || self.grid_rows_with(us, vs, orders, *sink.borrow_mut()),
         )
