@@ -10,6 +10,7 @@ from this script (with the JSON answer's serialization and transfer).
 
     cargo build --release -p fairsurf-cli
     python3 bench/editor_drag.py [--steps 60] [--example editor_degree10.json]
+        [--mesh-encoding base64|json] [--binary target/release/fairsurf]
 """
 
 import argparse
@@ -40,6 +41,8 @@ def main():
     ap.add_argument("--steps", type=int, default=60)
     ap.add_argument("--example", default="editor_degree10.json")
     ap.add_argument("--binary", default=str(ROOT / "target/release/fairsurf"))
+    ap.add_argument("--mesh-encoding", default="base64", choices=["base64", "json"],
+                    help="how the answers write the mesh (the page asks for base64)")
     args = ap.parse_args()
     scene = json.loads((ROOT / "examples" / args.example).read_text())
     server = subprocess.Popen(
@@ -56,7 +59,8 @@ def main():
                 break
         if url is None:
             sys.exit("the server did not start")
-        first, first_rt = post(url, {"scene": scene, "quick": False})
+        enc = args.mesh_encoding
+        first, first_rt = post(url, {"scene": scene, "quick": False, "mesh_encoding": enc})
         # The handle the page would drag: the first held (given) control
         # point inside the net's first row, moved along z.
         net = scene["surface"]["control_points"]
@@ -65,10 +69,10 @@ def main():
         server_s, round_trip = [], []
         for k in range(args.steps):
             net[i][j] = [base[0], base[1], base[2] + 0.002 * (k + 1)]
-            answer, rt = post(url, {"scene": scene, "quick": True})
+            answer, rt = post(url, {"scene": scene, "quick": True, "mesh_encoding": enc})
             server_s.append(answer["seconds"])
             round_trip.append(rt)
-        full, full_rt = post(url, {"scene": scene, "quick": False})
+        full, full_rt = post(url, {"scene": scene, "quick": False, "mesh_encoding": enc})
 
         def ms(xs):
             return f"median {1e3 * statistics.median(xs):.2f} ms " \

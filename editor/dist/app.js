@@ -25,6 +25,7 @@ import {
   downloadBlob,
   dispositionFilename,
   baseName,
+  decodeMesh,
   roundTo,
 } from './util.js';
 
@@ -185,8 +186,9 @@ async function pump() {
     // while the request is out go into the next one.
     const quick = dragging();
     state.needFull = quick;
-    res = await postJson('api/solve', { scene: state.scene, quick });
+    res = await postJson('api/solve', { scene: state.scene, quick, mesh_encoding: 'base64' });
     answer = res.ok ? await res.json() : await readError(res);
+    if (res.ok) answer.mesh = decodeMesh(answer.mesh);
   } catch (err) {
     res = null;
     answer = networkError(err);

@@ -117,3 +117,53 @@ export function roundTo(v, quantum) {
   const digits = Math.max(0, Math.min(15, -Math.floor(Math.log10(quantum))));
   return Number((Math.round(v / quantum) * quantum).toFixed(digits));
 }
+
+/**
+ * The mesh of an answer with its arrays as typed arrays: base64 text
+ * (`"encoding": "base64"`: little-endian float32 positions, uint16 or
+ * uint32 indices as `index_type` says, uint8 sRGB colours) decoded, the
+ * colours to 0..1 like a JSON mesh's; JSON lists as they are.
+ * Little-endian is what every platform a browser runs on uses.
+ */
+export function decodeMesh(mesh) {
+  if (!mesh || mesh.encoding !== 'base64') return mesh;
+  const bytes = (text) => {
+    const bin = atob(text);
+    const out = new Uint8Array(bin.length);
+    for (let k = 0; k < bin.length; k++) out[k] = bin.charCodeAt(k);
+    return out.buffer;
+  };
+  const positions = new Float32Array(bytes(mesh.positions));
+  const Index = mesh.index_type === 'uint32' ? Uint32Array : Uint16Array;
+  return {
+    ...mesh,
+    positions,
+    indices: mesh.grid ? gridIndices(mesh.grid[0], mesh.grid[1]) : new Index(bytes(mesh.indices)),
+    colors: Float32Array.from(new Uint8Array(bytes(mesh.colors)), (c) => c / 255),
+  };
+}
+
+/**
+ * The triangles of a rows × cols grid of vertices (row-major), as the
+ * server meshes a tensor surface: each cell (i, j) split into
+ * (i,j)(i+1,j)(i+1,j+1) and (i,j)(i+1,j+1)(i,j+1).
+ */
+export function gridIndices(rows, cols) {
+  const Index = rows * cols > 65536 ? Uint32Array : Uint16Array;
+  const out = new Index(6 * (rows - 1) * (cols - 1));
+  let k = 0;
+  for (let i = 0; i + 1 < rows; i++) {
+    for (let j = 0; j + 1 < cols; j++) {
+      const a = i * cols + j;
+      const b = a + cols;
+      out.set([a, b, b + 1, a, b + 1, a + 1], k);
+      k += 6;
+    }
+  }
+  return out;
+}
+
+/** Whether `x` is a list of numbers: an array or a typed array. */
+export function isList(x) {
+  return Array.isArray(x) || ArrayBuffer.isView(x);
+}

@@ -11,7 +11,7 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { LineSegments2 } from 'three/addons/lines/LineSegments2.js';
 import { LineSegmentsGeometry } from 'three/addons/lines/LineSegmentsGeometry.js';
 import { LineMaterial } from 'three/addons/lines/LineMaterial.js';
-import { srgbToLinear } from './util.js';
+import { isList, srgbToLinear } from './util.js';
 
 const COLORS = {
   background: 0x1d2026,
@@ -175,13 +175,13 @@ export class Viewer {
 
   setSurface(mesh) {
     this.clearGroup('surface');
-    if (!mesh || !Array.isArray(mesh.positions) || mesh.positions.length < 9) return;
+    if (!mesh || !isList(mesh.positions) || mesh.positions.length < 9) return;
     const geometry = new THREE.BufferGeometry();
-    const positions = new Float32Array(mesh.positions);
+    const positions = Float32Array.from(mesh.positions);
     const nVerts = positions.length / 3;
     geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
     const colors = new Float32Array(nVerts * 3);
-    if (Array.isArray(mesh.colors) && mesh.colors.length === positions.length) {
+    if (isList(mesh.colors) && mesh.colors.length === positions.length) {
       // The server's colours are sRGB (like the legend's hex stops); three.js
       // wants vertex colours in linear light.
       for (let k = 0; k < colors.length; k++) colors[k] = srgbToLinear(mesh.colors[k]);
@@ -189,7 +189,7 @@ export class Viewer {
       colors.fill(0.55);
     }
     geometry.setAttribute('color', new THREE.BufferAttribute(colors, 3));
-    if (Array.isArray(mesh.indices) && mesh.indices.length >= 3) {
+    if (isList(mesh.indices) && mesh.indices.length >= 3) {
       const Index = nVerts > 65535 ? Uint32Array : Uint16Array;
       geometry.setIndex(new THREE.BufferAttribute(new Index(mesh.indices), 1));
     }

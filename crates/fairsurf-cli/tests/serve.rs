@@ -655,6 +655,8 @@ fn errors_are_json_with_paths_and_statuses() {
         (json!({"scene": example("quickstart.json")}).to_string().into_bytes(), "/api/export?format=dxf", 400, Some("format")),
         (b"{}".to_vec(), "/api/nothing", 404, None),
         (json!({"scene": example("quickstart.json"), "quick": "yes"}).to_string().into_bytes(), "/api/solve", 400, Some("quick")),
+        (json!({"scene": example("quickstart.json"), "mesh_encoding": "hex"}).to_string().into_bytes(), "/api/solve", 400, Some("mesh_encoding")),
+        (json!({"scene": example("quickstart.json"), "mesh_encoding": 64}).to_string().into_bytes(), "/api/solve", 400, Some("mesh_encoding")),
     ];
     for (body, path, status, at) in cases {
         let (got, _, out) = request(&s, "POST", path, &body);
@@ -916,6 +918,10 @@ fn workers_answer_as_the_server_does() {
         ),
         (
             "/api/solve",
+            json!({"scene": example("quickstart.json"), "quick": true, "mesh_encoding": "base64"}),
+        ),
+        (
+            "/api/solve",
             json!({"scene": example("vw_hexagon_hole.json")}),
         ),
         (
@@ -963,6 +969,129 @@ fn workers_answer_as_the_server_does() {
         };
         assert_eq!(data(&fa), data(&fb), "{format}");
         assert!(fa.len() > 100, "{format}");
+    }
+}
+
+/// RFC 4648 base64 decoded (the test's own reader of the server's text).
+fn unbase64(text: &str) -> Vec<u8> {
+    let value = |c: u8| match c {
+        b'A'..=b'Z' => c - b'A',
+        b'a'..=b'z' => c - b'a' + 26,
+        b'0'..=b'9' => c - b'0' + 52,
+        b'+' => 62,
+        b'/' => 63,
+        _ => panic!("not base64: {c}"),
+    };
+    let mut out = Vec::new();
+    for quad in text.as_bytes().chunks(4) {
+        assert_eq!(quad.len(), 4, "padded to whole quads");
+        let pad = quad.iter().filter(|&&c| c == b'=').count();
+        let n = quad[..4 - pad]
+            .iter()
+            .enumerate()
+            .fold(0u32, |n, (k, &c)| n | u32::from(value(c)) << (18 - 6 * k));
+        out.extend(&n.to_be_bytes()[1..4 - pad]);
+    }
+    out
+}
+
+/// A mesh asked for as base64 is the JSON mesh: float32 positions within
+/// the JSON's rounding (1e-7 of the extent) and float32's, the same
+/// indices (uint16 here), colours to the byte — for each kind of surface;
+/// the rest of the answer is the same.
+#[test]
+fn a_base64_mesh_is_the_json_mesh() {
+    let s = start(&[]);
+    let floats = |v: &Value| -> Vec<f64> {
+        unbase64(v.as_str().unwrap())
+            .chunks(4)
+            .map(|b| f32::from_le_bytes(b.try_into().unwrap()) as f64)
+            .collect()
+    };
+    for name in [
+        "quickstart.json",
+        "bspline_wu_yang_fig4_l500.json",
+        "vw_hexagon_hole.json",
+    ] {
+        let scene = example(name);
+        let (a, json_mesh) = post(&s, "/api/solve", &json!({"scene": scene, "quick": true}));
+        let body = json!({"scene": scene, "quick": true, "mesh_encoding": "base64"});
+        let (b, binary) = post(&s, "/api/solve", &body);
+        assert_eq!((a, b), (200, 200), "{name}");
+        let (j, m) = (&json_mesh["mesh"], &binary["mesh"]);
+        assert!(j.get("encoding").is_none(), "{name}");
+        assert_eq!(m["encoding"], "base64", "{name}");
+        assert_eq!(m["legend"], j["legend"], "{name}");
+        let list = |v: &Value| -> Vec<f64> {
+            v.as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_f64().unwrap())
+                .collect()
+        };
+        let (pj, pb) = (list(&j["positions"]), floats(&m["positions"]));
+        assert_eq!(pj.len(), pb.len(), "{name}");
+        let extent = pj.iter().fold(0.0f64, |e, x| e.max(x.abs()));
+        for (x, y) in pj.iter().zip(&pb) {
+            assert!((x - y).abs() <= 1e-6 * extent, "{name}: {x} vs {y}");
+        }
+        // Colours: one byte per channel, sRGB × 255.
+        let (cj, cb) = (list(&j["colors"]), unbase64(m["colors"].as_str().unwrap()));
+        assert_eq!(cj.len(), cb.len(), "{name}");
+        for (x, &y) in cj.iter().zip(&cb) {
+            assert!(
+                (x - f64::from(y) / 255.0).abs() <= 0.5 / 255.0 + 1e-4,
+                "{name}: {x} vs {y}"
+            );
+        }
+        // Indices: a tensor surface's grid (its triangles are each cell's
+        // two, as the page rebuilds them), else two bytes each below
+        // 65,536 vertices.
+        let ib: Vec<u64> = match m.get("grid") {
+            Some(g) => {
+                let (rows, cols) = (g[0].as_u64().unwrap(), g[1].as_u64().unwrap());
+                assert_eq!(3 * rows * cols, pb.len() as u64, "{name}");
+                assert!(m.get("indices").is_none(), "{name}");
+                let mut t = Vec::new();
+                for i in 0..rows - 1 {
+                    for j in 0..cols - 1 {
+                        let (a, b) = (i * cols + j, (i + 1) * cols + j);
+                        t.extend([a, b, b + 1, a, b + 1, a + 1]);
+                    }
+                }
+                t
+            }
+            None => {
+                assert_eq!(m["index_type"], "uint16", "{name}");
+                unbase64(m["indices"].as_str().unwrap())
+                    .chunks(2)
+                    .map(|b| u16::from_le_bytes(b.try_into().unwrap()).into())
+                    .collect()
+            }
+        };
+        let ij: Vec<u64> = j["indices"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_u64().unwrap())
+            .collect();
+        assert_eq!(ib, ij, "{name}");
+        assert_eq!(
+            m.get("grid").is_some(),
+            name != "vw_hexagon_hole.json",
+            "{name}"
+        );
+        // The rest of the answer is the same.
+        let strip = |v: &Value| {
+            let mut v = without_times(v);
+            v["mesh"] = Value::Null;
+            v
+        };
+        assert_eq!(
+            first_difference(&strip(&json_mesh), &strip(&binary), String::new()),
+            None,
+            "{name}"
+        );
     }
 }
 

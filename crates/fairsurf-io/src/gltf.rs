@@ -203,22 +203,30 @@ fn srgb_to_linear(c: f32) -> f32 {
     }
 }
 
-/// Standard base64 (RFC 4648 §4) with `=` padding.
-fn base64(bytes: &[u8]) -> String {
+/// Standard base64 (RFC 4648 §4) with `=` padding: what a glTF data URI
+/// holds, and the editor's binary meshes.
+pub fn base64(bytes: &[u8]) -> String {
     const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut s = String::with_capacity(bytes.len().div_ceil(3) * 4);
-    for c in bytes.chunks(3) {
-        let b = [c[0], *c.get(1).unwrap_or(&0), *c.get(2).unwrap_or(&0)];
-        let n = (b[0] as u32) << 16 | (b[1] as u32) << 8 | b[2] as u32;
-        for k in 0..4 {
-            if k <= c.len() {
-                s.push(ALPHABET[(n >> (18 - 6 * k)) as usize & 63] as char);
-            } else {
-                s.push('=');
-            }
+    let symbol = |n: u32, k: u32| ALPHABET[(n >> (18 - 6 * k)) as usize & 63];
+    let mut out = vec![b'='; bytes.len().div_ceil(3) * 4];
+    let whole = bytes.chunks_exact(3);
+    let rest = whole.remainder();
+    let mut quads = out.chunks_exact_mut(4);
+    for (c, o) in whole.zip(&mut quads) {
+        let n = (u32::from(c[0]) << 16) | (u32::from(c[1]) << 8) | u32::from(c[2]);
+        o.copy_from_slice(&[symbol(n, 0), symbol(n, 1), symbol(n, 2), symbol(n, 3)]);
+    }
+    if let Some(o) = quads.next() {
+        // 1 or 2 bytes left: their 2 or 3 symbols, then '='.
+        let n = rest
+            .iter()
+            .enumerate()
+            .fold(0, |n, (k, &b)| n | u32::from(b) << (16 - 8 * k));
+        for (k, o) in o.iter_mut().enumerate().take(rest.len() + 1) {
+            *o = symbol(n, k as u32);
         }
     }
-    s
+    String::from_utf8(out).expect("the base64 alphabet is ASCII")
 }
 
 #[cfg(test)]
@@ -236,6 +244,17 @@ mod tests {
             ("fooba", "Zm9vYmE="),
             ("foobar", "Zm9vYmFy"),
         ];
+        // All 64 symbols, in order.
+        let bytes: Vec<u8> = (0u32..16)
+            .flat_map(|k| {
+                let n = (4 * k) << 18 | (4 * k + 1) << 12 | (4 * k + 2) << 6 | (4 * k + 3);
+                [(n >> 16) as u8, (n >> 8) as u8, n as u8]
+            })
+            .collect();
+        assert_eq!(
+            base64(&bytes),
+            "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/"
+        );
         for (plain, coded) in cases {
             assert_eq!(base64(plain.as_bytes()), coded);
         }

@@ -60,6 +60,7 @@ pub use fill::{
     fill_json, fill_report_json, fill_surfaces, FaceKind, FaceSpec, FillInput, FillScene, FillSpec,
     HoleChoice,
 };
+pub use gltf::base64;
 pub use iges::{write_iges, write_iges_surfaces};
 pub use mesh::{write_mesh, write_mesh_with, MeshFormat, MeshOptions};
 pub use operators::{EdgeSpec, OperatorKind, TensorOperatorSpec, TensorPatchSpec};

@@ -350,6 +350,8 @@ async fn get_example(
 struct Request {
     scene: String,
     quick: bool,
+    /// How the answer writes its mesh (`"mesh_encoding"`).
+    mesh: view::MeshEncoding,
     unknowns: usize,
 }
 
@@ -399,10 +401,22 @@ async fn request(s: &Server, body: Body) -> ApiResult<Request> {
             })
         }
     };
+    let mesh = match v.get("mesh_encoding") {
+        None | Some(Value::Null) => view::MeshEncoding::default(),
+        Some(other) => other
+            .as_str()
+            .and_then(view::MeshEncoding::from_name)
+            .ok_or_else(|| ApiError {
+                status: StatusCode::BAD_REQUEST,
+                message: format!("mesh_encoding: expected \"json\" or \"base64\", got {other}"),
+                path: Some("mesh_encoding".into()),
+            })?,
+    };
     Ok(Request {
         unknowns: worker::unknowns_bound(&scene),
         scene: scene.to_string(),
         quick,
+        mesh,
     })
 }
 
@@ -411,6 +425,7 @@ async fn solve(State(s): State<Arc<Server>>, body: Body) -> ApiResult<Response> 
     let job = Job::Solve {
         scene: r.scene,
         quick: r.quick,
+        mesh: r.mesh,
     };
     json_reply(dispatch(&s, job, r.unknowns).await?)
 }

@@ -14,7 +14,7 @@
 //!
 //! The protocol: the job as one JSON object on the worker's standard input
 //! (`{"job": "solve" | "analyse" | "compare" | "export", "scene": "…", "quick",
-//! "format", "max_unknowns", "max_bytes"}`); on its standard output one
+//! "mesh_encoding", "format", "max_unknowns", "max_bytes"}`); on its standard output one
 //! line of JSON, `{"ok": {"json": …}}`, `{"ok": {"file": {"name", "kind"}}}`
 //! followed by the file's bytes, or `{"error": …, "status": …, "path": …}`.
 
@@ -29,7 +29,11 @@ use tokio::io::{AsyncReadExt, AsyncWriteExt};
 #[derive(Clone, Debug)]
 pub(crate) enum Job {
     /// Solve and describe for the page; `quick` skips the analysis.
-    Solve { scene: String, quick: bool },
+    Solve {
+        scene: String,
+        quick: bool,
+        mesh: view::MeshEncoding,
+    },
     /// Measure the surface as given.
     Analyse { scene: String },
     /// Monterde & Ugail's four surfaces.
@@ -64,8 +68,8 @@ impl Job {
     /// Does the work here, on this thread.
     pub(crate) fn run(&self, limits: &Limits, factors: &fairsurf::FactorCache) -> ApiResult<Reply> {
         Ok(match self {
-            Job::Solve { scene, quick } => {
-                Reply::Text(view::solve(scene, *quick, limits, factors)?)
+            Job::Solve { scene, quick, mesh } => {
+                Reply::Text(view::solve(scene, *quick, *mesh, limits, factors)?)
             }
             Job::Analyse { scene } => Reply::Json(view::analyse(scene, limits)?),
             Job::Compare { scene } => Reply::Json(view::compare(scene, limits)?),
@@ -87,9 +91,10 @@ impl Job {
             "max_bytes": limits.max_bytes,
         });
         match self {
-            Job::Solve { quick, .. } => {
+            Job::Solve { quick, mesh, .. } => {
                 v["job"] = json!("solve");
                 v["quick"] = json!(quick);
+                v["mesh_encoding"] = json!(mesh.name());
             }
             Job::Analyse { .. } => v["job"] = json!("analyse"),
             Job::Compare { .. } => v["job"] = json!("compare"),
@@ -107,6 +112,7 @@ impl Job {
             "solve" => Job::Solve {
                 scene,
                 quick: v["quick"].as_bool()?,
+                mesh: view::MeshEncoding::from_name(v["mesh_encoding"].as_str()?)?,
             },
             "analyse" => Job::Analyse { scene },
             "compare" => Job::Compare { scene },

@@ -28,16 +28,19 @@ use tri::tri_view;
 mod controls;
 mod types;
 use controls::*;
+pub(crate) use types::MeshEncoding;
 use types::*;
 
 /// Solves the scene and describes the result for the page, as JSON text
 /// (serialized straight from the typed view, no value tree). `quick` (while
 /// the user drags) skips the analysis: area, functionals, the deviation from
-/// the normal field and the distance to the guide surface. `seconds`
+/// the normal field and the distance to the guide surface. `encoding` is
+/// how the mesh's arrays are written (JSON lists or base64). `seconds`
 /// includes the serialization.
 pub(crate) fn solve(
     text: &str,
     quick: bool,
+    encoding: MeshEncoding,
     limits: &Limits,
     factors: &fairsurf::FactorCache,
 ) -> ApiResult<String> {
@@ -46,11 +49,12 @@ pub(crate) fn solve(
     check_size(&scene, limits)?;
     let opts = fairsurf::SolveOptions::default().with_analyse(!quick);
     let solved = scene.solve_cached(&opts, factors)?;
-    let view = match &solved {
+    let mut view = match &solved {
         SolvedScene::Tensor(s) => tensor_view(s),
         SolvedScene::Triangular(s) => tri_view(s),
         SolvedScene::BSpline(s) => bspline_view(s),
     };
+    view.mesh.encoding = encoding;
     let mut out = serde_json::to_string(&view).expect("a view serializes");
     // The object's last two members, after the rest is written.
     debug_assert!(out.ends_with('}'));
@@ -304,7 +308,7 @@ fn size_of(points: &[Vec3]) -> f64 {
 
 /// The mesh with per-vertex colours by signed mean curvature (cool–warm,
 /// symmetric about 0 up to the 98th percentile of |H|) and its legend.
-fn mesh_view(m: &SurfaceMesh) -> MeshView {
+fn mesh_view(m: &SurfaceMesh, grid: Option<(usize, usize)>) -> MeshView {
     let mesh = m.mesh();
     let mut abs: Vec<f64> = m
         .curvature()
@@ -322,15 +326,13 @@ fn mesh_view(m: &SurfaceMesh) -> MeshView {
     }
     .max(1e-12);
     let map = ColourMap::CoolWarm;
-    // Colours to 1e-4 (a 255-level channel needs 4e-3).
-    let colors: Vec<f64> = m
+    let colors: Vec<f32> = m
         .curvature()
         .iter()
         .flat_map(|c| match c {
             Some(c) => map.at(0.5 + 0.5 * c.mean / a),
             None => ColourMap::NAN,
         })
-        .map(|x| decimal(x as f64, -4))
         .collect();
     let stops = (0..=4)
         .map(|k| {
@@ -341,26 +343,24 @@ fn mesh_view(m: &SurfaceMesh) -> MeshView {
         })
         .collect();
     // Positions to 1e-7 of the mesh's extent (about the single precision
-    // WebGL draws in) as the shortest decimals: a third of the digits to
-    // write and to parse, nothing lost on the screen.
+    // WebGL draws in) as the shortest decimals when written as JSON: a
+    // third of the digits to write and to parse, nothing lost on the
+    // screen.
     let extent = mesh
         .positions
         .iter()
         .flatten()
         .fold(0.0f64, |m, x| m.max(x.abs()));
-    let k = if extent > 0.0 && extent.is_finite() {
+    let digits = if extent > 0.0 && extent.is_finite() {
         extent.log10().floor() as i32 - 7
     } else {
         -7
     };
     MeshView {
-        positions: mesh
-            .positions
-            .iter()
-            .flatten()
-            .map(|&x| decimal(x, k))
-            .collect(),
+        positions: mesh.positions.iter().flatten().copied().collect(),
+        digits,
         indices: mesh.triangles.iter().flatten().copied().collect(),
+        grid,
         colors,
         legend: Legend {
             name: "mean curvature H",
@@ -368,12 +368,13 @@ fn mesh_view(m: &SurfaceMesh) -> MeshView {
             max: a,
             stops,
         },
+        encoding: MeshEncoding::Json,
     }
 }
 
 /// `x` rounded to a multiple of 10^k, computed so that it prints as the
 /// short decimal (a division by an exact power of ten for k < 0).
-fn decimal(x: f64, k: i32) -> f64 {
+pub(super) fn decimal(x: f64, k: i32) -> f64 {
     if !x.is_finite() {
         return x;
     }
@@ -408,6 +409,43 @@ fn vec3(v: &Value) -> Option<Vec3> {
 #[cfg(test)]
 mod tests {
     use super::{decimal, Methods};
+    use super::{Legend, MeshEncoding, MeshView};
+    use fairsurf_io::base64;
+
+    /// Past 65,536 vertices a base64 mesh's indices take four bytes each
+    /// (and say so); below, two.
+    #[test]
+    fn base64_indices_widen_past_65536_vertices() {
+        for (vertices, kind, width) in [(65_536, "uint16", 2), (65_537, "uint32", 4)] {
+            let last = vertices as u32 - 1;
+            let mesh = MeshView {
+                positions: vec![0.5; 3 * vertices],
+                digits: -7,
+                indices: vec![0, 1, last],
+                grid: None,
+                colors: vec![1.0; 3 * vertices],
+                legend: Legend {
+                    name: "h",
+                    min: -1.0,
+                    max: 1.0,
+                    stops: Vec::new(),
+                },
+                encoding: MeshEncoding::Base64,
+            };
+            let v = serde_json::to_value(&mesh).unwrap();
+            assert_eq!(v["index_type"], kind);
+            let mut bytes = Vec::new();
+            for i in [0u32, 1, last] {
+                bytes.extend_from_slice(&i.to_le_bytes()[..width]);
+            }
+            assert_eq!(v["indices"], base64(&bytes));
+            assert_eq!(v["colors"], base64(&vec![255u8; 3 * vertices]));
+            assert_eq!(
+                v["positions"],
+                base64(&0.5f32.to_le_bytes().repeat(3 * vertices))
+            );
+        }
+    }
 
     /// The method select's options are methods of the scene format, each
     /// once, named as scenes write them.

@@ -75,7 +75,7 @@ pub(super) fn bspline_view(solved: &SolvedBSplineScene) -> View<'_> {
         kind: "bspline",
         table,
         result: Scene::BSpline(solved.result_scene()),
-        mesh: mesh_view(&SurfaceMesh::from_patch(s, 48, 48)),
+        mesh: mesh_view(&SurfaceMesh::from_patch(s, 48, 48), Some((49, 49))),
         net: Net {
             points: s.points(),
             edges: grid_edges(cu, cv),
@@ -100,15 +100,14 @@ pub(super) fn tensor_view(solved: &SolvedTensorScene) -> View<'_> {
 
     let mut normals = Vec::new();
     if let Some(f) = &solved.built.normal_field {
-        for a in 0..=8 {
-            for b in 0..=8 {
-                let (u, v) = (a as f64 / 8.0, b as f64 / 8.0);
-                if let Some(d) = f.direction(u, v) {
-                    normals.push(Arrow {
-                        at: patch.eval(u, v),
-                        dir: scale(d, 0.08 * size),
-                    });
-                }
+        let ts: Vec<f64> = (0..=8).map(|a| a as f64 / 8.0).collect();
+        let at = patch.eval_on(&ts, &ts);
+        for (k, &at) in at.iter().enumerate() {
+            if let Some(d) = f.direction(ts[k / 9], ts[k % 9]) {
+                normals.push(Arrow {
+                    at,
+                    dir: scale(d, 0.08 * size),
+                });
             }
         }
     }
@@ -181,7 +180,7 @@ pub(super) fn tensor_view(solved: &SolvedTensorScene) -> View<'_> {
         kind: "tensor",
         table,
         result: Scene::Tensor(solved.result_scene()),
-        mesh: mesh_view(&SurfaceMesh::from_patch(patch, 48, 48)),
+        mesh: mesh_view(&SurfaceMesh::from_patch(patch, 48, 48), Some((49, 49))),
         net: Net {
             points: patch.points(),
             edges: grid_edges(n + 1, m + 1),

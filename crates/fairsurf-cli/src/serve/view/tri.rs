@@ -101,7 +101,7 @@ pub(super) fn tri_view(solved: &SolvedTriScene) -> View<'_> {
         kind: "triangular",
         table,
         result: Scene::Triangular(solved.result_scene()),
-        mesh: mesh_view(&SurfaceMesh::from_tri_surface(s, resolution)),
+        mesh: mesh_view(&SurfaceMesh::from_tri_surface(s, resolution), None),
         net: Net {
             points: s.points(),
             edges: s.net_edges(),

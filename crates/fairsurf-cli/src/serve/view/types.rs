@@ -192,13 +192,115 @@ pub(super) struct Net<'a> {
     pub(super) edges: Vec<[usize; 2]>,
 }
 
-/// The mesh as the page draws it (`editor/API.md`, `mesh`).
-#[derive(serde::Serialize)]
+/// The mesh as the page draws it (`editor/API.md`, `mesh`): kept in full
+/// precision and written as the request asks ([`MeshEncoding`]) — JSON
+/// lists of short decimals, or base64 text of little-endian arrays.
 pub(super) struct MeshView {
+    /// 3 per vertex.
     pub(super) positions: Vec<f64>,
+    /// JSON lists give the positions to multiples of 10^digits.
+    pub(super) digits: i32,
+    /// 3 per triangle.
     pub(super) indices: Vec<u32>,
-    pub(super) colors: Vec<f64>,
+    /// (rows, columns) of vertices when the mesh is a uniform grid
+    /// meshed as `TriMesh::from_patch` does: a base64 answer sends this
+    /// instead of the indices.
+    pub(super) grid: Option<(usize, usize)>,
+    /// sRGB, 3 per vertex.
+    pub(super) colors: Vec<f32>,
     pub(super) legend: Legend,
+    pub(super) encoding: MeshEncoding,
+}
+
+/// How an answer writes its mesh's arrays (the request's `mesh_encoding`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) enum MeshEncoding {
+    /// Lists of numbers: positions to 1e-7 of the mesh's extent, colours
+    /// to 1e-4.
+    #[default]
+    Json,
+    /// Base64 text (RFC 4648, padded) of little-endian arrays: float32
+    /// positions, uint16 indices (uint32 past 65,536 vertices, as
+    /// `index_type` says) — or, for a tensor surface's grid, its size
+    /// (`grid`) instead of indices —, uint8 sRGB colours (0–255, the
+    /// legend's precision): a quarter of the bytes, no decimals to write or
+    /// parse (what the editor's page asks for).
+    Base64,
+}
+
+impl MeshEncoding {
+    /// The request's name of the encoding.
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            MeshEncoding::Json => "json",
+            MeshEncoding::Base64 => "base64",
+        }
+    }
+
+    /// The encoding of that name.
+    pub(crate) fn from_name(name: &str) -> Option<Self> {
+        [MeshEncoding::Json, MeshEncoding::Base64]
+            .into_iter()
+            .find(|e| e.name() == name)
+    }
+}
+
+impl serde::Serialize for MeshView {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        let mut m = s.serialize_struct("MeshView", 5)?;
+        match self.encoding {
+            MeshEncoding::Json => {
+                let positions: Vec<f64> = self
+                    .positions
+                    .iter()
+                    .map(|&x| super::decimal(x, self.digits))
+                    .collect();
+                let colors: Vec<f64> = self
+                    .colors
+                    .iter()
+                    .map(|&x| super::decimal(x as f64, -4))
+                    .collect();
+                m.serialize_field("positions", &positions)?;
+                m.serialize_field("indices", &self.indices)?;
+                m.serialize_field("colors", &colors)?;
+            }
+            MeshEncoding::Base64 => {
+                m.serialize_field("encoding", "base64")?;
+                let positions: Vec<u8> = self
+                    .positions
+                    .iter()
+                    .flat_map(|&x| (x as f32).to_le_bytes())
+                    .collect();
+                m.serialize_field("positions", &fairsurf_io::base64(&positions))?;
+                if let Some(grid) = self.grid {
+                    m.serialize_field("grid", &grid)?;
+                } else {
+                    // Two bytes an index while they fit.
+                    let small = self.positions.len() / 3 <= 1 << 16;
+                    m.serialize_field("index_type", if small { "uint16" } else { "uint32" })?;
+                    let indices: Vec<u8> = if small {
+                        self.indices
+                            .iter()
+                            .flat_map(|&i| (i as u16).to_le_bytes())
+                            .collect()
+                    } else {
+                        self.indices.iter().flat_map(|i| i.to_le_bytes()).collect()
+                    };
+                    m.serialize_field("indices", &fairsurf_io::base64(&indices))?;
+                }
+                // sRGB in 0..255, as the legend's stops.
+                let colors: Vec<u8> = self
+                    .colors
+                    .iter()
+                    .map(|&c| (c.clamp(0.0, 1.0) * 255.0).round() as u8)
+                    .collect();
+                m.serialize_field("colors", &fairsurf_io::base64(&colors))?;
+            }
+        }
+        m.serialize_field("legend", &self.legend)?;
+        m.end()
+    }
 }
 
 /// The colour legend of the mesh.
