@@ -189,6 +189,25 @@ fn flatten(ms: &[Mat<f64>]) -> Vec<f64> {
         .collect()
 }
 
+/// Σ xᵢ yᵢ in four interleaved sums (independent chains: they pipeline
+/// and vectorize, where one running sum waits on each add).
+fn dot(x: &[f64], y: &[f64]) -> f64 {
+    let mut acc = [0.0; 4];
+    let (xc, yc) = (x.chunks_exact(4), y.chunks_exact(4));
+    let tail: f64 = xc
+        .remainder()
+        .iter()
+        .zip(yc.remainder())
+        .map(|(p, q)| p * q)
+        .sum();
+    for (a, b) in xc.zip(yc) {
+        for k in 0..4 {
+            acc[k] += a[k] * b[k];
+        }
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
+}
+
 /// `out ← Σ_α W[α][β] M_α` over flattened k×k matrices; false (and `out`
 /// zero) when column β of W is all zero.
 fn sum_factor(w: &Mat<f64>, beta: usize, flat: &[f64], k: usize, out: &mut [f64]) -> bool {
@@ -294,6 +313,63 @@ impl PatternForm {
         }
     }
 
+    /// [`PatternForm::value`] for every pair (a, b), a ≤ b, of three nets
+    /// (`ws[k]` the weights of the k-th pair, in the order (0,0), (0,1),
+    /// (0,2), (1,1), (1,2), (2,2)): ⟨A, T^u_α B T^v_β⟩ = ⟨T^u_α A, B T^v_β⟩
+    /// (T^u_α symmetric), so the products T^u_α A_a and B_b T^v_β are made
+    /// once per net instead of once per pair, and each pair's value is
+    /// Σ_αβ W_αβ times inner products of them.
+    pub(crate) fn pair_values(&self, ws: &[Mat<f64>], nets: [&Mat<f64>; 3]) -> [f64; 6] {
+        let Some((ku, kv)) = self.size else {
+            return [0.0; 6];
+        };
+        let (wu, wv) = (ws[0].nrows(), ws[0].ncols());
+        let flat = |m: &Mat<f64>| -> Vec<f64> {
+            (0..m.nrows() * m.ncols())
+                .map(|e| m[(e / m.ncols(), e % m.ncols())])
+                .collect()
+        };
+        // d[a][α] = T^u_α A_a, c[b][β] = B_b T^v_β: ku × kv, row-major.
+        let product = |x: &[f64], y: &[f64], inner: usize| {
+            let mut out = vec![0.0; ku * kv];
+            for (i, row) in out.chunks_exact_mut(kv).enumerate() {
+                for (l, &xil) in x[i * inner..][..inner].iter().enumerate() {
+                    for (o, &y) in row.iter_mut().zip(&y[l * kv..][..kv]) {
+                        *o += xil * y;
+                    }
+                }
+            }
+            out
+        };
+        let nets: Vec<Vec<f64>> = nets.iter().map(|m| flat(m)).collect();
+        let tv: Vec<Vec<f64>> = self.tv.iter().map(flat).collect();
+        let d: Vec<Vec<Vec<f64>>> = nets
+            .iter()
+            .map(|a| {
+                (0..wu)
+                    .map(|alpha| product(&self.tu_flat[alpha * ku * ku..][..ku * ku], a, ku))
+                    .collect()
+            })
+            .collect();
+        let c: Vec<Vec<Vec<f64>>> = nets
+            .iter()
+            .map(|b| tv.iter().map(|t| product(b, t, kv)).collect())
+            .collect();
+        let mut values = [0.0; 6];
+        let pairs = (0..3).flat_map(|a| (a..3).map(move |b| (a, b)));
+        for ((value, (a, b)), w) in values.iter_mut().zip(pairs).zip(ws) {
+            for alpha in 0..wu {
+                for beta in 0..wv {
+                    let x = w[(alpha, beta)];
+                    if x != 0.0 {
+                        *value += x * dot(&d[a][alpha], &c[b][beta]);
+                    }
+                }
+            }
+        }
+        values
+    }
+
     /// `Σ_αβ W_αβ ⟨A, T^u_α B T^v_β⟩`.
     pub(crate) fn value(&self, w: &Mat<f64>, a: &Mat<f64>, b: &Mat<f64>) -> f64 {
         let Some((ku, kv)) = self.size else {
@@ -322,6 +398,51 @@ impl PatternForm {
 mod tests {
     use super::*;
     use crate::basis::{bernstein_derivatives, GaussLegendre};
+
+    /// Every pair's value from the shared products is the pair's own
+    /// [`PatternForm::value`] (to rounding), for both patterns of a normal
+    /// field and weights with zero entries.
+    #[test]
+    fn pair_values_are_the_values() {
+        let (n, m, wu, wv) = (6, 5, 4, 6);
+        let net = |c: usize, (r, s): (usize, usize)| {
+            Mat::from_fn(n - r + 1, m - s + 1, |i, j| {
+                ((3 * i + 5 * j + 7 * c) % 11) as f64 - 4.5 + 0.1 * (i * j) as f64
+            })
+        };
+        for pattern in [(1, 0), (0, 1)] {
+            let nets = [net(0, pattern), net(1, pattern), net(2, pattern)];
+            let ws: Vec<Mat<f64>> = (0..6)
+                .map(|k| {
+                    Mat::from_fn(wu + 1, wv + 1, |a, b| {
+                        if (a + b + k) % 5 == 0 {
+                            0.0
+                        } else {
+                            0.2 + (a * (k + 1)) as f64 - 0.3 * b as f64
+                        }
+                    })
+                })
+                .collect();
+            let pf = PatternForm::new(
+                (n, m),
+                pattern,
+                (&Axis::Bernstein(wu), &Axis::Bernstein(wv)),
+            );
+            let got = pf.pair_values(&ws, [&nets[0], &nets[1], &nets[2]]);
+            let pairs = (0..3).flat_map(|a| (a..3).map(move |b| (a, b)));
+            let mut size = 0.0;
+            for (k, (a, b)) in pairs.enumerate() {
+                let want = pf.value(&ws[k], &nets[a], &nets[b]);
+                size += want.abs();
+                assert!(
+                    (got[k] - want).abs() <= 1e-13 * want.abs().max(1.0),
+                    "{pattern:?} ({a}, {b}): {} vs {want}",
+                    got[k]
+                );
+            }
+            assert!(size > 1.0, "the values are not all zero: {size}");
+        }
+    }
 
     /// The Kronecker assembly of a Bernstein-weighted form equals direct
     /// tensor Gauss quadrature of the same integrand, entry by entry.

@@ -291,9 +291,10 @@ impl EnergyTerm for NormalField {
                 .map(|c| derivative_net(patch.points(), degree, pattern, c))
                 .collect();
             let pf = PatternForm::new(degree, pattern, (&au, &av));
-            for ((a, b), w) in pairs().zip(&tables) {
+            let values = pf.pair_values(&tables, [&nets[0], &nets[1], &nets[2]]);
+            for ((a, b), v) in pairs().zip(values) {
                 let twice = if a == b { 1.0 } else { 2.0 };
-                total += twice * pf.value(w, &nets[a], &nets[b]);
+                total += twice * v;
             }
         }
         Ok(0.5 * total)

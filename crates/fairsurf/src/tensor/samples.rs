@@ -12,8 +12,17 @@ use crate::TensorPatch;
 
 impl TensorPatch {
     /// R on the grid `us` × `vs`, u-major (entry a·|vs| + b at (`us[a]`,
-    /// `vs[b]`)): the points of [`TensorPatch::derivatives_on`].
+    /// `vs[b]`)): the points of [`TensorPatch::derivatives_on`] — to
+    /// rounding where there are more u's than v's: then the patch is
+    /// contracted in v first (one pass per v, not per u: a boundary curve
+    /// v = const costs one row).
     pub fn eval_on(&self, us: &[f64], vs: &[f64]) -> Vec<Vec3> {
+        if us.len() > vs.len() {
+            let t = self.transposed().eval_on(vs, us);
+            return (0..us.len() * vs.len())
+                .map(|q| t[(q % vs.len()) * us.len() + q / vs.len()])
+                .collect();
+        }
         /// The rows' points one after the other.
         struct Points(Vec<Vec3>, usize);
         impl GridRows<1> for Points {
@@ -138,6 +147,17 @@ mod tests {
             assert_eq!(p.samples_on(&us, &vs), want);
             let points: Vec<Vec3> = d.iter().map(|d| d.point).collect();
             assert_eq!(p.eval_on(&us, &vs), points);
+            // More u's than v's: contracted the other way, to rounding.
+            let d = p.derivatives_on(&vs, &us);
+            let e = p.eval_on(&vs, &us);
+            assert_eq!(e.len(), d.len());
+            for (x, y) in e.iter().zip(&d) {
+                assert!(
+                    crate::vec3::dist(*x, y.point) < 1e-14,
+                    "{x:?} vs {:?}",
+                    y.point
+                );
+            }
         }
         let (us, vs) = collapsed.uniform_grid(8, 11);
         let s = collapsed.samples_on(&us, &vs);
