@@ -14,7 +14,7 @@ on a 21 x 21 grid, so both solve the same problem (the nets themselves differ
 from degree 10 on: 7.5e-8 at 10, 2.3 at 15 — the float64 LU leaves the
 numpy net off in directions the surface barely sees; fairsurf's net is
 verified in double-double). The column `max |dS|` shows the surfaces'
-difference; the script stops above 1e-6.
+difference; the script stops above 1e-4.
 
 fairsurf is timed in its own process by its report (assembly, factorization,
 solve and the double-double check of the written net; the area and curvature
@@ -233,7 +233,11 @@ def main():
                 # The solves in one warm process, too (the library's case).
                 warm = fairsurf_runs(a.binary, path, 3 * a.repeats)
                 dx = np.abs(surface(fairsurf_net(a.binary, path, tmp)) - surface(x)).max()
-                if dx > 1e-6:
+                # numpy's own float64 solve error grows with the degree (its
+                # degree-20 E1 surface is 1.4e-5 off the verified one with
+                # numpy 2.4.6, 9e-7 with the numpy of 2026-11-23): a larger
+                # gap means the two solve different problems.
+                if dx > 1e-4:
                     sys.exit(f"E{2 if thin_plate else 1} degree {n}: surfaces differ by {dx:.2e}")
                 f_ms = 1e3 * min(statistics.median(ours), statistics.median(warm))
                 n_ms = 1e3 * statistics.median(peer)
