@@ -150,7 +150,7 @@ export function decodeMesh(mesh) {
  */
 export function gridIndices(rows, cols) {
   const Index = rows * cols > 65536 ? Uint32Array : Uint16Array;
-  const out = new Index(6 * (rows - 1) * (cols - 1));
+  const out = new Index(6 * Math.max(0, rows - 1) * Math.max(0, cols - 1));
   let k = 0;
   for (let i = 0; i + 1 < rows; i++) {
     for (let j = 0; j + 1 < cols; j++) {

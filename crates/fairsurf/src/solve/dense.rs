@@ -335,8 +335,10 @@ fn residual_with<const FMA: bool>(h: &Mat<f64>, x: &Mat<f64>, b: &Mat<f64>) -> M
 /// is Dot2's with n/L + L terms). Compiled for and run with fused
 /// multiply-add where the CPU has it ([`with_fma`]: the product's error is
 /// one FMA, the lanes fill AVX2 registers), else with Dekker's split; both
-/// give the product's error exactly, so the same bits. Exact products while
-/// |a_j|, |x_j| < 2^995 or so (the split by 2^27 + 1 must not overflow).
+/// give the product's error exactly, so the same bits, while |a_j|, |x_j| <
+/// 2^995 or so (the split by 2^27 + 1 must not overflow) and the products
+/// stay above the underflow threshold (2^−969 or so: below it neither error
+/// is exact, and the two may differ in the last bits of a term that small).
 /// Inside another [`with_fma`] context call [`dot2_residual_with`] instead:
 /// the dispatch is per call here.
 pub(crate) fn dot2_residual(b: f64, a: &[f64], x: &[f64]) -> f64 {

@@ -301,7 +301,7 @@ impl TensorPatch {
     /// row (one u) at a time, coordinates apart: `sink.row(a, rows)` with
     /// `rows[k][c][b]` the coordinate c of order k at (`us[a]`, `vs[b]`) (see
     /// [`GridRows`] for the padding) — the
-    /// same sums in the same order as [`TensorPatch::derivatives_on`], so the
+    /// same sums in the same order as the point-by-point `grid_partials`, so the
     /// same bits, but the loop over a row's points is contiguous and
     /// vectorizes. Compiled for the CPU's vector width ([`with_fma`]), with
     /// the sink's `row` inlined into it.
@@ -473,10 +473,13 @@ mod tests {
         })
     }
 
-    /// The rows, coordinates apart and padded, are bit for bit the grid
-    /// of derivatives, and the padding repeats the row's last point.
+    /// The rows, coordinates apart and padded, are bit for bit the
+    /// per-point grid evaluation (`grid_partials`, a separate loop that
+    /// sums point by point), within rounding of the pointwise
+    /// [`TensorPatch::derivatives`] (another algorithm), and the padding
+    /// repeats the row's last point.
     #[test]
-    fn grid_rows_are_derivatives_on() {
+    fn grid_rows_are_the_pointwise_derivatives() {
         struct Keep(Vec<[Vec<f64>; 3]>);
         impl GridRows<6> for Keep {
             fn row(&mut self, _: usize, rows: &[[Vec<f64>; 3]; 6]) {
@@ -491,22 +494,29 @@ mod tests {
         let orders = [(0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2)];
         let mut keep = Keep(Vec::new());
         p.grid_rows(&us, &vs, orders, &mut keep);
-        let d = p.derivatives_on(&us, &vs);
+        let mut per_point = Vec::new();
+        p.grid_partials(&us, &vs, orders, |d| per_point.push(d));
         assert_eq!(keep.0.len(), 6 * us.len());
-        let all = |x: &SurfaceDerivatives| [x.point, x.du, x.dv, x.duu, x.duv, x.dvv];
         for (a, rows) in keep.0.chunks(6).enumerate() {
-            let row_d = &d[a * vs.len()..][..vs.len()];
             for (o, row) in rows.iter().enumerate() {
                 assert_eq!(row[0].len(), 16);
                 for b in 0..16 {
-                    let want = all(&row_d[b.min(vs.len() - 1)])[o];
-                    assert_eq!(
-                        [row[0][b], row[1][b], row[2][b]],
-                        want,
-                        "row {a}, order {o}"
+                    let k = a * vs.len() + b.min(vs.len() - 1);
+                    let got = [row[0][b], row[1][b], row[2][b]];
+                    assert_eq!(got, per_point[k][o], "row {a}, order {o}");
+                    let d = p.derivatives(us[a], vs[b.min(vs.len() - 1)]);
+                    let want = [d.point, d.du, d.dv, d.duu, d.duv, d.dvv][o];
+                    assert!(
+                        norm(sub(got, want)) <= 1e-13 * (1.0 + norm(want)),
+                        "{got:?} {want:?}"
                     );
                 }
             }
+        }
+        // derivatives_on is the rows' points.
+        let d = p.derivatives_on(&us, &vs);
+        for (k, x) in d.iter().enumerate() {
+            assert_eq!([x.point, x.du, x.dv, x.duu, x.duv, x.dvv], per_point[k]);
         }
     }
 

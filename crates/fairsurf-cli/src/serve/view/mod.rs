@@ -306,10 +306,23 @@ fn size_of(points: &[Vec3]) -> f64 {
     }
 }
 
+/// Cells per side of a tensor surface's mesh for the page.
+const GRID_CELLS: usize = 48;
+
+/// [`mesh_view`] of a tensor surface on its GRID_CELLS × GRID_CELLS grid,
+/// which a base64 answer sends as its size instead of the indices.
+fn grid_mesh_view(surface: &impl ParamSurface) -> MeshView {
+    let mesh = SurfaceMesh::from_patch(surface, GRID_CELLS, GRID_CELLS);
+    mesh_view(&mesh, Some((GRID_CELLS + 1, GRID_CELLS + 1)))
+}
+
 /// The mesh with per-vertex colours by signed mean curvature (cool–warm,
 /// symmetric about 0 up to the 98th percentile of |H|) and its legend.
 fn mesh_view(m: &SurfaceMesh, grid: Option<(usize, usize)>) -> MeshView {
     let mesh = m.mesh();
+    debug_assert!(grid.is_none_or(|(rows, cols)| {
+        mesh.positions.len() == rows * cols && mesh.triangles.len() == 2 * (rows - 1) * (cols - 1)
+    }));
     let mut abs: Vec<f64> = m
         .curvature()
         .iter()

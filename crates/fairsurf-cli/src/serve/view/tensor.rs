@@ -75,7 +75,7 @@ pub(super) fn bspline_view(solved: &SolvedBSplineScene) -> View<'_> {
         kind: "bspline",
         table,
         result: Scene::BSpline(solved.result_scene()),
-        mesh: mesh_view(&SurfaceMesh::from_patch(s, 48, 48), Some((49, 49))),
+        mesh: grid_mesh_view(s),
         net: Net {
             points: s.points(),
             edges: grid_edges(cu, cv),
@@ -180,7 +180,7 @@ pub(super) fn tensor_view(solved: &SolvedTensorScene) -> View<'_> {
         kind: "tensor",
         table,
         result: Scene::Tensor(solved.result_scene()),
-        mesh: mesh_view(&SurfaceMesh::from_patch(patch, 48, 48), Some((49, 49))),
+        mesh: grid_mesh_view(patch),
         net: Net {
             points: patch.points(),
             edges: grid_edges(n + 1, m + 1),

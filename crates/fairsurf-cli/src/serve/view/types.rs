@@ -221,7 +221,7 @@ pub(crate) enum MeshEncoding {
     Json,
     /// Base64 text (RFC 4648, padded) of little-endian arrays: float32
     /// positions, uint16 indices (uint32 past 65,536 vertices, as
-    /// `index_type` says) — or, for a tensor surface's grid, its size
+    /// `index_type` says) — or, for a tensor or B-spline surface's grid, its size
     /// (`grid`) instead of indices —, uint8 sRGB colours (0–255, the
     /// legend's precision): a quarter of the bytes, no decimals to write or
     /// parse (what the editor's page asks for).
@@ -248,7 +248,7 @@ impl MeshEncoding {
 impl serde::Serialize for MeshView {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         use serde::ser::SerializeStruct;
-        let mut m = s.serialize_struct("MeshView", 5)?;
+        let mut m = s.serialize_struct("MeshView", 6)?;
         match self.encoding {
             MeshEncoding::Json => {
                 let positions: Vec<f64> = self
