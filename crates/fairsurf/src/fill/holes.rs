@@ -197,13 +197,24 @@ pub fn find_holes_within(faces: &[BSplineSurface], tol: f64) -> Result<Vec<Hole>
     }
     // Two pieces are one edge when their ends meet (either way round) and
     // the points inside one lie on the other's curve.
+    // The usual case first: the two pieces sampled alike (the same curve
+    // parametrized the same way, either direction), sample for sample
+    // within tol — each of a's samples is then within tol of a point of b;
+    // else the nearest point of b's curve to each.
     let same = |a: &BoundaryEdge, b: &BoundaryEdge| {
         let ((a0, a1), (b0, b1)) = (a.ends(), b.ends());
-        let ends = (dist(a0, b0) <= tol && dist(a1, b1) <= tol)
-            || (dist(a0, b1) <= tol && dist(a1, b0) <= tol);
-        ends && a.samples[1..SAMPLES - 1]
-            .iter()
-            .all(|p| nearest_on_boundary(&faces[b.face], b.edge, b.range, *p).1 <= tol)
+        let forward = dist(a0, b0) <= tol && dist(a1, b1) <= tol;
+        let backward = dist(a0, b1) <= tol && dist(a1, b0) <= tol;
+        let inner = 1..SAMPLES - 1;
+        let alike = |k: usize| {
+            let j = if forward { k } else { SAMPLES - 1 - k };
+            dist(a.samples[k], b.samples[j]) <= tol
+        };
+        (forward || backward)
+            && (inner.clone().all(alike)
+                || a.samples[inner]
+                    .iter()
+                    .all(|p| nearest_on_boundary(&faces[b.face], b.edge, b.range, *p).1 <= tol))
     };
     let free: Vec<&BoundaryEdge> = edges
         .iter()
