@@ -66,23 +66,31 @@ impl TriMesh {
                 normals.push(n.unwrap_or([f64::NAN; 3]));
             }
         }
-        let idx = |i: usize, j: usize| (i * (rv + 1) + j) as u32;
-        let mut triangles = Vec::with_capacity(2 * ru * rv);
-        for i in 0..ru {
-            for j in 0..rv {
+        let mut mesh = Self {
+            positions,
+            normals,
+            uvs,
+            triangles: Self::grid_triangles(ru + 1, rv + 1),
+        };
+        mesh.repair_normals();
+        mesh
+    }
+
+    /// The triangles of a rows × cols grid of vertices (row-major, vertex
+    /// i·cols + j at (u_i, v_j)), as [`TriMesh::from_patch`] meshes a
+    /// surface: each cell split along its (i, j)–(i+1, j+1) diagonal,
+    /// counter-clockwise about R_u × R_v.
+    pub fn grid_triangles(rows: usize, cols: usize) -> Vec<[u32; 3]> {
+        let idx = |i: usize, j: usize| (i * cols + j) as u32;
+        let mut triangles = Vec::with_capacity(2 * rows.saturating_sub(1) * cols.saturating_sub(1));
+        for i in 0..rows.saturating_sub(1) {
+            for j in 0..cols.saturating_sub(1) {
                 // R_u × R_v orientation: (i,j) → (i+1,j) → (i+1,j+1) is counter-clockwise.
                 triangles.push([idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)]);
                 triangles.push([idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)]);
             }
         }
-        let mut mesh = Self {
-            positions,
-            normals,
-            uvs,
-            triangles,
-        };
-        mesh.repair_normals();
-        mesh
+        triangles
     }
 
     /// Replaces missing (NaN) normals by the normalized sum of adjacent face

@@ -309,26 +309,47 @@ fn size_of(points: &[Vec3]) -> f64 {
 /// Cells per side of a tensor surface's mesh for the page.
 const GRID_CELLS: usize = 48;
 
-/// [`mesh_view`] of a tensor surface on its GRID_CELLS × GRID_CELLS grid,
+/// [`mesh_view`] of a tensor surface on its GRID_CELLS × GRID_CELLS grid
+/// (the positions and curvatures only: the page computes its own normals),
 /// which a base64 answer sends as its size instead of the indices.
 fn grid_mesh_view(surface: &impl ParamSurface) -> MeshView {
-    let mesh = SurfaceMesh::from_patch(surface, GRID_CELLS, GRID_CELLS);
-    mesh_view(&mesh, Some((GRID_CELLS + 1, GRID_CELLS + 1)))
+    let (us, vs) = surface.uniform_grid(GRID_CELLS, GRID_CELLS);
+    let samples = surface.samples_on(&us, &vs);
+    let n = GRID_CELLS + 1;
+    mesh_view(
+        samples.iter().map(|s| s.point).collect(),
+        samples
+            .iter()
+            .map(|s| s.curvature.map(|c| c.mean))
+            .collect(),
+        fairsurf::TriMesh::grid_triangles(n, n),
+        Some((n, n)),
+    )
 }
 
-/// The mesh with per-vertex colours by signed mean curvature (cool–warm,
-/// symmetric about 0 up to the 98th percentile of |H|) and its legend.
-fn mesh_view(m: &SurfaceMesh, grid: Option<(usize, usize)>) -> MeshView {
-    let mesh = m.mesh();
+/// [`mesh_view`] of a mesh with its curvatures.
+fn surface_mesh_view(m: &SurfaceMesh) -> MeshView {
+    mesh_view(
+        m.mesh().positions.clone(),
+        m.curvature().iter().map(|c| c.map(|c| c.mean)).collect(),
+        m.mesh().triangles.clone(),
+        None,
+    )
+}
+
+/// The mesh with per-vertex colours by signed mean curvature H (`means`,
+/// `None` where the surface is singular; cool–warm, symmetric about 0 up
+/// to the 98th percentile of |H|) and its legend.
+fn mesh_view(
+    positions: Vec<Vec3>,
+    means: Vec<Option<f64>>,
+    triangles: Vec<[u32; 3]>,
+    grid: Option<(usize, usize)>,
+) -> MeshView {
     debug_assert!(grid.is_none_or(|(rows, cols)| {
-        mesh.positions.len() == rows * cols && mesh.triangles.len() == 2 * (rows - 1) * (cols - 1)
+        positions.len() == rows * cols && triangles.len() == 2 * (rows - 1) * (cols - 1)
     }));
-    let mut abs: Vec<f64> = m
-        .curvature()
-        .iter()
-        .flatten()
-        .map(|c| c.mean.abs())
-        .collect();
+    let mut abs: Vec<f64> = means.iter().flatten().map(|h| h.abs()).collect();
     abs.retain(|h| h.is_finite());
     // The 98th percentile (or the largest): one selection, not a sort.
     let k = ((abs.len() as f64 * 0.98) as usize).min(abs.len().saturating_sub(1));
@@ -339,11 +360,10 @@ fn mesh_view(m: &SurfaceMesh, grid: Option<(usize, usize)>) -> MeshView {
     }
     .max(1e-12);
     let map = ColourMap::CoolWarm;
-    let colors: Vec<f32> = m
-        .curvature()
+    let colors: Vec<f32> = means
         .iter()
-        .flat_map(|c| match c {
-            Some(c) => map.at(0.5 + 0.5 * c.mean / a),
+        .flat_map(|h| match h {
+            Some(h) => map.at(0.5 + 0.5 * h / a),
             None => ColourMap::NAN,
         })
         .collect();
@@ -359,8 +379,7 @@ fn mesh_view(m: &SurfaceMesh, grid: Option<(usize, usize)>) -> MeshView {
     // WebGL draws in) as the shortest decimals when written as JSON: a
     // third of the digits to write and to parse, nothing lost on the
     // screen.
-    let extent = mesh
-        .positions
+    let extent = positions
         .iter()
         .flatten()
         .fold(0.0f64, |m, x| m.max(x.abs()));
@@ -370,9 +389,9 @@ fn mesh_view(m: &SurfaceMesh, grid: Option<(usize, usize)>) -> MeshView {
         -7
     };
     MeshView {
-        positions: mesh.positions.iter().flatten().copied().collect(),
+        positions: positions.iter().flatten().copied().collect(),
         digits,
-        indices: mesh.triangles.iter().flatten().copied().collect(),
+        indices: triangles.iter().flatten().copied().collect(),
         grid,
         colors,
         legend: Legend {

@@ -101,7 +101,7 @@ pub(super) fn tri_view(solved: &SolvedTriScene) -> View<'_> {
         kind: "triangular",
         table,
         result: Scene::Triangular(solved.result_scene()),
-        mesh: mesh_view(&SurfaceMesh::from_tri_surface(s, resolution), None),
+        mesh: surface_mesh_view(&SurfaceMesh::from_tri_surface(s, resolution)),
         net: Net {
             points: s.points(),
             edges: s.net_edges(),
