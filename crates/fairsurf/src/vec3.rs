@@ -58,7 +58,13 @@ pub fn dist(a: Vec3, b: Vec3) -> f64 {
 /// first.
 #[inline]
 pub fn normalize(a: Vec3) -> Option<Vec3> {
-    let l = norm(a);
+    normalize_with_norm(a, norm(a))
+}
+
+/// [`normalize`] of `a` with its norm `l = |a|` at hand (computed as
+/// [`norm`] does): a · (1/l) in the usual case, the same bits.
+#[inline(always)]
+pub(crate) fn normalize_with_norm(a: Vec3, l: f64) -> Option<Vec3> {
     if l.is_finite() && l > 1e-150 {
         return Some(scale(a, 1.0 / l));
     }

@@ -55,17 +55,20 @@ pub fn area(patch: &TensorPatch) -> Area {
             kid_values: vals,
         }
     };
-    let split = |q, whole| leaf(q, whole, children(q).map(|k| panel(patch, &gl, k)));
+    // A panel's four children from one grid of their nodes, in the order
+    // of `children`.
+    let split = |q, whole| {
+        let p = panels(patch, &gl, q, 2);
+        leaf(q, whole, [p[0], p[2], p[1], p[3]])
+    };
     // Start from a uniform 2×2 grid of panels with their 4×4 children (two
     // tensor grids of nodes, evaluated a row at a time), then always split
     // the leaf with the largest error (global adaptivity: cheap on kinks
     // along curves as well as at points).
     let k = 2;
     let h = 1.0 / k as f64;
-    let (whole, kids) = (
-        uniform_panels(patch, &gl, k),
-        uniform_panels(patch, &gl, 2 * k),
-    );
+    let unit = (0.0, 0.0, 1.0);
+    let (whole, kids) = (panels(patch, &gl, unit, k), panels(patch, &gl, unit, 2 * k));
     let mut heap = std::collections::BinaryHeap::new();
     for p in 0..k * k {
         let (i, j) = (p / k, p % k);
@@ -132,45 +135,35 @@ impl Ord for Leaf {
     }
 }
 
-/// The rule on the square panel (u0, v0, side h).
-fn panel(patch: &TensorPatch, gl: &GaussLegendre, (u0, v0, h): (f64, f64, f64)) -> f64 {
-    let us: Vec<f64> = gl.nodes.iter().map(|&s| u0 + s * h).collect();
-    let vs: Vec<f64> = gl.nodes.iter().map(|&s| v0 + s * h).collect();
-    let d = patch.grid_tangents(&us, &vs);
+/// The rule on each panel of the k × k partition of the square (u0, v0,
+/// side h) (u-major: entry i·k + j at (u0 + i·h/k, v0 + j·h/k)), from one
+/// tensor grid of all the panels' nodes evaluated a row at a time: per
+/// panel of side c, c² Σ_a w_a Σ_b w_b |R_u × R_v| at the nodes
+/// (u0 + i·c + s_a·c, v0 + j·c + s_b·c).
+fn panels(
+    patch: &TensorPatch,
+    gl: &GaussLegendre,
+    (u0, v0, h): (f64, f64, f64),
+    k: usize,
+) -> Vec<f64> {
+    let c = h / k as f64;
     let q = gl.nodes.len();
-    let mut total = 0.0;
-    for a in 0..q {
-        let row: f64 = (0..q)
-            .map(|b| {
-                let (du, dv) = d[a * q + b];
-                gl.weights[b] * norm(cross(du, dv))
-            })
-            .sum();
-        total += gl.weights[a] * row;
-    }
-    total * h * h
-}
-
-/// [`panel`] on each panel of the uniform k × k partition of [0, 1]²
-/// (u-major: entry i·k + j at (i/k, j/k)), the same sums in the same order,
-/// from one tensor grid of all the panels' nodes evaluated a row at a time.
-fn uniform_panels(patch: &TensorPatch, gl: &GaussLegendre, k: usize) -> Vec<f64> {
-    let h = 1.0 / k as f64;
-    let q = gl.nodes.len();
-    let ts: Vec<f64> = (0..k)
-        .flat_map(|i| gl.nodes.iter().map(move |&s| i as f64 * h + s * h))
-        .collect();
+    let nodes = |o: f64| -> Vec<f64> {
+        (0..k)
+            .flat_map(|i| gl.nodes.iter().map(move |&s| o + i as f64 * c + s * c))
+            .collect()
+    };
     let mut sums = Sums {
         gl,
         k,
         dn: vec![0.0; (k * q).next_multiple_of(GRID_LANES)],
         totals: vec![0.0; k * k],
     };
-    patch.grid_rows(&ts, &ts, [(1, 0), (0, 1)], &mut sums);
-    sums.totals.iter().map(|t| t * h * h).collect()
+    patch.grid_rows(&nodes(u0), &nodes(v0), [(1, 0), (0, 1)], &mut sums);
+    sums.totals.iter().map(|t| t * c * c).collect()
 }
 
-/// [`uniform_panels`]' running sums: per panel Σ_a w_a Σ_b w_b |R_u × R_v|.
+/// [`panels`]' running sums: per panel Σ_a w_a Σ_b w_b |R_u × R_v|.
 struct Sums<'a> {
     gl: &'a GaussLegendre,
     k: usize,
@@ -204,8 +197,29 @@ impl GridRows<2> for Sums<'_> {
 mod tests {
     use super::*;
 
-    /// The uniform start's panels, evaluated from one tensor grid a row at
-    /// a time, are bit for bit the panels evaluated one by one.
+    /// The rule on the square panel (u0, v0, side h) by the point-by-point
+    /// grid loop: the reference the row-wise panels are held to.
+    fn panel(patch: &TensorPatch, gl: &GaussLegendre, (u0, v0, h): (f64, f64, f64)) -> f64 {
+        let us: Vec<f64> = gl.nodes.iter().map(|&s| u0 + s * h).collect();
+        let vs: Vec<f64> = gl.nodes.iter().map(|&s| v0 + s * h).collect();
+        let d = patch.grid_tangents(&us, &vs);
+        let q = gl.nodes.len();
+        let mut total = 0.0;
+        for a in 0..q {
+            let row: f64 = (0..q)
+                .map(|b| {
+                    let (du, dv) = d[a * q + b];
+                    gl.weights[b] * norm(cross(du, dv))
+                })
+                .sum();
+            total += gl.weights[a] * row;
+        }
+        total * h * h
+    }
+
+    /// The uniform start's panels and a split's children, evaluated from
+    /// one tensor grid a row at a time, are bit for bit the panels
+    /// evaluated one by one.
     #[test]
     fn uniform_panels_are_the_single_panels() {
         for (n, m) in [(5, 5), (3, 7), (1, 2)] {
@@ -220,11 +234,16 @@ mod tests {
                     .map(|q| panel(&p, &gl, ((q / k) as f64 * h, (q % k) as f64 * h, h)))
                     .collect();
                 assert_eq!(
-                    uniform_panels(&p, &gl, k),
+                    panels(&p, &gl, (0.0, 0.0, 1.0), k),
                     one_by_one,
                     "({n}, {m}), k = {k}"
                 );
             }
+            // A split inside the square: its four children, in order.
+            let q = (0.25, 0.5, 0.25);
+            let split = panels(&p, &gl, q, 2);
+            let kids = children(q).map(|c| panel(&p, &gl, c));
+            assert_eq!([split[0], split[2], split[1], split[3]], kids, "({n}, {m})");
         }
     }
 

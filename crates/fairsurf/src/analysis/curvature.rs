@@ -30,6 +30,12 @@ pub fn curvature_from(d: &SurfaceDerivatives) -> Option<Curvature> {
     PointForms::at(d.du, d.dv, d.duu, d.duv, d.dvv).curvature()
 }
 
+/// [`PointForms::regular`] from its parts: EG − F², E, G and |R_u × R_v|.
+#[inline(always)]
+pub(crate) fn is_regular(det: f64, e: f64, g: f64, l: f64) -> bool {
+    !(det.is_nan() || det <= 1e-24 * e * g || l == 0.0)
+}
+
 /// What [`curvature_from`] computes at one point, branch-free (a loop of
 /// it over a grid's row vectorizes): ñ = R_u × R_v, |ñ|, E = R_u·R_u,
 /// G = R_v·R_v, EG − F², K, H and √max(H² − K, 0). Meaningful where
@@ -75,7 +81,7 @@ impl PointForms {
     /// |R_u|² |R_v|² (nor NaN, nor a zero normal).
     #[inline(always)]
     pub(crate) fn regular(&self) -> bool {
-        !(self.det.is_nan() || self.det <= 1e-24 * self.e * self.g || self.l == 0.0)
+        is_regular(self.det, self.e, self.g, self.l)
     }
 
     /// The curvatures, where regular.

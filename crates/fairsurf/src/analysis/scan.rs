@@ -7,10 +7,10 @@
 //! [`super::abs_mean_curvature`] and [`super::largest_normal_turn`] on that
 //! grid, so the same bits (a test holds them equal).
 
-use super::curvature::{unit_grid, AbsMeanCurvature, HStats, PointForms};
+use super::curvature::{is_regular, unit_grid, AbsMeanCurvature, HStats, PointForms};
 use super::folds::NormalTurn;
 use crate::tensor::{chunk3, GridRows, GRID_LANES};
-use crate::vec3::{angle, dot, normalize, sub, Vec3};
+use crate::vec3::{angle, dot, normalize_with_norm, sub, Vec3};
 use crate::TensorPatch;
 
 /// [`super::abs_mean_curvature`] and [`super::largest_normal_turn`] of a
@@ -21,16 +21,16 @@ pub(crate) fn curvature_and_turn(
 ) -> (AbsMeanCurvature, Option<NormalTurn>) {
     const ORDERS: [(usize, usize); 5] = [(1, 0), (0, 1), (2, 0), (1, 1), (0, 2)];
     let k = k.max(1);
+    let ts = unit_grid(k);
     let mut scan = Scan {
         k,
-        ts: unit_grid(k),
+        ts: &ts,
         stats: HStats::default(),
         turn: Turn::default(),
         point: PointRow::new((k + 1).next_multiple_of(GRID_LANES)),
         prev: vec![None; k + 1],
         cur: vec![None; k + 1],
     };
-    let ts = scan.ts.clone();
     patch.grid_rows(&ts, &ts, ORDERS, &mut scan);
     scan.turn.row_pairs(&scan.prev, None, ts[k], &ts);
     (scan.stats.finish(), scan.turn.finish())
@@ -38,9 +38,9 @@ pub(crate) fn curvature_and_turn(
 
 /// The pass's state: the statistics and turn so far, the row's per-point
 /// values, the unit normals of the row before and of this one.
-struct Scan {
+struct Scan<'a> {
     k: usize,
-    ts: Vec<f64>,
+    ts: &'a [f64],
     stats: HStats,
     turn: Turn,
     point: PointRow,
@@ -48,7 +48,7 @@ struct Scan {
     cur: Vec<Option<Vec3>>,
 }
 
-impl GridRows<5> for Scan {
+impl GridRows<5> for Scan<'_> {
     #[inline(always)]
     fn row(&mut self, a: usize, rows: &[[Vec<f64>; 3]; 5]) {
         let k = self.k;
@@ -67,7 +67,7 @@ impl GridRows<5> for Scan {
         // of a u-major sweep: down, then right.
         if a > 0 {
             self.turn
-                .row_pairs(&self.prev, Some(&self.cur), self.ts[a - 1], &self.ts);
+                .row_pairs(&self.prev, Some(&self.cur), self.ts[a - 1], self.ts);
         }
         std::mem::swap(&mut self.prev, &mut self.cur);
     }
@@ -139,21 +139,13 @@ impl PointRow {
     /// Where [`super::curvature_from`] gives no curvature.
     #[inline(always)]
     fn singular(&self, b: usize) -> bool {
-        let (det, e, g, l) = (self.det[b], self.e[b], self.g[b], self.l[b]);
-        det.is_nan() || det <= 1e-24 * e * g || l == 0.0
+        !is_regular(self.det[b], self.e[b], self.g[b], self.l[b])
     }
 
-    /// The unit normal, as [`normalize`] gives it (its usual case here:
-    /// the length is at hand).
+    /// The unit normal, as [`crate::vec3::normalize`] gives it.
     #[inline(always)]
     fn normal(&self, b: usize) -> Option<Vec3> {
-        let (nn, l) = ([self.n[0][b], self.n[1][b], self.n[2][b]], self.l[b]);
-        if l.is_finite() && l > 1e-150 {
-            let r = 1.0 / l;
-            Some([nn[0] * r, nn[1] * r, nn[2] * r])
-        } else {
-            normalize(nn)
-        }
+        normalize_with_norm([self.n[0][b], self.n[1][b], self.n[2][b]], self.l[b])
     }
 }
 

@@ -179,12 +179,12 @@ pub(crate) fn weighted_kron(w: &Mat<f64>, terms: &[KronTerm]) -> Mat<f64> {
     out
 }
 
-/// Square k×k matrices, each flattened row-major, one after the other.
+/// Matrices, each flattened row-major, one after the other.
 fn flatten(ms: &[Mat<f64>]) -> Vec<f64> {
     ms.iter()
         .flat_map(|m| {
-            let k = m.nrows();
-            (0..k * k).map(move |e| m[(e / k, e % k)])
+            let (r, c) = (m.nrows(), m.ncols());
+            (0..r * c).map(move |e| m[(e / c, e % c)])
         })
         .collect()
 }
@@ -324,11 +324,6 @@ impl PatternForm {
             return [0.0; 6];
         };
         let (wu, wv) = (ws[0].nrows(), ws[0].ncols());
-        let flat = |m: &Mat<f64>| -> Vec<f64> {
-            (0..m.nrows() * m.ncols())
-                .map(|e| m[(e / m.ncols(), e % m.ncols())])
-                .collect()
-        };
         // d[a][α] = T^u_α A_a, c[b][β] = B_b T^v_β: ku × kv, row-major.
         let product = |x: &[f64], y: &[f64], inner: usize| {
             let mut out = vec![0.0; ku * kv];
@@ -341,8 +336,8 @@ impl PatternForm {
             }
             out
         };
-        let nets: Vec<Vec<f64>> = nets.iter().map(|m| flat(m)).collect();
-        let tv: Vec<Vec<f64>> = self.tv.iter().map(flat).collect();
+        let nets = nets.map(|m| flatten(std::slice::from_ref(m)));
+        let tv = flatten(&self.tv);
         let d: Vec<Vec<Vec<f64>>> = nets
             .iter()
             .map(|a| {
@@ -353,7 +348,11 @@ impl PatternForm {
             .collect();
         let c: Vec<Vec<Vec<f64>>> = nets
             .iter()
-            .map(|b| tv.iter().map(|t| product(b, t, kv)).collect())
+            .map(|b| {
+                tv.chunks_exact(kv * kv)
+                    .map(|t| product(b, t, kv))
+                    .collect()
+            })
             .collect();
         let mut values = [0.0; 6];
         let pairs = (0..3).flat_map(|a| (a..3).map(move |b| (a, b)));

@@ -236,7 +236,10 @@ impl TensorPatch {
     }
 
     /// (R_u, R_v) at every (u, v) of a tensor grid, u-major as
-    /// [`TensorPatch::derivatives_on`], without the other derivatives.
+    /// [`TensorPatch::derivatives_on`], without the other derivatives, by
+    /// the point-by-point loop: the tests' reference for the row-wise
+    /// evaluation.
+    #[cfg(test)]
     pub(crate) fn grid_tangents(&self, us: &[f64], vs: &[f64]) -> Vec<(Vec3, Vec3)> {
         let mut out = Vec::with_capacity(us.len() * vs.len());
         self.grid_partials(us, vs, [(1, 0), (0, 1)], |[du, dv]| out.push((du, dv)));
@@ -245,7 +248,9 @@ impl TensorPatch {
 
     /// ∂^(r+s)R/∂u^r∂v^s for each (r, s) of `orders` at every (u, v) of a
     /// tensor grid, u-major, handed to `emit`: q[r][j] = Σ_i dʳB_i^n(u) P_ij
-    /// once per u, then Σ_j q[r][j] dˢB_j^m(v) per point.
+    /// once per u, then Σ_j q[r][j] dˢB_j^m(v) per point — point by point,
+    /// the tests' reference for [`TensorPatch::grid_rows`].
+    #[cfg(test)]
     fn grid_partials<const K: usize>(
         &self,
         us: &[f64],

@@ -7,7 +7,7 @@
 use super::patch::{chunk3, GridRows, GRID_LANES};
 use crate::analysis::PointForms;
 use crate::surface::Sample;
-use crate::vec3::{normalize, Vec3};
+use crate::vec3::{normalize_with_norm, Vec3};
 use crate::TensorPatch;
 
 impl TensorPatch {
@@ -105,21 +105,10 @@ impl GridRows<6> for Samples {
             };
             self.out.push(Sample {
                 point: [x[b], y[b], z[b]],
-                normal: unit(&f.nn, f.l),
+                normal: normalize_with_norm(f.nn, f.l),
                 curvature: f.curvature(),
             });
         }
-    }
-}
-
-/// [`normalize`] of ñ with its length at hand (its usual case: ñ · (1/|ñ|)).
-#[inline(always)]
-fn unit(nn: &Vec3, l: f64) -> Option<Vec3> {
-    if l.is_finite() && l > 1e-150 {
-        let r = 1.0 / l;
-        Some([nn[0] * r, nn[1] * r, nn[2] * r])
-    } else {
-        normalize(*nn)
     }
 }
 
