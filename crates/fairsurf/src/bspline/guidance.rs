@@ -57,76 +57,92 @@ pub(crate) struct SpanGrid {
 
 impl SpanGrid {
     /// The span's local Hessian Σ_nodes w (Y Yᵀ + Z Zᵀ), Y = ∂_u B ⊗ N,
-    /// Z = ∂_v B ⊗ N, as an m × m matrix (m = 3(p+1)(q+1), row 3a + c for
-    /// basis function a = i(q+1) + j and coordinate c), by sum
-    /// factorization over the grid: for each pair (c, d),
-    /// Σ_s N′_i(u_s) N′_i′(u_s) Σ_t w_st n_c n_d N_j(v_t) N_j′(v_t), and the
-    /// same with the derivative in v — (p+1)²(q+1)² per u node instead of
-    /// 9(p+1)²(q+1)² per node.
-    pub fn local(&self) -> Vec<f64> {
+    /// Z = ∂_v B ⊗ N, as its six coordinate blocks: `blocks[pair(c, d)]`
+    /// (c ≤ d) is the s × s matrix (s = (p+1)(q+1), row-major, basis
+    /// function a = i(q+1) + j) of the (c, d) entries — symmetric, and the
+    /// (d, c) block is the same matrix. By sum factorization over the grid
+    /// in two matrix products: per pair and term,
+    /// T_s[j, j′] = Σ_t w_st n_c n_d N_j(v_t) N_j′(v_t) (N′ for the
+    /// v-derivative term), then for all pairs at once
+    /// H[(i, i′), (j, j′)] = Σ_s N′_i(u_s) N′_i′(u_s) T_s[j, j′] (N for the
+    /// v-derivative term) with the two terms stacked along s.
+    pub fn local(&self) -> [Vec<f64>; 6] {
+        use faer::linalg::matmul::matmul;
+        use faer::{Accum, Mat, Par};
         let (pu, pv) = (self.bu[0][0].len(), self.bv[0][0].len());
         let (nu, nv) = (self.bu.len(), self.bv.len());
-        let size = pu * pv;
-        let m = 3 * size;
-        let mut local = vec![0.0f64; m * m];
-        let mut t = vec![0.0f64; pv * pv];
-        for c in 0..3 {
-            for d in c..3 {
-                // (u factor index, v factor index): the u-derivative term
-                // pairs N′(u) with N(v), the v-derivative term N(u) with N′(v).
-                for (ku, kv) in [(1, 0), (0, 1)] {
-                    for s in 0..nu {
-                        t.fill(0.0);
-                        for tt in 0..nv {
-                            let k = s * nv + tt;
-                            let w = self.weight[k] * self.n[k][c] * self.n[k][d];
-                            if w == 0.0 {
-                                continue;
-                            }
-                            let b = &self.bv[tt][kv];
-                            for j in 0..pv {
-                                let wj = w * b[j];
-                                for j2 in 0..pv {
-                                    t[j * pv + j2] += wj * b[j2];
-                                }
-                            }
-                        }
-                        // The (c, d) block is symmetric in its basis pair
-                        // (a, b) (both factors are): its upper triangle
-                        // a ≤ b here, the rest mirrored below.
-                        let b = &self.bu[s][ku];
-                        for i in 0..pu {
-                            for i2 in i..pu {
-                                let f = b[i] * b[i2];
-                                if f == 0.0 {
-                                    continue;
-                                }
-                                for j in 0..pv {
-                                    let row = 3 * (i * pv + j) + c;
-                                    let from = if i2 == i { j } else { 0 };
-                                    for j2 in from..pv {
-                                        let col = 3 * (i2 * pv + j2) + d;
-                                        local[row * m + col] += f * t[j * pv + j2];
-                                    }
-                                }
-                            }
-                        }
+        let (uu, vv, size) = (pu * pu, pv * pv, pu * pv);
+        // Per term (u-derivative: N′(u) N(v); v-derivative: N(u) N′(v)) its
+        // u factor's products (rows term·nu + s) and v factor's (rows t).
+        let terms = [(1, 0), (0, 1)];
+        let outer = |b: &[f64], row: &mut dyn FnMut(usize, f64)| {
+            for (i, &x) in b.iter().enumerate() {
+                for (i2, &y) in b.iter().enumerate() {
+                    row(i * b.len() + i2, x * y);
+                }
+            }
+        };
+        let mut um = Mat::<f64>::zeros(2 * nu, uu);
+        let mut r = Mat::<f64>::zeros(2 * nu, 6 * vv);
+        let mut vm = Mat::<f64>::zeros(nv, vv);
+        let mut wm = Mat::<f64>::zeros(nu, nv);
+        for (term, &(ku, kv)) in terms.iter().enumerate() {
+            for (s, b) in self.bu.iter().enumerate() {
+                outer(&b[ku], &mut |k, x| um[(term * nu + s, k)] = x);
+            }
+            for (t, b) in self.bv.iter().enumerate() {
+                outer(&b[kv], &mut |k, x| vm[(t, k)] = x);
+            }
+            for (pair, &(c, d)) in PAIRS.iter().enumerate() {
+                for s in 0..nu {
+                    for t in 0..nv {
+                        let k = s * nv + t;
+                        wm[(s, t)] = self.weight[k] * self.n[k][c] * self.n[k][d];
                     }
                 }
-                // Mirror: entry (3b + c, 3a + d) = (3a + c, 3b + d) for a < b,
-                // and the (d, c) block is the (c, d) one.
-                for a in 0..size {
-                    for b in a..size {
-                        let v = local[(3 * a + c) * m + 3 * b + d];
-                        local[(3 * b + c) * m + 3 * a + d] = v;
-                        local[(3 * a + d) * m + 3 * b + c] = v;
-                        local[(3 * b + d) * m + 3 * a + c] = v;
+                matmul(
+                    r.as_mut().submatrix_mut(term * nu, pair * vv, nu, vv),
+                    Accum::Replace,
+                    wm.as_ref(),
+                    vm.as_ref(),
+                    1.0,
+                    Par::Seq,
+                );
+            }
+        }
+        let mut h = Mat::<f64>::zeros(uu, 6 * vv);
+        matmul(
+            h.as_mut(),
+            Accum::Replace,
+            um.transpose(),
+            r.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        std::array::from_fn(|pair| {
+            let mut block = vec![0.0f64; size * size];
+            for i in 0..pu {
+                for i2 in 0..pu {
+                    for j in 0..pv {
+                        let row = &mut block[(i * pv + j) * size + i2 * pv..][..pv];
+                        for (j2, x) in row.iter_mut().enumerate() {
+                            *x = h[(i * pu + i2, pair * vv + j * pv + j2)];
+                        }
                     }
                 }
             }
-        }
-        local
+            block
+        })
     }
+}
+
+/// The coordinate pairs (c, d), c ≤ d, of [`SpanGrid::local`]'s blocks.
+pub(crate) const PAIRS: [(usize, usize); 6] = [(0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2)];
+
+/// The index in [`PAIRS`] of (c, d) or (d, c).
+pub(crate) fn pair(c: usize, d: usize) -> usize {
+    let (c, d) = (c.min(d), c.max(d));
+    [[0, 1, 2], [1, 3, 4], [2, 4, 5]][c][d]
 }
 
 /// An exactly integrated field: a Bézier patch over the knot domain
@@ -326,14 +342,35 @@ impl NormalTerm {
         out
     }
 
+    /// The sampled term's knot-domain parameters in each direction (the
+    /// grid's u_i, v_j mapped onto the domain), λ·λ_k and N_k per sample
+    /// (row-major, u outer) and the domain's extents (b − a, d − c) that
+    /// turn ∂/∂u into ∂/∂ũ.
+    #[allow(clippy::type_complexity)]
+    fn sample_axes(
+        &self,
+        surface: &BSplineSurface,
+    ) -> Option<([Vec<f64>; 2], Vec<(f64, Vec3)>, (f64, f64))> {
+        let NormalGuide::Samples { grid, .. } = &self.guide else {
+            return None;
+        };
+        let (samples, extent) = self.samples(surface)?;
+        let ((a, b), (c, d)) = (surface.knots().0.domain(), surface.knots().1.domain());
+        let us = grid.us().iter().map(|&x| a + (b - a) * x).collect();
+        let vs = grid.vs().iter().map(|&y| c + (d - c) * y).collect();
+        let wn = samples.iter().map(|&(_, _, w, n)| (w, n)).collect();
+        Some(([us, vs], wn, extent))
+    }
+
     /// ½λ∫∫ (R_u·N)² + (R_v·N)², from de Boor derivatives at the nodes (or
-    /// the sampled sum).
+    /// the sampled sum, the derivatives on the sample grid at once).
     pub(crate) fn value(&self, surface: &BSplineSurface) -> f64 {
-        if let Some((samples, (su, sv))) = self.samples(surface) {
-            let total: f64 = samples
+        if let Some(([us, vs], wn, (su, sv))) = self.sample_axes(surface) {
+            let d = surface.derivatives_on(&us, &vs);
+            let total: f64 = d
                 .iter()
-                .map(|&(u, v, w, n)| {
-                    let d = surface.derivatives(u, v);
+                .zip(&wn)
+                .map(|(d, &(w, n))| {
                     w * (dot(scale(d.du, su), n).powi(2) + dot(scale(d.dv, sv), n).powi(2))
                 })
                 .sum();
@@ -361,31 +398,42 @@ impl NormalTerm {
     /// The same by another road: one more node each way, from the Bézier
     /// pieces' derivatives.
     pub(crate) fn value_by_pieces(&self, surface: &BSplineSurface, pieces: &[BezierPiece]) -> f64 {
-        if let Some((samples, (su, sv))) = self.samples(surface) {
+        if let Some(([us, vs], wn, (su, sv))) = self.sample_axes(surface) {
             // Each sample in the piece whose rectangle holds it (the one
-            // KnotVector::span names), by the piece's Bernstein derivatives.
+            // KnotVector::span names), by the piece's Bernstein derivatives
+            // on the grid of its samples.
             let (ku, kv) = surface.knots();
             let (spans_u, spans_v) = (ku.spans(), kv.spans());
-            let total: f64 = samples
-                .iter()
-                .map(|&(u, v, w, n)| {
-                    let a = spans_u
-                        .iter()
-                        .position(|s| s.0 == ku.span(u))
-                        .expect("a span");
-                    let b = spans_v
-                        .iter()
-                        .position(|s| s.0 == kv.span(v))
-                        .expect("a span");
+            let by_span = |k: &KnotVector, spans: &[(usize, f64, f64)], ts: &[f64]| {
+                let mut at: Vec<Vec<usize>> = vec![Vec::new(); spans.len()];
+                for (i, &t) in ts.iter().enumerate() {
+                    let s = k.span(t);
+                    at[spans.iter().position(|x| x.0 == s).expect("a span")].push(i);
+                }
+                at
+            };
+            let (iu, iv) = (by_span(ku, &spans_u, &us), by_span(kv, &spans_v, &vs));
+            let mut total = 0.0;
+            for (a, ia) in iu.iter().enumerate() {
+                for (b, ib) in iv.iter().enumerate() {
+                    if ia.is_empty() || ib.is_empty() {
+                        continue;
+                    }
                     let piece = &pieces[a * spans_v.len() + b];
                     let (hu, hv) = (piece.u.1 - piece.u.0, piece.v.1 - piece.v.0);
-                    let d = piece
-                        .patch
-                        .derivatives((u - piece.u.0) / hu, (v - piece.v.0) / hv);
-                    let (ru, rv) = (scale(d.du, su / hu), scale(d.dv, sv / hv));
-                    w * (dot(ru, n).powi(2) + dot(rv, n).powi(2))
-                })
-                .sum();
+                    let xs: Vec<f64> = ia.iter().map(|&i| (us[i] - piece.u.0) / hu).collect();
+                    let ys: Vec<f64> = ib.iter().map(|&j| (vs[j] - piece.v.0) / hv).collect();
+                    let d = piece.patch.derivatives_on(&xs, &ys);
+                    for (x, &i) in ia.iter().enumerate() {
+                        for (y, &j) in ib.iter().enumerate() {
+                            let g = &d[x * ib.len() + y];
+                            let (w, n) = wn[i * vs.len() + j];
+                            let (ru, rv) = (scale(g.du, su / hu), scale(g.dv, sv / hv));
+                            total += w * (dot(ru, n).powi(2) + dot(rv, n).powi(2));
+                        }
+                    }
+                }
+            }
             return 0.5 * total;
         }
         let field = self.exact().expect("a field when not sampled");
@@ -461,4 +509,59 @@ fn dot(a: Vec3, b: Vec3) -> f64 {
 
 fn scale(a: Vec3, s: f64) -> Vec3 {
     [a[0] * s, a[1] * s, a[2] * s]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The blocks are the definition Σ_nodes w (Y Yᵀ + Z Zᵀ), Y = ∂_u B ⊗ N,
+    /// Z = ∂_v B ⊗ N, summed node by node, on an uneven grid with
+    /// different degrees and node counts each way.
+    #[test]
+    fn local_blocks_are_the_node_sum() {
+        let (pu, pv, nu, nv) = (4, 3, 5, 7);
+        let f = |k: usize, x: f64| ((k as f64 + 1.0) * 0.37 + x).sin();
+        let basis = |n: usize, p: usize, o: f64| -> Vec<[Vec<f64>; 2]> {
+            (0..n)
+                .map(|s| [0, 1].map(|r| (0..p).map(|i| f(s * 11 + i * 3 + r, o)).collect()))
+                .collect()
+        };
+        let grid = SpanGrid {
+            span: (0, 0),
+            bu: basis(nu, pu, 0.1),
+            bv: basis(nv, pv, 0.7),
+            weight: (0..nu * nv).map(|k| 1.0 + f(k, 0.3).abs()).collect(),
+            n: (0..nu * nv)
+                .map(|k| [f(k, 0.5), f(k, 1.5), f(k, 2.5)])
+                .collect(),
+        };
+        let blocks = grid.local();
+        let size = pu * pv;
+        for pair_index in 0..6 {
+            let (c, d) = PAIRS[pair_index];
+            assert_eq!(pair(c, d), pair_index);
+            assert_eq!(pair(d, c), pair_index);
+            for a in 0..size {
+                for b in 0..size {
+                    let (i, j, i2, j2) = (a / pv, a % pv, b / pv, b % pv);
+                    let mut want = 0.0;
+                    for s in 0..nu {
+                        for t in 0..nv {
+                            let k = s * nv + t;
+                            let (bu, bv) = (&grid.bu[s], &grid.bv[t]);
+                            let y = bu[1][i] * bv[0][j] * bu[1][i2] * bv[0][j2];
+                            let z = bu[0][i] * bv[1][j] * bu[0][i2] * bv[1][j2];
+                            want += grid.weight[k] * grid.n[k][c] * grid.n[k][d] * (y + z);
+                        }
+                    }
+                    let got = blocks[pair_index][a * size + b];
+                    assert!(
+                        (got - want).abs() <= 1e-13 * (1.0 + want.abs()),
+                        "pair {pair_index} ({a}, {b}): {got} vs {want}"
+                    );
+                }
+            }
+        }
+    }
 }

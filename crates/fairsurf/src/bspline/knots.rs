@@ -179,6 +179,18 @@ impl KnotVector {
         flat.chunks_exact(w).map(<[f64]>::to_vec).collect()
     }
 
+    /// At each parameter its span k ([`Self::span`]) and the basis
+    /// functions there with their first two derivatives
+    /// ([`Self::basis_derivatives`]).
+    pub(crate) fn basis_at(&self, ts: &[f64]) -> Vec<(usize, Vec<Vec<f64>>)> {
+        ts.iter()
+            .map(|&t| {
+                let k = self.span(t);
+                (k, self.basis_derivatives(k, t, 2))
+            })
+            .collect()
+    }
+
     /// [`Self::basis_derivatives`] written row by row into `out`
     /// (`out[r·(p+1) + j]`, at least (order + 1)(p + 1) long) without
     /// allocating for degrees below 8: the evaluation loops of meshes,

@@ -11,7 +11,7 @@
 //! on the pieces with more nodes.
 
 use super::energy::{energy_by_pieces, energy_by_quadrature, Gram1d};
-use super::guidance::{guide_value, guide_value_by_pieces, NormalTerm};
+use super::guidance::{guide_value, guide_value_by_pieces, pair, NormalTerm};
 use super::problem::{BSplineProblem, Energies, Part};
 use super::project::guide_value_by_quadrature;
 use super::system::{unconstrained, BSplineFactor, Reuse, Solved, System};
@@ -424,7 +424,6 @@ impl BSplineProblem {
             let (wu, wv) = (2 * p + 1, 2 * q + 1);
             let mut band = vec![0.0f64; nf * wu * wv * 9];
             let size = (p + 1) * (q + 1);
-            let m = 3 * size;
             for grid in normal.iter().flat_map(|n| n.spans(&self.surface)) {
                 // Local Σ_nodes w (Y Yᵀ + Z Zᵀ), Y = ∂_u B ⊗ N, Z = ∂_v B ⊗ N.
                 let local = grid.local();
@@ -442,7 +441,7 @@ impl BSplineProblem {
                         let blk = &mut band[(sk * wu * wv + off) * 9..][..9];
                         for c in 0..3 {
                             for d in 0..3 {
-                                blk[3 * c + d] += local[(3 * a + c) * m + 3 * b + d];
+                                blk[3 * c + d] += local[pair(c, d)][a * size + b];
                             }
                         }
                     }

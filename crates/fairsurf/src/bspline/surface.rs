@@ -134,22 +134,20 @@ impl BSplineSurface {
     /// (u-major: entry i·|vs| + j at (`us[i]`, `vs[j]`)): each direction's
     /// basis functions computed once per parameter, no allocation per point.
     pub fn derivatives_on(&self, us: &[f64], vs: &[f64]) -> Vec<SurfaceDerivatives> {
+        self.derivatives_from(&self.u.basis_at(us), &self.v.basis_at(vs))
+    }
+
+    /// [`derivatives_on`](Self::derivatives_on) from each direction's
+    /// spans and basis functions at the parameters
+    /// ([`KnotVector::basis_at`]): computed once, they serve every surface
+    /// on these knots (a descent's candidates).
+    pub(crate) fn derivatives_from(
+        &self,
+        bu: &[(usize, Vec<Vec<f64>>)],
+        bv: &[(usize, Vec<Vec<f64>>)],
+    ) -> Vec<SurfaceDerivatives> {
         let (p, q) = self.degree();
         let cv = self.v.count();
-        let bu: Vec<(usize, Vec<Vec<f64>>)> = us
-            .iter()
-            .map(|&u| {
-                let k = self.u.span(u);
-                (k, self.u.basis_derivatives(k, u, 2))
-            })
-            .collect();
-        let bv: Vec<(usize, Vec<Vec<f64>>)> = vs
-            .iter()
-            .map(|&v| {
-                let k = self.v.span(v);
-                (k, self.v.basis_derivatives(k, v, 2))
-            })
-            .collect();
         // Two stages: per u, the columns' partial sums
         // T_r[c] = Σ_i N_i^(r)(u) P_{ku−p+i, c} over the columns the v's
         // need; per (u, v), Σ_j N_j^(s)(v) T_r[kv−q+j] — (q+1)·6 products
@@ -162,8 +160,8 @@ impl BSplineSurface {
             .fold((first, 0), |(a, b), (kv, _)| (a.min(kv - q), b.max(*kv)));
         let width = c1 + 1 - c0;
         let mut t = vec![[0.0f64; 3]; 3 * width];
-        let mut out = Vec::with_capacity(us.len() * vs.len());
-        for (ku, nu) in &bu {
+        let mut out = Vec::with_capacity(bu.len() * bv.len());
+        for (ku, nu) in bu {
             t.fill([0.0; 3]);
             for i in 0..=p {
                 let row = &self.points[(ku - p + i) * cv + c0..][..width];
@@ -178,7 +176,7 @@ impl BSplineSurface {
             }
             let (t0, rest) = t.split_at(width);
             let (t1, t2) = rest.split_at(width);
-            for (kv, nv) in &bv {
+            for (kv, nv) in bv {
                 let off = kv - q - c0;
                 let mut d = [[0.0f64; 3]; 6];
                 for j in 0..=q {

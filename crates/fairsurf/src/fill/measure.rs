@@ -2,10 +2,8 @@
 //! (gap and normal angle along the side) and its fairness W = ∫∫ κ₁² + κ₂² dA.
 
 use super::holes::{surface_param, Side};
-use crate::analysis::curvature_from;
-use crate::basis::GaussLegendre;
 use crate::bspline::{BSplineSurface, RationalSurface};
-use crate::vec3::{angle, cross, dist, norm};
+use crate::vec3::{angle, dist};
 use crate::SurfaceDerivatives;
 
 /// Parameters sampled per side: Chebyshev–Lobatto points, clustered at the
@@ -182,29 +180,7 @@ pub struct TotalCurvature {
 pub fn total_curvature(s: &BSplineSurface) -> TotalCurvature {
     let (p, q) = s.degree();
     let order = p + q + 4;
-    let w = |order: usize| {
-        let g = GaussLegendre::new(order);
-        let (ku, kv) = s.knots();
-        let mut sum = 0.0;
-        for &(_, u0, u1) in &ku.spans() {
-            let us: Vec<f64> = g.nodes.iter().map(|&x| u0 + x * (u1 - u0)).collect();
-            for &(_, v0, v1) in &kv.spans() {
-                let area = (u1 - u0) * (v1 - v0);
-                let vs: Vec<f64> = g.nodes.iter().map(|&y| v0 + y * (v1 - v0)).collect();
-                let grid = s.derivatives_on(&us, &vs);
-                for (a, &wx) in g.weights.iter().enumerate() {
-                    for (b, &wy) in g.weights.iter().enumerate() {
-                        let d = &grid[a * vs.len() + b];
-                        if let Some(c) = curvature_from(d) {
-                            let integrand = 4.0 * c.mean * c.mean - 2.0 * c.gaussian;
-                            sum += wx * wy * area * integrand * norm(cross(d.du, d.dv));
-                        }
-                    }
-                }
-            }
-        }
-        sum
-    };
+    let w = |order: usize| super::willmore::Rule::new(s, order).w(s);
     let value = w(order);
     TotalCurvature {
         value,

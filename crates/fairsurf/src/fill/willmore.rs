@@ -25,14 +25,14 @@
 
 use crate::basis::GaussLegendre;
 use crate::bspline::BSplineSurface;
-use crate::vec3::dot;
+use crate::vec3::{cross, dot, norm};
 use crate::{Error, Result, Vec3};
 use faer::Mat;
 
 /// One step: the surface on `reference`'s knots that minimizes E with g
 /// and Γ from `reference`, the points where `free` is false kept.
 pub(crate) fn step(reference: &BSplineSurface, free: &[bool]) -> Result<BSplineSurface> {
-    let (h, b, slot) = system(reference, free);
+    let (h, b, slot) = system(reference, free, &Rule::of(reference));
     let llt = h.llt(faer::Side::Lower).map_err(|_| not_definite())?;
     let x = faer::linalg::solvers::Solve::solve(&llt, &b);
     let points = reference
@@ -64,12 +64,13 @@ fn slots(free: &[bool]) -> Vec<Option<usize>> {
 }
 
 /// Gauss nodes of every knot span in one direction: the spans, the nodes
-/// (span by span, `rule`'s count each) and the basis functions with their
-/// first two derivatives there (computed once per node).
+/// (span by span, `rule`'s count each) and at each node its span and the
+/// basis functions with their first two derivatives (computed once per
+/// node).
 struct Axis {
     spans: Vec<(usize, f64, f64)>,
     nodes: Vec<f64>,
-    basis: Vec<Vec<Vec<f64>>>,
+    basis: Vec<(usize, Vec<Vec<f64>>)>,
 }
 
 impl Axis {
@@ -81,7 +82,7 @@ impl Axis {
             for &x in &rule.nodes {
                 let t = a + (b - a) * x;
                 nodes.push(t);
-                basis.push(knots.basis_derivatives(k, t, 2));
+                basis.push((k, knots.basis_derivatives(k, t, 2)));
             }
         }
         Self {
@@ -92,32 +93,94 @@ impl Axis {
     }
 }
 
+/// A Gauss–Legendre rule with `order` nodes per knot span and direction
+/// on a surface's knots, its basis functions computed once: W, its
+/// gradient and the frozen-metric operator of every surface on these knots
+/// (a descent's candidates) read them.
+pub(crate) struct Rule {
+    rule: GaussLegendre,
+    u: Axis,
+    v: Axis,
+}
+
+impl Rule {
+    /// The rule of `order` nodes on `s`'s knots (W's: p + q + 4).
+    pub(crate) fn new(s: &BSplineSurface, order: usize) -> Self {
+        let rule = GaussLegendre::new(order);
+        let (ku, kv) = s.knots();
+        Self {
+            u: Axis::new(ku, &rule),
+            v: Axis::new(kv, &rule),
+            rule,
+        }
+    }
+
+    /// W's rule for `s`: p + q + 4 nodes.
+    pub(crate) fn of(s: &BSplineSurface) -> Self {
+        let (p, q) = s.degree();
+        Self::new(s, p + q + 4)
+    }
+
+    /// `s`'s derivatives at the nodes of u-span `a` (u-major) × every v
+    /// node.
+    fn row(&self, s: &BSplineSurface, a: usize) -> Vec<crate::SurfaceDerivatives> {
+        let n = self.rule.nodes.len();
+        s.derivatives_from(&self.u.basis[a * n..][..n], &self.v.basis)
+    }
+
+    /// W = ∫∫ (4H² − 2K) |R_u × R_v| du dv of `s` (on the rule's knots) by
+    /// the rule; points where the surface is not regular are skipped.
+    pub(crate) fn w(&self, s: &BSplineSurface) -> f64 {
+        let n = self.rule.nodes.len();
+        let (g, nv) = (&self.rule, self.v.nodes.len());
+        let mut sum = 0.0;
+        for (a, &(_, u0, u1)) in self.u.spans.iter().enumerate() {
+            let grid = self.row(s, a);
+            for (bs, &(_, v0, v1)) in self.v.spans.iter().enumerate() {
+                let area = (u1 - u0) * (v1 - v0);
+                for (x, &wx) in g.weights.iter().enumerate() {
+                    for (y, &wy) in g.weights.iter().enumerate() {
+                        let d = &grid[x * nv + bs * n + y];
+                        if let Some(c) = crate::analysis::curvature_from(d) {
+                            let integrand = 4.0 * c.mean * c.mean - 2.0 * c.gaussian;
+                            sum += wx * wy * area * integrand * norm(cross(d.du, d.dv));
+                        }
+                    }
+                }
+            }
+        }
+        sum
+    }
+}
+
 /// E's matrix over the free points (one for x, y and z) and its right-hand
 /// sides from the fixed ones, g and Γ from `reference`; each point's row.
 #[allow(clippy::type_complexity)]
-fn system(reference: &BSplineSurface, free: &[bool]) -> (Mat<f64>, Mat<f64>, Vec<Option<usize>>) {
-    let (ku, kv) = reference.knots();
+fn system(
+    reference: &BSplineSurface,
+    free: &[bool],
+    nodes: &Rule,
+) -> (Mat<f64>, Mat<f64>, Vec<Option<usize>>) {
     let ((p, q), (_, cv)) = (reference.degree(), reference.counts());
     let slot = slots(free);
     let nf = free.iter().filter(|&&f| f).count();
     let mut h = Mat::<f64>::zeros(nf, nf);
     let mut b = Mat::<f64>::zeros(nf, 3);
-    let (gu, gv) = (GaussLegendre::new(p + q + 4), GaussLegendre::new(p + q + 4));
+    let (gu, gv) = (&nodes.rule, &nodes.rule);
     let size = (p + 1) * (q + 1);
-    let nodes = gu.nodes.len() * gv.nodes.len();
     // Per span: the rows √w·L(B_a) at every node, and LᵀL by one product.
-    let mut lm = Mat::<f64>::zeros(nodes, size);
-    let (au, av) = (Axis::new(ku, &gu), Axis::new(kv, &gv));
+    let mut lm = Mat::<f64>::zeros(gu.nodes.len() * gv.nodes.len(), size);
+    let (au, av) = (&nodes.u, &nodes.v);
     let (n, m) = (gu.nodes.len(), gv.nodes.len());
     for (a, &(su, u0, u1)) in au.spans.iter().enumerate() {
         // The surface at this u-span's nodes and every v node.
-        let grid = reference.derivatives_on(&au.nodes[a * n..][..n], &av.nodes);
+        let grid = nodes.row(reference, a);
         for (bs, &(sv, v0, v1)) in av.spans.iter().enumerate() {
             lm.fill(0.0);
             for (x, &wx) in gu.weights.iter().enumerate() {
-                let nu = &au.basis[a * n + x];
+                let nu = &au.basis[a * n + x].1;
                 for (y, &wy) in gv.weights.iter().enumerate() {
-                    let nv = &av.basis[bs * m + y];
+                    let nv = &av.basis[bs * m + y].1;
                     let d = &grid[x * av.nodes.len() + bs * m + y];
                     let (e, f, g) = (dot(d.du, d.du), dot(d.du, d.dv), dot(d.dv, d.dv));
                     let det = e * g - f * f;
@@ -201,7 +264,8 @@ pub(crate) fn descend(
 ) -> (BSplineSurface, Vec<f64>) {
     let (mut s, mut w) = (start, w0);
     let mut history = Vec::new();
-    let (a, _, slot) = system(&s, free);
+    let nodes = Rule::of(&s);
+    let (a, _, slot) = system(&s, free, &nodes);
     let Ok(llt) = a.llt(faer::Side::Lower) else {
         return (s, history);
     };
@@ -216,7 +280,7 @@ pub(crate) fn descend(
         x *= faer::Scale(0.5);
         x
     };
-    let mut g = gradient(&s, &slot);
+    let mut g = gradient(&s, &slot, &nodes);
     let mut pairs: Vec<(Mat<f64>, Mat<f64>, f64)> = Vec::new();
     let mut small = 0;
     for _ in 0..steps {
@@ -259,7 +323,7 @@ pub(crate) fn descend(
                     })
                     .collect();
                 let cand = s.with_points(points);
-                let wc = super::total_curvature(&cand).value;
+                let wc = nodes.w(&cand);
                 if wc <= w + 1e-4 * t * slope {
                     taken = Some((cand, wc));
                     break;
@@ -279,7 +343,7 @@ pub(crate) fn descend(
         // Converged after three steps in a row that gain less than rel.
         small = if w - wn <= rel * w { small + 1 } else { 0 };
         let done = small == 3;
-        let gn = gradient(&next, &slot);
+        let gn = gradient(&next, &slot, &nodes);
         let sk = faer::Scale(t) * &d;
         let yk = &gn - &g;
         let sy = dot(&sk, &yk);
@@ -302,16 +366,14 @@ pub(crate) fn descend(
 /// ∫∫ (4H² − 2K) |R_u × R_v| du dv by Gauss–Legendre with p + q + 4 nodes
 /// per span as [`super::total_curvature`]; points where that skips the
 /// integrand (not regular) contribute nothing here either.
-pub(crate) fn gradient(s: &BSplineSurface, slot: &[Option<usize>]) -> Mat<f64> {
-    let (ku, kv) = s.knots();
+pub(crate) fn gradient(s: &BSplineSurface, slot: &[Option<usize>], nodes: &Rule) -> Mat<f64> {
     let ((p, q), (_, cv)) = (s.degree(), s.counts());
     let nf = slot.iter().flatten().count();
     let mut g = Mat::<f64>::zeros(nf, 3);
-    let rule = GaussLegendre::new(p + q + 4);
-    let (au, av) = (Axis::new(ku, &rule), Axis::new(kv, &rule));
+    let (rule, au, av) = (&nodes.rule, &nodes.u, &nodes.v);
     let n = rule.nodes.len();
     for (a, &(su, u0, u1)) in au.spans.iter().enumerate() {
-        let grid = s.derivatives_on(&au.nodes[a * n..][..n], &av.nodes);
+        let grid = nodes.row(s, a);
         for (bs, &(sv, v0, v1)) in av.spans.iter().enumerate() {
             let area = (u1 - u0) * (v1 - v0);
             for (x, &wx) in rule.weights.iter().enumerate() {
@@ -322,7 +384,7 @@ pub(crate) fn gradient(s: &BSplineSurface, slot: &[Option<usize>]) -> Mat<f64> {
                     }
                     let df = integrand_gradient(d);
                     let w = wx * wy * area;
-                    let (nu, nv) = (&au.basis[a * n + x], &av.basis[bs * n + y]);
+                    let (nu, nv) = (&au.basis[a * n + x].1, &av.basis[bs * n + y].1);
                     for i in 0..=p {
                         for j in 0..=q {
                             let k = (su - p + i) * cv + sv - q + j;
@@ -464,7 +526,7 @@ mod tests {
     fn the_gradient_is_the_derivative_of_w() {
         let (s, free) = sheet();
         let slot = slots(&free);
-        let g = gradient(&s, &slot);
+        let g = gradient(&s, &slot, &Rule::of(&s));
         let h = 1e-6;
         for (k, r) in slot.iter().enumerate() {
             let Some(r) = *r else { continue };
@@ -492,11 +554,11 @@ mod tests {
         let w0 = super::super::total_curvature(&s).value;
         let slot = slots(&free);
         let norm = |m: &Mat<f64>| m.norm_l2();
-        let g0 = norm(&gradient(&s, &slot));
+        let g0 = norm(&gradient(&s, &slot, &Rule::of(&s)));
         let (m, history) = descend(s, w0, &free, 400, 1e-13);
         let w = *history.last().unwrap();
         assert!(w < w0, "{w} {w0}");
-        let g = norm(&gradient(&m, &slot));
+        let g = norm(&gradient(&m, &slot, &Rule::of(&m)));
         assert!(
             g < 1e-4 * g0,
             "gradient {g} from {g0} after {} steps",

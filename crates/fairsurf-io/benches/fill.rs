@@ -1,0 +1,28 @@
+//! The library fill of the bundled holes (`examples/cad`): boundary data,
+//! the solve with its check, the Willmore steps and descent, the side fits
+//! and W — what `fairsurf fill` spends between reading and writing.
+//!
+//!     cargo bench -p fairsurf-io --bench fill
+
+use fairsurf_io::{FillInput, HoleChoice};
+use std::path::Path;
+
+fn main() {
+    divan::main();
+}
+
+fn input(name: &str) -> FillInput {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/cad")
+        .join(name);
+    FillInput::read(&path).expect("the bundled example")
+}
+
+/// Every chosen hole of each bundled fill example, filled at the scene's
+/// options (the defaults: a normal-guided, Willmore-lowered fill).
+#[divan::bench(args = ["fill_network.json", "fill_pentagon.json", "fillet_hole.step"], sample_count = 20)]
+fn fill(bencher: divan::Bencher, name: &str) {
+    let input = input(name);
+    let choice = HoleChoice::of(&input, input.holes.as_deref()).unwrap();
+    bencher.bench(|| choice.fill(&input.faces, &input.options).unwrap());
+}
