@@ -372,37 +372,60 @@ pub(crate) fn gradient(s: &BSplineSurface, slot: &[Option<usize>], nodes: &Rule)
     let mut g = Mat::<f64>::zeros(nf, 3);
     let (rule, au, av) = (&nodes.rule, &nodes.u, &nodes.v);
     let n = rule.nodes.len();
+    let (wu, wv) = (p + 1, q + 1);
+    // By sum factorization: per u node, the v sums
+    // acc_r[j] = Σ_y Σ_s N_j^(s)(v_y) w ∂f/∂R_(r,s) for each u-derivative
+    // order r (R_u, R_v, R_uu, R_uv, R_vv are (r, s) = (1,0), (0,1), (2,0),
+    // (1,1), (0,2)), then Σ_r N_i^(r)(u_x) acc_r[j] into the span's points.
+    let mut local = vec![[0.0f64; 3]; wu * wv];
+    let mut acc = vec![[0.0f64; 3]; 3 * wv];
     for (a, &(su, u0, u1)) in au.spans.iter().enumerate() {
         let grid = nodes.row(s, a);
         for (bs, &(sv, v0, v1)) in av.spans.iter().enumerate() {
             let area = (u1 - u0) * (v1 - v0);
+            local.fill([0.0; 3]);
             for (x, &wx) in rule.weights.iter().enumerate() {
+                acc.fill([0.0; 3]);
                 for (y, &wy) in rule.weights.iter().enumerate() {
                     let d = &grid[x * av.nodes.len() + bs * n + y];
                     if crate::analysis::curvature_from(d).is_none() {
                         continue;
                     }
-                    let df = integrand_gradient(d);
                     let w = wx * wy * area;
-                    let (nu, nv) = (&au.basis[a * n + x].1, &av.basis[bs * n + y].1);
-                    for i in 0..=p {
-                        for j in 0..=q {
-                            let k = (su - p + i) * cv + sv - q + j;
-                            let Some(r) = slot[k] else { continue };
-                            // R_u, R_v, R_uu, R_uv, R_vv's weights of P_k.
-                            let c = [
-                                nu[1][i] * nv[0][j],
-                                nu[0][i] * nv[1][j],
-                                nu[2][i] * nv[0][j],
-                                nu[1][i] * nv[1][j],
-                                nu[0][i] * nv[2][j],
-                            ];
-                            for (part, &ck) in c.iter().enumerate() {
-                                for e in 0..3 {
-                                    g[(r, e)] += w * ck * df[3 * part + e];
-                                }
-                            }
+                    let df = integrand_gradient(d).map(|x| w * x);
+                    let part = |k: usize| [df[3 * k], df[3 * k + 1], df[3 * k + 2]];
+                    let (ru, rv, ruu, ruv, rvv) = (part(0), part(1), part(2), part(3), part(4));
+                    let nv = &av.basis[bs * n + y].1;
+                    let (a0, rest) = acc.split_at_mut(wv);
+                    let (a1, a2) = rest.split_at_mut(wv);
+                    for j in 0..wv {
+                        let (n0, n1, n2) = (nv[0][j], nv[1][j], nv[2][j]);
+                        for e in 0..3 {
+                            a0[j][e] += n1 * rv[e] + n2 * rvv[e];
+                            a1[j][e] += n0 * ru[e] + n1 * ruv[e];
+                            a2[j][e] += n0 * ruu[e];
                         }
+                    }
+                }
+                let nu = &au.basis[a * n + x].1;
+                for i in 0..wu {
+                    let c = [nu[0][i], nu[1][i], nu[2][i]];
+                    for j in 0..wv {
+                        let l = &mut local[i * wv + j];
+                        for e in 0..3 {
+                            l[e] += c[0] * acc[j][e]
+                                + c[1] * acc[wv + j][e]
+                                + c[2] * acc[2 * wv + j][e];
+                        }
+                    }
+                }
+            }
+            for i in 0..wu {
+                for j in 0..wv {
+                    let k = (su - p + i) * cv + sv - q + j;
+                    let Some(r) = slot[k] else { continue };
+                    for e in 0..3 {
+                        g[(r, e)] += local[i * wv + j][e];
                     }
                 }
             }
