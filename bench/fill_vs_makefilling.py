@@ -29,7 +29,7 @@ write STEP).
 
     python3 -m venv target/bench-venv && target/bench-venv/bin/pip install numpy cadquery-ocp
     cargo build --release -p fairsurf-cli
-    target/bench-venv/bin/python bench/fill_vs_makefilling.py [--repeats 5] [--cli target/release/fairsurf]
+    target/bench-venv/bin/python bench/fill_vs_makefilling.py [--repeats 5] [--cli target/release/fairsurf] [--keep DIR]
 """
 
 from __future__ import annotations
@@ -293,7 +293,8 @@ def run(args):
     cli = Path(args.cli)
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        tmp = Path(tmp)
+        tmp = Path(args.keep) if args.keep else Path(tmp)
+        tmp.mkdir(parents=True, exist_ok=True)
         for name, faces in bezier_holes():
             shape = sew(faces)
             step_in = tmp / f"{name}.step"
@@ -351,4 +352,5 @@ if __name__ == "__main__":
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--repeats", type=int, default=5)
     p.add_argument("--cli", default=str(ROOT / "target" / "release" / "fairsurf"))
+    p.add_argument("--keep", help="write the holes' and the fills' STEP files here")
     run(p.parse_args())

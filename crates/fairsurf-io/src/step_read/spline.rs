@@ -92,20 +92,42 @@ pub(super) fn derivatives(s: &FaceSurface, u: f64, v: f64) -> fairsurf::SurfaceD
     }
 }
 
+/// A 17 × 17 grid of a surface's domain and its points there: where every
+/// nearest-point search on the face starts ([`nearest`]), evaluated once
+/// per face.
+pub(super) struct Seeds {
+    us: Vec<f64>,
+    vs: Vec<f64>,
+    points: Vec<Vec3>,
+}
+
+impl Seeds {
+    pub(super) fn new(s: &FaceSurface) -> Self {
+        let (ku, kv) = net(s).knots();
+        let ((a, b), (c, d)) = (ku.domain(), kv.domain());
+        let us: Vec<f64> = (0..=16).map(|i| a + (b - a) * i as f64 / 16.0).collect();
+        let vs: Vec<f64> = (0..=16).map(|j| c + (d - c) * j as f64 / 16.0).collect();
+        let grid = match s {
+            FaceSurface::Polynomial(b) => b.derivatives_on(&us, &vs),
+            FaceSurface::Rational(r) => r.derivatives_on(&us, &vs),
+        };
+        let points = grid.iter().map(|g| g.point).collect();
+        Seeds { us, vs, points }
+    }
+}
+
 /// The parameters of the point of `s` nearest to p, and the distance: the
-/// best of a 17 × 17 grid, then Newton steps on (S − p)·S_u = (S − p)·S_v
-/// = 0 kept in the domain.
-pub(super) fn nearest(s: &FaceSurface, p: Vec3) -> ((f64, f64), f64) {
+/// best of the grid `seeds` (of `s`), then Newton steps on
+/// (S − p)·S_u = (S − p)·S_v = 0 kept in the domain.
+pub(super) fn nearest(s: &FaceSurface, seeds: &Seeds, p: Vec3) -> ((f64, f64), f64) {
     let (ku, kv) = net(s).knots();
     let ((a, b), (c, d)) = (ku.domain(), kv.domain());
     let (mut best, mut at) = (f64::MAX, (a, c));
-    for i in 0..=16 {
-        for j in 0..=16 {
-            let (u, v) = (a + (b - a) * i as f64 / 16.0, c + (d - c) * j as f64 / 16.0);
-            let e = dist(eval(s, u, v), p);
-            if e < best {
-                (best, at) = (e, (u, v));
-            }
+    for (k, q) in seeds.points.iter().enumerate() {
+        let e = dist(*q, p);
+        if e < best {
+            let n = seeds.vs.len();
+            (best, at) = (e, (seeds.us[k / n], seeds.vs[k % n]));
         }
     }
     foot(&|u, v| derivatives(s, u, v), p, at, best, ((a, b), (c, d)))
@@ -122,9 +144,10 @@ pub(super) fn foot(
     ((a, b), (c, d)): ((f64, f64), (f64, f64)),
 ) -> ((f64, f64), f64) {
     let dot = fairsurf::vector::dot;
+    // The derivatives at `at`, kept from the step that found it.
+    let mut x = s(at.0, at.1);
     for _ in 0..40 {
         let (u, v) = at;
-        let x = s(u, v);
         let r = fairsurf::vector::sub(x.point, p);
         let (f1, f2) = (dot(r, x.du), dot(r, x.dv));
         let a11 = dot(x.du, x.du) + dot(r, x.duu);
@@ -138,11 +161,12 @@ pub(super) fn foot(
             (u - (a22 * f1 - a12 * f2) / det).clamp(a, b),
             (v - (a11 * f2 - a12 * f1) / det).clamp(c, d),
         );
-        let e = dist(s(next.0, next.1).point, p);
+        let y = s(next.0, next.1);
+        let e = dist(y.point, p);
         if e.is_nan() || e >= best {
             break;
         }
-        (best, at) = (e, next);
+        (best, at, x) = (e, next, y);
     }
     (at, best)
 }
@@ -172,8 +196,9 @@ pub(super) fn restricted(
     let ((a, b), (c, d)) = (ku.domain(), kv.domain());
     let mut vertices = Vec::with_capacity(edges.len());
     let mut inside = Vec::with_capacity(7 * edges.len());
+    let seeds = Seeds::new(&s);
     for e in edges {
-        let (mut uv, off) = nearest(&s, e.start);
+        let (mut uv, off) = nearest(&s, &seeds, e.start);
         if off > tol {
             return Err(trimmed(&format!("a vertex is {off:e} off its surface")));
         }
@@ -184,7 +209,7 @@ pub(super) fn restricted(
             let ders = |u: f64, v: f64| derivatives(&s, u, v);
             let (mut q, mut off) = foot(&ders, p, uv, start, ((a, b), (c, d)));
             if off > tol {
-                (q, off) = nearest(&s, p);
+                (q, off) = nearest(&s, &seeds, p);
             }
             if off > tol {
                 return Err(trimmed(&format!("an edge is {off:e} off its surface")));
