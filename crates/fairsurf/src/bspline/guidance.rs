@@ -61,14 +61,23 @@ impl SpanGrid {
     /// (c ≤ d) is the s × s matrix (s = (p+1)(q+1), row-major, basis
     /// function a = i(q+1) + j) of the (c, d) entries — symmetric, and the
     /// (d, c) block is the same matrix. By sum factorization over the grid
-    /// in two matrix products: per pair and term,
+    /// in two stages: per pair and term,
     /// T_s[j, j′] = Σ_t w_st n_c n_d N_j(v_t) N_j′(v_t) (N′ for the
     /// v-derivative term), then for all pairs at once
     /// H[(i, i′), (j, j′)] = Σ_s N′_i(u_s) N′_i′(u_s) T_s[j, j′] (N for the
     /// v-derivative term) with the two terms stacked along s.
     pub fn local(&self) -> [Vec<f64>; 6] {
-        use faer::linalg::matmul::matmul;
-        use faer::{Accum, Mat, MatRef, Par};
+        // The same arithmetic either way (no fused products): AVX2 where
+        // the machine has it, for the wider registers.
+        crate::solve::dense::with_fma(
+            #[inline(always)]
+            || self.local_with(),
+            || self.local_with(),
+        )
+    }
+
+    #[inline(always)]
+    fn local_with(&self) -> [Vec<f64>; 6] {
         let (pu, pv) = (self.bu[0][0].len(), self.bv[0][0].len());
         let (nu, nv) = (self.bu.len(), self.bv.len());
         let (uu, vv, size) = (pu * pu, pv * pv, pu * pv);
@@ -106,31 +115,45 @@ impl SpanGrid {
                 }
             }
         }
-        // H[(i, i′), pair·vv + (j, j′)] = Σ_rows um[row, (i, i′)] r[row, ·].
-        let mut h = Mat::<f64>::zeros(uu, 6 * vv);
-        matmul(
-            h.as_mut(),
-            Accum::Replace,
-            MatRef::from_row_major_slice(&um, 2 * nu, uu).transpose(),
-            MatRef::from_row_major_slice(&r, 2 * nu, 6 * vv),
-            1.0,
-            Par::Seq,
-        );
+        // H[(i, i′), pair·vv + (j, j′)] = Σ_rows um[row, (i, i′)] r[row, ·]
+        // for i ≤ i′ (H is symmetric in the pair of u indices); by hand:
+        // faer's product took 0.6 ms on its first call in a process.
+        let width = 6 * vv;
+        let h = sum_rows(&um, &r, pu, width);
         std::array::from_fn(|pair| {
             let mut block = vec![0.0f64; size * size];
             for i in 0..pu {
                 for i2 in 0..pu {
-                    for j in 0..pv {
-                        let row = &mut block[(i * pv + j) * size + i2 * pv..][..pv];
-                        for (j2, x) in row.iter_mut().enumerate() {
-                            *x = h[(i * pu + i2, pair * vv + j * pv + j2)];
-                        }
+                    let hrow = &h[(i.min(i2) * pu + i.max(i2)) * width + pair * vv..][..vv];
+                    for (j, hj) in hrow.chunks_exact(pv).enumerate() {
+                        block[(i * pv + j) * size + i2 * pv..][..pv].copy_from_slice(hj);
                     }
                 }
             }
             block
         })
     }
+}
+
+/// h[(i·pu + i′)·width + k] = Σ_rows um[row, (i, i′)] r[row, k] for i ≤ i′
+/// (rows of `um` pu² long, of `r` width long; the rest 0).
+#[inline(always)]
+fn sum_rows(um: &[f64], r: &[f64], pu: usize, width: usize) -> Vec<f64> {
+    let mut h = vec![0.0f64; pu * pu * width];
+    for (u, rr) in um.chunks_exact(pu * pu).zip(r.chunks_exact(width)) {
+        for i in 0..pu {
+            for i2 in i..pu {
+                let f = u[i * pu + i2];
+                if f == 0.0 {
+                    continue;
+                }
+                for (x, &y) in h[(i * pu + i2) * width..][..width].iter_mut().zip(rr) {
+                    *x += f * y;
+                }
+            }
+        }
+    }
+    h
 }
 
 /// `out[i·n + i′]` = b_i b_i′ (n = |b|).

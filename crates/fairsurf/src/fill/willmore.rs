@@ -280,7 +280,7 @@ pub(crate) fn descend(
         x *= faer::Scale(0.5);
         x
     };
-    let mut g = gradient(&s, &slot, &nodes);
+    let mut g = w_and_gradient(&s, &slot, &nodes).1;
     let mut pairs: Vec<(Mat<f64>, Mat<f64>, f64)> = Vec::new();
     let mut small = 0;
     for _ in 0..steps {
@@ -323,9 +323,11 @@ pub(crate) fn descend(
                     })
                     .collect();
                 let cand = s.with_points(points);
-                let wc = nodes.w(&cand);
+                // W and its gradient at once: the first candidate is
+                // almost always taken, and then its gradient is the next.
+                let (wc, gc) = w_and_gradient(&cand, &slot, &nodes);
                 if wc <= w + 1e-4 * t * slope {
-                    taken = Some((cand, wc));
+                    taken = Some((cand, wc, gc));
                     break;
                 }
                 t *= 0.5;
@@ -337,13 +339,12 @@ pub(crate) fn descend(
                 pairs.clear();
             }
         }
-        let Some((next, wn)) = taken else {
+        let Some((next, wn, gn)) = taken else {
             break;
         };
         // Converged after three steps in a row that gain less than rel.
         small = if w - wn <= rel * w { small + 1 } else { 0 };
         let done = small == 3;
-        let gn = gradient(&next, &slot, &nodes);
         let sk = faer::Scale(t) * &d;
         let yk = &gn - &g;
         let sy = dot(&sk, &yk);
@@ -366,8 +367,17 @@ pub(crate) fn descend(
 /// ∫∫ (4H² − 2K) |R_u × R_v| du dv by Gauss–Legendre with p + q + 4 nodes
 /// per span as [`super::total_curvature`]; points where that skips the
 /// integrand (not regular) contribute nothing here either.
-pub(crate) fn gradient(s: &BSplineSurface, slot: &[Option<usize>], nodes: &Rule) -> Mat<f64> {
+#[cfg(test)]
+fn gradient(s: &BSplineSurface, slot: &[Option<usize>], nodes: &Rule) -> Mat<f64> {
+    w_and_gradient(s, slot, nodes).1
+}
+
+/// W by `nodes` ([`Rule::w`], the same sum in the same order) and its
+/// gradient ∂W/∂P over the free points from one evaluation of the surface
+/// at the nodes.
+fn w_and_gradient(s: &BSplineSurface, slot: &[Option<usize>], nodes: &Rule) -> (f64, Mat<f64>) {
     let ((p, q), (_, cv)) = (s.degree(), s.counts());
+    let mut sum = 0.0;
     let nf = slot.iter().flatten().count();
     let mut g = Mat::<f64>::zeros(nf, 3);
     let (rule, au, av) = (&nodes.rule, &nodes.u, &nodes.v);
@@ -388,9 +398,11 @@ pub(crate) fn gradient(s: &BSplineSurface, slot: &[Option<usize>], nodes: &Rule)
                 acc.fill([0.0; 3]);
                 for (y, &wy) in rule.weights.iter().enumerate() {
                     let d = &grid[x * av.nodes.len() + bs * n + y];
-                    if crate::analysis::curvature_from(d).is_none() {
+                    let Some(c) = crate::analysis::curvature_from(d) else {
                         continue;
-                    }
+                    };
+                    let integrand = 4.0 * c.mean * c.mean - 2.0 * c.gaussian;
+                    sum += wx * wy * area * integrand * norm(cross(d.du, d.dv));
                     let w = wx * wy * area;
                     let df = integrand_gradient(d).map(|x| w * x);
                     let part = |k: usize| [df[3 * k], df[3 * k + 1], df[3 * k + 2]];
@@ -431,7 +443,7 @@ pub(crate) fn gradient(s: &BSplineSurface, slot: &[Option<usize>], nodes: &Rule)
             }
         }
     }
-    g
+    (sum, g)
 }
 
 /// A number with its derivatives by the 15 coordinates of R_u, R_v, R_uu,
@@ -472,11 +484,13 @@ impl Dual {
             d: self.d.map(|x| x * c),
         }
     }
-    /// self^e for real e (self > 0).
-    fn powf(self, e: f64) -> Self {
-        let c = e * self.v.powf(e - 1.0);
+    /// self^(−n/2) for self > 0, by one square root and a division (libm's
+    /// `pow` was a fifth of the gradient's time).
+    fn inv_half_power(self, n: i32) -> Self {
+        let v = self.v.sqrt().powi(n).recip();
+        let c = -0.5 * f64::from(n) * v / self.v;
         Self {
-            v: self.v.powf(e),
+            v,
             d: self.d.map(|x| x * c),
         }
     }
@@ -509,10 +523,12 @@ fn integrand_gradient(d: &crate::SurfaceDerivatives) -> [f64; 15] {
     let (l, m, nn) = (ddot(&ruu, &n), ddot(&ruv, &n), ddot(&rvv, &n));
     let x = e.mul(nn).sub(f.mul(m).scale(2.0)).add(g.mul(l));
     // a^-5 = det^-2.5, a^-3 = det^-1.5.
-    let w = x
-        .mul(x)
-        .mul(det.powf(-2.5))
-        .sub(l.mul(nn).sub(m.mul(m)).mul(det.powf(-1.5)).scale(2.0));
+    let w = x.mul(x).mul(det.inv_half_power(5)).sub(
+        l.mul(nn)
+            .sub(m.mul(m))
+            .mul(det.inv_half_power(3))
+            .scale(2.0),
+    );
     w.d
 }
 
