@@ -1,5 +1,5 @@
 //! The library fill of the bundled holes (`examples/cad`): boundary data,
-//! the solve with its check, the Willmore steps and descent, the side fits
+//! the solve with its check, the descent on W, the side fits
 //! and W — what `fairsurf fill` spends between reading and writing.
 //!
 //!     cargo bench -p fairsurf-io --bench fill

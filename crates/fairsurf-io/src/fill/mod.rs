@@ -103,7 +103,7 @@ pub struct FillSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub samples: Option<usize>,
     /// Linearized Willmore steps after the solve, each kept only if it
-    /// lowers W (default 4; 0 to 50).
+    /// lowers W (default 0: the descent alone reaches the same W; 0 to 50).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub willmore_steps: Option<usize>,
     /// Then at most this many steps lowering W itself (L-BFGS), stopping

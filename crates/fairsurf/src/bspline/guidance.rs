@@ -30,9 +30,16 @@ pub(crate) struct NormalTerm {
     pub guide: NormalGuide,
 }
 
-/// A sample of the sampled term: knot-domain (u, v), λ·λ_k and the unit
-/// normal N_k.
-type Sample = (f64, f64, f64, Vec3);
+/// The sampled term on a surface's domain: the grid's u_i and v_j mapped
+/// onto the knot domain, λ·λ_k and the unit normal N_k per sample
+/// (row-major, u outer), and the domain's extents (b − a, d − c) that turn
+/// ∂/∂u into ∂/∂ũ.
+struct SampleAxes {
+    us: Vec<f64>,
+    vs: Vec<f64>,
+    weighted: Vec<(f64, Vec3)>,
+    extent: (f64, f64),
+}
 
 /// A span's samples in one direction: (sample index, [basis values,
 /// derivatives]).
@@ -252,28 +259,6 @@ impl NormalTerm {
         )
     }
 
-    /// The samples as (knot-domain u, v, λ·λ_k, N_k), with the domain's
-    /// extents (b − a, d − c) that turn ∂/∂u into ∂/∂ũ.
-    fn samples(&self, surface: &BSplineSurface) -> Option<(Vec<Sample>, (f64, f64))> {
-        let NormalGuide::Samples {
-            grid,
-            normals,
-            weights,
-        } = &self.guide
-        else {
-            return None;
-        };
-        let ((a, b), (c, d)) = (surface.knots().0.domain(), surface.knots().1.domain());
-        let out = (0..grid.len())
-            .map(|k| {
-                let (su, sv) = grid.param(k);
-                let w = self.weight * weights.as_ref().map_or(1.0, |w| w[k]);
-                (a + (b - a) * su, c + (d - c) * sv, w, normals[k])
-            })
-            .collect();
-        Some((out, (b - a, d - c)))
-    }
-
     /// Every span's node grid, for the Hessian: Gauss nodes of a field, or
     /// the samples in it (a sample on a knot line counts once, in the span
     /// `KnotVector::span` gives).
@@ -330,7 +315,7 @@ impl NormalTerm {
             unreachable!("a sampled guide");
         };
         // λ·λ_k and N_k per sample, row-major (the sampled value's own list).
-        let (samples, _) = self.samples(surface).expect("a sampled guide");
+        let samples = self.sample_axes(surface).expect("a sampled guide").weighted;
         let (ku, kv) = surface.knots();
         let (np, mp) = grid.size();
         // Per direction, by span: (sample index, [basis values, derivatives
@@ -357,7 +342,7 @@ impl NormalTerm {
                 let (weight, n) = us
                     .iter()
                     .flat_map(|(i, _)| vs.iter().map(move |(j, _)| i * (mp + 1) + j))
-                    .map(|k| (samples[k].2, samples[k].3))
+                    .map(|k| samples[k])
                     .unzip();
                 out.push(SpanGrid {
                     span: (su, sv),
@@ -371,30 +356,42 @@ impl NormalTerm {
         out
     }
 
-    /// The sampled term's knot-domain parameters in each direction (the
-    /// grid's u_i, v_j mapped onto the domain), λ·λ_k and N_k per sample
-    /// (row-major, u outer) and the domain's extents (b − a, d − c) that
-    /// turn ∂/∂u into ∂/∂ũ.
-    #[allow(clippy::type_complexity)]
-    fn sample_axes(
-        &self,
-        surface: &BSplineSurface,
-    ) -> Option<([Vec<f64>; 2], Vec<(f64, Vec3)>, (f64, f64))> {
-        let NormalGuide::Samples { grid, .. } = &self.guide else {
+    /// The sampled term on `surface`'s domain, unless the term is exact.
+    fn sample_axes(&self, surface: &BSplineSurface) -> Option<SampleAxes> {
+        let NormalGuide::Samples {
+            grid,
+            normals,
+            weights,
+        } = &self.guide
+        else {
             return None;
         };
-        let (samples, extent) = self.samples(surface)?;
         let ((a, b), (c, d)) = (surface.knots().0.domain(), surface.knots().1.domain());
-        let us = grid.us().iter().map(|&x| a + (b - a) * x).collect();
-        let vs = grid.vs().iter().map(|&y| c + (d - c) * y).collect();
-        let wn = samples.iter().map(|&(_, _, w, n)| (w, n)).collect();
-        Some(([us, vs], wn, extent))
+        Some(SampleAxes {
+            us: grid.us().iter().map(|&x| a + (b - a) * x).collect(),
+            vs: grid.vs().iter().map(|&y| c + (d - c) * y).collect(),
+            weighted: (0..grid.len())
+                .map(|k| {
+                    (
+                        self.weight * weights.as_ref().map_or(1.0, |w| w[k]),
+                        normals[k],
+                    )
+                })
+                .collect(),
+            extent: (b - a, d - c),
+        })
     }
 
     /// ½λ∫∫ (R_u·N)² + (R_v·N)², from de Boor derivatives at the nodes (or
     /// the sampled sum, the derivatives on the sample grid at once).
     pub(crate) fn value(&self, surface: &BSplineSurface) -> f64 {
-        if let Some(([us, vs], wn, (su, sv))) = self.sample_axes(surface) {
+        if let Some(SampleAxes {
+            us,
+            vs,
+            weighted: wn,
+            extent: (su, sv),
+        }) = self.sample_axes(surface)
+        {
             let d = surface.derivatives_on(&us, &vs);
             let total: f64 = d
                 .iter()
@@ -427,7 +424,13 @@ impl NormalTerm {
     /// The same by another road: one more node each way, from the Bézier
     /// pieces' derivatives.
     pub(crate) fn value_by_pieces(&self, surface: &BSplineSurface, pieces: &[BezierPiece]) -> f64 {
-        if let Some(([us, vs], wn, (su, sv))) = self.sample_axes(surface) {
+        if let Some(SampleAxes {
+            us,
+            vs,
+            weighted: wn,
+            extent: (su, sv),
+        }) = self.sample_axes(surface)
+        {
             // Each sample in the piece whose rectangle holds it (the one
             // KnotVector::span names), by the piece's Bernstein derivatives
             // on the grid of its samples.

@@ -1,11 +1,12 @@
 //! The fill made fair inside its fixed rings: the thin plate guided by the
-//! boundary's normal field, then the linearized Willmore steps that lower W.
+//! boundary's normal field, then W lowered (linearized Willmore steps if
+//! asked, then the descent on W itself).
 
 use super::*;
 use crate::{Bend, NormalField, Stretch};
 
-/// A patch made fair inside fixed boundary rows: the solve, then the
-/// linearized Willmore steps.
+/// A patch made fair inside fixed boundary rows: the solve, then the steps
+/// that lower W.
 pub(super) struct Faired {
     pub(super) surface: BSplineSurface,
     pub(super) solve: SolveReport,
@@ -14,7 +15,7 @@ pub(super) struct Faired {
     pub(super) willmore: Vec<f64>,
     pub(super) setup: f64,
     pub(super) solve_seconds: f64,
-    /// W and the Willmore steps.
+    /// W and the steps that lower it.
     pub(super) improve_seconds: f64,
 }
 

@@ -34,9 +34,9 @@
 //!    frozen is quadratic (linearized Willmore steps minimize it, on
 //!    request). Its minimizer is not W's (the frozen metric drops W's
 //!    variation through the metric), so L-BFGS on W itself does the
-//!    lowering, its exact gradient by forward differentiation of the
-//!    integrand at the Gauss nodes, the frozen-metric operator as its first
-//!    inverse Hessian.
+//!    lowering, its exact gradient by the chain rule through the integrand
+//!    at the Gauss nodes, the frozen-metric operator as its first inverse
+//!    Hessian.
 //! 4. **Measured.** Every side's gap and normal angle on the returned
 //!    surface against the neighbour, at 129 parameters clustered towards
 //!    the corners (Chebyshev–Lobatto), and W = ∫∫ κ₁² + κ₂² dA of the fill
@@ -129,8 +129,9 @@ pub struct FillOptions {
     /// of W, its stopping rule, on the bundled and benchmark holes) in
     /// 30–40% less time.
     pub willmore_steps: usize,
-    /// Then at most this many steps that lower W itself (L-BFGS on W
-    /// with the linearized step as its start, see the module `willmore`),
+    /// Then at most this many steps that lower W itself (L-BFGS on W whose
+    /// first inverse Hessian is the frozen-metric operator's, see the
+    /// module `willmore`),
     /// stopping after three steps in a row that each lower W by less than
     /// 1e-8 of itself; 0 for none.
     pub descent_steps: usize,
@@ -194,8 +195,9 @@ pub struct FillReport {
     pub alpha: [f64; 4],
     /// W = ∫∫ κ₁² + κ₂² dA of the fill.
     pub curvature: TotalCurvature,
-    /// W after the solve and after each linearized Willmore step tried
-    /// (the last one tried is dropped when it did not lower W).
+    /// W after the solve, after each linearized Willmore step tried (the
+    /// last one tried is dropped when it did not lower W; none by default)
+    /// and after each descent step.
     pub willmore: Vec<f64>,
     /// λ used (0: plain thin plate).
     pub normal_weight: f64,

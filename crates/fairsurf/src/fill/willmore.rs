@@ -20,8 +20,9 @@
 //! That fixed point is not W's minimum: the frozen metric drops how W
 //! changes through g. [`descend`] then minimizes W itself by L-BFGS, with
 //! W's exact gradient (the integrand (4H² − 2K)|R_u × R_v| differentiated
-//! forward in R_u, R_v, R_uu, R_uv, R_vv at each Gauss node) and the
-//! frozen-metric operator as the first inverse Hessian.
+//! by the chain rule in R_u, R_v, R_uu, R_uv, R_vv at each Gauss node) and
+//! the frozen-metric operator as the first inverse Hessian. The fill takes
+//! no linearized steps by default: the descent alone reaches the same W.
 
 use crate::basis::GaussLegendre;
 use crate::bspline::BSplineSurface;
@@ -63,33 +64,24 @@ fn slots(free: &[bool]) -> Vec<Option<usize>> {
         .collect()
 }
 
-/// Gauss nodes of every knot span in one direction: the spans, the nodes
-/// (span by span, `rule`'s count each) and at each node its span and the
-/// basis functions with their first two derivatives (computed once per
-/// node).
+/// Gauss nodes of every knot span in one direction: the spans and at each
+/// node (span by span, `rule`'s count each) its span and the basis
+/// functions with their first two derivatives (computed once per node).
 struct Axis {
     spans: Vec<(usize, f64, f64)>,
-    nodes: Vec<f64>,
     basis: Vec<(usize, Vec<Vec<f64>>)>,
 }
 
 impl Axis {
     fn new(knots: &crate::bspline::KnotVector, rule: &GaussLegendre) -> Self {
         let spans = knots.spans();
-        let mut nodes = Vec::with_capacity(spans.len() * rule.nodes.len());
-        let mut basis = Vec::with_capacity(nodes.capacity());
+        let mut basis = Vec::with_capacity(spans.len() * rule.nodes.len());
         for &(k, a, b) in &spans {
             for &x in &rule.nodes {
-                let t = a + (b - a) * x;
-                nodes.push(t);
-                basis.push((k, knots.basis_derivatives(k, t, 2)));
+                basis.push((k, knots.basis_derivatives(k, a + (b - a) * x, 2)));
             }
         }
-        Self {
-            spans,
-            nodes,
-            basis,
-        }
+        Self { spans, basis }
     }
 }
 
@@ -132,7 +124,7 @@ impl Rule {
     /// the rule; points where the surface is not regular are skipped.
     pub(crate) fn w(&self, s: &BSplineSurface) -> f64 {
         let n = self.rule.nodes.len();
-        let (g, nv) = (&self.rule, self.v.nodes.len());
+        let (g, nv) = (&self.rule, self.v.basis.len());
         let mut sum = 0.0;
         for (a, &(_, u0, u1)) in self.u.spans.iter().enumerate() {
             let grid = self.row(s, a);
@@ -181,7 +173,7 @@ fn system(
                 let nu = &au.basis[a * n + x].1;
                 for (y, &wy) in gv.weights.iter().enumerate() {
                     let nv = &av.basis[bs * m + y].1;
-                    let d = &grid[x * av.nodes.len() + bs * m + y];
+                    let d = &grid[x * av.basis.len() + bs * m + y];
                     let (e, f, g) = (dot(d.du, d.du), dot(d.du, d.dv), dot(d.dv, d.dv));
                     let det = e * g - f * f;
                     if det.is_nan() || det <= 0.0 {
@@ -363,30 +355,27 @@ pub(crate) fn descend(
     (s, history)
 }
 
-/// ∂W/∂P over the free points (rows as `slot`, columns x, y, z), W =
-/// ∫∫ (4H² − 2K) |R_u × R_v| du dv by Gauss–Legendre with p + q + 4 nodes
-/// per span as [`super::total_curvature`]; points where that skips the
-/// integrand (not regular) contribute nothing here either.
+/// ∂W/∂P over the free points ([`w_and_gradient`]'s).
 #[cfg(test)]
 fn gradient(s: &BSplineSurface, slot: &[Option<usize>], nodes: &Rule) -> Mat<f64> {
     w_and_gradient(s, slot, nodes).1
 }
 
-/// W by `nodes` ([`Rule::w`], the same sum in the same order) and its
-/// gradient ∂W/∂P over the free points from one evaluation of the surface
-/// at the nodes.
+/// W by `nodes` ([`Rule::w`]: the same sum in the same order) and ∂W/∂P
+/// over the free points (rows as `slot`, columns x, y, z) from one
+/// evaluation of the surface at the nodes; points where W skips the
+/// integrand (not regular) contribute nothing to either. By sum
+/// factorization: per u node the v sums acc_r[j] = Σ_y Σ_s N_j^(s)(v_y) w
+/// ∂f/∂R_(r,s) for each u-derivative order r (R_u, R_v, R_uu, R_uv, R_vv
+/// are (r, s) = (1,0), (0,1), (2,0), (1,1), (0,2)), then Σ_r N_i^(r)(u_x)
+/// acc_r[j] into the span's points.
 fn w_and_gradient(s: &BSplineSurface, slot: &[Option<usize>], nodes: &Rule) -> (f64, Mat<f64>) {
     let ((p, q), (_, cv)) = (s.degree(), s.counts());
     let mut sum = 0.0;
-    let nf = slot.iter().flatten().count();
-    let mut g = Mat::<f64>::zeros(nf, 3);
+    let mut g = Mat::<f64>::zeros(slot.iter().flatten().count(), 3);
     let (rule, au, av) = (&nodes.rule, &nodes.u, &nodes.v);
     let n = rule.nodes.len();
     let (wu, wv) = (p + 1, q + 1);
-    // By sum factorization: per u node, the v sums
-    // acc_r[j] = Σ_y Σ_s N_j^(s)(v_y) w ∂f/∂R_(r,s) for each u-derivative
-    // order r (R_u, R_v, R_uu, R_uv, R_vv are (r, s) = (1,0), (0,1), (2,0),
-    // (1,1), (0,2)), then Σ_r N_i^(r)(u_x) acc_r[j] into the span's points.
     let mut local = vec![[0.0f64; 3]; wu * wv];
     let mut acc = vec![[0.0f64; 3]; 3 * wv];
     for (a, &(su, u0, u1)) in au.spans.iter().enumerate() {
@@ -397,53 +386,58 @@ fn w_and_gradient(s: &BSplineSurface, slot: &[Option<usize>], nodes: &Rule) -> (
             for (x, &wx) in rule.weights.iter().enumerate() {
                 acc.fill([0.0; 3]);
                 for (y, &wy) in rule.weights.iter().enumerate() {
-                    let d = &grid[x * av.nodes.len() + bs * n + y];
+                    let d = &grid[x * av.basis.len() + bs * n + y];
                     let Some(c) = crate::analysis::curvature_from(d) else {
                         continue;
                     };
                     let integrand = 4.0 * c.mean * c.mean - 2.0 * c.gaussian;
                     sum += wx * wy * area * integrand * norm(cross(d.du, d.dv));
-                    let w = wx * wy * area;
-                    let df = integrand_gradient(d).map(|x| w * x);
-                    let part = |k: usize| [df[3 * k], df[3 * k + 1], df[3 * k + 2]];
-                    let (ru, rv, ruu, ruv, rvv) = (part(0), part(1), part(2), part(3), part(4));
-                    let nv = &av.basis[bs * n + y].1;
-                    let (a0, rest) = acc.split_at_mut(wv);
-                    let (a1, a2) = rest.split_at_mut(wv);
-                    for j in 0..wv {
-                        let (n0, n1, n2) = (nv[0][j], nv[1][j], nv[2][j]);
-                        for e in 0..3 {
-                            a0[j][e] += n1 * rv[e] + n2 * rvv[e];
-                            a1[j][e] += n0 * ru[e] + n1 * ruv[e];
-                            a2[j][e] += n0 * ruu[e];
-                        }
-                    }
+                    let df = integrand_gradient(d).map(|x| wx * wy * area * x);
+                    add_v_sums(&mut acc, &df, &av.basis[bs * n + y].1);
                 }
-                let nu = &au.basis[a * n + x].1;
-                for i in 0..wu {
-                    let c = [nu[0][i], nu[1][i], nu[2][i]];
-                    for j in 0..wv {
-                        let l = &mut local[i * wv + j];
-                        for e in 0..3 {
-                            l[e] += c[0] * acc[j][e]
-                                + c[1] * acc[wv + j][e]
-                                + c[2] * acc[2 * wv + j][e];
-                        }
-                    }
-                }
+                add_u_sums(&mut local, &acc, &au.basis[a * n + x].1);
             }
-            for i in 0..wu {
-                for j in 0..wv {
-                    let k = (su - p + i) * cv + sv - q + j;
-                    let Some(r) = slot[k] else { continue };
-                    for e in 0..3 {
-                        g[(r, e)] += local[i * wv + j][e];
+            for (k, l) in local.iter().enumerate() {
+                let point = (su - p + k / wv) * cv + sv - q + k % wv;
+                if let Some(r) = slot[point] {
+                    for (e, &x) in l.iter().enumerate() {
+                        g[(r, e)] += x;
                     }
                 }
             }
         }
     }
     (sum, g)
+}
+
+/// acc_r[j] += Σ_s N_j^(s) ∂f/∂R_(r,s) at one node (`nv` the v basis
+/// functions and their derivatives, `df` the weighted integrand gradient).
+fn add_v_sums(acc: &mut [[f64; 3]], df: &[f64; 15], nv: &[Vec<f64>]) {
+    let wv = acc.len() / 3;
+    let part = |k: usize| [df[3 * k], df[3 * k + 1], df[3 * k + 2]];
+    let (ru, rv, ruu, ruv, rvv) = (part(0), part(1), part(2), part(3), part(4));
+    let (a0, rest) = acc.split_at_mut(wv);
+    let (a1, a2) = rest.split_at_mut(wv);
+    for j in 0..wv {
+        let (n0, n1, n2) = (nv[0][j], nv[1][j], nv[2][j]);
+        for e in 0..3 {
+            a0[j][e] += n1 * rv[e] + n2 * rvv[e];
+            a1[j][e] += n0 * ru[e] + n1 * ruv[e];
+            a2[j][e] += n0 * ruu[e];
+        }
+    }
+}
+
+/// The span's points' sums += Σ_r N_i^(r)(u) acc_r[j] at one u node.
+fn add_u_sums(local: &mut [[f64; 3]], acc: &[[f64; 3]], nu: &[Vec<f64>]) {
+    let wv = acc.len() / 3;
+    for (k, l) in local.iter_mut().enumerate() {
+        let (i, j) = (k / wv, k % wv);
+        let c = [nu[0][i], nu[1][i], nu[2][i]];
+        for e in 0..3 {
+            l[e] += c[0] * acc[j][e] + c[1] * acc[wv + j][e] + c[2] * acc[2 * wv + j][e];
+        }
+    }
 }
 
 /// ∂f/∂(R_u, R_v, R_uu, R_uv, R_vv) of W's integrand f = (4H² − 2K)|N|:
@@ -455,7 +449,6 @@ fn w_and_gradient(s: &BSplineSurface, slot: &[Option<usize>], nodes: &Rule) -> (
 /// and ∂(V·N)/∂R_v = V × R_u. (Tested against forward-mode
 /// differentiation of the same formula.)
 fn integrand_gradient(d: &crate::SurfaceDerivatives) -> [f64; 15] {
-    use crate::vec3::cross;
     let (ru, rv) = (d.du, d.dv);
     let (e, f, g) = (dot(ru, ru), dot(ru, rv), dot(rv, rv));
     let nn = cross(ru, rv);

@@ -27,7 +27,7 @@
 //! 4. **Fair inside**, as a fill: thin plate guided by the normals of the
 //!    Hermite–Coons patch of the four sides (the made sides' cross
 //!    derivatives the Hermite interpolants of the corner tangents and
-//!    twists), then linearized Willmore steps kept only where W falls.
+//!    twists), then W lowered by the fill's descent on W.
 //! 5. **Measured** on the returned surface: gap and normal angle against A
 //!    and against B along their edges, W, and the corner agreement.
 
@@ -112,7 +112,8 @@ pub struct BlendReport {
     pub bulge_search: Option<BulgeSearch>,
     /// W = ∫∫ κ₁² + κ₂² dA of the blend.
     pub curvature: TotalCurvature,
-    /// W after the solve and after each linearized Willmore step tried.
+    /// W after the solve and after each step that lowered it (linearized
+    /// Willmore steps if asked, then the descent).
     pub willmore: Vec<f64>,
     /// λ used (0: plain thin plate).
     pub normal_weight: f64,
