@@ -385,17 +385,12 @@ impl NormalTerm {
     /// ½λ∫∫ (R_u·N)² + (R_v·N)², from de Boor derivatives at the nodes (or
     /// the sampled sum, the derivatives on the sample grid at once).
     pub(crate) fn value(&self, surface: &BSplineSurface) -> f64 {
-        if let Some(SampleAxes {
-            us,
-            vs,
-            weighted: wn,
-            extent: (su, sv),
-        }) = self.sample_axes(surface)
-        {
-            let d = surface.derivatives_on(&us, &vs);
+        if let Some(axes) = self.sample_axes(surface) {
+            let ((su, sv), wn) = (axes.extent, &axes.weighted);
+            let d = surface.derivatives_on(&axes.us, &axes.vs);
             let total: f64 = d
                 .iter()
-                .zip(&wn)
+                .zip(wn)
                 .map(|(d, &(w, n))| {
                     w * (dot(scale(d.du, su), n).powi(2) + dot(scale(d.dv, sv), n).powi(2))
                 })
@@ -424,13 +419,8 @@ impl NormalTerm {
     /// The same by another road: one more node each way, from the Bézier
     /// pieces' derivatives.
     pub(crate) fn value_by_pieces(&self, surface: &BSplineSurface, pieces: &[BezierPiece]) -> f64 {
-        if let Some(SampleAxes {
-            us,
-            vs,
-            weighted: wn,
-            extent: (su, sv),
-        }) = self.sample_axes(surface)
-        {
+        if let Some(axes) = self.sample_axes(surface) {
+            let ((su, sv), wn, us, vs) = (axes.extent, &axes.weighted, &axes.us, &axes.vs);
             // Each sample in the piece whose rectangle holds it (the one
             // KnotVector::span names), by the piece's Bernstein derivatives
             // on the grid of its samples.
@@ -444,7 +434,7 @@ impl NormalTerm {
                 }
                 at
             };
-            let (iu, iv) = (by_span(ku, &spans_u, &us), by_span(kv, &spans_v, &vs));
+            let (iu, iv) = (by_span(ku, &spans_u, us), by_span(kv, &spans_v, vs));
             let mut total = 0.0;
             for (a, ia) in iu.iter().enumerate() {
                 for (b, ib) in iv.iter().enumerate() {
