@@ -26,3 +26,10 @@ fn fill(bencher: divan::Bencher, name: &str) {
     let choice = HoleChoice::of(&input, input.holes.as_deref()).unwrap();
     bencher.bench(|| choice.fill(&input.faces, &input.options).unwrap());
 }
+
+/// Reading a fill's input: `fillet_hole.step` (22 kB, 8 faces: planes,
+/// cylinders) parsed, its faces converted and their rectangles checked.
+#[divan::bench(sample_count = 20)]
+fn read_step() -> FillInput {
+    input("fillet_hole.step")
+}
