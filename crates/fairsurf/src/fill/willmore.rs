@@ -133,9 +133,8 @@ impl Rule {
                 for (x, &wx) in g.weights.iter().enumerate() {
                     for (y, &wy) in g.weights.iter().enumerate() {
                         let d = &grid[x * nv + bs * n + y];
-                        if let Some(c) = crate::analysis::curvature_from(d) {
-                            let integrand = 4.0 * c.mean * c.mean - 2.0 * c.gaussian;
-                            sum += wx * wy * area * integrand * norm(cross(d.du, d.dv));
+                        if let Some(f) = weighted_integrand(d, wx * wy * area) {
+                            sum += f;
                         }
                     }
                 }
@@ -143,6 +142,14 @@ impl Rule {
         }
         sum
     }
+}
+
+/// W's integrand (4H² − 2K)|R_u × R_v| at a point times the node's weight
+/// `w`, `None` where the surface is not regular (W skips it) — one
+/// definition for W and the descent's W.
+fn weighted_integrand(d: &crate::SurfaceDerivatives, w: f64) -> Option<f64> {
+    let c = crate::analysis::curvature_from(d)?;
+    Some(w * (4.0 * c.mean * c.mean - 2.0 * c.gaussian) * norm(cross(d.du, d.dv)))
 }
 
 /// E's matrix over the free points (one for x, y and z) and its right-hand
@@ -387,11 +394,10 @@ fn w_and_gradient(s: &BSplineSurface, slot: &[Option<usize>], nodes: &Rule) -> (
                 acc.fill([0.0; 3]);
                 for (y, &wy) in rule.weights.iter().enumerate() {
                     let d = &grid[x * av.basis.len() + bs * n + y];
-                    let Some(c) = crate::analysis::curvature_from(d) else {
+                    let Some(f) = weighted_integrand(d, wx * wy * area) else {
                         continue;
                     };
-                    let integrand = 4.0 * c.mean * c.mean - 2.0 * c.gaussian;
-                    sum += wx * wy * area * integrand * norm(cross(d.du, d.dv));
+                    sum += f;
                     let df = integrand_gradient(d).map(|x| wx * wy * area * x);
                     add_v_sums(&mut acc, &df, &av.basis[bs * n + y].1);
                 }
