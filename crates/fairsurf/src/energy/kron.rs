@@ -24,6 +24,7 @@ use super::{Basis1d, Space};
 use crate::basis::{
     bernstein_derivatives, derivative_matrix, triple_product_integrals, GaussLegendre,
 };
+use crate::solve::dense::dot;
 use faer::Mat;
 use std::cell::RefCell;
 use std::collections::HashMap;
@@ -189,25 +190,6 @@ fn flatten(ms: &[Mat<f64>]) -> Vec<f64> {
         .collect()
 }
 
-/// Σ xᵢ yᵢ in four interleaved sums (independent chains: they pipeline
-/// and vectorize, where one running sum waits on each add).
-fn dot(x: &[f64], y: &[f64]) -> f64 {
-    let mut acc = [0.0; 4];
-    let (xc, yc) = (x.chunks_exact(4), y.chunks_exact(4));
-    let tail: f64 = xc
-        .remainder()
-        .iter()
-        .zip(yc.remainder())
-        .map(|(p, q)| p * q)
-        .sum();
-    for (a, b) in xc.zip(yc) {
-        for k in 0..4 {
-            acc[k] += a[k] * b[k];
-        }
-    }
-    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
-}
-
 /// `out ← Σ_α W[α][β] M_α` over flattened k×k matrices; false (and `out`
 /// zero) when column β of W is all zero.
 fn sum_factor(w: &Mat<f64>, beta: usize, flat: &[f64], k: usize, out: &mut [f64]) -> bool {
@@ -234,13 +216,22 @@ fn sum_factor(w: &Mat<f64>, beta: usize, flat: &[f64], k: usize, out: &mut [f64]
 pub(crate) fn form(
     space: &Space,
     patterns: &[((usize, usize), f64)],
-    (axis_u, axis_v): (&Axis, &Axis),
+    axes: (&Axis, &Axis),
     w: &Mat<f64>,
 ) -> Mat<f64> {
     if patterns.is_empty() {
         return Mat::zeros(space.len(), space.len());
     }
-    let terms: Vec<_> = patterns
+    weighted_kron(w, &kron_terms(space, patterns, axes))
+}
+
+/// Each pattern's coefficient and 1-D matrices ([`KronTerm`]).
+fn kron_terms(
+    space: &Space,
+    patterns: &[((usize, usize), f64)],
+    (axis_u, axis_v): (&Axis, &Axis),
+) -> Vec<KronTerm> {
+    patterns
         .iter()
         .map(|&((ru, rv), c)| {
             (
@@ -249,8 +240,78 @@ pub(crate) fn form(
                 axis_matrices(&space.v, rv, axis_v),
             )
         })
+        .collect()
+}
+
+/// The coupled 3N×3N form (point-major: row 3p + a) of derivative patterns
+/// weighted by the six coordinate pairs' tables `ws` ((0,0), (0,1), (0,2),
+/// (1,1), (1,2), (2,2)): block (a, b) is the pair's [`form`], and block
+/// (b, a) the same matrix.
+///
+/// With κ running over the patterns' weight basis functions β, Q[(i,j),(k,l)]
+/// = Σ_κ T_κ[i][k] M^v_κ[j][l] (T_κ = c Σ_α W[α][β] M^u_α) is one matrix
+/// product per pair, C = B Aᵀ with B[(l,j), κ] = M^v_κ[l][j] and A[(i,k), κ] =
+/// T_κ[i][k]; C's columns are then copied into the system's interleaved
+/// layout, every entry written once. A cancelled solve stops between pairs.
+pub(crate) fn coupled_form(
+    space: &Space,
+    patterns: &[((usize, usize), f64)],
+    axes: (&Axis, &Axis),
+    ws: &[Mat<f64>],
+) -> crate::Result<Mat<f64>> {
+    let np = space.len();
+    let mut h = Mat::<f64>::zeros(3 * np, 3 * np);
+    let terms = kron_terms(space, patterns, axes);
+    let Some((_, mu0, mv0)) = terms.first() else {
+        return Ok(h);
+    };
+    let (nu, nv) = (mu0[0].nrows(), mv0[0].nrows());
+    let kappa: Vec<(usize, usize)> = (terms.iter().enumerate())
+        .flat_map(|(t, (_, _, mv))| (0..mv.len()).map(move |beta| (t, beta)))
         .collect();
-    weighted_kron(w, &terms)
+    let b = Mat::from_fn(nv * nv, kappa.len(), |r, k| {
+        let (t, beta) = kappa[k];
+        terms[t].2[beta][(r / nv, r % nv)]
+    });
+    let mu_flat: Vec<Vec<f64>> = terms.iter().map(|(_, mu, _)| flatten(mu)).collect();
+    let mut a = Mat::<f64>::zeros(nu * nu, kappa.len());
+    let mut c = Mat::<f64>::zeros(nv * nv, nu * nu);
+    let mut t = vec![0.0; nu * nu];
+    let pairs = (0..3).flat_map(|x| (x..3).map(move |y| (x, y)));
+    for ((x, y), w) in pairs.zip(ws) {
+        crate::budget::checkpoint()?;
+        for (k, &(ti, beta)) in kappa.iter().enumerate() {
+            sum_factor(w, beta, &mu_flat[ti], nu, &mut t);
+            let coef = terms[ti].0;
+            for (dst, &v) in a.col_as_slice_mut(k).iter_mut().zip(&t) {
+                *dst = coef * v;
+            }
+        }
+        faer::linalg::matmul::matmul(
+            c.as_mut(),
+            faer::Accum::Replace,
+            b.as_ref(),
+            a.transpose(),
+            1.0,
+            faer::Par::Seq,
+        );
+        let orientations: &[(usize, usize)] = if x == y { &[(x, y)] } else { &[(x, y), (y, x)] };
+        for k in 0..nu {
+            for l in 0..nv {
+                for &(row, col) in orientations {
+                    let dst = h.col_as_slice_mut(3 * (k * nv + l) + col);
+                    for i in 0..nu {
+                        let src = &c.col_as_slice(i * nu + k)[l * nv..(l + 1) * nv];
+                        let rows = dst[3 * i * nv..3 * (i + 1) * nv].chunks_exact_mut(3);
+                        for (d, &v) in rows.zip(src) {
+                            d[row] = v;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    Ok(h)
 }
 
 /// The r-th u- and s-th v-derivative control net of one coordinate:
@@ -440,6 +501,75 @@ mod tests {
                 );
             }
             assert!(size > 1.0, "the values are not all zero: {size}");
+        }
+    }
+
+    /// The coupled form's block (a, b) and block (b, a) are the pair's own
+    /// [`form`] (its lower half summed then mirrored: another road), entry
+    /// by entry, in the Bernstein space, a Jacobi block and on sample axes,
+    /// with weight columns that vanish.
+    #[test]
+    fn coupled_form_blocks_are_the_pair_forms() {
+        let (n, m) = (6, 5);
+        let spaces = [
+            (
+                Space::bernstein((n, m)),
+                (Axis::Bernstein(4), Axis::Bernstein(6)),
+            ),
+            (
+                Space::jacobi((n, m), (1, 1), (2, 1)),
+                (Axis::Bernstein(3), Axis::Bernstein(2)),
+            ),
+            (
+                Space::bernstein((n, m)),
+                (
+                    Axis::Samples(vec![0.0, 0.3, 0.8]),
+                    Axis::Samples(vec![0.1, 0.5, 0.9, 1.0]),
+                ),
+            ),
+        ];
+        for (space, (au, av)) in &spaces {
+            let (ku, kv) = (axis_len(au), axis_len(av));
+            let ws: Vec<Mat<f64>> = (0..6)
+                .map(|k| {
+                    Mat::from_fn(ku, kv, |a, b| {
+                        if b == 1 || (a + b + k) % 5 == 0 {
+                            0.0
+                        } else {
+                            0.2 + (a * (k + 1)) as f64 - 0.3 * b as f64
+                        }
+                    })
+                })
+                .collect();
+            let patterns = [((1, 0), 1.0), ((0, 1), 0.5)];
+            let h = coupled_form(space, &patterns, (au, av), &ws).unwrap();
+            let np = space.len();
+            assert_eq!((h.nrows(), h.ncols()), (3 * np, 3 * np));
+            let pairs = (0..3).flat_map(|a| (a..3).map(move |b| (a, b)));
+            for ((a, b), w) in pairs.zip(&ws) {
+                let q = form(space, &patterns, (au, av), w);
+                let size = (0..np).map(|p| q[(p, p)].abs()).fold(0.0, f64::max);
+                assert!(size > 0.1, "({a}, {b}) is not all zero");
+                for p in 0..np {
+                    for r in 0..np {
+                        for (x, y) in [(a, b), (b, a)] {
+                            let got = h[(3 * p + x, 3 * r + y)];
+                            assert!(
+                                (got - q[(p, r)]).abs() <= 1e-13 * size,
+                                "({x}, {y}) at ({p}, {r}): {got} vs {}",
+                                q[(p, r)]
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    fn axis_len(axis: &Axis) -> usize {
+        match axis {
+            Axis::Bernstein(w) => w + 1,
+            Axis::Samples(ts) => ts.len(),
         }
     }
 

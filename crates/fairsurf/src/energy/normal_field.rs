@@ -7,8 +7,8 @@
 //! may also be a B-spline field on its own knots ([`NormalGuide::Spline`]).
 
 use super::{
-    check_weight, check_weights, derivative_net, form, Axis, EnergyTerm, Hessian, HessianKey,
-    Integrand, PatternForm, SampleGrid, Space, TermForm,
+    check_weight, check_weights, coupled_form, derivative_net, Axis, EnergyTerm, Hessian,
+    HessianKey, Integrand, PatternForm, SampleGrid, Space, TermForm, STRETCH_PATTERNS,
 };
 use crate::basis::binomial;
 use crate::vec3::{is_finite, normalize, Vec3};
@@ -303,20 +303,7 @@ impl EnergyTerm for NormalField {
     fn form_in(&self, space: &Space) -> Result<TermForm> {
         check_weight("normal_field weight", self.weight)?;
         let ((au, av), tables) = self.weight_tables()?;
-        let np = space.len();
-        let mut h = Mat::<f64>::zeros(3 * np, 3 * np);
-        for ((a, b), w) in pairs().zip(&tables) {
-            // Six dense forms: a cancelled solve stops between them.
-            crate::budget::checkpoint()?;
-            let q = form(space, &[((1, 0), 1.0), ((0, 1), 1.0)], (&au, &av), w);
-            for qq in 0..np {
-                for p in 0..np {
-                    let x = q[(p, qq)];
-                    h[(3 * p + a, 3 * qq + b)] = x;
-                    h[(3 * p + b, 3 * qq + a)] = x;
-                }
-            }
-        }
+        let h = coupled_form(space, STRETCH_PATTERNS, (&au, &av), &tables)?;
         Ok(TermForm {
             hessian: Hessian::Coupled(h),
             center: None,

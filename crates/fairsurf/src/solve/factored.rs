@@ -273,8 +273,19 @@ impl Factored {
         let sys = self.rhs(problem, placed, centers);
         let free = &self.free;
         let rows = free_rows(free, self.coupled);
-        // x has zeros at free rows, so H x = H_FK x_K on the free rows.
-        let hx = super::dense::product(self.h.as_ref(), sys.x.as_ref());
+        // x has zeros at free rows, so H x = H_FK x_K on the free rows: only
+        // the known columns of H are read.
+        let mut hx = Mat::<f64>::zeros(self.h.nrows(), sys.x.ncols());
+        for c in 0..sys.x.ncols() {
+            let out = hx.col_as_slice_mut(c);
+            for (j, &xj) in sys.x.col_as_slice(c).iter().enumerate() {
+                if xj != 0.0 {
+                    for (o, &hij) in out.iter_mut().zip(self.h.col_as_slice(j)) {
+                        *o += hij * xj;
+                    }
+                }
+            }
+        }
         let rhs = Mat::from_fn(rows.len(), sys.b.ncols(), |i, c| {
             sys.b[(rows[i], c)] - hx[(rows[i], c)]
         });

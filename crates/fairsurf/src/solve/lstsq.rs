@@ -14,7 +14,7 @@
 //! 4. estimates cond₂(Â) = cond₂(R) by power iteration on RᵀR and its
 //!    inverse (triangular solves with R).
 
-use super::dense::{dot2_residual, power_iteration, refine};
+use super::dense::{dot2_residual, largest_eigenvalue, refine};
 use crate::{Error, Result};
 use faer::linalg::solvers::SolveLstsq;
 use faer::linalg::triangular_solve::{
@@ -108,15 +108,15 @@ fn residual_t(at: &Mat<f64>, x: &Mat<f64>, b: &Mat<f64>) -> Mat<f64> {
 }
 
 /// cond₂(R) for upper triangular R: √(λ_max(RᵀR) · λ_max((RᵀR)⁻¹)), each by
-/// 30 steps of power iteration from a fixed start (reproducible; a lower
-/// bound that is usually within a small factor).
+/// [`largest_eigenvalue`] (Lanczos) from a fixed start (reproducible; a
+/// lower bound, a few percent low on crowded spectra).
 fn condition_estimate(r: &Mat<f64>) -> f64 {
     let n = r.nrows();
     if (0..n).any(|i| r[(i, i)] == 0.0 || !r[(i, i)].is_finite()) {
         return f64::INFINITY;
     }
-    let lmax = power_iteration(n, &|v| r.transpose() * (r * v));
-    let inv = power_iteration(n, &|v| {
+    let lmax = largest_eigenvalue(n, &|v| r.transpose() * (r * v));
+    let inv = largest_eigenvalue(n, &|v| {
         // (RᵀR)⁻¹ v = R⁻¹ R⁻ᵀ v.
         let mut w = v.clone();
         solve_lower_triangular_in_place(r.transpose(), w.as_mut(), Par::Seq);
