@@ -138,18 +138,34 @@ pub(crate) fn energy_at(
     let (n, m) = degree;
     let nets: [Table; 3] = std::array::from_fn(|c| coordinate(patch.points(), degree, c));
     let mut gradient: [Table; 3] = std::array::from_fn(|_| Table::zeros(n + 1, m + 1));
+    let mut shared = Shared::new(integrands, &nets, degree);
     let mut total = Dd::new(0.0);
     let mut terms = Vec::with_capacity(integrands.len());
     for integrand in integrands {
         let e = match integrand.as_ref()? {
             Integrand::Fairness {
                 weight,
+                measure: Measure::Exact,
+                patterns,
+            } => shared.fairness(*weight, patterns),
+            Integrand::Fairness {
+                weight,
                 measure,
                 patterns,
             } => fairness(*weight, measure, patterns, &nets, degree, &mut gradient),
+            Integrand::NormalField {
+                weight,
+                guide: NormalGuide::Field(f),
+            } => shared.normal_field(*weight, f),
             Integrand::NormalField { weight, guide } => {
                 normal_field(*weight, guide, &nets, degree, &mut gradient)?
             }
+            Integrand::GuideSurface {
+                weight,
+                surface,
+                measure: Measure::Exact,
+                ..
+            } => shared.guide(*weight, surface),
             Integrand::GuideSurface {
                 weight,
                 surface,
@@ -170,6 +186,7 @@ pub(crate) fn energy_at(
         total += e;
         terms.push(e);
     }
+    shared.add_gradient(&mut gradient);
     let x: Vec<Dd> = patch
         .points()
         .iter()
@@ -186,6 +203,198 @@ pub(crate) fn energy_at(
         terms,
         gradient,
     })
+}
+
+/// The exactly integrated terms' derivative patterns, each evaluated once
+/// on one Gauss grid that is exact for every term using it (stretch and the
+/// normal field both integrate R_u and R_v), with the node weights the terms
+/// put on it: the gradient's adjoint is taken once per pattern and
+/// coordinate, not once per term. Sample sums keep their own grids.
+struct Shared {
+    degree: (usize, usize),
+    /// Grids by the degrees (du, dv) they are exact for.
+    grids: Vec<((usize, usize), Grid)>,
+    groups: Vec<Group>,
+}
+
+/// One pattern on its grid: the net's values and the terms' weights.
+struct Group {
+    pattern: (usize, usize),
+    grid: usize,
+    p: Pattern,
+    values: [Table; 3],
+    weights: [Table; 3],
+}
+
+impl Shared {
+    fn new(
+        integrands: &[Option<Integrand<'_>>],
+        nets: &[Table; 3],
+        degree: (usize, usize),
+    ) -> Self {
+        let (n, m) = degree;
+        // The integrand degree each exact term needs per pattern.
+        let mut needs: Vec<((usize, usize), (usize, usize))> = Vec::new();
+        for integrand in integrands.iter().flatten() {
+            match integrand {
+                Integrand::Fairness {
+                    measure: Measure::Exact,
+                    patterns,
+                    ..
+                } => {
+                    for &((r, s), _) in patterns.iter() {
+                        let d = (2 * n.saturating_sub(r), 2 * m.saturating_sub(s));
+                        needs.push(((r, s), d));
+                    }
+                }
+                Integrand::NormalField {
+                    guide: NormalGuide::Field(f),
+                    ..
+                } => {
+                    let (n1, m1) = f.degree();
+                    for pattern in [(1, 0), (0, 1)] {
+                        needs.push((pattern, (2 * n + 2 * n1, 2 * m + 2 * m1)));
+                    }
+                }
+                Integrand::GuideSurface {
+                    measure: Measure::Exact,
+                    surface,
+                    ..
+                } => {
+                    let sd = surface.degree();
+                    needs.push(((0, 0), (2 * n.max(sd.0), 2 * m.max(sd.1))));
+                }
+                _ => {}
+            }
+        }
+        let mut shared = Self {
+            degree,
+            grids: Vec::new(),
+            groups: Vec::new(),
+        };
+        let mut patterns: Vec<(usize, usize)> = needs.iter().map(|&(p, _)| p).collect();
+        patterns.sort_unstable();
+        patterns.dedup();
+        for pattern in patterns {
+            let d = needs
+                .iter()
+                .filter(|(p, _)| *p == pattern)
+                .fold((0, 0), |(a, b), &(_, (c, d))| (a.max(c), b.max(d)));
+            let grid = shared.grid(d);
+            let Some(p) = Pattern::new(&shared.grids[grid].1, degree, pattern) else {
+                continue;
+            };
+            let values = std::array::from_fn(|c| p.eval(&nets[c]));
+            let weights = std::array::from_fn(|c| Table::zeros(values[c].rows, values[c].cols));
+            shared.groups.push(Group {
+                pattern,
+                grid,
+                p,
+                values,
+                weights,
+            });
+        }
+        shared
+    }
+
+    /// The index of the grid exact for degrees d, made on first use.
+    fn grid(&mut self, d: (usize, usize)) -> usize {
+        if let Some(k) = self.grids.iter().position(|(e, _)| *e == d) {
+            return k;
+        }
+        self.grids.push((d, Grid::exact(d.0, d.1)));
+        self.grids.len() - 1
+    }
+
+    fn group(&mut self, pattern: (usize, usize)) -> Option<(&mut Group, &Grid)> {
+        let g = self.groups.iter_mut().find(|g| g.pattern == pattern)?;
+        let grid = &self.grids[g.grid].1;
+        Some((g, grid))
+    }
+
+    /// w · ½ Σ_patterns c ∫ |∂ᵘʳ∂ᵛˢR|².
+    fn fairness(&mut self, weight: f64, patterns: &[((usize, usize), f64)]) -> Dd {
+        let mut e = Dd::new(0.0);
+        for &(pattern, c) in patterns {
+            let Some((g, grid)) = self.group(pattern) else {
+                continue;
+            };
+            let wc = weight * c;
+            for (f, w) in g.values.iter().zip(g.weights.iter_mut()) {
+                let mut sum = Dd::new(0.0);
+                for ((&x, &o), wk) in f.v.iter().zip(&grid.omega).zip(w.v.iter_mut()) {
+                    sum += o * x * x;
+                    *wk += o * x * wc;
+                }
+                e += sum * (0.5 * wc);
+            }
+        }
+        e
+    }
+
+    /// ½ λ ∫ (R_u·N)² + (R_v·N)² with a Bézier field N.
+    fn normal_field(&mut self, weight: f64, field: &TensorPatch) -> Dd {
+        let fd = field.degree();
+        let mut e = Dd::new(0.0);
+        // The field at the nodes of the last grid it was evaluated on.
+        let mut normals: Option<(usize, [Table; 3])> = None;
+        for pattern in [(1, 0), (0, 1)] {
+            let Some(k) = self.groups.iter().position(|g| g.pattern == pattern) else {
+                continue;
+            };
+            let grid_index = self.groups[k].grid;
+            let grid = &self.grids[grid_index].1;
+            if normals.as_ref().is_none_or(|(i, _)| *i != grid_index) {
+                let Some(p) = Pattern::new(grid, fd, (0, 0)) else {
+                    continue;
+                };
+                let tables = std::array::from_fn(|c| p.eval(&coordinate(field.points(), fd, c)));
+                normals = Some((grid_index, tables));
+            }
+            let Some((_, nt)) = normals.as_ref() else {
+                continue;
+            };
+            let g = &mut self.groups[k];
+            for (kk, &o) in grid.omega.iter().enumerate() {
+                let phi = (0..3).fold(Dd::new(0.0), |s, c| s + g.values[c].v[kk] * nt[c].v[kk]);
+                e += o * phi * phi * (0.5 * weight);
+                for c in 0..3 {
+                    g.weights[c].v[kk] += o * phi * nt[c].v[kk] * weight;
+                }
+            }
+        }
+        e
+    }
+
+    /// ½ γ ∫ |R − S|² with S at its own degree.
+    fn guide(&mut self, weight: f64, surface: &TensorPatch) -> Dd {
+        let sd = surface.degree();
+        let Some((g, grid)) = self.group((0, 0)) else {
+            return Dd::new(0.0);
+        };
+        let Some(ps) = Pattern::new(grid, sd, (0, 0)) else {
+            return Dd::new(0.0);
+        };
+        let mut e = Dd::new(0.0);
+        for c in 0..3 {
+            let s = ps.eval(&coordinate(surface.points(), sd, c));
+            for (k, &o) in grid.omega.iter().enumerate() {
+                let diff = g.values[c].v[k] - s.v[k];
+                e += o * diff * diff * (0.5 * weight);
+                g.weights[c].v[k] += o * diff * weight;
+            }
+        }
+        e
+    }
+
+    /// Each pattern's adjoint of the summed node weights, into `gradient`.
+    fn add_gradient(&self, gradient: &mut [Table; 3]) {
+        for g in &self.groups {
+            for (acc, w) in gradient.iter_mut().zip(&g.weights) {
+                accumulate(acc, &g.p.adjoint(w, self.degree));
+            }
+        }
+    }
 }
 
 /// w · ½ Σ_patterns c ∫ |∂ᵘʳ∂ᵛˢR|².
@@ -224,8 +433,8 @@ fn fairness(
     e
 }
 
-/// ½ λ Σ ω [(R_u·N)² + (R_v·N)²]; None when a sampled normal is zero or
-/// the field is a B-spline (the solve refuses both before).
+/// ½ λ Σ ω [(R_u·N)² + (R_v·N)²] at samples; None when a sampled normal is
+/// zero or the field is a B-spline (the solve refuses both before).
 fn normal_field(
     weight: f64,
     guide: &NormalGuide,
@@ -233,17 +442,10 @@ fn normal_field(
     degree: (usize, usize),
     gradient: &mut [Table; 3],
 ) -> Option<Dd> {
-    let (n, m) = degree;
     let (grid, normals) = match guide {
-        NormalGuide::Field(f) => {
-            let (n1, m1) = f.degree();
-            let grid = Grid::exact(2 * n + 2 * n1, 2 * m + 2 * m1);
-            let p = Pattern::new(&grid, (n1, m1), (0, 0))?;
-            let normals: [Table; 3] =
-                std::array::from_fn(|c| p.eval(&coordinate(f.points(), (n1, m1), c)));
-            (grid, normals)
-        }
-        NormalGuide::Spline(_) => return None,
+        // A Bézier field is integrated on the shared grids
+        // ([`Shared::normal_field`]).
+        NormalGuide::Field(_) | NormalGuide::Spline(_) => return None,
         NormalGuide::Samples {
             grid: g,
             normals,
@@ -336,6 +538,59 @@ mod tests {
                 (a * b * s).sin(),
             ]
         })
+    }
+
+    /// Terms that share a pattern share its grid and its adjoint: the
+    /// energy and gradient of stretch + normal field + guide + bend together
+    /// are the sums of each term's alone (on its own smaller grid), to
+    /// double-double rounding.
+    #[test]
+    fn shared_grids_give_the_single_terms_sums() {
+        let (n, m) = (7, 6);
+        let patch = wavy(n, m, 0.6);
+        let terms: Vec<Box<dyn EnergyTerm>> = vec![
+            Box::new(Stretch::new(1.3)),
+            Box::new(NormalField::new(2.0, wavy(3, 2, 0.3))),
+            Box::new(GuideSurface::new(1.5, wavy(8, 4, 1.1))),
+            Box::new(Bend::new(0.7)),
+            Box::new(NormalField::new(0.5, wavy(1, 3, 0.9))),
+        ];
+        let all: Vec<_> = terms.iter().map(|t| t.integrand()).collect();
+        let together = energy_at(&all, &[], &patch).unwrap();
+        let mut total = Dd::new(0.0);
+        let mut gradient: [Table; 3] = std::array::from_fn(|_| Table::zeros(n + 1, m + 1));
+        for (k, t) in terms.iter().enumerate() {
+            let alone = energy_at(&[t.integrand()], &[], &patch).unwrap();
+            let (a, b) = (together.terms[k], alone.total);
+            assert!(
+                (a - b).to_f64().abs() <= 1e-28 * b.to_f64().abs(),
+                "{}: {:e} vs {:e}",
+                t.name(),
+                a.to_f64(),
+                b.to_f64()
+            );
+            total += alone.total;
+            for c in 0..3 {
+                accumulate(&mut gradient[c], &alone.gradient[c]);
+            }
+        }
+        let size = total.to_f64().abs();
+        assert!((together.total - total).to_f64().abs() <= 1e-28 * size);
+        let g_size = gradient
+            .iter()
+            .flat_map(|g| &g.v)
+            .map(|x| x.to_f64().abs())
+            .fold(0.0, f64::max);
+        for c in 0..3 {
+            for (x, y) in together.gradient[c].v.iter().zip(&gradient[c].v) {
+                assert!(
+                    (*x - *y).to_f64().abs() <= 1e-28 * g_size,
+                    "{:e} vs {:e}",
+                    x.to_f64(),
+                    y.to_f64()
+                );
+            }
+        }
     }
 
     /// The quadrature energy and its gradient equal the closed-form term's

@@ -364,6 +364,7 @@ impl Factored {
             &rows,
             (xf, lambda),
             repellors.is_empty(),
+            opts.polish,
         )?;
         let patch = checked.patch;
         // The check's exact gradient when there is one (no second pass over

@@ -44,6 +44,14 @@ pub struct SolveOptions {
     /// Factor in the orthogonal Jacobi-weighted basis when the free points
     /// form a tensor block (default true; see the `basis` of the report).
     pub tensor_basis: bool,
+    /// Let the check's Newton corrections polish the written net to
+    /// double-double's resolution (relative excess 1e-32; default true).
+    /// Off, corrections are taken only while the excess is above the
+    /// check's tolerance (1e-10): the editor's quick answers during a drag,
+    /// whose net the solve already leaves ~1e-25 above its minimum, skip a
+    /// second double-double evaluation. The report's `check.excess` says
+    /// which was met; Bézier patches only.
+    pub polish: bool,
 }
 
 impl Default for SolveOptions {
@@ -54,6 +62,7 @@ impl Default for SolveOptions {
             singular_condition: 1e15,
             analyse: true,
             tensor_basis: true,
+            polish: true,
         }
     }
 }
@@ -62,6 +71,12 @@ impl SolveOptions {
     /// Sets [`SolveOptions::analyse`].
     pub fn with_analyse(mut self, on: bool) -> Self {
         self.analyse = on;
+        self
+    }
+
+    /// Sets [`SolveOptions::polish`].
+    pub fn with_polish(mut self, on: bool) -> Self {
+        self.polish = on;
         self
     }
 

@@ -30,9 +30,10 @@ impl Factored {
     /// ½ gᵀy with the factor, y = H_FF⁻¹g (with constraints: g the gradient
     /// of the Lagrangian g + Fᵀλ summed in double-double, y the step of
     /// [H Fᵀ; F 0][y; μ] = [g; 0], which moves along the rows). While the
-    /// excess is above the tolerance and `correct` (no repellors), Newton
-    /// corrections x ← x − y (λ ← λ − μ), kept only when they lower the
-    /// recomputed energy and keep the rows to their rounding.
+    /// excess is above the goal ([`check::GOAL`] with `polish`, else the
+    /// tolerance) and `correct` (no repellors), Newton corrections
+    /// x ← x − y (λ ← λ − μ), kept only when they lower the recomputed
+    /// energy and keep the rows to their rounding.
     pub(super) fn checked_net(
         &self,
         problem: &Problem,
@@ -41,6 +42,7 @@ impl Factored {
         rows: &[usize],
         (mut xf, mut lambda): (Mat<f64>, Vec<f64>),
         correct: bool,
+        polish: bool,
     ) -> Result<Checked> {
         let integrands: Vec<_> = problem.terms.iter().map(|t| t.integrand()).collect();
         let operators: Vec<_> = problem
@@ -96,7 +98,12 @@ impl Factored {
             };
             let excess = 0.5 * (g.transpose() * &y).diagonal().column_vector().sum().abs();
             let scale = check::scale(at.total.to_f64(), rounding);
-            let done = !excess.is_finite() || excess <= check::GOAL * scale;
+            let goal = if polish {
+                check::GOAL
+            } else {
+                check::TOLERANCE
+            };
+            let done = !excess.is_finite() || excess <= goal * scale;
             if done || !correct || corrections == check::MAX_CORRECTIONS {
                 return Ok(Checked {
                     patch,

@@ -47,7 +47,9 @@ pub(crate) fn solve(
     let start = Instant::now();
     let scene = Scene::from_json(text)?;
     check_size(&scene, limits)?;
-    let opts = fairsurf::SolveOptions::default().with_analyse(!quick);
+    let opts = fairsurf::SolveOptions::default()
+        .with_analyse(!quick)
+        .with_polish(!quick);
     let solved = scene.solve_cached(&opts, factors)?;
     let mut view = match &solved {
         SolvedScene::Tensor(s) => tensor_view(s),
