@@ -122,25 +122,28 @@ pub fn largest_tri_normal_turn(surface: &TriSurface, k: usize) -> Option<TriNorm
         })
         .collect();
     let bary = |[i, j]: [usize; 2]| [i as f64 / kf, j as f64 / kf, (k - i - j) as f64 / kf];
-    let mut best: Option<TriNormalTurn> = None;
+    // The longest chord |n − m|² between neighbouring unit normals, one
+    // angle at the end (as the tensor scan does).
+    let mut best: Option<(f64, Vec3, Vec3, usize, usize)> = None;
     for (t, patch) in surface.patches().enumerate() {
         let normals: Vec<_> = grid.iter().map(|&g| patch.normal(bary(g))).collect();
         for (a, near) in neighbours.iter().enumerate() {
             let Some(n) = normals[a] else { continue };
             for &b in near {
                 let Some(m) = normals[b] else { continue };
-                let turn = angle(n, m);
-                if best.is_none_or(|x| turn > x.angle) {
-                    best = Some(TriNormalTurn {
-                        angle: turn,
-                        patch: t,
-                        at: bary(grid[a]),
-                    });
+                let d = sub(n, m);
+                let chord = dot(d, d);
+                if best.is_none_or(|x| chord > x.0) {
+                    best = Some((chord, n, m, t, a));
                 }
             }
         }
     }
-    best
+    best.map(|(_, n, m, patch, a)| TriNormalTurn {
+        angle: angle(n, m),
+        patch,
+        at: bary(grid[a]),
+    })
 }
 
 #[cfg(test)]

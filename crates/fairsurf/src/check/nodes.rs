@@ -205,16 +205,7 @@ impl Table {
                 if a.hi == 0.0 {
                     continue;
                 }
-                let row = &b.v[k * n..(k + 1) * n];
-                for ((sj, cj), bkj) in s.iter_mut().zip(c.iter_mut()).zip(row) {
-                    let p = a.hi * bkj.hi;
-                    let ep = two_product_err::<FMA>(a.hi, bkj.hi, p);
-                    let t = *sj + p;
-                    let z = t - *sj;
-                    let es = (*sj - (t - z)) + (p - z);
-                    *sj = t;
-                    *cj += ep + es + (a.hi * bkj.lo + a.lo * bkj.hi);
-                }
+                add_products::<FMA>(&mut s, &mut c, a, &b.v[k * n..(k + 1) * n]);
             }
             for (o, (&sj, &cj)) in out.v[i * n..(i + 1) * n].iter_mut().zip(s.iter().zip(&c)) {
                 *o = Dd::new(sj) + cj;
@@ -272,6 +263,23 @@ impl Table {
             t = d;
         }
         t
+    }
+}
+
+/// s_j + c_j += a · b_j for every j, compensated: the sum in s, each
+/// product's and each addition's rounding error (and the low parts' cross
+/// terms) gathered in c; `Dd::new(s_j) + c_j` is the double-double result.
+/// Call with `FMA = true` only inside [`with_fma`]'s fast branch.
+#[inline(always)]
+pub(super) fn add_products<const FMA: bool>(s: &mut [f64], c: &mut [f64], a: Dd, b: &[Dd]) {
+    for ((sj, cj), bj) in s.iter_mut().zip(c.iter_mut()).zip(b) {
+        let p = a.hi * bj.hi;
+        let ep = two_product_err::<FMA>(a.hi, bj.hi, p);
+        let t = *sj + p;
+        let z = t - *sj;
+        let es = (*sj - (t - z)) + (p - z);
+        *sj = t;
+        *cj += ep + es + (a.hi * bj.lo + a.lo * bj.hi);
     }
 }
 

@@ -20,8 +20,9 @@
 //! integrand itself does. The gradient is the adjoint of the same maps.
 
 use super::dd::Dd;
-use super::nodes::{Nodes, Table};
+use super::nodes::{add_products, Nodes, Table};
 use crate::operator::Residual;
+use crate::solve::dense::with_fma;
 use crate::solve::kkt::KktFactor;
 use crate::triangle::energy::{bend_stencils, falling, stretch_stencils, Stencil};
 use crate::triangle::{linear_index, point_count, InternalEnergy, TriSurface};
@@ -196,35 +197,57 @@ impl Form {
     }
 }
 
-/// ½ Σ_c p_cᵀ K p_c over every patch and its gradient, with K one patch's
-/// matrix in double-double (column-major, size × size). Each patch's net is
-/// taken relative to its first control point (exact in double-double; K
-/// annihilates constants), so far-off surfaces lose nothing to the
-/// position.
-fn quadratic(k: &[Dd], surface: &TriSurface, x: &[Dd], gradient: &mut [Dd]) -> Dd {
+/// ½ Σ_c p_cᵀ K p_c over every patch for each matrix K of `ks` (one
+/// patch's matrix in double-double, column-major, size × size), and the sum
+/// of their gradients. Each patch's net is taken relative to its first
+/// control point (exact in double-double; K annihilates constants), so
+/// far-off surfaces lose nothing to the position; the net is made once per
+/// patch and coordinate for all the matrices. The products K p are
+/// compensated sums (each product's and each addition's rounding error
+/// gathered in a second double, as [`super::nodes::Table`]'s products),
+/// with fused multiply-adds where the CPU has them.
+fn quadratics(ks: &[&[Dd]], surface: &TriSurface, x: &[Dd], gradient: &mut [Dd]) -> Vec<Dd> {
+    // One of the two runs: both may hold the gradient.
+    let gradient = std::cell::RefCell::new(gradient);
+    with_fma(
+        #[inline(always)]
+        || quadratics_with::<true>(ks, surface, x, &mut gradient.borrow_mut()),
+        || quadratics_with::<false>(ks, surface, x, &mut gradient.borrow_mut()),
+    )
+}
+
+#[inline(always)]
+fn quadratics_with<const FMA: bool>(
+    ks: &[&[Dd]],
+    surface: &TriSurface,
+    x: &[Dd],
+    gradient: &mut [Dd],
+) -> Vec<Dd> {
     let size = point_count(surface.degree());
-    let mut e = Dd::new(0.0);
+    let mut e = vec![Dd::new(0.0); ks.len()];
     let mut p = vec![Dd::new(0.0); size];
-    let mut y = vec![Dd::new(0.0); size];
+    let (mut s, mut c) = (vec![0.0; size], vec![0.0; size]);
     for t in 0..surface.patch_count() {
         let map = surface.patch_indices(t);
-        for c in 0..3 {
-            let origin = x[3 * map[0] + c];
+        for coord in 0..3 {
+            let origin = x[3 * map[0] + coord];
             for (pl, &g) in p.iter_mut().zip(map) {
-                *pl = x[3 * g + c] - origin;
+                *pl = x[3 * g + coord] - origin;
             }
-            y.iter_mut().for_each(|v| *v = Dd::new(0.0));
-            for (j, &pj) in p.iter().enumerate() {
-                if pj.hi == 0.0 {
-                    continue;
+            for (k, ek) in ks.iter().zip(e.iter_mut()) {
+                s.iter_mut().for_each(|v| *v = 0.0);
+                c.iter_mut().for_each(|v| *v = 0.0);
+                for (j, &pj) in p.iter().enumerate() {
+                    if pj.hi == 0.0 {
+                        continue;
+                    }
+                    add_products::<FMA>(&mut s, &mut c, pj, &k[j * size..(j + 1) * size]);
                 }
-                for (yi, &kij) in y.iter_mut().zip(&k[j * size..(j + 1) * size]) {
-                    *yi += kij * pj;
+                for ((&g, &pl), (&si, &ci)) in map.iter().zip(&p).zip(s.iter().zip(&c)) {
+                    let yl = Dd::new(si) + ci;
+                    *ek += pl * yl * 0.5;
+                    gradient[3 * g + coord] += yl;
                 }
-            }
-            for ((&g, &pl), &yl) in map.iter().zip(&p).zip(&y) {
-                e += pl * yl * 0.5;
-                gradient[3 * g + c] += yl;
             }
         }
     }
@@ -263,12 +286,18 @@ impl<'a> TriEnergy<'a> {
             .map(|&v| Dd::new(v))
             .collect();
         let mut gradient = vec![Dd::new(0.0); x.len()];
-        let mut internal = |k: &Option<Vec<Dd>>| match k {
-            Some(k) => quadratic(k, surface, &x, &mut gradient),
+        let ks: Vec<&[Dd]> = [&self.stretch, &self.bend]
+            .into_iter()
+            .flatten()
+            .map(|k| &k[..])
+            .collect();
+        let mut values = quadratics(&ks, surface, &x, &mut gradient).into_iter();
+        let mut value = |k: &Option<Vec<Dd>>| match k {
+            Some(_) => values.next().unwrap_or(Dd::new(0.0)),
             None => Dd::new(0.0),
         };
-        let stretch = internal(&self.stretch);
-        let bend = internal(&self.bend);
+        let stretch = value(&self.stretch);
+        let bend = value(&self.bend);
         let mut external = Dd::new(0.0);
         for &(strength, repel, residuals) in &self.operators {
             external += super::operator_energy(strength, repel, residuals, &x, |i, g| {

@@ -13,7 +13,7 @@
 use super::energy::InternalEnergy;
 use super::surface::TriSurface;
 use crate::Result;
-use faer::sparse::{SparseColMat, Triplet};
+use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 use faer::Mat;
 
 impl InternalEnergy {
@@ -44,21 +44,57 @@ impl InternalEnergy {
     pub fn surface_matrix(&self, surface: &TriSurface) -> Result<SparseColMat<usize, f64>> {
         let k = self.matrix(surface.degree())?;
         let per = k.nrows();
-        let mut triplets = Vec::with_capacity(surface.patch_count() * per * per);
+        let size = surface.point_count();
+        // The patches at each point (with the point's place in the patch).
+        let mut start = vec![0usize; size + 1];
         for t in 0..surface.patch_count() {
-            let g = surface.patch_indices(t);
-            for j in 0..per {
-                for i in 0..per {
-                    let v = k[(i, j)];
-                    if v != 0.0 {
-                        triplets.push(Triplet::new(g[i], g[j], v));
-                    }
-                }
+            for &g in surface.patch_indices(t) {
+                start[g + 1] += 1;
             }
         }
-        let size = surface.point_count();
-        Ok(SparseColMat::try_new_from_triplets(size, size, &triplets)
-            .expect("global indices are below the point count"))
+        for g in 0..size {
+            start[g + 1] += start[g];
+        }
+        let mut at = start.clone();
+        let mut incident = vec![(0usize, 0usize); start[size]];
+        for t in 0..surface.patch_count() {
+            for (local, &g) in surface.patch_indices(t).iter().enumerate() {
+                incident[at[g]] = (t, local);
+                at[g] += 1;
+            }
+        }
+        // Column by column into a dense accumulator (Gustavson): each
+        // patch's entries added in patch order, the rows sorted once per
+        // column — no global sort of a million triplets.
+        let mut col_ptr = Vec::with_capacity(size + 1);
+        col_ptr.push(0);
+        let (mut rows, mut values) = (Vec::new(), Vec::new());
+        let (mut sum, mut mark) = (vec![0.0; size], vec![usize::MAX; size]);
+        let mut touched = Vec::new();
+        for j in 0..size {
+            touched.clear();
+            for &(t, lj) in &incident[start[j]..start[j + 1]] {
+                let g = surface.patch_indices(t);
+                for (i, &r) in g.iter().enumerate().take(per) {
+                    let v = k[(i, lj)];
+                    if v == 0.0 {
+                        continue;
+                    }
+                    if mark[r] != j {
+                        mark[r] = j;
+                        sum[r] = 0.0;
+                        touched.push(r);
+                    }
+                    sum[r] += v;
+                }
+            }
+            touched.sort_unstable();
+            rows.extend_from_slice(&touched);
+            values.extend(touched.iter().map(|&r| sum[r]));
+            col_ptr.push(rows.len());
+        }
+        let symbolic = SymbolicSparseColMat::new_checked(size, size, col_ptr, None, rows);
+        Ok(SparseColMat::new(symbolic, values))
     }
 
     /// The same global matrix as [`InternalEnergy::surface_matrix`], dense

@@ -46,7 +46,7 @@ use super::index::{index_of, linear_index};
 use super::surface::TriSurface;
 use crate::basis::bernstein_all;
 use crate::constraint::Row;
-use crate::vec3::{add, angle, cross, normalize, scale, sub, Vec3};
+use crate::vec3::{add, angle, cross, dot, normalize, scale, sub, Vec3};
 use crate::{Error, Result};
 use std::f64::consts::PI;
 
@@ -342,7 +342,10 @@ pub fn max_edge_normal_angle(surface: &TriSurface, samples: usize) -> Option<(f6
     let basis: Vec<Vec<f64>> = (0..samples)
         .map(|s| bernstein_all(n - 1, s as f64 / (samples - 1) as f64))
         .collect();
-    let mut worst: Option<(f64, [usize; 2])> = None;
+    // The longest chord |n_l − n_r|² of unit normals is the largest angle
+    // (2 arcsin(|n − m|/2) rises with it): one angle at the end instead of
+    // one arctangent per sample.
+    let mut worst: Option<(f64, Vec3, Vec3, [usize; 2])> = None;
     for edge in surface.edges() {
         let (Some(l), Some(r)) = (edge.triangles[0], edge.triangles[1]) else {
             continue;
@@ -363,13 +366,14 @@ pub fn max_edge_normal_angle(surface: &TriSurface, samples: usize) -> Option<(f6
             let (Some(nl), Some(nr)) = (normal(&dl), normal(&dr)) else {
                 continue;
             };
-            let a = angle(nl, nr);
-            if worst.is_none_or(|(w, _)| a > w) {
-                worst = Some((a, edge.vertices));
+            let d = sub(nl, nr);
+            let chord = dot(d, d);
+            if worst.is_none_or(|(w, ..)| chord > w) {
+                worst = Some((chord, nl, nr, edge.vertices));
             }
         }
     }
-    worst
+    worst.map(|(_, nl, nr, edge)| (angle(nl, nr), edge))
 }
 
 /// The derivatives of patch `tri` in the barycentric directions
