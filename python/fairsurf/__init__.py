@@ -322,15 +322,36 @@ class Result(Surface):
     report and the result file. Results pickle (as their result file's
     text), so they cross process boundaries: multiprocessing, Dask, Ray."""
 
-    def __init__(self, surface: Any, result_text: str, report_json: str) -> None:
+    def __init__(
+        self,
+        surface: Any,
+        result_text: Optional[str],
+        report_json: Optional[str],
+        solved: Any = None,
+    ) -> None:
         super().__init__(surface)
-        self._text = result_text
-        self._report_json = report_json
+        # The result file's text and the report are written from the native
+        # solution when first asked for (a solve's caller may want neither).
+        self._solved = solved
+        self._text_cache = result_text
+        self._report_json_cache = report_json
         self._report: Optional[Dict[str, Any]] = None
 
     @classmethod
     def _of(cls, solved: Any) -> "Result":
-        return cls(solved.surface, solved.to_json(), solved.report_json())
+        return cls(solved.surface, None, None, solved)
+
+    @property
+    def _text(self) -> str:
+        if self._text_cache is None:
+            self._text_cache = self._solved.to_json()
+        return self._text_cache
+
+    @property
+    def _report_json(self) -> str:
+        if self._report_json_cache is None:
+            self._report_json_cache = self._solved.report_json()
+        return self._report_json_cache
 
     def __reduce__(self) -> Any:
         return (_result_from_text, (self._text, self._report_json))

@@ -351,9 +351,12 @@ def heavy_scene(n: int) -> dict:
 def test_the_gil_is_released_while_solving() -> None:
     """While one thread solves, another runs Python code: the longest pause
     of a loop in the main thread is a small part of the solve's time (a
-    solve holding the GIL would pause it for the whole solve)."""
+    solve holding the GIL would pause it for the whole solve). The degree-18
+    solve takes ~0.05 s in the test build now, at the edge of the time the
+    test needs to tell a pause from a call: it is called again until 0.2 s
+    have passed, and the pause compared with the shortest call."""
     scene = json.dumps(heavy_scene(18))
-    longest_pause_is_small(lambda: fairsurf.solve(scene))
+    longest_pause_is_small(lambda: fairsurf.solve(scene), repeat_for=0.2)
 
 
 def test_the_gil_is_released_while_evaluating_meshing_and_drawing() -> None:
@@ -413,12 +416,14 @@ def longest_pause_is_small(job, share: float = 0.25, repeat_for: float = 0.0) ->
 
 def test_the_python_call_adds_little_to_a_degree_10_solve() -> None:
     """The same parse and solve, timed in Rust and called from Python,
-    alternating: Python's fastest is within 10% of Rust's."""
+    alternating: Python's fastest is within 10% of Rust's (the wrapper adds
+    ~0.1 ms to a ~6 ms solve of the test build; the result file and the
+    report are written only when asked for)."""
     from fairsurf import _fairsurf
 
     text = (EXAMPLES / "editor_degree10.json").read_text()
     rust, python = [], []
-    for _ in range(15):
+    for _ in range(30):
         rust += _fairsurf._time_solve(text, 1)
         t = time.perf_counter()
         fairsurf.solve(text).control_points

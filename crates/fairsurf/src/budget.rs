@@ -56,12 +56,16 @@ pub fn with_budget<T>(budget: Budget, f: impl FnOnce() -> T) -> T {
     f()
 }
 
-/// Runs `a` and `b` on two threads of rayon's pool (the one faer's
-/// parallel kernels use), both under this thread's budget, and returns both
-/// results. The pool's threads live on, so what a thread keeps (the 1-D
-/// integral tables) serves the next solve, and no thread is started per
-/// call (a scoped thread per solve cost ~0.3 ms at degree 10, half of it
-/// rebuilding that thread's tables).
+/// Runs `a` and `b` on rayon's pool (the one faer's parallel kernels use),
+/// both under this thread's budget, and returns both results: on two of its
+/// threads when one is free to take `b`, else one after the other. The
+/// pool's threads live on, so what a thread keeps (the 1-D integral tables)
+/// serves the next solve, and no thread is started per call (a scoped
+/// thread per solve cost ~0.3 ms at degree 10, half of it rebuilding that
+/// thread's tables). The pool is shared: in the server, concurrent solves
+/// take turns on its two threads, and a thread waiting for its half may run
+/// another request's half meanwhile (a cancelled request's answer can wait
+/// for it; each half still stops at its own budget's checkpoints).
 pub(crate) fn join<A: Send, B: Send>(
     a: impl FnOnce() -> A + Send,
     b: impl FnOnce() -> B + Send,

@@ -472,35 +472,46 @@ fn report_is_complete() {
     assert!(max_dist(&quick.surface, &sol.surface) == 0.0);
 }
 
-/// Without polishing (the editor's quick answers) the check takes no
-/// correction once the excess meets its tolerance: the report says so
-/// (0 corrections, the excess the solve left, still ≤ 1e-10), and the net
-/// is the polished one's to the solve's own accuracy (the closed-form
-/// Hessian in doubles is off by ~ε per entry, the degree-10 Bernstein
-/// system's condition ~1e8 makes that ~1e-8 in the net); with it the same
-/// solve takes a correction down to double-double's resolution.
+/// Without polishing (the editor's quick answers) the check keeps the net
+/// as solved only when it meets the tolerance and the correction would move
+/// no control point by more than 1e-6 of the net (`check::NET_STEP`). At
+/// degree 10 the solve's net is ~5e-8 off (the closed-form Hessian in doubles
+/// is off by ~ε per entry, the Bernstein system's condition ~1e8 makes that
+/// ~1e-8 in the net): kept, 0 corrections, the excess the solve left (still
+/// ≤ 1e-10, above the polished one's). At degree 20 it is further off in
+/// nearly energy-free directions: corrected as when polishing. Either way
+/// the net is the polished one's to 1e-6 of its size and the energy the
+/// same.
 #[test]
-fn unpolished_answers_stop_at_the_tolerance() {
-    let deg = 10;
-    let net = random_net(deg, deg, 11);
-    let pb = Problem::new((deg, deg))
-        .with_fixed_rings(&net, 1)
-        .with_term(Stretch::new(1.0))
-        .with_term(NormalField::new(10.0, tilted_field()))
-        .with_term(GuideSurface::new(1.0, net.clone()));
+fn unpolished_answers_keep_only_nets_that_are_close() {
     let opts = SolveOptions::default().with_analyse(false);
-    let polished = pb.solve_with(&opts).unwrap();
-    let quick = pb.solve_with(&opts.with_polish(false)).unwrap();
-    let (p, q) = (polished.report.check.unwrap(), quick.report.check.unwrap());
-    assert!(p.corrections >= 1 && p.excess <= 1e-30, "{p:?}");
-    assert!(
-        q.corrections == 0 && q.excess <= q.tolerance && q.excess > p.excess,
-        "{q:?}"
-    );
-    assert!(q.passed());
-    let d = max_dist(&quick.surface, &polished.surface);
-    assert!(d > 0.0 && d < 1e-6, "{d}");
-    assert!((q.energy - p.energy).abs() <= 1e-12 * p.energy);
+    for deg in [10, 20] {
+        for seed in [11, 12] {
+            let net = random_net(deg, deg, seed);
+            let pb = Problem::new((deg, deg))
+                .with_fixed_rings(&net, 1 + (seed as usize % 2))
+                .with_term(Stretch::new(1.0))
+                .with_term(NormalField::new(10.0, tilted_field()))
+                .with_term(GuideSurface::new(1.0, net.clone()));
+            let polished = pb.solve_with(&opts).unwrap();
+            let quick = pb.solve_with(&opts.with_polish(false)).unwrap();
+            let (p, q) = (polished.report.check.unwrap(), quick.report.check.unwrap());
+            assert!(p.corrections >= 1 && q.passed(), "{p:?} {q:?}");
+            if deg == 10 {
+                assert!(q.corrections == 0 && q.excess > p.excess, "{q:?}");
+            } else {
+                assert!(q.corrections >= 1, "degree {deg}: {q:?}");
+            }
+            let size = net
+                .points()
+                .iter()
+                .flatten()
+                .fold(0.0f64, |m, x| m.max(x.abs()));
+            let d = max_dist(&quick.surface, &polished.surface);
+            assert!(d <= 1e-6 * size, "degree {deg}: {d}");
+            assert!((q.energy - p.energy).abs() <= 1e-12 * p.energy);
+        }
+    }
 }
 
 /// The Jacobi-basis preconditioner and the plain equilibrated Bernstein

@@ -28,7 +28,8 @@ use tokio::io::{AsyncReadExt, AsyncWriteExt};
 /// One request's work.
 #[derive(Clone, Debug)]
 pub(crate) enum Job {
-    /// Solve and describe for the page; `quick` skips the analysis.
+    /// Solve and describe for the page; `quick` skips the analysis and the
+    /// check's polishing (see [`view::solve`]).
     Solve {
         scene: String,
         quick: bool,

@@ -46,6 +46,13 @@ pub(crate) const MAX_CORRECTIONS: usize = 6;
 /// polynomial at degree 15: net error 6.4e-4 → 1.5e-14).
 pub(crate) const GOAL: f64 = 1e-32;
 
+/// Without polishing (`SolveOptions::polish` off: the editor's quick
+/// answers), the net as solved is kept when its excess meets [`TOLERANCE`]
+/// and the Newton correction would move no free coordinate by more than this
+/// fraction of the largest one: far below what a drawing shows, and a net
+/// a degree-10 solve leaves (~5e-8 off) passes, where degree 15 and up,
+/// further off in nearly energy-free directions, are corrected.
+pub(crate) const NET_STEP: f64 = 1e-6;
 /// A correction may leave a constraint row's residual at this many units
 /// of its size (the rounding of the written net), or where it was if larger.
 pub(crate) const ROW_ROUNDING: f64 = 16.0 * f64::EPSILON;

@@ -243,7 +243,9 @@ pub(crate) fn llt_solve(l: &Mat<f64>, mut x: MatMut<'_, f64>) {
     // A few columns: one pass over the factor per column by hand (faer's
     // blocked solve spends 1.5 ms setting up on its first call in a process,
     // a fresh command's every solve).
-    if x.ncols() <= 4 && x.row_stride() == 1 {
+    // (Past ~1000 unknowns several columns read the factor once each: faer's
+    // blocked solve reads it once for all.)
+    if (x.ncols() == 1 || l.nrows() < 1000) && x.ncols() <= 4 && x.row_stride() == 1 {
         for c in 0..x.ncols() {
             if let Some(col) = x.rb_mut().col_mut(c).try_as_col_major_mut() {
                 factor_solve(l, col.as_slice_mut());
@@ -294,10 +296,9 @@ pub(crate) fn refine(
 /// start (so the estimate is reproducible), at most 30 steps, fewer once a
 /// step changes it by less than 1% — all the report and the singularity test
 /// need. The Krylov space holds power iteration's iterates, so each step's
-/// value is at least power iteration's Rayleigh quotient; on a well
-/// equilibrated matrix, whose eigenvalues crowd at the top, it settles in a
-/// third of the steps (14 → 5 on the degree-20 E1 inverse: each step is a
-/// pass over the factor).
+/// value is at least power iteration's Rayleigh quotient, and it settles in
+/// fewer steps (14 → 9 on the degree-20 E1 inverse, whose eigenvalues crowd
+/// at the top: each step is a pass over the factor).
 pub(crate) fn largest_eigenvalue(n: usize, step: &dyn Fn(&Mat<f64>) -> Mat<f64>) -> f64 {
     let start: Vec<f64> = (0..n)
         .map(|i| 1.0 + ((i * 7919) % 101) as f64 / 101.0)

@@ -11,8 +11,8 @@
 //!    to the solution accurate to about ε while cond·ε < 1, like refinement
 //!    of a square system; for an inconsistent one to the least-squares
 //!    solution (the correction is A⁺r and A⁺A = I);
-//! 4. estimates cond₂(Â) = cond₂(R) by power iteration on RᵀR and its
-//!    inverse (triangular solves with R).
+//! 4. estimates cond₂(Â) = cond₂(R) by Lanczos on RᵀR and its inverse
+//!    (triangular solves with R).
 
 use super::dense::{dot2_residual, largest_eigenvalue, refine};
 use crate::{Error, Result};

@@ -33,8 +33,10 @@ use types::*;
 
 /// Solves the scene and describes the result for the page, as JSON text
 /// (serialized straight from the typed view, no value tree). `quick` (while
-/// the user drags) skips the analysis: area, functionals, the deviation from
-/// the normal field and the distance to the guide surface. `encoding` is
+/// the user drags) skips the analysis (area, functionals, the deviation from
+/// the normal field and the distance to the guide surface) and the check's
+/// polishing corrections where the net as solved meets the tolerance
+/// ([`fairsurf::SolveOptions::polish`]). `encoding` is
 /// how the mesh's arrays are written (JSON lists or base64). `seconds`
 /// includes the serialization.
 pub(crate) fn solve(
