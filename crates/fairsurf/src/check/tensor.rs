@@ -285,7 +285,7 @@ impl Shared {
                 continue;
             };
             let values = std::array::from_fn(|c| p.eval(&nets[c]));
-            let weights = std::array::from_fn(|c| Table::zeros(values[c].rows, values[c].cols));
+            let weights = zero_weights(&values);
             shared.groups.push(Group {
                 pattern,
                 grid,
@@ -319,15 +319,7 @@ impl Shared {
             let Some((g, grid)) = self.group(pattern) else {
                 continue;
             };
-            let wc = weight * c;
-            for (f, w) in g.values.iter().zip(g.weights.iter_mut()) {
-                let mut sum = Dd::new(0.0);
-                for ((&x, &o), wk) in f.v.iter().zip(&grid.omega).zip(w.v.iter_mut()) {
-                    sum += o * x * x;
-                    *wk += o * x * wc;
-                }
-                e += sum * (0.5 * wc);
-            }
+            e += squares(&g.values, &grid.omega, weight * c, &mut g.weights);
         }
         e
     }
@@ -355,13 +347,7 @@ impl Shared {
                 continue;
             };
             let g = &mut self.groups[k];
-            for (kk, &o) in grid.omega.iter().enumerate() {
-                let phi = (0..3).fold(Dd::new(0.0), |s, c| s + g.values[c].v[kk] * nt[c].v[kk]);
-                e += o * phi * phi * (0.5 * weight);
-                for c in 0..3 {
-                    g.weights[c].v[kk] += o * phi * nt[c].v[kk] * weight;
-                }
-            }
+            e += normal_squares(&g.values, nt, &grid.omega, weight, &mut g.weights);
         }
         e
     }
@@ -375,26 +361,89 @@ impl Shared {
         let Some(ps) = Pattern::new(grid, sd, (0, 0)) else {
             return Dd::new(0.0);
         };
-        let mut e = Dd::new(0.0);
-        for c in 0..3 {
-            let s = ps.eval(&coordinate(surface.points(), sd, c));
-            for (k, &o) in grid.omega.iter().enumerate() {
-                let diff = g.values[c].v[k] - s.v[k];
-                e += o * diff * diff * (0.5 * weight);
-                g.weights[c].v[k] += o * diff * weight;
-            }
-        }
-        e
+        let s = std::array::from_fn(|c| ps.eval(&coordinate(surface.points(), sd, c)));
+        distance_squares(&g.values, &s, &grid.omega, weight, &mut g.weights)
     }
 
     /// Each pattern's adjoint of the summed node weights, into `gradient`.
     fn add_gradient(&self, gradient: &mut [Table; 3]) {
         for g in &self.groups {
-            for (acc, w) in gradient.iter_mut().zip(&g.weights) {
-                accumulate(acc, &g.p.adjoint(w, self.degree));
-            }
+            add_adjoints(&g.p, &g.weights, self.degree, gradient);
         }
     }
+}
+
+/// The adjoint of `p` on each coordinate's node weights, into `gradient`.
+fn add_adjoints(
+    p: &Pattern,
+    weights: &[Table; 3],
+    degree: (usize, usize),
+    gradient: &mut [Table; 3],
+) {
+    for (acc, w) in gradient.iter_mut().zip(weights) {
+        accumulate(acc, &p.adjoint(w, degree));
+    }
+}
+
+/// Zero node weights shaped as `values`.
+fn zero_weights(values: &[Table; 3]) -> [Table; 3] {
+    std::array::from_fn(|c| Table::zeros(values[c].rows, values[c].cols))
+}
+
+/// w · ½ Σ_k ω_k f_k² over each coordinate's node values `f` (a fairness
+/// pattern), with w ω_k f_k added to the node weights (the gradient's
+/// adjoint input).
+fn squares(f: &[Table; 3], omega: &[Dd], w: f64, weights: &mut [Table; 3]) -> Dd {
+    let mut e = Dd::new(0.0);
+    for (fc, wc) in f.iter().zip(weights.iter_mut()) {
+        let mut sum = Dd::new(0.0);
+        for ((&x, &o), wk) in fc.v.iter().zip(omega).zip(wc.v.iter_mut()) {
+            sum += o * x * x;
+            *wk += o * x * w;
+        }
+        e += sum * (0.5 * w);
+    }
+    e
+}
+
+/// ½ λ Σ_k ω_k φ_k² with φ_k = f_k · N_k (a normal-field pattern), with
+/// λ ω_k φ_k N_k added to the node weights.
+fn normal_squares(
+    f: &[Table; 3],
+    normals: &[Table; 3],
+    omega: &[Dd],
+    weight: f64,
+    weights: &mut [Table; 3],
+) -> Dd {
+    let mut e = Dd::new(0.0);
+    for (k, &o) in omega.iter().enumerate() {
+        let phi = (0..3).fold(Dd::new(0.0), |s, c| s + f[c].v[k] * normals[c].v[k]);
+        e += o * phi * phi * (0.5 * weight);
+        for c in 0..3 {
+            weights[c].v[k] += o * phi * normals[c].v[k] * weight;
+        }
+    }
+    e
+}
+
+/// ½ γ Σ_k ω_k |f_k − s_k|² (the guide surface's term), with γ ω_k (f_k − s_k)
+/// added to the node weights.
+fn distance_squares(
+    f: &[Table; 3],
+    s: &[Table; 3],
+    omega: &[Dd],
+    weight: f64,
+    weights: &mut [Table; 3],
+) -> Dd {
+    let mut e = Dd::new(0.0);
+    for c in 0..3 {
+        for (k, &o) in omega.iter().enumerate() {
+            let diff = f[c].v[k] - s[c].v[k];
+            e += o * diff * diff * (0.5 * weight);
+            weights[c].v[k] += o * diff * weight;
+        }
+    }
+    e
 }
 
 /// w · ½ Σ_patterns c ∫ |∂ᵘʳ∂ᵛˢR|².
@@ -418,17 +467,10 @@ fn fairness(
         let Some(p) = Pattern::new(&grid, degree, (r, s)) else {
             continue;
         };
-        let wc = weight * c;
-        for (net, g) in nets.iter().zip(gradient.iter_mut()) {
-            let mut f = p.eval(net);
-            let mut sum = Dd::new(0.0);
-            for (x, &o) in f.v.iter_mut().zip(&grid.omega) {
-                sum += o * *x * *x;
-                *x = o * *x * wc;
-            }
-            e += sum * (0.5 * wc);
-            accumulate(g, &p.adjoint(&f, degree));
-        }
+        let values: [Table; 3] = std::array::from_fn(|k| p.eval(&nets[k]));
+        let mut weights = zero_weights(&values);
+        e += squares(&values, &grid.omega, weight * c, &mut weights);
+        add_adjoints(&p, &weights, degree, gradient);
     }
     e
 }
@@ -472,19 +514,10 @@ fn normal_field(
         let Some(p) = Pattern::new(&grid, degree, pattern) else {
             continue;
         };
-        let f: Vec<Table> = nets.iter().map(|net| p.eval(net)).collect();
-        let mut g: [Table; 3] = std::array::from_fn(|_| Table::zeros(f[0].rows, f[0].cols));
-        for k in 0..grid.omega.len() {
-            let phi = (0..3).fold(Dd::new(0.0), |s, c| s + f[c].v[k] * normals[c].v[k]);
-            let o = grid.omega[k];
-            e += o * phi * phi * (0.5 * weight);
-            for c in 0..3 {
-                g[c].v[k] = o * phi * normals[c].v[k] * weight;
-            }
-        }
-        for c in 0..3 {
-            accumulate(&mut gradient[c], &p.adjoint(&g[c], degree));
-        }
+        let values: [Table; 3] = std::array::from_fn(|c| p.eval(&nets[c]));
+        let mut weights = zero_weights(&values);
+        e += normal_squares(&values, &normals, &grid.omega, weight, &mut weights);
+        add_adjoints(&p, &weights, degree, gradient);
     }
     Some(e)
 }
@@ -508,18 +541,11 @@ fn guide(
     ) else {
         return Dd::new(0.0);
     };
-    let mut e = Dd::new(0.0);
-    for c in 0..3 {
-        let mut d = pr.eval(&nets[c]);
-        let s = ps.eval(&coordinate(surface.points(), sd, c));
-        for k in 0..d.v.len() {
-            let diff = d.v[k] - s.v[k];
-            let o = grid.omega[k];
-            e += o * diff * diff * (0.5 * weight);
-            d.v[k] = o * diff * weight;
-        }
-        accumulate(&mut gradient[c], &pr.adjoint(&d, degree));
-    }
+    let values: [Table; 3] = std::array::from_fn(|c| pr.eval(&nets[c]));
+    let target = std::array::from_fn(|c| ps.eval(&coordinate(surface.points(), sd, c)));
+    let mut weights = zero_weights(&values);
+    let e = distance_squares(&values, &target, &grid.omega, weight, &mut weights);
+    add_adjoints(&pr, &weights, degree, gradient);
     e
 }
 

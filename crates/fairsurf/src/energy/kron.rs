@@ -243,6 +243,12 @@ fn kron_terms(
         .collect()
 }
 
+/// The six coordinate pairs (a, b) with a ≤ b, in the order of the
+/// coupled forms' weight tables: (0,0), (0,1), (0,2), (1,1), (1,2), (2,2).
+pub(crate) fn pairs() -> impl Iterator<Item = (usize, usize)> {
+    (0..3).flat_map(|a| (a..3).map(move |b| (a, b)))
+}
+
 /// The coupled 3N×3N form (point-major: row 3p + a) of derivative patterns
 /// weighted by the six coordinate pairs' tables `ws` ((0,0), (0,1), (0,2),
 /// (1,1), (1,2), (2,2)): block (a, b) is the pair's [`form`], and block
@@ -277,8 +283,7 @@ pub(crate) fn coupled_form(
     let mut a = Mat::<f64>::zeros(nu * nu, kappa.len());
     let mut c = Mat::<f64>::zeros(nv * nv, nu * nu);
     let mut t = vec![0.0; nu * nu];
-    let pairs = (0..3).flat_map(|x| (x..3).map(move |y| (x, y)));
-    for ((x, y), w) in pairs.zip(ws) {
+    for ((x, y), w) in pairs().zip(ws) {
         crate::budget::checkpoint()?;
         for (k, &(ti, beta)) in kappa.iter().enumerate() {
             sum_factor(w, beta, &mu_flat[ti], nu, &mut t);
@@ -287,48 +292,59 @@ pub(crate) fn coupled_form(
                 *dst = coef * v;
             }
         }
-        // faer's product costs ~0.1 ms more than these loops for a degree-5
-        // patch (its set-up); from ~12 × 12 points on it is the faster.
-        if nu * nv <= 144 {
-            for col in 0..nu * nu {
-                let dst = c.col_as_slice_mut(col);
-                dst.fill(0.0);
-                for k in 0..kappa.len() {
-                    let x = a[(col, k)];
-                    if x != 0.0 {
-                        for (d, &v) in dst.iter_mut().zip(b.col_as_slice(k)) {
-                            *d += x * v;
-                        }
-                    }
+        product_bat(&mut c, &b, &a);
+        copy_pair(&mut h, &c, (nu, nv), (x, y));
+    }
+    Ok(h)
+}
+
+/// C ← B Aᵀ (B has nv² rows, A nu² rows). faer's product costs ~0.1 ms more
+/// than these loops for a degree-5 patch (its set-up); past 144 points
+/// (nu·nv) it is the faster.
+fn product_bat(c: &mut Mat<f64>, b: &Mat<f64>, a: &Mat<f64>) {
+    if b.nrows() * a.nrows() > 144 * 144 {
+        faer::linalg::matmul::matmul(
+            c.as_mut(),
+            faer::Accum::Replace,
+            b.as_ref(),
+            a.transpose(),
+            1.0,
+            faer::Par::Seq,
+        );
+        return;
+    }
+    for col in 0..a.nrows() {
+        let dst = c.col_as_slice_mut(col);
+        dst.fill(0.0);
+        for k in 0..a.ncols() {
+            let x = a[(col, k)];
+            if x != 0.0 {
+                for (d, &v) in dst.iter_mut().zip(b.col_as_slice(k)) {
+                    *d += x * v;
                 }
             }
-        } else {
-            faer::linalg::matmul::matmul(
-                c.as_mut(),
-                faer::Accum::Replace,
-                b.as_ref(),
-                a.transpose(),
-                1.0,
-                faer::Par::Seq,
-            );
         }
-        let orientations: &[(usize, usize)] = if x == y { &[(x, y)] } else { &[(x, y), (y, x)] };
-        for k in 0..nu {
-            for l in 0..nv {
-                for &(row, col) in orientations {
-                    let dst = h.col_as_slice_mut(3 * (k * nv + l) + col);
-                    for i in 0..nu {
-                        let src = &c.col_as_slice(i * nu + k)[l * nv..(l + 1) * nv];
-                        let rows = dst[3 * i * nv..3 * (i + 1) * nv].chunks_exact_mut(3);
-                        for (d, &v) in rows.zip(src) {
-                            d[row] = v;
-                        }
+    }
+}
+
+/// Pair (x, y)'s Q, held as C[(l,j),(i,k)] = Q[(i,j),(k,l)], into blocks
+/// (x, y) and (y, x) of the interleaved system: h[(3p + x, 3q + y)] = Q[p, q].
+fn copy_pair(h: &mut Mat<f64>, c: &Mat<f64>, (nu, nv): (usize, usize), (x, y): (usize, usize)) {
+    let orientations: &[(usize, usize)] = if x == y { &[(x, y)] } else { &[(x, y), (y, x)] };
+    for k in 0..nu {
+        for l in 0..nv {
+            for &(row, col) in orientations {
+                let dst = h.col_as_slice_mut(3 * (k * nv + l) + col);
+                for i in 0..nu {
+                    let src = &c.col_as_slice(i * nu + k)[l * nv..(l + 1) * nv];
+                    let rows = dst[3 * i * nv..3 * (i + 1) * nv].chunks_exact_mut(3);
+                    for (d, &v) in rows.zip(src) {
+                        d[row] = v;
                     }
                 }
             }
         }
     }
-    Ok(h)
 }
 
 /// The r-th u- and s-th v-derivative control net of one coordinate:
@@ -433,8 +449,7 @@ impl PatternForm {
             })
             .collect();
         let mut values = [0.0; 6];
-        let pairs = (0..3).flat_map(|a| (a..3).map(move |b| (a, b)));
-        for ((value, (a, b)), w) in values.iter_mut().zip(pairs).zip(ws) {
+        for ((value, (a, b)), w) in values.iter_mut().zip(pairs()).zip(ws) {
             for alpha in 0..wu {
                 for beta in 0..wv {
                     let x = w[(alpha, beta)];
@@ -506,9 +521,8 @@ mod tests {
                 (&Axis::Bernstein(wu), &Axis::Bernstein(wv)),
             );
             let got = pf.pair_values(&ws, [&nets[0], &nets[1], &nets[2]]);
-            let pairs = (0..3).flat_map(|a| (a..3).map(move |b| (a, b)));
             let mut size = 0.0;
-            for (k, (a, b)) in pairs.enumerate() {
+            for (k, (a, b)) in pairs().enumerate() {
                 let want = pf.value(&ws[k], &nets[a], &nets[b]);
                 size += want.abs();
                 assert!(
@@ -567,8 +581,7 @@ mod tests {
             let h = coupled_form(space, &patterns, (au, av), &ws).unwrap();
             let np = space.len();
             assert_eq!((h.nrows(), h.ncols()), (3 * np, 3 * np));
-            let pairs = (0..3).flat_map(|a| (a..3).map(move |b| (a, b)));
-            for ((a, b), w) in pairs.zip(&ws) {
+            for ((a, b), w) in pairs().zip(&ws) {
                 let q = form(space, &patterns, (au, av), w);
                 let size = (0..np).map(|p| q[(p, p)].abs()).fold(0.0, f64::max);
                 assert!(size > 0.1, "({a}, {b}) is not all zero");

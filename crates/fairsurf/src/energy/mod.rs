@@ -32,7 +32,9 @@ pub use stretch::Stretch;
 
 pub(crate) use space::Basis1d;
 
-pub(crate) use kron::{coupled_form, derivative_net, form, pattern_value, Axis, PatternForm};
+pub(crate) use kron::{
+    coupled_form, derivative_net, form, pairs, pattern_value, Axis, PatternForm,
+};
 
 use crate::vec3::Vec3;
 use crate::{Error, Result};

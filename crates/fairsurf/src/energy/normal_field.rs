@@ -7,7 +7,7 @@
 //! may also be a B-spline field on its own knots ([`NormalGuide::Spline`]).
 
 use super::{
-    check_weight, check_weights, coupled_form, derivative_net, Axis, EnergyTerm, Hessian,
+    check_weight, check_weights, coupled_form, derivative_net, pairs, Axis, EnergyTerm, Hessian,
     HessianKey, Integrand, PatternForm, SampleGrid, Space, TermForm, STRETCH_PATTERNS,
 };
 use crate::basis::binomial;
@@ -217,11 +217,6 @@ impl NormalField {
 
 /// Axes and the six weight tables of the coordinate pairs (a, b), a ≤ b.
 type WeightTables = ((Axis, Axis), Vec<Mat<f64>>);
-
-/// The six coordinate pairs (a, b) with a ≤ b.
-fn pairs() -> impl Iterator<Item = (usize, usize)> {
-    (0..3).flat_map(|a| (a..3).map(move |b| (a, b)))
-}
 
 /// Bernstein coefficients, degree (2n1, 2m1), of N_a · N_b.
 fn product_table(f: &TensorPatch, a: usize, b: usize) -> Mat<f64> {

@@ -159,6 +159,12 @@ pub(crate) enum CholeskyStop {
 /// factorization runs on.
 const PANEL: usize = 256;
 
+/// Below this many unknowns a factorization or a solve runs on one thread
+/// and column by column: two threads and faer's blocked kernels cost more
+/// than they save (this 2-core machine, Cholesky: 243 unknowns 0.16 ms alone,
+/// 0.4 ms on two; 600: 1.6 / 2.5; 1083: 9.0 / 8.3).
+const SMALL: usize = 1000;
+
 /// A B, on this thread below about 4·10⁶ multiply-adds, else with faer's
 /// global parallelism. faer's `*` always takes the global setting, which on
 /// the editor's drags (a 121-point guide's H s, the rows' H x) woke the
@@ -187,10 +193,7 @@ pub(crate) fn product(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
 pub(crate) fn cholesky_in_place(mut a: MatMut<'_, f64>) -> std::result::Result<(), CholeskyStop> {
     use faer::linalg::cholesky::llt::factor as llt;
     let n = a.nrows();
-    // Below ~1000 unknowns two threads cost more than they save (this
-    // 2-core machine: 243 → 0.16 ms alone, 0.4 ms on two; 600 → 1.6 / 2.5;
-    // 1083 → 9.0 / 8.3).
-    let par = if n < 1000 {
+    let par = if n < SMALL {
         Par::Seq
     } else {
         faer::get_global_parallelism()
@@ -240,12 +243,11 @@ pub(crate) fn cholesky_in_place(mut a: MatMut<'_, f64>) -> std::result::Result<(
 
 /// X ← A⁻¹ X for A = L Lᵀ with L from [`cholesky_in_place`].
 pub(crate) fn llt_solve(l: &Mat<f64>, mut x: MatMut<'_, f64>) {
-    // A few columns: one pass over the factor per column by hand (faer's
-    // blocked solve spends 1.5 ms setting up on its first call in a process,
-    // a fresh command's every solve).
-    // (Past ~1000 unknowns several columns read the factor once each: faer's
-    // blocked solve reads it once for all.)
-    if (x.ncols() == 1 || l.nrows() < 1000) && x.ncols() <= 4 && x.row_stride() == 1 {
+    // One column, or a few of a small system: a pass over the factor per
+    // column by hand (faer's blocked solve spends 1.5 ms setting up on its
+    // first call in a process, a fresh command's every solve; past SMALL it
+    // reads the factor once for all columns).
+    if (x.ncols() == 1 || l.nrows() < SMALL) && x.ncols() <= 4 && x.row_stride() == 1 {
         for c in 0..x.ncols() {
             if let Some(col) = x.rb_mut().col_mut(c).try_as_col_major_mut() {
                 factor_solve(l, col.as_slice_mut());

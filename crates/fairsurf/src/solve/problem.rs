@@ -505,7 +505,9 @@ pub(super) fn center_rhs(term: &Hessian, s: &[Vec3], coupled: bool) -> Mat<f64> 
     }
 }
 
-/// Σ of the terms' Hessians in the system's layout.
+/// Σ of the terms' Hessians in the system's layout. The first centre-less
+/// form already in that layout is taken over as the sum (its place left an
+/// empty 0 × 0 matrix): only the centred forms are read afterwards.
 pub(super) fn hessian_sum(forms: &mut [TermForm], np: usize, coupled: bool) -> Mat<f64> {
     let dim = if coupled { 3 * np } else { np };
     // A form already in the system's layout whose matrix nothing else reads
