@@ -35,7 +35,7 @@ use crate::energy::{EnergyTerm, Integrand, Measure, BEND_PATTERNS, STRETCH_PATTE
 use crate::operator::newton::{add_quadratic, newton, FreeResiduals, NewtonReport};
 use crate::operator::triangle::Located;
 use crate::operator::{OperatorOutcome, Residual};
-use crate::solve::kkt::{same_terms, try_kkt, KktFactor, KktInfo, KktOutcome};
+use crate::solve::kkt::{same_terms, shared_rows, try_kkt, KktFactor, KktInfo, KktOutcome};
 use crate::solve::{SolveReport, SurfaceKind, TermEnergy, Timings, TriFigures};
 use crate::vec3::{norm, sub, Vec3};
 use crate::{BezierCurve, Error, Result};

@@ -33,7 +33,10 @@ impl KktFactor {
                     first_choice,
                     ..
                 } => (factor, first_choice),
-                _ => return None,
+                // The whole matrix is three copies of this one, rows and
+                // columns permuted: singular with it.
+                KktOutcome::Unfactorable(e) => return Some(KktOutcome::Unfactorable(e)),
+                KktOutcome::Failed(_) => return None,
             }
         };
         let (delta, condition, entries) =

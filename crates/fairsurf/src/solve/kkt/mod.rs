@@ -51,10 +51,8 @@ use faer::sparse::linalg::solvers::Lu;
 use faer::sparse::linalg::LuError;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Conj, Mat, Par, Side};
-use numerics::{
-    diagonal, finish, norm_1, refine, same_bits, shared_block, shared_rows, singular, too_large,
-};
-pub(crate) use numerics::{hager, same_terms, sparse_llt, LltFailure};
+use numerics::{diagonal, finish, norm_1, refine, same_bits, shared_block, singular, too_large};
+pub(crate) use numerics::{hager, same_terms, shared_rows, sparse_llt, LltFailure};
 use std::sync::{Arc, OnceLock};
 
 /// δ relative to the largest diagonal entry of H. Small, so that the

@@ -39,7 +39,7 @@ pub(super) fn shared_block(h: &SparseColMat<usize, f64>) -> Option<SparseColMat<
 /// F₁ when the rows (3s + c over unknowns 3p + c) are F₁ ⊗ I₃: row 3s + c
 /// has terms on coordinate c only, and rows 3s + 1, 3s + 2 are row 3s
 /// shifted, coefficient for coefficient. `None` otherwise.
-pub(super) fn shared_rows(rows: &[&[(usize, f64)]]) -> Option<Vec<Vec<(usize, f64)>>> {
+pub(crate) fn shared_rows(rows: &[&[(usize, f64)]]) -> Option<Vec<Vec<(usize, f64)>>> {
     if rows.len() % 3 != 0 {
         return None;
     }

@@ -64,38 +64,84 @@ type Classification = (Vec<Verdict>, Vec<usize>);
 /// The rows classified at each tolerance asked, each once.
 struct Classifier<'a> {
     a: &'a Assembled,
-    done: Vec<(f64, Classification)>,
+    /// F₁ when the rows are F₁ ⊗ I₃ over interleaved unknowns and the
+    /// user's rows come in whole triples: x, y and z classified at once.
+    shared: Option<Vec<Vec<(usize, f64)>>>,
+    /// Each classification made: its tolerance, its result and every
+    /// row's reduced figure ([`classify`]).
+    done: Vec<(f64, Classification, Vec<f64>)>,
 }
 
-impl Classifier<'_> {
+impl<'a> Classifier<'a> {
+    fn new(a: &'a Assembled) -> Self {
+        let shared = (a.user_rows % 3 == 0)
+            .then(|| shared_rows(&a.row_terms().collect::<Vec<_>>()))
+            .flatten();
+        Self {
+            a,
+            shared,
+            done: Vec::new(),
+        }
+    }
+
     /// The classification with the continuity rows at `tol` (the user's
-    /// rows keep the strict tolerance).
+    /// rows keep the strict one). An earlier classification serves when no
+    /// continuity row's reduced figure lies between its tolerance and
+    /// `tol`: the elimination would take every step as it did.
     fn at(&mut self, tol: f64, seconds: &mut Phases) -> Classification {
-        if let Some((_, c)) = self.done.iter().find(|(t, _)| *t == tol) {
+        let a = self.a;
+        let same =
+            |t: f64, reduced: &[f64]| reduced[a.user_rows..].iter().all(|&r| (r > t) == (r > tol));
+        if let Some((_, c, _)) = self.done.iter().find(|(t, _, r)| same(*t, r)) {
             return c.clone();
         }
         let t = Instant::now();
-        let a = self.a;
-        let sparse: Vec<SparseRow<'_>> = a
-            .reduced
-            .iter()
-            .enumerate()
-            .map(|(r, (terms, rhs))| SparseRow {
-                terms,
-                rhs: *rhs,
-                tol: if r < a.user_rows {
-                    ROW_TOLERANCES[0]
-                } else {
-                    tol
-                },
-            })
-            .collect();
-        let verdicts = classify(&sparse, a.free.len(), 1e-9 * a.size);
+        let tol_of = |r: usize| {
+            if r < a.user_rows {
+                ROW_TOLERANCES[0]
+            } else {
+                tol
+            }
+        };
+        let (verdicts, reduced) = match &self.shared {
+            // F = F₁ ⊗ I₃: F₁ eliminated once for x, y and z.
+            Some(f1) => {
+                let sparse: Vec<SparseRow<'_, 3>> = f1
+                    .iter()
+                    .enumerate()
+                    .map(|(s, terms)| SparseRow {
+                        terms,
+                        rhs: [0, 1, 2].map(|c| a.reduced[3 * s + c].1),
+                        tol: tol_of(3 * s),
+                    })
+                    .collect();
+                let (v, r) = classify(&sparse, a.free.len().div_ceil(3), 1e-9 * a.size);
+                (
+                    v.into_iter().flatten().collect(),
+                    r.into_iter().flat_map(|x| [x; 3]).collect(),
+                )
+            }
+            None => {
+                let sparse: Vec<SparseRow<'_>> = a
+                    .reduced
+                    .iter()
+                    .enumerate()
+                    .map(|(r, (terms, rhs))| SparseRow {
+                        terms,
+                        rhs: [*rhs],
+                        tol: tol_of(r),
+                    })
+                    .collect();
+                let (v, r) = classify(&sparse, a.free.len(), 1e-9 * a.size);
+                (v.into_iter().map(|[v]| v).collect::<Vec<_>>(), r)
+            }
+        };
         seconds.classify += t.elapsed().as_secs_f64();
         let kept: Vec<usize> = (0..a.rows.len())
             .filter(|&r| verdicts[r] == Verdict::Independent)
             .collect();
-        self.done.push((tol, (verdicts.clone(), kept.clone())));
+        self.done
+            .push((tol, (verdicts.clone(), kept.clone()), reduced));
         (verdicts, kept)
     }
 }
@@ -355,10 +401,7 @@ impl TriProblem {
         kept_factors: &[&TriFactored],
         seconds: &mut Phases,
     ) -> Result<Solved> {
-        let mut rows = Classifier {
-            a,
-            done: Vec::new(),
-        };
+        let mut rows = Classifier::new(a);
         if let Some(s) = reuse_kept(a, kept_factors, &mut rows, seconds) {
             return Ok(s);
         }
@@ -369,6 +412,9 @@ impl TriProblem {
         // Whether every looser attempt so far failed for want of a
         // factorization (not for this right-hand side's sake).
         let mut matrix_bound = true;
+        // The last attempt's rows and outcome: the same rows give the same
+        // system, and it is not factored again.
+        let mut previous: Option<(Vec<usize>, KktOutcome)> = None;
         loop {
             let tol = ROW_TOLERANCES[attempt];
             let (verdicts, kept) = rows.at(tol, seconds);
@@ -382,10 +428,16 @@ impl TriProblem {
                     reused: false,
                 });
             }
-            let t = Instant::now();
-            let (f, g) = a.system(&kept);
-            let result = try_kkt(&a.h, &f, &a.b, &g);
-            seconds.solve += t.elapsed().as_secs_f64();
+            let result = match previous.take() {
+                Some((rows, outcome)) if rows == kept => outcome,
+                _ => {
+                    let t = Instant::now();
+                    let (f, g) = a.system(&kept);
+                    let outcome = try_kkt(&a.h, &f, &a.b, &g);
+                    seconds.solve += t.elapsed().as_secs_f64();
+                    outcome
+                }
+            };
             let last = attempt + 1 == ROW_TOLERANCES.len() || kept.len() <= a.user_rows;
             match result {
                 KktOutcome::Solved {
@@ -407,9 +459,11 @@ impl TriProblem {
                     });
                 }
                 KktOutcome::Unfactorable(e) | KktOutcome::Failed(e) if last => return Err(e),
-                KktOutcome::Unfactorable(_) => attempt += 1,
-                _ => {
-                    matrix_bound = false;
+                outcome => {
+                    if !matches!(outcome, KktOutcome::Unfactorable(_)) {
+                        matrix_bound = false;
+                    }
+                    previous = Some((kept, outcome));
                     attempt += 1;
                 }
             }
