@@ -15,7 +15,7 @@ use super::system::System;
 use super::BSplineSurface;
 use crate::basis::polygon::Uv;
 use crate::constraint::{ConstraintSurface, Row};
-use crate::solve::dense::dot2_residual;
+use crate::solve::compensated::dot2_residual;
 use crate::solve::kkt::{try_kkt, KktInfo, KktOutcome};
 use crate::vec3::Vec3;
 use crate::{check, Error, Result};

@@ -76,7 +76,7 @@ impl SpanGrid {
     pub fn local(&self) -> [Vec<f64>; 6] {
         // The same arithmetic either way (no fused products): AVX2 where
         // the machine has it, for the wider registers.
-        crate::solve::dense::with_fma(
+        crate::solve::compensated::with_fma(
             #[inline(always)]
             || self.local_with(),
             || self.local_with(),

@@ -2,7 +2,7 @@
 //! solve: sparse Cholesky, refinement, the check's corrections.
 
 use crate::check;
-use crate::solve::dense::dot2_residual;
+use crate::solve::compensated::dot2_residual;
 use crate::solve::kkt::KktInfo;
 use crate::solve::kkt::{hager, sparse_llt, LltFailure};
 use crate::{Error, Result, Vec3};

@@ -31,7 +31,7 @@ fn fast_two_sum(a: f64, b: f64) -> (f64, f64) {
 /// (fl(a·b), a·b − fl(a·b)), exactly while no split overflows.
 fn two_prod(a: f64, b: f64) -> (f64, f64) {
     let p = a * b;
-    (p, crate::solve::dense::two_product_error(a, b, p))
+    (p, crate::solve::compensated::two_product_error(a, b, p))
 }
 
 impl Dd {

@@ -4,7 +4,7 @@
 
 use super::dd::Dd;
 use crate::basis::GaussLegendre;
-use crate::solve::dense::{two_product_err, with_fma};
+use crate::solve::compensated::{two_product_err, with_fma};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 

@@ -22,7 +22,7 @@
 use super::dd::Dd;
 use super::nodes::{add_products, Nodes, Table};
 use crate::operator::Residual;
-use crate::solve::dense::with_fma;
+use crate::solve::compensated::with_fma;
 use crate::solve::kkt::KktFactor;
 use crate::triangle::energy::{bend_stencils, falling, stretch_stencils, Stencil};
 use crate::triangle::{linear_index, point_count, InternalEnergy, TriSurface};

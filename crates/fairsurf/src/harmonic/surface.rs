@@ -174,7 +174,7 @@ fn identity_solve(
         .map(|c| fixed.iter().map(|&k| net.points()[k][c]).collect())
         .collect();
     let b = Mat::from_fn(rows, 3, |r, c| {
-        crate::solve::dense::dot2_residual(0.0, &af[r], &pf[c])
+        crate::solve::compensated::dot2_residual(0.0, &af[r], &pf[c])
     });
     let assemble = t.elapsed().as_secs_f64();
 

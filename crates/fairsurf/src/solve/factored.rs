@@ -566,7 +566,7 @@ impl Rhs {
             let hr = h.col_as_slice(r); // row r of symmetric H
             h_inf = h_inf.max(hr.iter().map(|v| v.abs()).sum());
             for c in 0..x.ncols() {
-                let g = -super::dense::dot2_residual(self.b[(r, c)], hr, x.col_as_slice(c));
+                let g = -super::compensated::dot2_residual(self.b[(r, c)], hr, x.col_as_slice(c));
                 g_inf = g_inf.max(g.abs());
                 b_inf = b_inf.max(self.b[(r, c)].abs());
             }

@@ -14,7 +14,8 @@
 //! 4. estimates cond₂(Â) = cond₂(R) by Lanczos on RᵀR and its inverse
 //!    (triangular solves with R).
 
-use super::dense::{dot2_residual, largest_eigenvalue, refine};
+use super::compensated::dot2_residual;
+use super::dense::{largest_eigenvalue, refine};
 use crate::{Error, Result};
 use faer::linalg::solvers::SolveLstsq;
 use faer::linalg::triangular_solve::{

@@ -1,5 +1,6 @@
 //! Problems, the solve, and what a solve reports; the linear algebra every
-//! surface kind shares: dense SPD solves with refinement (`dense`), sparse
+//! surface kind shares: dense SPD solves with refinement (`dense`) and their
+//! compensated residuals (`compensated`), sparse
 //! equality-constrained quadratic minimization (`kkt`: one matrix for x, y
 //! and z when nothing couples them, local rows eliminated by `nullspace`,
 //! else the KKT system by LDLᵀ or LU), a few rows on a dense factor by the
@@ -7,6 +8,7 @@
 
 mod builder;
 mod cache;
+pub(crate) mod compensated;
 pub(crate) mod dense;
 mod factored;
 mod jacobi;

@@ -12,7 +12,8 @@
 //! the whole system [H Fᵀ; F 0] with compensated residuals.
 
 use super::builder::Problem;
-use super::dense::{dot2_residual, residual, SpdFactor};
+use super::compensated::{dot2_residual, residual};
+use super::dense::SpdFactor;
 use super::problem::SolveOptions;
 use crate::constraint::Row;
 use crate::energy::Integrand;
@@ -345,7 +346,7 @@ impl FreeRows {
         for (row, (known, has_free)) in self.all.iter().zip(&self.known_terms) {
             let a: Vec<f64> = known.iter().map(|&(_, a)| a).collect();
             let xs: Vec<f64> = known.iter().map(|&(i, _)| x[(i, 0)]).collect();
-            let r = super::dense::dot2_residual(row.rhs, &a, &xs);
+            let r = super::compensated::dot2_residual(row.rhs, &a, &xs);
             if *has_free {
                 c.push(r);
                 continue;
@@ -385,7 +386,7 @@ impl FreeRows {
             .map(|row| {
                 let a: Vec<f64> = row.terms.iter().map(|&(_, a)| a).collect();
                 let xs: Vec<f64> = row.terms.iter().map(|&(i, _)| x[i]).collect();
-                let miss = super::dense::dot2_residual(row.rhs, &a, &xs).abs() / size;
+                let miss = super::compensated::dot2_residual(row.rhs, &a, &xs).abs() / size;
                 (row.name.clone(), miss)
             })
             .filter(|(_, miss)| miss.is_nan() || *miss > check::TOLERANCE)
@@ -406,7 +407,7 @@ impl FreeRows {
             .map(|(row, &ci)| {
                 let a: Vec<f64> = row.iter().map(|&(_, a)| a).collect();
                 let xs: Vec<f64> = row.iter().map(|&(i, _)| x[i]).collect();
-                let r = super::dense::dot2_residual(ci, &a, &xs);
+                let r = super::compensated::dot2_residual(ci, &a, &xs);
                 let size = ci.abs() + a.iter().zip(&xs).map(|(a, x)| (a * x).abs()).sum::<f64>();
                 if size > 0.0 {
                     r.abs() / size

@@ -3,7 +3,7 @@
 
 use crate::basis::{bernstein_derivatives, bernstein_derivatives_into};
 use crate::curve::{de_casteljau_split, elevate_points};
-use crate::solve::dense::with_fma;
+use crate::solve::compensated::with_fma;
 use crate::vec3::{add, cross, dot, is_finite, norm, normalize, scale, Vec3};
 use crate::{Error, Result};
 
