@@ -13,9 +13,10 @@ use super::report::{SolveReport, TermEnergy, Timings};
 use super::rows::FreeRows;
 use crate::analysis::measures;
 use crate::budget;
+use crate::check::tensor::EnergyAt;
 use crate::check::{self, Check};
 use crate::energy::Hessian;
-use crate::operator::newton::{newton, repellors, sparse};
+use crate::operator::newton::{newton, repellors, sparse, FreeResiduals, NewtonReport};
 use crate::operator::OperatorOutcome;
 use crate::vec3::Vec3;
 use crate::{Error, Result, TensorPatch};
@@ -259,7 +260,7 @@ impl Factored {
     }
 
     /// The solve proper: right-hand side, triangular solves with
-    /// refinement, Newton's method for repellors, the report.
+    /// refinement, Newton's method for repellors, the check, the report.
     pub(super) fn finish(
         &self,
         problem: &Problem,
@@ -271,89 +272,12 @@ impl Factored {
     ) -> Result<Solution> {
         let t = Instant::now();
         let sys = self.rhs(problem, placed, centers);
-        let free = &self.free;
-        let rows = free_rows(free, self.coupled);
-        // x has zeros at free rows, so H x = H_FK x_K on the free rows: only
-        // the known columns of H are read.
-        let mut hx = Mat::<f64>::zeros(self.h.nrows(), sys.x.ncols());
-        for c in 0..sys.x.ncols() {
-            let out = hx.col_as_slice_mut(c);
-            for (j, &xj) in sys.x.col_as_slice(c).iter().enumerate() {
-                if xj != 0.0 {
-                    for (o, &hij) in out.iter_mut().zip(self.h.col_as_slice(j)) {
-                        *o += hij * xj;
-                    }
-                }
-            }
-        }
-        let rhs = Mat::from_fn(rows.len(), sys.b.ncols(), |i, c| {
-            sys.b[(rows[i], c)] - hx[(rows[i], c)]
-        });
+        let rows = free_rows(&self.free, self.coupled);
+        let rhs = self.free_rhs(&sys, &rows);
         let rhs_seconds = t.elapsed().as_secs_f64();
 
         let t = Instant::now();
-        let h_ff = &self.h_ff;
-        let mut sol = self.factor.solve(h_ff, &rhs, opts.max_refinement_steps);
-        // Constraints: the rows on the same factor, refined on the whole
-        // system; λ their multipliers.
-        let mut lambda = Vec::new();
-        // (Also checks the rows no free coordinate enters.)
-        let c = self.rows.rhs(&sys.x)?;
-        if let Some(system) = &self.rows.system {
-            let x_u = std::mem::replace(&mut sol.x, Mat::zeros(0, 0));
-            let (x, l, r, steps) =
-                system.solve(&self.factor, h_ff, &rhs, &c, x_u, opts.max_refinement_steps);
-            (sol.x, sol.residual, lambda) = (x, r, l);
-            sol.refinement_steps += steps;
-        }
-        let f_rows: Vec<&[(usize, f64)]> = match &self.rows.system {
-            Some(system) => system.rows().iter().map(|r| &r[..]).collect(),
-            None => Vec::new(),
-        };
-        // Repellors: Newton's method on the total energy from the
-        // quadratic solution (no constraints but the known points).
-        let repellors = repellors(&problem.operators, placed, &problem.known(), free);
-        let mut xf = sol.x.clone();
-        let mut newton_report = None;
-        let mut total_gradient = None;
-        if !repellors.is_empty() {
-            let nf = h_ff.nrows();
-            let mut triplets = Vec::new();
-            for j in 0..nf {
-                for i in 0..nf {
-                    if h_ff[(i, j)] != 0.0 {
-                        triplets.push(Triplet::new(i, j, h_ff[(i, j)]));
-                    }
-                }
-            }
-            let h = sparse(nf, &triplets)?;
-            let b: Vec<f64> = (0..nf).map(|i| -rhs[(i, 0)]).collect();
-            let x0: Vec<f64> = (0..nf).map(|i| sol.x[(i, 0)]).collect();
-            let (x, report) = newton(&h, &b, &f_rows, &repellors, x0)?;
-            // ∇E = H x + b − Σ s ∇q / q², for the report.
-            let mut g = b.clone();
-            for j in 0..nf {
-                for i in 0..nf {
-                    g[i] += h_ff[(i, j)] * x[j];
-                }
-            }
-            for r in &repellors {
-                let (q, dq) = r.value_and_gradient(&x);
-                for (i, d) in dq {
-                    g[i] -= r.strength * d / (q * q);
-                }
-            }
-            // With rows, ∇E is balanced by Fᵀλ: Newton's own figure is the
-            // gradient of the Lagrangian.
-            let norm = if f_rows.is_empty() {
-                g.iter().fold(0.0f64, |m, v| m.max(v.abs()))
-            } else {
-                report.gradient_norm
-            };
-            total_gradient = Some((norm, report.relative_gradient));
-            xf = Mat::from_fn(nf, 1, |i, _| x[i]);
-            newton_report = Some(report);
-        }
+        let solved = self.solve_free(problem, placed, &sys, &rhs, opts)?;
         let solve = t.elapsed().as_secs_f64();
 
         let t = Instant::now();
@@ -362,14 +286,14 @@ impl Factored {
             placed,
             &sys,
             &rows,
-            (xf, lambda),
-            repellors.is_empty(),
+            (solved.xf, solved.lambda),
+            solved.newton.is_none(),
             opts.polish,
         )?;
         let patch = checked.patch;
         // The check's exact gradient when there is one (no second pass over
         // H), else H X − B in compensated arithmetic.
-        let (gradient_norm, relative_gradient) = match (total_gradient, &checked.at) {
+        let (gradient_norm, relative_gradient) = match (solved.total_gradient, &checked.at) {
             (Some(t), _) => t,
             (None, Some((at, _, _))) => {
                 self.exact_gradient(at, &checked.lambda, &sys, &rows, &patch)
@@ -377,9 +301,9 @@ impl Factored {
             (None, None) => sys.gradient(&self.h, &rows, &patch, self.coupled),
         };
         let rhs_norm = norm_max(&rhs);
-        let residual_norm = match total_gradient {
+        let residual_norm = match solved.total_gradient {
             Some((g, _)) => g,
-            None => norm_max(&sol.residual),
+            None => norm_max(&solved.residual),
         };
         let residual = if rhs_norm > 0.0 {
             residual_norm / rhs_norm
@@ -400,14 +324,13 @@ impl Factored {
         // rounding, which the energy check alone would not see.
         if let Some((row, miss)) = self.rows.unmet(problem, &patch) {
             return Err(Error::Unmet {
-                degree: format!("({}, {})", self.degree.0, self.degree.1),
+                degree: self.degree_text(),
                 row,
                 miss,
                 tolerance: check::TOLERANCE,
             });
         }
         let external: f64 = operators.iter().map(|o| o.energy).sum();
-
         let mut terms = problem
             .terms
             .iter()
@@ -421,43 +344,11 @@ impl Factored {
         // The closed forms in double precision; replaced by the recomputed
         // values, which stay exact where the closed forms lose digits.
         let closed_form = terms.iter().map(|t| t.value).sum::<f64>() + external;
-        let check = checked
-            .at
-            .map(|(at, excess, scale)| {
-                for (t, v) in terms.iter_mut().zip(&at.terms) {
-                    t.value = v.to_f64();
-                }
-                let recomputed = at.total.to_f64();
-                let check = Check {
-                    energy: recomputed,
-                    energy_error: (closed_form - recomputed).abs() / scale,
-                    excess: excess / scale,
-                    scale,
-                    corrections: checked.corrections,
-                    tolerance: check::TOLERANCE,
-                    seconds: t.elapsed().as_secs_f64(),
-                };
-                if check.passed() {
-                    Ok(check)
-                } else {
-                    Err(Error::Unverified {
-                        degree: format!("({}, {})", self.degree.0, self.degree.1),
-                        checked: recomputed,
-                        excess: check.excess,
-                        tolerance: check.tolerance,
-                        hint: "A Bernstein net of this degree cannot hold this minimizer to that \
-                               accuracy: use a lower degree (the README's limits give the degrees \
-                               that verify), or a B-spline surface (\"type\": \"bspline\"), \
-                               which gains freedom by more spans at low degree."
-                            .into(),
-                    })
-                }
-            })
-            .transpose()?;
-        let energy = match &check {
-            Some(c) => c.energy,
-            None => closed_form,
+        let check = match checked.at {
+            Some(at) => Some(self.accepted(at, &mut terms, closed_form, checked.corrections, t)?),
+            None => None,
         };
+        let energy = check.as_ref().map_or(closed_form, |c| c.energy);
         let t = Instant::now();
         let measures = opts.analyse.then(|| measures(&patch));
         budget::checkpoint()?;
@@ -478,15 +369,15 @@ impl Factored {
             operators,
             constraints,
             max_violation,
-            newton: newton_report,
+            newton: solved.newton,
             gradient_norm,
             relative_gradient,
             residual,
             condition_estimate: self.factor.condition,
             basis: self.basis.to_string(),
-            refinement_steps: sol.refinement_steps,
-            unknowns: h_ff.nrows(),
-            free_points: free.len(),
+            refinement_steps: solved.refinement_steps,
+            unknowns: self.h_ff.nrows(),
+            free_points: self.free.len(),
             coupled: self.coupled,
             reused,
             reused_symbolic: false,
@@ -507,6 +398,175 @@ impl Factored {
             report,
         })
     }
+
+    /// "(m, n)".
+    fn degree_text(&self) -> String {
+        format!("({}, {})", self.degree.0, self.degree.1)
+    }
+
+    /// The free rows' right-hand side b_F − H_FK x_K. x has zeros at free
+    /// rows, so H x = H_FK x_K on the free rows: only the known columns of
+    /// H are read.
+    fn free_rhs(&self, sys: &Rhs, rows: &[usize]) -> Mat<f64> {
+        let mut hx = Mat::<f64>::zeros(self.h.nrows(), sys.x.ncols());
+        for c in 0..sys.x.ncols() {
+            let out = hx.col_as_slice_mut(c);
+            for (j, &xj) in sys.x.col_as_slice(c).iter().enumerate() {
+                if xj != 0.0 {
+                    for (o, &hij) in out.iter_mut().zip(self.h.col_as_slice(j)) {
+                        *o += hij * xj;
+                    }
+                }
+            }
+        }
+        Mat::from_fn(rows.len(), sys.b.ncols(), |i, c| {
+            sys.b[(rows[i], c)] - hx[(rows[i], c)]
+        })
+    }
+
+    /// The free unknowns: the triangular solves with refinement, the
+    /// constraints' rows on the same factor (refined on the whole system;
+    /// λ their multipliers), then Newton's method for repellors.
+    fn solve_free(
+        &self,
+        problem: &Problem,
+        placed: &[Placed],
+        sys: &Rhs,
+        rhs: &Mat<f64>,
+        opts: &SolveOptions,
+    ) -> Result<FreeSolve> {
+        let h_ff = &self.h_ff;
+        let mut sol = self.factor.solve(h_ff, rhs, opts.max_refinement_steps);
+        let mut lambda = Vec::new();
+        // (Also checks the rows no free coordinate enters.)
+        let c = self.rows.rhs(&sys.x)?;
+        if let Some(system) = &self.rows.system {
+            let x_u = std::mem::replace(&mut sol.x, Mat::zeros(0, 0));
+            let (x, l, r, steps) =
+                system.solve(&self.factor, h_ff, rhs, &c, x_u, opts.max_refinement_steps);
+            (sol.x, sol.residual, lambda) = (x, r, l);
+            sol.refinement_steps += steps;
+        }
+        let repellors = repellors(&problem.operators, placed, &problem.known(), &self.free);
+        let (xf, newton, total_gradient) = if repellors.is_empty() {
+            (sol.x, None, None)
+        } else {
+            let (x, report, gradient) = self.repel(rhs, &sol.x, &repellors)?;
+            (x, Some(report), Some(gradient))
+        };
+        Ok(FreeSolve {
+            xf,
+            lambda,
+            residual: sol.residual,
+            refinement_steps: sol.refinement_steps,
+            newton,
+            total_gradient,
+        })
+    }
+
+    /// Repellors: Newton's method on the total energy from the quadratic
+    /// solution x (no constraints but the known points and the rows). The
+    /// net, Newton's report and (‖∇E‖∞ or, with rows, the Lagrangian's,
+    /// relative gradient).
+    fn repel(
+        &self,
+        rhs: &Mat<f64>,
+        x: &Mat<f64>,
+        repellors: &[FreeResiduals],
+    ) -> Result<(Mat<f64>, NewtonReport, (f64, f64))> {
+        let h_ff = &self.h_ff;
+        let nf = h_ff.nrows();
+        let f_rows: Vec<&[(usize, f64)]> = match &self.rows.system {
+            Some(system) => system.rows().iter().map(|r| &r[..]).collect(),
+            None => Vec::new(),
+        };
+        let mut triplets = Vec::new();
+        for j in 0..nf {
+            for i in 0..nf {
+                if h_ff[(i, j)] != 0.0 {
+                    triplets.push(Triplet::new(i, j, h_ff[(i, j)]));
+                }
+            }
+        }
+        let h = sparse(nf, &triplets)?;
+        let b: Vec<f64> = (0..nf).map(|i| -rhs[(i, 0)]).collect();
+        let x0: Vec<f64> = (0..nf).map(|i| x[(i, 0)]).collect();
+        let (x, report) = newton(&h, &b, &f_rows, repellors, x0)?;
+        // ∇E = H x + b − Σ s ∇q / q², for the report.
+        let mut g = b.clone();
+        for j in 0..nf {
+            for i in 0..nf {
+                g[i] += h_ff[(i, j)] * x[j];
+            }
+        }
+        for r in repellors {
+            let (q, dq) = r.value_and_gradient(&x);
+            for (i, d) in dq {
+                g[i] -= r.strength * d / (q * q);
+            }
+        }
+        // With rows, ∇E is balanced by Fᵀλ: Newton's own figure is the
+        // gradient of the Lagrangian.
+        let norm = if f_rows.is_empty() {
+            g.iter().fold(0.0f64, |m, v| m.max(v.abs()))
+        } else {
+            report.gradient_norm
+        };
+        let gradient = (norm, report.relative_gradient);
+        Ok((Mat::from_fn(nf, 1, |i, _| x[i]), report, gradient))
+    }
+
+    /// The check's figures, the terms' values replaced by the recomputed
+    /// ones; an error when the excess does not meet the tolerance.
+    fn accepted(
+        &self,
+        (at, excess, scale): (EnergyAt, f64, f64),
+        terms: &mut [TermEnergy],
+        closed_form: f64,
+        corrections: usize,
+        started: Instant,
+    ) -> Result<Check> {
+        for (t, v) in terms.iter_mut().zip(&at.terms) {
+            t.value = v.to_f64();
+        }
+        let recomputed = at.total.to_f64();
+        let check = Check {
+            energy: recomputed,
+            energy_error: (closed_form - recomputed).abs() / scale,
+            excess: excess / scale,
+            scale,
+            corrections,
+            tolerance: check::TOLERANCE,
+            seconds: started.elapsed().as_secs_f64(),
+        };
+        if check.passed() {
+            return Ok(check);
+        }
+        Err(Error::Unverified {
+            degree: self.degree_text(),
+            checked: recomputed,
+            excess: check.excess,
+            tolerance: check.tolerance,
+            hint:
+                "A Bernstein net of this degree cannot hold this minimizer to that accuracy: use \
+                   a lower degree (the README's limits give the degrees that verify), or a \
+                   B-spline surface (\"type\": \"bspline\"), which gains freedom by more spans at \
+                   low degree."
+                    .into(),
+        })
+    }
+}
+
+/// What [`Factored::solve_free`] leaves: the free unknowns (after Newton's
+/// method when there are repellors), the rows' multipliers, the quadratic
+/// solve's residual and refinement steps, Newton's report and gradient.
+struct FreeSolve {
+    xf: Mat<f64>,
+    lambda: Vec<f64>,
+    residual: Mat<f64>,
+    refinement_steps: usize,
+    newton: Option<NewtonReport>,
+    total_gradient: Option<(f64, f64)>,
 }
 
 /// One solve's right-hand side over all control points: E = ½ XᵀHX − BᵀX + c
