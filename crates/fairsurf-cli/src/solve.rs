@@ -1,10 +1,7 @@
 //! `fairsurf solve`.
 
 use crate::Failure;
-use fairsurf_io::{
-    write_mesh, MeshFormat, Outcome, Scene, SolvedScene, SolvedTensorScene, SolvedTriScene,
-    SurfaceMesh,
-};
+use fairsurf_io::{write_mesh, MeshFormat, Outcome, Scene, SolvedScene, SurfaceMesh};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -185,11 +182,7 @@ fn solve_one(path: &Path, out: Option<&Path>, a: &Args) -> Result<String, Failur
     if a.json {
         return Ok(serde_json::to_string_pretty(&solved.report_json()).expect("json"));
     }
-    Ok(match &solved {
-        SolvedScene::Tensor(s) => summary(path, s, &written),
-        SolvedScene::Triangular(s) => tri_summary(path, s, &written),
-        SolvedScene::BSpline(s) => bspline_summary(path, s, &written),
-    })
+    Ok(summary(path, &solved, &written))
 }
 
 /// Meshes of at least this many triangles are built and written under a
@@ -250,129 +243,6 @@ fn write_outputs(
     )])
 }
 
-fn tri_summary(path: &Path, s: &SolvedTriScene, written: &[String]) -> String {
-    let (r, t) = (&s.solution.report, s.solution.figures());
-    let n = s.surface().degree();
-    let mut lines = vec![format!(
-        "{}: triangular, degree {n}, {} patches ({} vertices, {} control points), {} unknowns",
-        path.display(),
-        t.patches,
-        t.vertices,
-        t.points,
-        r.unknowns
-    )];
-    if r.operators.is_empty() {
-        lines.push(format!(
-            "  energy {:.10e} = stretch {:.10e} + bend {:.10e}",
-            r.energy,
-            r.term("stretch"),
-            r.term("bend")
-        ));
-    } else {
-        lines.push(format!(
-            "  energy {:.10e} = stretch {:.10e} + bend {:.10e} + operators {:.10e}",
-            r.energy,
-            r.term("stretch"),
-            r.term("bend"),
-            r.external
-        ));
-    }
-    operator_lines(&mut lines, &r.operators, r.newton.as_ref());
-    lines.push(format!(
-        "  constraint rows {}: {} independent, {} dependent (reduced), {} continuity dropped, {} inconsistent",
-        t.rows,
-        t.independent_rows,
-        t.dependent_rows,
-        t.dropped.len(),
-        t.inconsistent.len()
-    ));
-    let fixed: Vec<f64> = r
-        .constraints
-        .iter()
-        .filter(|c| c.kind == "fixed")
-        .map(|c| c.violation)
-        .collect();
-    if !fixed.is_empty() {
-        let worst = fixed.iter().fold(0.0f64, |m, v| m.max(*v));
-        lines.push(format!(
-            "  {} fixed control points: violation {worst:.2e}",
-            fixed.len()
-        ));
-    }
-    constraint_lines(&mut lines, &r.constraints);
-    lines.push(format!(
-        "  max constraint violation {:.2e}; continuity rows off by {:.2e} (kept), {:.2e} (left out)",
-        r.max_violation, t.continuity_residual, t.unenforced_residual
-    ));
-    if t.row_tolerance > 1e-9 {
-        lines.push(format!(
-            "  note: the continuity conditions are nearly dependent; they were reduced with pivot tolerance {:.0e}",
-            t.row_tolerance
-        ));
-    }
-    if let Some((angle, [a, b])) = t.max_edge_normal_angle {
-        lines.push(format!(
-            "  largest normal angle across interior edges {angle:.2e} rad (edge {a}–{b})"
-        ));
-    }
-    const LIST: usize = 5;
-    for (what, list) in [("dropped", &t.dropped), ("inconsistent", &t.inconsistent)] {
-        for d in list.iter().take(LIST) {
-            lines.push(format!(
-                "  {what}: {} (residual {:.2e})",
-                d.name, d.residual
-            ));
-        }
-        if list.len() > LIST {
-            lines.push(format!(
-                "  … and {} more {what} (see the report)",
-                list.len() - LIST
-            ));
-        }
-    }
-    lines.push(check_line(
-        r.check.as_ref(),
-        "double-double quadrature",
-        "nothing was free",
-        false,
-    ));
-    for note in &s.notes() {
-        lines.push(format!("  note: {note}"));
-    }
-    if let Some(k) = &r.kkt {
-        lines.push(kkt_line(r.gradient_norm, r.relative_gradient, k));
-    }
-    lines.push(solved_line(r.timings.total, written));
-    lines.join("\n")
-}
-
-fn bspline_summary(path: &Path, s: &fairsurf_io::SolvedBSplineScene, written: &[String]) -> String {
-    let r = &s.solution.report;
-    let surface = s.surface();
-    let ((p, q), (cu, cv)) = (surface.degree(), surface.counts());
-    let (su, sv) = (
-        surface.knots().0.spans().len(),
-        surface.knots().1.spans().len(),
-    );
-    let mut lines = vec![format!(
-        "{}: B-spline, degree {p}×{q}, {su}×{sv} spans, {cu}×{cv} control points, {}",
-        path.display(),
-        free_words(r)
-    )];
-    report_lines(&mut lines, r, "Gauss quadrature span by span");
-    if let Some(t) = s.normal_turn {
-        lines.push(format!(
-            "  largest normal turn between neighbouring samples {:.2}°",
-            t.angle.to_degrees()
-        ));
-    }
-    for note in &s.notes() {
-        lines.push(format!("  note: {note}"));
-    }
-    lines.push(solved_line(r.timings.total, written));
-    lines.join("\n")
-}
-
 /// "N free points (M unknowns[, coordinates coupled])".
 fn free_words(r: &fairsurf::SolveReport) -> String {
     format!(
@@ -387,7 +257,7 @@ fn free_words(r: &fairsurf::SolveReport) -> String {
     )
 }
 
-/// A minimization's lines, the same for every tensor kind: the energy and
+/// A minimization's lines, the same for every surface kind: the energy and
 /// its terms, the operators and constraints, the check of the written net
 /// (`road`: how it recomputed the energy), the measures, and the solve's
 /// accuracy.
@@ -413,10 +283,15 @@ fn report_lines(lines: &mut Vec<String>, r: &fairsurf::SolveReport, road: &str) 
             r.max_violation
         ));
     }
+    let why_not = if r.unknowns == 0 {
+        "nothing was free"
+    } else {
+        "a term does not describe its integrand"
+    };
     lines.push(check_line(
         r.check.as_ref(),
         road,
-        "a term does not describe its integrand",
+        why_not,
         r.newton.is_some(),
     ));
     measures_lines(lines, r.measures.as_ref());
@@ -540,70 +415,197 @@ fn operator_lines(
     }
 }
 
-fn summary(path: &Path, s: &SolvedTensorScene, written: &[String]) -> String {
-    let (n, m) = s.patch().degree();
+/// What the command prints of a solved scene, whatever its kind: a line
+/// naming the surface, the report's lines (the same for every kind that
+/// minimizes: energy and terms, operators, constraints, the check, the
+/// measures, the solve's accuracy), what only its kind has, notes, and the
+/// time with what was written.
+fn summary(path: &Path, solved: &SolvedScene, written: &[String]) -> String {
     let mut lines = Vec::new();
-    let total = match &s.outcome {
-        Outcome::Minimized(sol) => {
-            let r = &sol.report;
-            lines.push(format!(
-                "{}: degree {n}×{m}, {}",
-                path.display(),
-                free_words(r)
-            ));
-            report_lines(&mut lines, r, "double-double quadrature");
-            r.timings.total
+    let report = solved_report(solved);
+    let surface = match solved {
+        SolvedScene::Tensor(s) => {
+            let (n, m) = s.patch().degree();
+            format!("degree {n}×{m}")
         }
-        Outcome::Constructed(c) => {
-            let r = &c.report;
-            lines.push(format!(
-                "{}: degree {n}×{m}, {} surface, {} free points",
-                path.display(),
-                r.method.name(),
-                r.unknowns
-            ));
-            lines.push(format!(
-                "  {}: max {:.2e} relative to the net (backward error {:.2e}){}",
-                r.method.equations(),
-                r.residual,
-                r.backward_error,
-                if r.exact {
-                    ""
-                } else {
-                    " — NOT exact: least-squares net, no such surface has this boundary"
-                }
-            ));
-            if r.condition_estimate.is_finite() {
-                lines.push(format!(
-                    "  condition ≈ {:.2e}  refinement steps {}",
-                    r.condition_estimate, r.refinement_steps
-                ));
-            }
-            for o in &r.overridden {
-                lines.push(format!(
-                    "  note: P[{}][{}] is determined by the other points: given {:?}, used {:?}",
-                    o.index.0, o.index.1, o.given, o.determined
-                ));
-            }
-            measures_lines(&mut lines, r.measures.as_ref());
-            r.timings.total
+        SolvedScene::BSpline(s) => {
+            let surface = s.surface();
+            let ((p, q), (cu, cv)) = (surface.degree(), surface.counts());
+            let (su, sv) = (
+                surface.knots().0.spans().len(),
+                surface.knots().1.spans().len(),
+            );
+            format!("B-spline, degree {p}×{q}, {su}×{sv} spans, {cu}×{cv} control points")
+        }
+        SolvedScene::Triangular(s) => {
+            let t = s.solution.figures();
+            format!(
+                "triangular, degree {}, {} patches ({} vertices, {} control points)",
+                s.surface().degree(),
+                t.patches,
+                t.vertices,
+                t.points
+            )
         }
     };
-    if let Some(d) = &s.normal_deviation {
-        lines.push(format!(
-            "  normal deviation from N: max {:.3}°, mean {:.3}°",
-            d.max.to_degrees(),
-            d.mean.to_degrees()
-        ));
+    let total = match (report, solved) {
+        (Some(r), _) => {
+            lines.push(format!("{}: {surface}, {}", path.display(), free_words(r)));
+            let road = match solved {
+                SolvedScene::BSpline(_) => "Gauss quadrature span by span",
+                _ => "double-double quadrature",
+            };
+            report_lines(&mut lines, r, road);
+            r.timings.total
+        }
+        (None, SolvedScene::Tensor(s)) => match &s.outcome {
+            Outcome::Constructed(c) => construction_lines(&mut lines, path, &surface, &c.report),
+            Outcome::Minimized(_) => unreachable!("a minimization has a report"),
+        },
+        (None, _) => unreachable!("only a tensor patch is constructed"),
+    };
+    match solved {
+        SolvedScene::Tensor(s) => {
+            if let Some(d) = &s.normal_deviation {
+                lines.push(format!(
+                    "  normal deviation from N: max {:.3}°, mean {:.3}°",
+                    d.max.to_degrees(),
+                    d.mean.to_degrees()
+                ));
+            }
+            if let Some(d) = s.guide_distance {
+                lines.push(format!("  max distance to the guide surface {d:.6e}"));
+            }
+        }
+        SolvedScene::BSpline(s) => {
+            if let Some(t) = s.normal_turn {
+                lines.push(format!(
+                    "  largest normal turn between neighbouring samples {:.2}°",
+                    t.angle.to_degrees()
+                ));
+            }
+        }
+        SolvedScene::Triangular(s) => {
+            triangular_lines(&mut lines, &s.solution.report, s.solution.figures())
+        }
     }
-    if let Some(d) = s.guide_distance {
-        lines.push(format!("  max distance to the guide surface {d:.6e}"));
-    }
-    for note in &s.notes() {
+    for note in &solved.notes() {
         lines.push(format!("  note: {note}"));
     }
     lines.push(solved_line(total, written));
     lines.join("\n")
+}
+
+/// The minimization's report, when the scene was minimized (not
+/// constructed by a Monterde & Ugail method).
+fn solved_report(solved: &SolvedScene) -> Option<&fairsurf::SolveReport> {
+    match solved {
+        SolvedScene::Tensor(s) => match &s.outcome {
+            Outcome::Minimized(sol) => Some(&sol.report),
+            Outcome::Constructed(_) => None,
+        },
+        SolvedScene::BSpline(s) => Some(&s.solution.report),
+        SolvedScene::Triangular(s) => Some(&s.solution.report),
+    }
+}
+
+/// A Monterde & Ugail construction's lines (its equations' residual,
+/// conditioning, the points the method determined, the measures); its
+/// time.
+fn construction_lines(
+    lines: &mut Vec<String>,
+    path: &Path,
+    surface: &str,
+    r: &fairsurf::harmonic::ConstructionReport,
+) -> f64 {
+    lines.push(format!(
+        "{}: {surface}, {} surface, {} free points",
+        path.display(),
+        r.method.name(),
+        r.unknowns
+    ));
+    lines.push(format!(
+        "  {}: max {:.2e} relative to the net (backward error {:.2e}){}",
+        r.method.equations(),
+        r.residual,
+        r.backward_error,
+        if r.exact {
+            ""
+        } else {
+            " — NOT exact: least-squares net, no such surface has this boundary"
+        }
+    ));
+    if r.condition_estimate.is_finite() {
+        lines.push(format!(
+            "  condition ≈ {:.2e}  refinement steps {}",
+            r.condition_estimate, r.refinement_steps
+        ));
+    }
+    for o in &r.overridden {
+        lines.push(format!(
+            "  note: P[{}][{}] is determined by the other points: given {:?}, used {:?}",
+            o.index.0, o.index.1, o.given, o.determined
+        ));
+    }
+    measures_lines(lines, r.measures.as_ref());
+    r.timings.total
+}
+
+/// What only a triangular surface has: its rows (independent, dependent,
+/// dropped, inconsistent), fixed control points, how far the continuity
+/// rows are off, the row tolerance used, the largest angle across edges.
+fn triangular_lines(lines: &mut Vec<String>, r: &fairsurf::SolveReport, t: &fairsurf::TriFigures) {
+    lines.push(format!(
+        "  constraint rows {}: {} independent, {} dependent (reduced), {} continuity dropped, {} inconsistent",
+        t.rows,
+        t.independent_rows,
+        t.dependent_rows,
+        t.dropped.len(),
+        t.inconsistent.len()
+    ));
+    let fixed: Vec<f64> = r
+        .constraints
+        .iter()
+        .filter(|c| c.kind == "fixed")
+        .map(|c| c.violation)
+        .collect();
+    if !fixed.is_empty() {
+        let worst = fixed.iter().fold(0.0f64, |m, v| m.max(*v));
+        lines.push(format!(
+            "  {} fixed control points: violation {worst:.2e}",
+            fixed.len()
+        ));
+    }
+    lines.push(format!(
+        "  continuity rows off by {:.2e} (kept), {:.2e} (left out)",
+        t.continuity_residual, t.unenforced_residual
+    ));
+    if t.row_tolerance > 1e-9 {
+        lines.push(format!(
+            "  note: the continuity conditions are nearly dependent; they were reduced with pivot tolerance {:.0e}",
+            t.row_tolerance
+        ));
+    }
+    if let Some((angle, [a, b])) = t.max_edge_normal_angle {
+        lines.push(format!(
+            "  largest normal angle across interior edges {angle:.2e} rad (edge {a}–{b})"
+        ));
+    }
+    const LIST: usize = 5;
+    for (what, list) in [("dropped", &t.dropped), ("inconsistent", &t.inconsistent)] {
+        for d in list.iter().take(LIST) {
+            lines.push(format!(
+                "  {what}: {} (residual {:.2e})",
+                d.name, d.residual
+            ));
+        }
+        if list.len() > LIST {
+            lines.push(format!(
+                "  … and {} more {what} (see the report)",
+                list.len() - LIST
+            ));
+        }
+    }
 }
 
 fn measures_lines(lines: &mut Vec<String>, ms: Option<&fairsurf::SurfaceMeasures>) {

@@ -1689,3 +1689,49 @@ fn bad_blends_exit_2_and_write_nothing() {
     let p = write("fill.json", &serde_json::json!({"faces": []}));
     assert!(run(&[p.to_str().unwrap()]).contains("unknown field `faces`"));
 }
+
+/// One summary for every kind: the first line names the surface and its
+/// free points, the report's lines are the same (energy = its terms, the
+/// check of the written net, the solve's gradient), and the energy printed
+/// is the JSON report's; then what only the kind has.
+#[test]
+fn the_summary_is_one_for_every_kind() {
+    for (scene, kind, own) in [
+        ("editor_degree10.json", "degree 10×10", "normal deviation from N"),
+        (
+            "bspline_hole.json",
+            "B-spline, degree 3×3",
+            "largest normal turn between neighbouring samples",
+        ),
+        (
+            "vw_hexagon_hole.json",
+            "triangular, degree 4, 6 patches",
+            "constraint rows 90: 81 independent, 9 dependent (reduced)",
+        ),
+    ] {
+        let path = examples().join(scene);
+        let o = fairsurf(&["solve", path.to_str().unwrap()]);
+        assert!(o.status.success(), "{scene}: {}", stderr(&o));
+        let t = stdout(&o);
+        let lines: Vec<&str> = t.lines().collect();
+        assert!(lines[0].contains(kind) && lines[0].contains("free points ("), "{t}");
+        let energy_line = lines[1].trim_start();
+        assert!(energy_line.starts_with("energy "), "{t}");
+        // energy E = t₁ + t₂ …: the printed terms add up to the printed total.
+        let (total, terms) = energy_line["energy ".len()..].split_once(" = ").unwrap();
+        let sum: f64 = terms
+            .split(" + ")
+            .map(|t| t.rsplit(' ').next().unwrap().parse::<f64>().unwrap())
+            .sum();
+        let total: f64 = total.parse().unwrap();
+        assert!((sum - total).abs() <= 1e-9 * total.abs(), "{energy_line}");
+        assert!(t.contains("  checked on the written net: energy "), "{t}");
+        assert!(t.contains("  gradient "), "{t}");
+        assert!(t.contains(own), "{scene}: {t}");
+        assert!(lines.last().unwrap().contains("solved in"), "{t}");
+        let o = fairsurf(&["solve", "--json", path.to_str().unwrap()]);
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        let json = v["energy"].as_f64().unwrap();
+        assert_eq!(format!("{total:.10e}"), format!("{json:.10e}"), "{scene}");
+    }
+}
