@@ -1697,7 +1697,11 @@ fn bad_blends_exit_2_and_write_nothing() {
 #[test]
 fn the_summary_is_one_for_every_kind() {
     for (scene, kind, own) in [
-        ("editor_degree10.json", "degree 10×10", "normal deviation from N"),
+        (
+            "editor_degree10.json",
+            "degree 10×10",
+            "normal deviation from N",
+        ),
         (
             "bspline_hole.json",
             "B-spline, degree 3×3",
@@ -1714,7 +1718,10 @@ fn the_summary_is_one_for_every_kind() {
         assert!(o.status.success(), "{scene}: {}", stderr(&o));
         let t = stdout(&o);
         let lines: Vec<&str> = t.lines().collect();
-        assert!(lines[0].contains(kind) && lines[0].contains("free points ("), "{t}");
+        assert!(
+            lines[0].contains(kind) && lines[0].contains("free points ("),
+            "{t}"
+        );
         let energy_line = lines[1].trim_start();
         assert!(energy_line.starts_with("energy "), "{t}");
         // energy E = t₁ + t₂ …: the printed terms add up to the printed total.

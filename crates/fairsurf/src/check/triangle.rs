@@ -404,9 +404,10 @@ impl Verify<'_> {
     }
 
     /// Checks `xf` (with the solve's multipliers `lambda`) and corrects it
-    /// by the steps y while the excess is above [`super::GOAL`] and a step
-    /// lowers the energy (compared in double-double) without moving off
-    /// the rows. The excess is ½ g_Lᵀy: what the energy would drop by at
+    /// by the steps y while the excess is above [`super::GOAL`], the step
+    /// moves the net by more than its rounding ([`super::NET_ROUNDING`]) and
+    /// lowers the energy (compared in double-double) without moving off the
+    /// rows. The excess is ½ g_Lᵀy: what the energy would drop by at
     /// the minimizer of the quadratic over the rows' null space
     /// (g_Lᵀy = gᵀy as F y = 0).
     pub fn run(
@@ -425,7 +426,9 @@ impl Verify<'_> {
             let (y, mu) = self.step(&g)?;
             let excess = (0.5 * g.iter().zip(&y).map(|(a, b)| a * b).sum::<f64>()).abs();
             let scale = super::scale(at.total.to_f64(), self.rounding);
-            let done = !excess.is_finite() || excess <= super::GOAL * scale;
+            let done = !excess.is_finite()
+                || excess <= super::GOAL * scale
+                || inf(&y) <= super::NET_ROUNDING * inf(&xf);
             let finish = |xf, lambda, at| Verified {
                 xf,
                 lambda,

@@ -26,7 +26,7 @@
 use super::kkt::sparse_llt;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky};
-use faer::sparse::{SparseColMat, Triplet};
+use faer::sparse::{SparseColMat, SymbolicSparseColMat, Triplet};
 use faer::{Conj, Mat, Par};
 use std::sync::Arc;
 
@@ -333,24 +333,49 @@ fn eliminate(rows: &[&[(usize, f64)]], row_ids: Vec<usize>, vars: Vec<usize>) ->
 }
 
 /// ZᵀHZ (lower triangle) for Z given by its rows: unknown v = Σ z · free.
+/// Column by column into a dense accumulator (Gustavson): column b sums
+/// z_a H_ij z_b over the unknowns j that free coordinate b enters, every
+/// entry in the order of H's columns — no global sort of the products.
 fn reduced_hessian(
     h: &SparseColMat<usize, f64>,
     z_rows: &[Vec<(usize, f64)>],
     free: usize,
 ) -> Option<SparseColMat<usize, f64>> {
-    let mut triplets = Vec::new();
-    for j in 0..h.ncols() {
-        for (i, &hij) in h.row_idx_of_col(j).zip(h.val_of_col(j)) {
-            for &(a, za) in &z_rows[i] {
-                for &(b, zb) in &z_rows[j] {
-                    if a >= b {
-                        triplets.push(Triplet::new(a, b, za * hij * zb));
+    let mut z_cols: Vec<Vec<(usize, f64)>> = vec![Vec::new(); free];
+    for (j, row) in z_rows.iter().enumerate() {
+        for &(b, zb) in row {
+            z_cols.get_mut(b)?.push((j, zb));
+        }
+    }
+    let mut col_ptr = Vec::with_capacity(free + 1);
+    col_ptr.push(0);
+    let (mut rows, mut values) = (Vec::new(), Vec::new());
+    let (mut sum, mut mark) = (vec![0.0; free], vec![usize::MAX; free]);
+    let mut touched = Vec::new();
+    for (b, col) in z_cols.iter().enumerate() {
+        touched.clear();
+        for &(j, zb) in col {
+            for (i, &hij) in h.row_idx_of_col(j).zip(h.val_of_col(j)) {
+                for &(a, za) in &z_rows[i] {
+                    if a < b {
+                        continue;
                     }
+                    if mark[a] != b {
+                        mark[a] = b;
+                        sum[a] = 0.0;
+                        touched.push(a);
+                    }
+                    sum[a] += za * hij * zb;
                 }
             }
         }
+        touched.sort_unstable();
+        rows.extend_from_slice(&touched);
+        values.extend(touched.iter().map(|&a| sum[a]));
+        col_ptr.push(rows.len());
     }
-    SparseColMat::<usize, f64>::try_new_from_triplets(free, free, &triplets).ok()
+    let symbolic = SymbolicSparseColMat::new_checked(free, free, col_ptr, None, rows);
+    Some(SparseColMat::new(symbolic, values))
 }
 
 #[cfg(test)]
@@ -408,5 +433,68 @@ mod tests {
         // Rank-deficient groups are refused.
         let dup = [refs[0], refs[0]];
         assert!(NullSpace::new(&h, &dup).is_none());
+    }
+
+    /// ZᵀHZ column by column is the dense product's lower triangle, every
+    /// entry stored once, rows sorted.
+    #[test]
+    fn reduced_hessian_is_the_product() {
+        let n = 9;
+        let mut t = Vec::new();
+        for i in 0..n {
+            t.push(Triplet::new(i, i, 3.0 + i as f64));
+            for j in [i + 1, i + 3] {
+                if j < n {
+                    let v = -0.5 / (1.0 + (i + j) as f64);
+                    t.push(Triplet::new(i, j, v));
+                    t.push(Triplet::new(j, i, v));
+                }
+            }
+        }
+        let h = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &t).unwrap();
+        // Five free coordinates: unknowns 0–4 themselves, 5–8 combinations.
+        let free = 5;
+        let z_rows: Vec<Vec<(usize, f64)>> = (0..n)
+            .map(|v| {
+                if v < free {
+                    vec![(v, 1.0)]
+                } else {
+                    vec![(v - free, 0.5), ((v - free + 2) % free, -1.25)]
+                }
+            })
+            .collect();
+        let z = Mat::from_fn(n, free, |v, k| {
+            z_rows[v]
+                .iter()
+                .filter(|e| e.0 == k)
+                .map(|e| e.1)
+                .sum::<f64>()
+        });
+        let dense_h = Mat::from_fn(n, n, |i, j| {
+            h.row_idx_of_col(j)
+                .zip(h.val_of_col(j))
+                .filter(|(r, _)| *r == i)
+                .map(|(_, v)| *v)
+                .sum::<f64>()
+        });
+        let want = z.transpose() * &dense_h * &z;
+        let got = reduced_hessian(&h, &z_rows, free).unwrap();
+        for b in 0..free {
+            let rows: Vec<usize> = got.row_idx_of_col(b).collect();
+            assert!(rows.windows(2).all(|w| w[0] < w[1]), "{rows:?}");
+            assert!(rows.iter().all(|&a| a >= b));
+            for a in b..free {
+                let v = got
+                    .row_idx_of_col(b)
+                    .zip(got.val_of_col(b))
+                    .find(|(r, _)| *r == a)
+                    .map_or(0.0, |(_, v)| *v);
+                assert!(
+                    (v - want[(a, b)]).abs() < 1e-14,
+                    "({a}, {b}): {v} vs {}",
+                    want[(a, b)]
+                );
+            }
+        }
     }
 }

@@ -107,6 +107,7 @@ impl Factored {
             // refused"), which only the corrections remove.
             let done = !excess.is_finite()
                 || excess <= check::GOAL * scale
+                || norm_max(&y) <= check::NET_ROUNDING * norm_max(&xf)
                 || (!polish
                     && excess <= check::TOLERANCE * scale
                     && norm_max(&y) <= check::NET_STEP * norm_max(&xf));
