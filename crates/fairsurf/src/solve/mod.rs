@@ -8,6 +8,7 @@
 
 mod builder;
 mod cache;
+pub(crate) mod columns;
 pub(crate) mod compensated;
 pub(crate) mod dense;
 mod factored;

@@ -23,10 +23,11 @@
 //! down on G1 at the vertices of 1,000 and 10,000 cubic patches, and the LU
 //! that took over needed 1.8 GB at 10,000.)
 
+use super::columns::Columns;
 use super::kkt::sparse_llt;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky};
-use faer::sparse::{SparseColMat, SymbolicSparseColMat, Triplet};
+use faer::sparse::SparseColMat;
 use faer::{Conj, Mat, Par};
 use std::sync::Arc;
 
@@ -347,40 +348,26 @@ fn reduced_hessian(
             z_cols.get_mut(b)?.push((j, zb));
         }
     }
-    let mut col_ptr = Vec::with_capacity(free + 1);
-    col_ptr.push(0);
-    let (mut rows, mut values) = (Vec::new(), Vec::new());
-    let (mut sum, mut mark) = (vec![0.0; free], vec![usize::MAX; free]);
-    let mut touched = Vec::new();
+    let mut out = Columns::new(free);
     for (b, col) in z_cols.iter().enumerate() {
-        touched.clear();
         for &(j, zb) in col {
             for (i, &hij) in h.row_idx_of_col(j).zip(h.val_of_col(j)) {
                 for &(a, za) in &z_rows[i] {
-                    if a < b {
-                        continue;
+                    if a >= b {
+                        out.add(a, za * hij * zb);
                     }
-                    if mark[a] != b {
-                        mark[a] = b;
-                        sum[a] = 0.0;
-                        touched.push(a);
-                    }
-                    sum[a] += za * hij * zb;
                 }
             }
         }
-        touched.sort_unstable();
-        rows.extend_from_slice(&touched);
-        values.extend(touched.iter().map(|&a| sum[a]));
-        col_ptr.push(rows.len());
+        out.next_column();
     }
-    let symbolic = SymbolicSparseColMat::new_checked(free, free, col_ptr, None, rows);
-    Some(SparseColMat::new(symbolic, values))
+    Some(out.finish())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use faer::sparse::Triplet;
 
     /// A tridiagonal SPD H of 12 unknowns and two groups of rows (rows 0–1
     /// over unknowns 0–3, row 2 over 7–9): K⁻¹ by the elimination equals

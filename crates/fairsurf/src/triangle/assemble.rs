@@ -12,8 +12,9 @@
 
 use super::energy::InternalEnergy;
 use super::surface::TriSurface;
+use crate::solve::columns::Columns;
 use crate::Result;
-use faer::sparse::{SparseColMat, SymbolicSparseColMat};
+use faer::sparse::SparseColMat;
 use faer::Mat;
 
 impl InternalEnergy {
@@ -66,35 +67,20 @@ impl InternalEnergy {
         // Column by column into a dense accumulator (Gustavson): each
         // patch's entries added in patch order, the rows sorted once per
         // column — no global sort of a million triplets.
-        let mut col_ptr = Vec::with_capacity(size + 1);
-        col_ptr.push(0);
-        let (mut rows, mut values) = (Vec::new(), Vec::new());
-        let (mut sum, mut mark) = (vec![0.0; size], vec![usize::MAX; size]);
-        let mut touched = Vec::new();
+        let mut out = Columns::new(size);
         for j in 0..size {
-            touched.clear();
             for &(t, lj) in &incident[start[j]..start[j + 1]] {
                 let g = surface.patch_indices(t);
                 for (i, &r) in g.iter().enumerate().take(per) {
                     let v = k[(i, lj)];
-                    if v == 0.0 {
-                        continue;
+                    if v != 0.0 {
+                        out.add(r, v);
                     }
-                    if mark[r] != j {
-                        mark[r] = j;
-                        sum[r] = 0.0;
-                        touched.push(r);
-                    }
-                    sum[r] += v;
                 }
             }
-            touched.sort_unstable();
-            rows.extend_from_slice(&touched);
-            values.extend(touched.iter().map(|&r| sum[r]));
-            col_ptr.push(rows.len());
+            out.next_column();
         }
-        let symbolic = SymbolicSparseColMat::new_checked(size, size, col_ptr, None, rows);
-        Ok(SparseColMat::new(symbolic, values))
+        Ok(out.finish())
     }
 
     /// The same global matrix as [`InternalEnergy::surface_matrix`], dense
