@@ -10,7 +10,12 @@ impl KktFactor {
     /// When H = K ⊗ I₃ and F = F₁ ⊗ I₃: the factorization of the one
     /// system (K, F₁), as [`try_kkt`] chooses it, and the solve of the
     /// whole system through it (refined against the whole). `None` when
-    /// the system is not of that form.
+    /// the system is not of that form or the one system's solve failed for
+    /// its right-hand side (the whole system is then factored as it is);
+    /// the one system's `Unfactorable` when no factorization of it exists —
+    /// the whole matrix is three copies of it, rows and columns permuted,
+    /// and is not tried (measured: 0.27 s of LU per attempt on exact G1 at
+    /// 1,000 patches).
     pub(super) fn per_coordinate(
         h: &SparseColMat<usize, f64>,
         rows: &[&[(usize, f64)]],
