@@ -295,6 +295,9 @@ fn report_lines(lines: &mut Vec<String>, r: &fairsurf::SolveReport, road: &str) 
         r.newton.is_some(),
     ));
     measures_lines(lines, r.measures.as_ref());
+    if r.unknowns == 0 {
+        return; // nothing was solved: no gradient, residual or factor
+    }
     lines.push(match &r.kkt {
         Some(k) => kkt_line(r.gradient_norm, r.relative_gradient, k),
         None => format!(

@@ -40,7 +40,8 @@ pub const TOLERANCE: f64 = 1e-10;
 pub(crate) const MAX_CORRECTIONS: usize = 6;
 
 /// Corrections continue while the relative excess is above this (and they
-/// lower the recomputed energy): about double-double's resolution, so the
+/// lower the recomputed energy and move the net by more than its rounding,
+/// [`NET_ROUNDING`]): about double-double's resolution, so the
 /// corrections also remove the large, nearly energy-free components a
 /// high-degree net picks up from the double-precision solve (harmonic
 /// polynomial at degree 15: net error 6.4e-4 → 1.5e-14).
@@ -53,8 +54,9 @@ pub(crate) const GOAL: f64 = 1e-32;
 /// a degree-10 solve leaves (~5e-8 off) passes, where degree 15 and up,
 /// further off in nearly energy-free directions, are corrected.
 pub(crate) const NET_STEP: f64 = 1e-6;
-/// A correction whose step moves no coordinate by more than this fraction
-/// of the net's largest is not taken: it is below the net's own rounding
+/// A correction (of a Bézier patch's or a triangular surface's check) whose
+/// step moves no free coordinate by more than this fraction of the largest
+/// free coordinate is not taken: it is below the net's own rounding
 /// (a few units of ε), so it cannot bring the written net nearer its
 /// minimizer, only trade one rounding for another. (Measured: after the
 /// first correction of a 1,000- or 10,000-patch triangular G1 solve the

@@ -45,7 +45,9 @@ pub struct SolveOptions {
     /// form a tensor block (default true; see the `basis` of the report).
     pub tensor_basis: bool,
     /// Let the check's Newton corrections polish the written net to
-    /// double-double's resolution (relative excess 1e-32; default true).
+    /// double-double's resolution (relative excess 1e-32, or until a
+    /// correction would move the net by less than its rounding, 4ε;
+    /// default true).
     /// Off, the net as solved is kept once its excess meets the check's
     /// tolerance (1e-10) and the correction would move no free coordinate
     /// by more than 1e-6 of the net's size; otherwise it is corrected as

@@ -30,9 +30,10 @@ impl Factored {
     /// ½ gᵀy with the factor, y = H_FF⁻¹g (with constraints: g the gradient
     /// of the Lagrangian g + Fᵀλ summed in double-double, y the step of
     /// [H Fᵀ; F 0][y; μ] = [g; 0], which moves along the rows). While the
-    /// excess is above [`check::GOAL`] and `correct` (no repellors), Newton
-    /// corrections x ← x − y (λ ← λ − μ), kept only when they lower the
-    /// recomputed energy and keep the rows to their rounding; without
+    /// excess is above [`check::GOAL`], y moves the net by more than its
+    /// rounding ([`check::NET_ROUNDING`]) and `correct` (no repellors),
+    /// Newton corrections x ← x − y (λ ← λ − μ), kept only when they lower
+    /// the recomputed energy and keep the rows to their rounding; without
     /// `polish` none once the excess meets the tolerance and y is below
     /// [`check::NET_STEP`] of the net.
     pub(super) fn checked_net(

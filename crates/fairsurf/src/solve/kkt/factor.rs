@@ -12,10 +12,10 @@ impl KktFactor {
     /// whole system through it (refined against the whole). `None` when
     /// the system is not of that form or the one system's solve failed for
     /// its right-hand side (the whole system is then factored as it is);
-    /// the one system's `Unfactorable` when no factorization of it exists —
-    /// the whole matrix is three copies of it, rows and columns permuted,
-    /// and is not tried (measured: 0.27 s of LU per attempt on exact G1 at
-    /// 1,000 patches).
+    /// `Unfactorable` (with the whole system's counts) when the one system
+    /// is singular — the whole matrix is three copies of it, rows and
+    /// columns permuted, and is not tried (measured: 0.27 s of LU per
+    /// attempt on exact G1 at 1,000 patches).
     pub(super) fn per_coordinate(
         h: &SparseColMat<usize, f64>,
         rows: &[&[(usize, f64)]],
@@ -39,9 +39,15 @@ impl KktFactor {
                     ..
                 } => (factor, first_choice),
                 // The whole matrix is three copies of this one, rows and
-                // columns permuted: singular with it.
-                KktOutcome::Unfactorable(e) => return Some(KktOutcome::Unfactorable(e)),
-                KktOutcome::Failed(_) => return None,
+                // columns permuted: singular with it (said with its counts).
+                KktOutcome::Unfactorable(Error::Singular { condition, .. }) => {
+                    return Some(KktOutcome::Unfactorable(singular(
+                        h.nrows(),
+                        rows.len(),
+                        condition,
+                    )))
+                }
+                _ => return None,
             }
         };
         let (delta, condition, entries) =

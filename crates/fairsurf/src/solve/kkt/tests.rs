@@ -146,3 +146,37 @@ fn an_undetermined_unknown_is_an_error() {
     let err = solve_kkt(&h, &[], &[0.0, 1.0], &[]).err().unwrap();
     assert!(matches!(err, Error::Singular { .. }), "{err}");
 }
+
+/// A singular system of x, y and z alike (H = K ⊗ I₃, F = F₁ ⊗ I₃) is
+/// found singular on the one system, and the error counts the whole
+/// system's free coordinates and rows.
+#[test]
+fn a_singular_system_per_coordinate_is_named_with_its_whole_counts() {
+    let (k, _, _, _) = chain(20);
+    let mut t = Vec::new();
+    for j in 0..20 {
+        for (i, &v) in k.row_idx_of_col(j).zip(k.val_of_col(j)) {
+            for c in 0..3 {
+                t.push(Triplet::new(3 * i + c, 3 * j + c, v));
+            }
+        }
+    }
+    let h = SparseColMat::try_new_from_triplets(60, 60, &t).unwrap();
+    // Only one end held, in all three coordinates: a linear function along
+    // the chain costs nothing.
+    let rows: Vec<Vec<(usize, f64)>> = (0..3).map(|c| vec![(c, 1.0)]).collect();
+    let f: Vec<&[(usize, f64)]> = rows.iter().map(Vec::as_slice).collect();
+    let b = vec![0.5; 60];
+    match solve_kkt(&h, &f, &b, &[0.0; 3]) {
+        Err(Error::Singular { unknowns, hint, .. }) => {
+            assert_eq!(unknowns, 60);
+            assert!(
+                hint.contains("the 3 independent constraint equations"),
+                "{hint}"
+            );
+            assert!(hint.contains("the 60 free coordinates"), "{hint}");
+        }
+        Err(e) => panic!("{e}"),
+        Ok(_) => panic!("a singular system solved"),
+    }
+}

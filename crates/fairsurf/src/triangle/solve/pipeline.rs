@@ -61,7 +61,8 @@ impl Assembled {
 /// independent ones.
 type Classification = (Vec<Verdict>, Vec<usize>);
 
-/// The rows classified at each tolerance asked, each once.
+/// The rows classified at the tolerances asked: each classification made
+/// once, and one serves every tolerance it would come to the same at.
 struct Classifier<'a> {
     a: &'a Assembled,
     /// F₁ when the rows are F₁ ⊗ I₃ over interleaved unknowns and the
@@ -428,9 +429,11 @@ impl TriProblem {
                     reused: false,
                 });
             }
-            let result = match previous.take() {
-                Some((rows, outcome)) if rows == kept => outcome,
-                _ => {
+            // (An earlier outcome of other rows is dropped before this
+            // system is factored: its factor may be large.)
+            let result = match previous.take().filter(|(rows, _)| *rows == kept) {
+                Some((_, outcome)) => outcome,
+                None => {
                     let t = Instant::now();
                     let (f, g) = a.system(&kept);
                     let outcome = try_kkt(&a.h, &f, &a.b, &g);
