@@ -585,8 +585,8 @@ fn triangular_lines(lines: &mut Vec<String>, r: &fairsurf::SolveReport, t: &fair
     ));
     if t.row_tolerance > 1e-9 {
         lines.push(format!(
-            "  note: the continuity conditions are nearly dependent; they were reduced with pivot tolerance {:.0e}",
-            t.row_tolerance
+            "  note: the continuity conditions are nearly dependent; they were reduced with pivot tolerance {:.0e} ({} classification(s) of the rows, {} KKT system(s) factored)",
+            t.row_tolerance, t.classifications, t.factorizations
         ));
     }
     if let Some((angle, [a, b])) = t.max_edge_normal_angle {

@@ -230,6 +230,8 @@ pub fn tri_report_json(r: &SolveReport) -> Value {
         "continuity_residual": t.continuity_residual,
         "unenforced_continuity_residual": t.unenforced_residual,
         "row_tolerance": t.row_tolerance,
+        "row_classifications": t.classifications,
+        "kkt_factorizations": t.factorizations,
         "max_edge_normal_angle_rad": t.max_edge_normal_angle.map(|(a, _)| a),
         "max_edge_normal_angle_at": t.max_edge_normal_angle.map(|(_, e)| e),
         "max_normal_turn_deg": t.normal_turn.map(|n| crate::result::normal_turn_json(

@@ -113,6 +113,9 @@ fn moved_values_reuse_the_factorization() {
         let fresh = p.solve().unwrap();
         assert!(got.report.reused, "step {k}");
         assert!(!fresh.report.reused);
+        // Counted: the kept factorization solved it, none was made.
+        assert_eq!(got.figures().factorizations, 0);
+        assert!(fresh.figures().factorizations >= 1);
         assert!(gap(&got, &fresh) < 1e-12, "step {k}: {}", gap(&got, &fresh));
         let (r, f) = (&got.report, &fresh.report);
         assert!((r.energy - f.energy).abs() <= 1e-12 * f.energy);

@@ -188,6 +188,16 @@ pub struct TriFigures {
     /// inconsistent (a phase of its own between `timings.assemble` and
     /// `timings.solve`; in `timings.total`).
     pub classify_seconds: f64,
+    /// How many times the rows were classified: once per row tolerance
+    /// tried (a kept factorization's tolerance too: the right-hand side
+    /// decides which rows are dependent or inconsistent), except that one
+    /// classification serves every tolerance it would come to the same at
+    /// (no row's reduced coefficient between them).
+    pub classifications: usize,
+    /// How many KKT systems were factored: once per tolerance tried,
+    /// except that a tolerance keeping the same rows as the one before
+    /// takes its outcome; 0 when a kept factorization solved it as it is.
+    pub factorizations: usize,
     /// Per patch of the result, the problem's triangle it came from and its
     /// corners there in barycentric coordinates (curve constraints split
     /// patches; otherwise each patch its own triangle).

@@ -168,7 +168,8 @@ pub struct DroppedRow {
     pub residual: f64,
 }
 
-/// Wall-clock seconds per phase of a solve, gathered into the report's
+/// Wall-clock seconds per phase of a solve, and how many classifications
+/// and factorizations it made, gathered into the report's
 /// [`crate::Timings`] and [`crate::TriFigures`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct Phases {
@@ -180,6 +181,10 @@ pub(crate) struct Phases {
     pub classify: f64,
     /// KKT factorization and refinement.
     pub solve: f64,
+    /// How many times the rows were classified.
+    pub classifications: usize,
+    /// How many KKT systems were factored (numerically).
+    pub factorizations: usize,
 }
 
 /// The solved triangular surface (refined by curve constraints, if any)

@@ -138,6 +138,7 @@ impl<'a> Classifier<'a> {
             }
         };
         seconds.classify += t.elapsed().as_secs_f64();
+        seconds.classifications += 1;
         let kept: Vec<usize> = (0..a.rows.len())
             .filter(|&r| verdicts[r] == Verdict::Independent)
             .collect();
@@ -438,6 +439,7 @@ impl TriProblem {
                     let (f, g) = a.system(&kept);
                     let outcome = try_kkt(&a.h, &f, &a.b, &g);
                     seconds.solve += t.elapsed().as_secs_f64();
+                    seconds.factorizations += 1;
                     outcome
                 }
             };
@@ -538,6 +540,7 @@ fn refactor_kept(
             .refactored(&a.h)
             .and_then(|kkt| Some((kkt.solve(&a.b, &g).ok()?, kkt)));
         seconds.solve += t.elapsed().as_secs_f64();
+        seconds.factorizations += 1;
         if let Some((sol, kkt)) = solved.filter(|(s, _)| s.info.relative_residual <= 1e-12) {
             return Some(Solved {
                 verdicts,

@@ -169,6 +169,8 @@ impl TriProblem {
             normal_turn: largest_tri_normal_turn(&surface, 2 * surface.degree() + 2),
             refine_seconds: seconds.refine,
             classify_seconds: seconds.classify,
+            classifications: seconds.classifications,
+            factorizations: seconds.factorizations,
             origin: refinement.origin,
             fixed,
         };
