@@ -425,7 +425,6 @@ fn operator_lines(
 /// time with what was written.
 fn summary(path: &Path, solved: &SolvedScene, written: &[String]) -> String {
     let mut lines = Vec::new();
-    let report = solved_report(solved);
     let surface = match solved {
         SolvedScene::Tensor(s) => {
             let (n, m) = s.patch().degree();
@@ -451,8 +450,8 @@ fn summary(path: &Path, solved: &SolvedScene, written: &[String]) -> String {
             )
         }
     };
-    let total = match (report, solved) {
-        (Some(r), _) => {
+    let total = match what_was_done(solved) {
+        Done::Minimized(r) => {
             lines.push(format!("{}: {surface}, {}", path.display(), free_words(r)));
             let road = match solved {
                 SolvedScene::BSpline(_) => "Gauss quadrature span by span",
@@ -461,11 +460,7 @@ fn summary(path: &Path, solved: &SolvedScene, written: &[String]) -> String {
             report_lines(&mut lines, r, road);
             r.timings.total
         }
-        (None, SolvedScene::Tensor(s)) => match &s.outcome {
-            Outcome::Constructed(c) => construction_lines(&mut lines, path, &surface, &c.report),
-            Outcome::Minimized(_) => unreachable!("a minimization has a report"),
-        },
-        (None, _) => unreachable!("only a tensor patch is constructed"),
+        Done::Constructed(c) => construction_lines(&mut lines, path, &surface, c),
     };
     match solved {
         SolvedScene::Tensor(s) => {
@@ -499,16 +494,21 @@ fn summary(path: &Path, solved: &SolvedScene, written: &[String]) -> String {
     lines.join("\n")
 }
 
-/// The minimization's report, when the scene was minimized (not
-/// constructed by a Monterde & Ugail method).
-fn solved_report(solved: &SolvedScene) -> Option<&fairsurf::SolveReport> {
+/// What a solve did: minimized an energy (every kind) or constructed a
+/// Monterde & Ugail surface (a tensor patch by a method).
+enum Done<'a> {
+    Minimized(&'a fairsurf::SolveReport),
+    Constructed(&'a fairsurf::harmonic::ConstructionReport),
+}
+
+fn what_was_done(solved: &SolvedScene) -> Done<'_> {
     match solved {
         SolvedScene::Tensor(s) => match &s.outcome {
-            Outcome::Minimized(sol) => Some(&sol.report),
-            Outcome::Constructed(_) => None,
+            Outcome::Minimized(sol) => Done::Minimized(&sol.report),
+            Outcome::Constructed(c) => Done::Constructed(&c.report),
         },
-        SolvedScene::BSpline(s) => Some(&s.solution.report),
-        SolvedScene::Triangular(s) => Some(&s.solution.report),
+        SolvedScene::BSpline(s) => Done::Minimized(&s.solution.report),
+        SolvedScene::Triangular(s) => Done::Minimized(&s.solution.report),
     }
 }
 
