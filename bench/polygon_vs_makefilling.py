@@ -17,7 +17,7 @@ patches on its parameter rectangle; both checked against BRepGProp's area.
 
     python3 -m venv target/bench-venv && target/bench-venv/bin/pip install numpy cadquery-ocp
     cargo build --release -p fairsurf-cli
-    target/bench-venv/bin/python bench/polygon_vs_makefilling.py [--repeats 5]
+    target/bench-venv/bin/python bench/polygon_vs_makefilling.py [--repeats 5] [--cli target/release/fairsurf] [--keep DIR]
 """
 
 from __future__ import annotations
@@ -142,7 +142,8 @@ def run(args):
     cli = Path(args.cli)
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        tmp = Path(tmp)
+        tmp = Path(args.keep) if args.keep else Path(tmp)
+        tmp.mkdir(parents=True, exist_ok=True)
         for n in (3, 5, 6):
             shape = fb.sew(polygon_network(n))
             step_in = tmp / f"polygon{n}.step"
@@ -198,4 +199,5 @@ if __name__ == "__main__":
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--repeats", type=int, default=5)
     p.add_argument("--cli", default=str(ROOT / "target" / "release" / "fairsurf"))
+    p.add_argument("--keep", help="write the holes' and the fills' STEP files here")
     run(p.parse_args())

@@ -231,16 +231,17 @@ fn summary(
                 let ms =
                     1e3 * (r.seconds.setup + r.seconds.solve + r.seconds.measure + r.other_seconds);
                 let (n, degree) = (f.surface.patch_count(), f.surface.degree());
+                let steps = crate::fill::steps_kept(&r.willmore);
                 lines.push(if n == 1 {
                     format!(
                         "  hole {h}: one triangular patch of degree {degree} (fairer than a fan); \
-                         {fit}; {ms:.1} ms"
+                         {fit}; W-lowering steps kept: {steps}; {ms:.1} ms"
                     )
                 } else {
                     format!(
                         "  hole {h}: {n} triangular patches of degree {degree} around a centre; \
                          {fit}; between the patches {:.1e}°, {} of {} G1 conditions dropped; \
-                         {ms:.1} ms",
+                         W-lowering steps kept: {steps}; {ms:.1} ms",
                         r.inner_angle.to_degrees(),
                         r.solve.triangular.as_ref().map_or(0, |t| t.dropped.len()),
                         r.solve.triangular.as_ref().map_or(0, |t| t.rows),

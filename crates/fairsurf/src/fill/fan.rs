@@ -34,6 +34,7 @@
 //! fan's 0.7545 (MakeFilling 0.5911): the fan's 120° centre angles make the
 //! thin plate in the patches' own parameters far from W.
 
+use super::fan_willmore;
 use super::holes::Hole;
 use super::measure::{
     compare, neighbour_derivatives, side_parameters, total_curvature, SideFit, TotalCurvature,
@@ -44,18 +45,19 @@ use crate::bspline::{BSplineSurface, RationalSurface};
 use crate::constraint::Constraint;
 use crate::curve::elevate_points;
 use crate::solve::SolveReport;
-use crate::triangle::{Continuity, TriProblem, TriSurface};
+use crate::triangle::{max_edge_normal_angle, Continuity, TriFactored, TriProblem, TriSurface};
 use crate::vec3::{add, angle, dist, dot, norm, scale, sub};
 use crate::{Bend, Stretch};
 use crate::{Error, Result, Vec3};
 use std::collections::BTreeMap;
+use std::sync::Arc;
 use std::time::Instant;
 
 /// What a fan fill reports.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FanReport {
-    /// The triangular solve's report: energy, its check, the G¹ rows kept
-    /// and dropped, the largest normal angle between the fan's patches.
+    /// The triangular thin-plate solve's report (the surface the descent
+    /// on W starts from): energy, its check, the G¹ rows kept and dropped.
     pub solve: SolveReport,
     /// Per side, in the hole's order: gap and normal angle measured on the
     /// returned surface against the neighbour.
@@ -69,10 +71,13 @@ pub struct FanReport {
     /// give (a fan's rows 2 are free).
     pub corners: CornerMismatch,
     /// The largest normal angle (radians) between two patches of the fan,
-    /// along the spokes (65 samples each).
+    /// along the spokes (65 samples each), measured on the returned fan.
     pub inner_angle: f64,
     /// W = ∫∫ κ₁² + κ₂² dA of the whole fan.
     pub curvature: TotalCurvature,
+    /// W of the thin-plate fill, then after each step of the descent on W
+    /// (one entry: no descent).
+    pub willmore: Vec<f64>,
     /// Seconds: rows, solve, measurements.
     pub seconds: FillSeconds,
     /// Seconds spent on the candidates not kept ([`super::HoleFill::new`]
@@ -91,6 +96,9 @@ pub struct FanFill {
     pub hole: Hole,
     /// How good it is.
     pub report: FanReport,
+    /// The thin-plate solve's KKT factorization until the descent on W
+    /// has used it.
+    pub(super) factor: Option<Arc<TriFactored>>,
 }
 
 impl FanFill {
@@ -203,10 +211,7 @@ pub fn fill_fan(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) ->
         false,
     );
     // Corner 0 is C: T_u × T_v is the normal of (C, V_k, V_{k+1}).
-    let fan = finish(problem, faces, options, hole.clone(), corners, t0, |k| {
-        (k, Box::new(|t: f64| [0.0, 1.0 - t, t]))
-    })?;
-    Ok(fan)
+    finish(problem, faces, options, hole.clone(), corners, t0)
 }
 
 /// What a fan and a single triangle share: the hole oriented like its
@@ -427,11 +432,24 @@ fn fixed_problem(
     problem
 }
 
-/// Where side k lies in the surface: its patch and the barycentric point
-/// of its parameter t (normal T_u × T_v facing like the neighbours).
-type SideMap = (usize, Box<dyn Fn(f64) -> [f64; 3]>);
+/// Where side k of the hole lies on a fan's or one triangle's `surface`:
+/// its patch and the barycentric point of its parameter t (normal T_u ×
+/// T_v facing like the neighbours). A fan (N ≥ 3 patches) has side k on
+/// patch k from corner 1 to corner 2 (corner 0 the centre); one triangle
+/// has side k from its corner k to corner k + 1.
+fn side_point(surface: &TriSurface, k: usize, t: f64) -> (usize, [f64; 3]) {
+    if surface.patch_count() == 1 {
+        let mut b = [0.0; 3];
+        b[k] = 1.0 - t;
+        b[(k + 1) % 3] = t;
+        (0, b)
+    } else {
+        (k, [0.0, 1.0 - t, t])
+    }
+}
 
-/// Solves and measures.
+/// Solves, then lowers W ([`FanFill::lower_w`]) when `options` asks for
+/// descent steps, else measures.
 fn finish(
     problem: TriProblem,
     faces: &[BSplineSurface],
@@ -439,56 +457,105 @@ fn finish(
     hole: Hole,
     corners: CornerMismatch,
     t0: Instant,
-    side_map: impl Fn(usize) -> SideMap,
 ) -> Result<FanFill> {
     let setup = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
-    let solved = problem.solve()?;
+    let (solved, factor) = problem.solve_factored()?;
     let solve = t1.elapsed().as_secs_f64();
-    let t2 = Instant::now();
-    let inner_angle = solved.figures().max_edge_normal_angle.map_or(0.0, |a| a.0);
-    let surface = solved.surface;
-    let sides = (0..hole.sides.len())
-        .map(|k| {
-            let (patch, bary) = side_map(k);
-            patch_side_fit(
-                &surface,
-                patch,
-                &bary,
-                &faces[hole.sides[k].face],
-                options.rational(hole.sides[k].face),
-                hole.sides[k],
-            )
-        })
-        .collect();
-    let mut curvature = TotalCurvature {
-        value: 0.0,
-        error: 0.0,
-    };
-    for p in surface.patches() {
-        let w = total_curvature(&BSplineSurface::from_bezier(&p.to_tensor()));
-        curvature.value += w.value;
-        curvature.error += w.error;
-    }
-    let measure = t2.elapsed().as_secs_f64();
-    Ok(FanFill {
-        surface,
+    let mut fill = FanFill {
+        surface: solved.surface,
         hole,
         report: FanReport {
             solve: solved.report,
-            sides,
+            sides: Vec::new(),
             corners,
-            inner_angle,
-            curvature,
+            inner_angle: 0.0,
+            curvature: TotalCurvature {
+                value: 0.0,
+                error: 0.0,
+            },
+            willmore: Vec::new(),
             seconds: FillSeconds {
                 setup,
                 solve,
-                measure,
+                measure: 0.0,
             },
             other_seconds: 0.0,
         },
-    })
+        factor: factor.map(Arc::from),
+    };
+    if options.descent_steps > 0 {
+        fill.lower_w(faces, options);
+    } else {
+        fill.measure(faces, options);
+    }
+    Ok(fill)
 }
+
+impl FanFill {
+    /// Measures the surface as it is: per side gap and normal angle
+    /// against the neighbour, the largest normal angle between the
+    /// patches, W (and W as the descent's history when it took no step).
+    fn measure(&mut self, faces: &[BSplineSurface], options: &FillOptions) {
+        let t = Instant::now();
+        let (surface, hole, r) = (&self.surface, &self.hole, &mut self.report);
+        r.inner_angle = max_edge_normal_angle(surface, 65).map_or(0.0, |a| a.0);
+        r.sides = (0..hole.sides.len())
+            .map(|k| {
+                let side = hole.sides[k];
+                patch_side_fit(
+                    surface,
+                    &|t| side_point(surface, k, t),
+                    &faces[side.face],
+                    options.rational(side.face),
+                    side,
+                )
+            })
+            .collect();
+        r.curvature = TotalCurvature {
+            value: 0.0,
+            error: 0.0,
+        };
+        for p in surface.patches() {
+            let w = total_curvature(&BSplineSurface::from_bezier(&p.to_tensor()));
+            r.curvature.value += w.value;
+            r.curvature.error += w.error;
+        }
+        if r.willmore.is_empty() {
+            r.willmore.push(r.curvature.value);
+        }
+        r.seconds.measure += t.elapsed().as_secs_f64();
+    }
+
+    /// Lowers W by at most `options.descent_steps` steps along the kept G¹
+    /// rows, the rows 0 and 1 fixed ([`fan_willmore`]), until three steps
+    /// in a row gain less than [`FAN_DESCENT_REL`] of W, then measures the
+    /// result. Without the solve's factorization (a solve that had to
+    /// loosen its row tolerance keeps none) it only measures.
+    pub(crate) fn lower_w(&mut self, faces: &[BSplineSurface], options: &FillOptions) {
+        if let Some(factor) = self.factor.take() {
+            let t = Instant::now();
+            let (surface, history) = fan_willmore::descend_tri(
+                self.surface.clone(),
+                &factor,
+                options.descent_steps,
+                FAN_DESCENT_REL,
+            );
+            self.surface = surface;
+            self.report.willmore = history;
+            self.report.seconds.measure += t.elapsed().as_secs_f64();
+        }
+        self.measure(faces, options);
+    }
+}
+
+/// A fan's descent on W stops after three steps in a row that each gain
+/// less than this part of W. Looser than a 4-sided fill's 1e-8: the thin
+/// plate in barycentric parameters is a poor model of W's Hessian, and
+/// the last 5e-6 of W took ten times the steps (the pentagon of
+/// `examples/cad/fill_pentagon.json` at degree 7: W 1.0313881 after 10
+/// steps, 1.0313836 after 115).
+pub const FAN_DESCENT_REL: f64 = 1e-6;
 
 /// Fills a 3-sided `hole` with one triangular patch with corners (V₀, V₁, V₂): rows
 /// 0 and 1 of every side from its neighbour; at each corner W(0) is the
@@ -565,33 +632,22 @@ pub fn fill_triangle(
         &mut corners,
         true,
     );
-    finish(problem, faces, options, hole, corners, t0, |k| {
-        (
-            0,
-            Box::new(move |t: f64| {
-                let mut b = [0.0; 3];
-                b[k] = 1.0 - t;
-                b[(k + 1) % 3] = t;
-                b
-            }),
-        )
-    })
+    finish(problem, faces, options, hole, corners, t0)
 }
 
-/// A side of patch `patch` (its barycentric point at the side's parameter
-/// t: `bary`) against the neighbour, at the parameters of
+/// A side of the surface (its patch and barycentric point at the side's
+/// parameter t: `at`) against the neighbour, at the parameters of
 /// [`super::side_fit`].
 fn patch_side_fit(
     surface: &TriSurface,
-    patch: usize,
-    bary: &dyn Fn(f64) -> [f64; 3],
+    at: &dyn Fn(f64) -> (usize, [f64; 3]),
     face: &BSplineSurface,
     exact: Option<&RationalSurface>,
     side: super::Side,
 ) -> SideFit {
-    let patch = surface.patch(patch);
+    let patch = surface.patch(at(0.5).0);
     let ts = side_parameters();
-    let da: Vec<_> = ts.iter().map(|&t| patch.derivatives(bary(t))).collect();
+    let da: Vec<_> = ts.iter().map(|&t| patch.derivatives(at(t).1)).collect();
     let db = neighbour_derivatives(face, exact, side, &ts);
     compare(&da, &db, side, false, exact.is_none())
 }

@@ -243,17 +243,13 @@ fn system(
 }
 
 /// Minimizes W itself (not its frozen-metric model) over the free points
-/// by L-BFGS (Nocedal & Wright, Alg. 7.4, ten pairs) whose initial inverse
-/// Hessian is (2A)⁻¹, A the frozen-metric operator of E at the start (E's
-/// Hessian is 2A, and E models W near the surface): the first step is the
-/// linearized one, the pairs learn what the frozen metric misses. Each
-/// step is halved until W falls by at least 1e-4 of the predicted amount
-/// (Armijo). W and its gradient by the same Gauss rule as
-/// [`super::total_curvature`], so the gradient is exact for the W that is
-/// reported. Stops after `steps` steps, after three steps in a row that
-/// lower W by less than `rel` of itself, or when no step lowers it (along
-/// the L-BFGS direction nor, the pairs forgotten, along −H0 g); returns
-/// the surface and W after each accepted step.
+/// by L-BFGS ([`lbfgs`]) whose initial inverse Hessian is (2A)⁻¹, A the
+/// frozen-metric operator of E at the start (E's Hessian is 2A, and E
+/// models W near the surface): the first step is the linearized one, the
+/// pairs learn what the frozen metric misses. W and its gradient by the
+/// same Gauss rule as [`super::total_curvature`], so the gradient is exact
+/// for the W that is reported. Returns the surface and W after each
+/// accepted step.
 pub(crate) fn descend(
     start: BSplineSurface,
     w0: f64,
@@ -261,105 +257,169 @@ pub(crate) fn descend(
     steps: usize,
     rel: f64,
 ) -> (BSplineSurface, Vec<f64>) {
-    let (mut s, mut w) = (start, w0);
-    let mut history = Vec::new();
-    let nodes = Rule::of(&s);
-    let (a, _, slot) = system(&s, free, &nodes);
+    let nodes = Rule::of(&start);
+    let (a, _, slot) = system(&start, free, &nodes);
     let Ok(llt) = a.llt(faer::Side::Lower) else {
-        return (s, history);
+        return (start, Vec::new());
     };
-    let dot = |x: &Mat<f64>, y: &Mat<f64>| -> f64 {
-        (0..x.nrows())
-            .flat_map(|r| (0..3).map(move |k| (r, k)))
-            .map(|(r, k)| x[(r, k)] * y[(r, k)])
-            .sum()
+    let nf = a.nrows();
+    // The free points' coordinates, point by point (3r + k).
+    let at = |x: &[f64]| {
+        let points = start
+            .points()
+            .iter()
+            .zip(&slot)
+            .map(|(&pt, sl)| sl.map_or(pt, |r| std::array::from_fn(|k| x[3 * r + k])))
+            .collect();
+        start.with_points(points)
     };
-    let h0 = |q: &Mat<f64>| -> Mat<f64> {
-        let mut x = faer::linalg::solvers::Solve::solve(&llt, q);
+    let flat = |m: &Mat<f64>| -> Vec<f64> {
+        (0..m.nrows())
+            .flat_map(|r| (0..3).map(move |k| m[(r, k)]))
+            .collect()
+    };
+    let h0 = |q: &[f64]| -> Option<Vec<f64>> {
+        let q = Mat::<f64>::from_fn(nf, 3, |r, k| q[3 * r + k]);
+        let mut x = faer::linalg::solvers::Solve::solve(&llt, &q);
         x *= faer::Scale(0.5);
-        x
+        Some(flat(&x))
     };
-    let mut g = w_and_gradient(&s, &slot, &nodes).1;
-    let mut pairs: Vec<(Mat<f64>, Mat<f64>, f64)> = Vec::new();
-    let mut small = 0;
-    for _ in 0..steps {
-        // The two-loop recursion: d = −H g; when no step along it lowers W
-        // (or it is not a descent direction) the pairs are forgotten and
-        // −H0 g tried before stopping.
-        let mut taken = None;
-        let mut d = Mat::<f64>::zeros(0, 3);
-        let mut t = 1.0;
-        while taken.is_none() {
-            let mut q = g.clone();
-            let mut alphas = Vec::with_capacity(pairs.len());
-            for (sk, yk, rho) in pairs.iter().rev() {
-                let al = rho * dot(sk, &q);
-                q -= faer::Scale(al) * yk;
-                alphas.push(al);
-            }
-            let mut r = h0(&q);
-            for ((sk, yk, rho), al) in pairs.iter().zip(alphas.iter().rev()) {
-                let be = rho * dot(yk, &r);
-                r += faer::Scale(al - be) * sk;
-            }
-            d = -r;
-            let slope = dot(&g, &d);
-            if slope.is_nan() || slope >= 0.0 {
-                if pairs.is_empty() {
-                    break;
+    let x0: Vec<f64> = start
+        .points()
+        .iter()
+        .zip(&slot)
+        .filter(|(_, sl)| sl.is_some())
+        .flat_map(|(pt, _)| *pt)
+        .collect();
+    let g0 = flat(&w_and_gradient(&start, &slot, &nodes).1);
+    let descent = Lbfgs {
+        steps,
+        rel,
+        rescale: false,
+    };
+    let (x, history) = descent.run(x0, w0, g0, h0, |x| {
+        let (w, g) = w_and_gradient(&at(x), &slot, &nodes);
+        (w, flat(&g))
+    });
+    (at(&x), history)
+}
+
+/// L-BFGS (Nocedal & Wright, Alg. 7.4, ten pairs) on a function given with
+/// its gradient, from an initial inverse Hessian H0. Each step is halved
+/// until the function falls by at least 1e-4 of the predicted amount
+/// (Armijo). Stops after `steps` steps, after three steps in a row that
+/// lower it by less than `rel` of itself, or when no step lowers it (along
+/// the L-BFGS direction nor, the pairs forgotten, along −H0 g).
+pub(crate) struct Lbfgs {
+    pub steps: usize,
+    pub rel: f64,
+    /// Whether H0 is scaled by sᵀy / yᵀH0y of the latest pair (N & W eq.
+    /// 7.20, for an H0 of the right shape but not the right size).
+    pub rescale: bool,
+}
+
+impl Lbfgs {
+    /// From `x` where the function is `w` with gradient `g`: the last
+    /// accepted point and the value after each accepted step. `h0` applies
+    /// H0 (None: it failed, the descent ends); `eval` gives the value and
+    /// gradient at a point.
+    pub(crate) fn run(
+        &self,
+        mut x: Vec<f64>,
+        mut w: f64,
+        mut g: Vec<f64>,
+        h0: impl Fn(&[f64]) -> Option<Vec<f64>>,
+        mut eval: impl FnMut(&[f64]) -> (f64, Vec<f64>),
+    ) -> (Vec<f64>, Vec<f64>) {
+        let dot = |a: &[f64], b: &[f64]| -> f64 { a.iter().zip(b).map(|(x, y)| x * y).sum() };
+        let mut history = Vec::new();
+        let mut pairs: Vec<(Vec<f64>, Vec<f64>, f64)> = Vec::new();
+        let mut gamma = 1.0;
+        let mut small = 0;
+        for _ in 0..self.steps {
+            // The two-loop recursion: d = −H g; when no step along it lowers
+            // the function (or it is not a descent direction) the pairs are
+            // forgotten and −H0 g tried before stopping.
+            let mut taken = None;
+            let mut d = Vec::new();
+            let mut t = 1.0;
+            while taken.is_none() {
+                let mut q = g.clone();
+                let mut alphas = Vec::with_capacity(pairs.len());
+                for (sk, yk, rho) in pairs.iter().rev() {
+                    let al = rho * dot(sk, &q);
+                    q.iter_mut().zip(yk).for_each(|(a, b)| *a -= al * b);
+                    alphas.push(al);
                 }
-                pairs.clear();
-                continue;
-            }
-            t = 1.0;
-            for _ in 0..20 {
-                let points = s
-                    .points()
-                    .iter()
-                    .zip(&slot)
-                    .map(|(&pt, sl)| {
-                        sl.map_or(pt, |r| std::array::from_fn(|k| pt[k] + t * d[(r, k)]))
-                    })
-                    .collect();
-                let cand = s.with_points(points);
-                // W and its gradient at once: the first candidate is
-                // almost always taken, and then its gradient is the next.
-                let (wc, gc) = w_and_gradient(&cand, &slot, &nodes);
-                if wc <= w + 1e-4 * t * slope {
-                    taken = Some((cand, wc, gc));
-                    break;
+                let Some(mut r) = h0(&q) else {
+                    return (x, history);
+                };
+                if gamma != 1.0 {
+                    r.iter_mut().for_each(|v| *v *= gamma);
                 }
-                t *= 0.5;
-            }
-            if taken.is_none() {
-                if pairs.is_empty() {
-                    break;
+                for ((sk, yk, rho), al) in pairs.iter().zip(alphas.iter().rev()) {
+                    let be = rho * dot(yk, &r);
+                    r.iter_mut().zip(sk).for_each(|(a, b)| *a += (al - be) * b);
                 }
-                pairs.clear();
+                d = r.iter().map(|v| -v).collect();
+                let slope = dot(&g, &d);
+                if slope.is_nan() || slope >= 0.0 {
+                    if pairs.is_empty() {
+                        break;
+                    }
+                    pairs.clear();
+                    continue;
+                }
+                t = 1.0;
+                for _ in 0..20 {
+                    let cand: Vec<f64> = x.iter().zip(&d).map(|(a, b)| a + t * b).collect();
+                    // Value and gradient at once: the first candidate is
+                    // almost always taken, and then its gradient is the next.
+                    let (wc, gc) = eval(&cand);
+                    if wc <= w + 1e-4 * t * slope {
+                        taken = Some((cand, wc, gc));
+                        break;
+                    }
+                    t *= 0.5;
+                }
+                if taken.is_none() {
+                    if pairs.is_empty() {
+                        break;
+                    }
+                    pairs.clear();
+                }
+            }
+            let Some((next, wn, gn)) = taken else {
+                break;
+            };
+            // Converged after three steps in a row that gain less than rel.
+            small = if w - wn <= self.rel * w { small + 1 } else { 0 };
+            let done = small == 3;
+            let sk: Vec<f64> = d.iter().map(|v| t * v).collect();
+            let yk: Vec<f64> = gn.iter().zip(&g).map(|(a, b)| a - b).collect();
+            let sy = dot(&sk, &yk);
+            if sy > 0.0 {
+                if self.rescale {
+                    if let Some(hy) = h0(&yk) {
+                        let yhy = dot(&yk, &hy);
+                        if yhy > 0.0 {
+                            gamma = sy / yhy;
+                        }
+                    }
+                }
+                if pairs.len() == 10 {
+                    pairs.remove(0);
+                }
+                pairs.push((sk, yk, 1.0 / sy));
+            }
+            (x, w, g) = (next, wn, gn);
+            history.push(w);
+            if done {
+                break;
             }
         }
-        let Some((next, wn, gn)) = taken else {
-            break;
-        };
-        // Converged after three steps in a row that gain less than rel.
-        small = if w - wn <= rel * w { small + 1 } else { 0 };
-        let done = small == 3;
-        let sk = faer::Scale(t) * &d;
-        let yk = &gn - &g;
-        let sy = dot(&sk, &yk);
-        if sy > 0.0 {
-            if pairs.len() == 10 {
-                pairs.remove(0);
-            }
-            pairs.push((sk, yk, 1.0 / sy));
-        }
-        (s, w, g) = (next, wn, gn);
-        history.push(w);
-        if done {
-            break;
-        }
+        (x, history)
     }
-    (s, history)
 }
 
 /// ∂W/∂P over the free points ([`w_and_gradient`]'s).
@@ -376,7 +436,11 @@ fn gradient(s: &BSplineSurface, slot: &[Option<usize>], nodes: &Rule) -> Mat<f64
 /// ∂f/∂R_(r,s) for each u-derivative order r (R_u, R_v, R_uu, R_uv, R_vv
 /// are (r, s) = (1,0), (0,1), (2,0), (1,1), (0,2)), then Σ_r N_i^(r)(u_x)
 /// acc_r[j] into the span's points.
-fn w_and_gradient(s: &BSplineSurface, slot: &[Option<usize>], nodes: &Rule) -> (f64, Mat<f64>) {
+pub(crate) fn w_and_gradient(
+    s: &BSplineSurface,
+    slot: &[Option<usize>],
+    nodes: &Rule,
+) -> (f64, Mat<f64>) {
     let ((p, q), (_, cv)) = (s.degree(), s.counts());
     let mut sum = 0.0;
     let mut g = Mat::<f64>::zeros(slot.iter().flatten().count(), 3);

@@ -22,6 +22,15 @@ use crate::mesh::TriMesh;
 use crate::vec3::{add, scale};
 use crate::TensorPatch;
 
+/// The tensor point (i, l) of [`TriPatch::to_tensor`] of degree n as
+/// Σ_j c_j P_{i,j,n−i−j}: each (j, c_j). B^m_j (m = n − i) raised to
+/// degree n contributes C(m, j) C(n−m, l−j) / C(n, l) to B^n_l.
+pub(crate) fn tensor_weights(n: usize, i: usize, l: usize) -> impl Iterator<Item = (usize, f64)> {
+    let m = n - i;
+    let lo = l.saturating_sub(n - m);
+    (lo..=l.min(m)).map(move |j| (j, binomial(m, j) * binomial(n - m, l - j) / binomial(n, l)))
+}
+
 impl TriPatch {
     /// The same surface as a degree n × n tensor-product patch over
     /// (s, t) ∈ [0, 1]², with (u, v, w) = (s, (1 − s)t, (1 − s)(1 − t)):
@@ -38,12 +47,8 @@ impl TriPatch {
     pub fn to_tensor(&self) -> TensorPatch {
         let n = self.degree();
         TensorPatch::from_fn(n, n, |i, l| {
-            let m = n - i;
-            // B^m_j raised to degree n contributes C(m, j) C(n−m, l−j) / C(n, l) to B^n_l.
-            let lo = l.saturating_sub(n - m);
-            (lo..=l.min(m)).fold([0.0; 3], |acc, j| {
-                let c = binomial(m, j) * binomial(n - m, l - j) / binomial(n, l);
-                add(acc, scale(self.point(i, j, m - j), c))
+            tensor_weights(n, i, l).fold([0.0; 3], |acc, (j, c)| {
+                add(acc, scale(self.point(i, j, n - i - j), c))
             })
         })
     }

@@ -72,6 +72,7 @@ mod bernstein;
 mod constraint;
 mod continuity;
 mod convert;
+pub(crate) use convert::tensor_weights;
 mod derivatives;
 mod elevate;
 pub(crate) mod energy;

@@ -97,12 +97,30 @@ pub struct TriFactored {
     rows: Vec<Vec<(usize, f64)>>,
     /// How many of them are the user's.
     user_rows: usize,
+    /// The free coordinates (3g + c for point g, coordinate c) in the
+    /// factor's order.
+    free: Vec<usize>,
 }
 
 impl TriFactored {
     /// About how many bytes it holds.
     pub fn bytes(&self) -> usize {
-        self.kkt.bytes() + 16 * self.rows.iter().map(Vec::len).sum::<usize>()
+        self.kkt.bytes() + 16 * self.rows.iter().map(Vec::len).sum::<usize>() + 8 * self.free.len()
+    }
+
+    /// The free coordinates (3g + c for point g, coordinate c) in the
+    /// order of [`Self::projected`]'s vectors.
+    pub(crate) fn free(&self) -> &[usize] {
+        &self.free
+    }
+
+    /// r = Z(ZᵀHZ)⁻¹Zᵀq over the free coordinates (Z a basis of the kept
+    /// rows' null space), from [H Fᵀ; F 0][r; μ] = [q; 0]: the step that
+    /// minimizes ½rᵀHr − qᵀr along the rows. None when the solve fails.
+    pub(crate) fn projected(&self, q: &[f64]) -> Option<Vec<f64>> {
+        let b: Vec<f64> = q.iter().map(|v| -v).collect();
+        let g = vec![0.0; self.kkt.row_count()];
+        self.kkt.solve(&b, &g).ok().map(|s| s.x)
     }
 
     /// Whether both are of the same KKT matrix: the same H and rows (the
@@ -364,6 +382,21 @@ impl TriProblem {
     /// unique solution.
     pub fn solve(&self) -> Result<TriSolution> {
         Ok(self.solve_kept(&[])?.0)
+    }
+
+    /// Solves, and returns the KKT factorization too when a fresh solve
+    /// of another right-hand side would come to it (as
+    /// [`crate::FactorCache`] keeps it): the fill's descent on W steps
+    /// along the rows with it.
+    pub(crate) fn solve_factored(&self) -> Result<(TriSolution, Option<Box<TriFactored>>)> {
+        let (solution, factor) = self.solve_kept(&[])?;
+        Ok((
+            solution,
+            match factor {
+                Factor::New(f) => Some(f),
+                Factor::None | Factor::Reused(_) => None,
+            },
+        ))
     }
 
     /// Embeds the curves one after another; returns the composed

@@ -364,6 +364,11 @@ impl KktFactor {
         self.h_is(h) && self.rows_are(rows)
     }
 
+    /// How many rows F has.
+    pub(crate) fn row_count(&self) -> usize {
+        self.rows.len()
+    }
+
     /// Whether H is, value for value, the one factored.
     pub(crate) fn h_is(&self, h: &SparseColMat<usize, f64>) -> bool {
         h.nrows() == self.h.nrows()

@@ -144,6 +144,7 @@ impl TriProblem {
                 tolerance: solved.row_tolerance,
                 rows: reduced.into_iter().map(|(terms, _)| terms).collect(),
                 user_rows,
+                free: free.clone(),
             }));
         }
         let coords = known.len();
