@@ -11,6 +11,7 @@ mod scan;
 
 pub use area::{area, Area, AREA_TOLERANCE};
 pub use continuity::{continuity, Continuity, Edge, Stat};
+pub(crate) use curvature::is_regular;
 pub(crate) use curvature::PointForms;
 pub use curvature::{abs_mean_curvature, curvature, curvature_from, AbsMeanCurvature, Curvature};
 pub use folds::{largest_normal_turn, largest_tri_normal_turn, NormalTurn, TriNormalTurn};

@@ -154,6 +154,16 @@ fn decompose(w: Vec3, x: Vec3, y: Vec3) -> (f64, f64, f64) {
 /// neighbour whose cross derivative does not point into the hole at a
 /// corner; and the solve's own refusals.
 pub fn fill_fan(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -> Result<FanFill> {
+    Ok(fan_candidate(faces, hole, options)?.completed(faces, options))
+}
+
+/// [`fill_fan`]'s fan solved, only its W measured ([`FanFill::completed`]
+/// lowers W and measures the rest).
+pub(super) fn fan_candidate(
+    faces: &[BSplineSurface],
+    hole: &Hole,
+    options: &FillOptions,
+) -> Result<FanFill> {
     let t0 = Instant::now();
     let Prepared {
         hole,
@@ -211,7 +221,7 @@ pub fn fill_fan(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) ->
         false,
     );
     // Corner 0 is C: T_u × T_v is the normal of (C, V_k, V_{k+1}).
-    finish(problem, faces, options, hole.clone(), corners, t0)
+    finish(problem, hole.clone(), corners, t0)
 }
 
 /// What a fan and a single triangle share: the hole oriented like its
@@ -448,12 +458,9 @@ fn side_point(surface: &TriSurface, k: usize, t: f64) -> (usize, [f64; 3]) {
     }
 }
 
-/// Solves, then lowers W ([`FanFill::lower_w`]) when `options` asks for
-/// descent steps, else measures.
+/// Solves and measures W (a candidate).
 fn finish(
     problem: TriProblem,
-    faces: &[BSplineSurface],
-    options: &FillOptions,
     hole: Hole,
     corners: CornerMismatch,
     t0: Instant,
@@ -484,19 +491,52 @@ fn finish(
         },
         factor: factor.map(Arc::from),
     };
-    if options.descent_steps > 0 {
-        fill.lower_w(faces, options);
-    } else {
-        fill.measure(faces, options);
-    }
+    fill.measure_w();
+    fill.report.willmore.push(fill.report.curvature.value);
     Ok(fill)
 }
 
 impl FanFill {
-    /// Measures the surface as it is: per side gap and normal angle
-    /// against the neighbour, the largest normal angle between the
-    /// patches, W (and W as the descent's history when it took no step).
-    fn measure(&mut self, faces: &[BSplineSurface], options: &FillOptions) {
+    /// W of the surface as it is.
+    fn measure_w(&mut self) {
+        let t = Instant::now();
+        let r = &mut self.report;
+        r.curvature = TotalCurvature {
+            value: 0.0,
+            error: 0.0,
+        };
+        for p in self.surface.patches() {
+            let w = total_curvature(&BSplineSurface::from_bezier(&p.to_tensor()));
+            r.curvature.value += w.value;
+            r.curvature.error += w.error;
+        }
+        r.seconds.measure += t.elapsed().as_secs_f64();
+    }
+
+    /// A candidate made whole: W lowered by at most `options.descent_steps`
+    /// steps along the kept G¹ rows, the rows 0 and 1 fixed
+    /// ([`fan_willmore`]), until three steps in a row gain less than
+    /// [`FAN_DESCENT_REL`] of W (without the solve's factorization — a
+    /// solve that had to loosen its row tolerance keeps none — no steps);
+    /// then measured: per side gap and normal angle against the
+    /// neighbour, the largest normal angle between the patches.
+    pub(super) fn completed(mut self, faces: &[BSplineSurface], options: &FillOptions) -> Self {
+        let t = Instant::now();
+        let factor = (options.descent_steps > 0)
+            .then(|| self.factor.take())
+            .flatten();
+        if let Some(factor) = factor {
+            let (surface, history) = fan_willmore::descend_tri(
+                self.surface.clone(),
+                &factor,
+                options.descent_steps,
+                FAN_DESCENT_REL,
+            );
+            self.surface = surface;
+            self.report.willmore = history;
+            self.report.seconds.measure += t.elapsed().as_secs_f64();
+            self.measure_w();
+        }
         let t = Instant::now();
         let (surface, hole, r) = (&self.surface, &self.hole, &mut self.report);
         r.inner_angle = max_edge_normal_angle(surface, 65).map_or(0.0, |a| a.0);
@@ -512,40 +552,8 @@ impl FanFill {
                 )
             })
             .collect();
-        r.curvature = TotalCurvature {
-            value: 0.0,
-            error: 0.0,
-        };
-        for p in surface.patches() {
-            let w = total_curvature(&BSplineSurface::from_bezier(&p.to_tensor()));
-            r.curvature.value += w.value;
-            r.curvature.error += w.error;
-        }
-        if r.willmore.is_empty() {
-            r.willmore.push(r.curvature.value);
-        }
         r.seconds.measure += t.elapsed().as_secs_f64();
-    }
-
-    /// Lowers W by at most `options.descent_steps` steps along the kept G¹
-    /// rows, the rows 0 and 1 fixed ([`fan_willmore`]), until three steps
-    /// in a row gain less than [`FAN_DESCENT_REL`] of W, then measures the
-    /// result. Without the solve's factorization (a solve that had to
-    /// loosen its row tolerance keeps none) it only measures.
-    pub(crate) fn lower_w(&mut self, faces: &[BSplineSurface], options: &FillOptions) {
-        if let Some(factor) = self.factor.take() {
-            let t = Instant::now();
-            let (surface, history) = fan_willmore::descend_tri(
-                self.surface.clone(),
-                &factor,
-                options.descent_steps,
-                FAN_DESCENT_REL,
-            );
-            self.surface = surface;
-            self.report.willmore = history;
-            self.report.seconds.measure += t.elapsed().as_secs_f64();
-        }
-        self.measure(faces, options);
+        self
     }
 }
 
@@ -568,6 +576,15 @@ pub const FAN_DESCENT_REL: f64 = 1e-6;
 /// indices ≥ 2; degree ≥ 6) minimize the thin plate. Errors as
 /// [`fill_fan`]'s.
 pub fn fill_triangle(
+    faces: &[BSplineSurface],
+    hole: &Hole,
+    options: &FillOptions,
+) -> Result<FanFill> {
+    Ok(triangle_candidate(faces, hole, options)?.completed(faces, options))
+}
+
+/// [`fill_triangle`]'s patch solved, only its W measured.
+pub(super) fn triangle_candidate(
     faces: &[BSplineSurface],
     hole: &Hole,
     options: &FillOptions,
@@ -632,7 +649,7 @@ pub fn fill_triangle(
         &mut corners,
         true,
     );
-    finish(problem, faces, options, hole, corners, t0)
+    finish(problem, hole, corners, t0)
 }
 
 /// A side of the surface (its patch and barycentric point at the side's

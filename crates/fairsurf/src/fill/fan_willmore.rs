@@ -13,8 +13,8 @@
 //! every step moves along the rows (the patches stay G¹ to each other as
 //! the conditions say) and never moves a fixed point (the fill stays G¹
 //! to its neighbours). The thin plate is not W (its parameters are the
-//! patches' barycentric ones), so H0 is rescaled by each latest pair
-//! (Nocedal & Wright eq. 7.20).
+//! patches' barycentric ones), so H0 is rescaled by each latest pair to
+//! W's curvature along the step (γ = sᵀHs / sᵀy).
 
 use super::willmore::{w_and_gradient, Lbfgs, Rule};
 use crate::bspline::BSplineSurface;
@@ -78,10 +78,11 @@ pub(crate) fn descend_tri(
     let on_free = |g: Vec<f64>| -> Vec<f64> { free.iter().map(|&i| g[i]).collect() };
     let (w0, g0) = w_and_gradient_tri(&start, &rule);
     let x0: Vec<f64> = free.iter().map(|&i| base[i]).collect();
+    let curvature = |s: &[f64]| factor.h_norm2(s);
     let descent = Lbfgs {
         steps,
         rel,
-        rescale: true,
+        rescale: Some(&curvature),
     };
     let (x, steps) = descent.run(
         x0,

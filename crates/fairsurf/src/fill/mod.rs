@@ -270,12 +270,8 @@ impl HoleFill {
         }
         // Triangular patches: a fan, and for three sides one triangle; the
         // one with the lowest W is kept, the others' time reported.
-        let descend = options.descent_steps > 0;
-        let mut degrees = vec![FillOptions {
-            descent_steps: 0,
-            ..options.clone()
-        }];
-        if options.elevate > 0 && !descend {
+        let mut degrees = vec![options.clone()];
+        if options.elevate > 0 && options.descent_steps == 0 {
             degrees.push(FillOptions {
                 elevate: 0,
                 ..options.clone()
@@ -283,9 +279,9 @@ impl HoleFill {
         }
         let mut tried: Vec<Result<FanFill>> = Vec::new();
         for o in &degrees {
-            tried.push(fill_fan(faces, hole, o));
+            tried.push(fan::fan_candidate(faces, hole, o));
             if hole.sides.len() == 3 {
-                tried.push(fill_triangle(faces, hole, o));
+                tried.push(fan::triangle_candidate(faces, hole, o));
             }
         }
         let total = |f: &FanFill| {
@@ -313,10 +309,7 @@ impl HoleFill {
         match best {
             Some(mut f) => {
                 f.report.other_seconds = spent - total(&f);
-                if descend {
-                    f.lower_w(faces, options);
-                }
-                Ok(Self::Fan(f))
+                Ok(Self::Fan(f.completed(faces, options)))
             }
             None => Err(first_error.expect("a candidate")),
         }

@@ -642,6 +642,13 @@ fn the_fan_descent_reaches_a_minimum_along_the_rows() {
         let r = factor.projected(&g).unwrap();
         g.iter().zip(&r).map(|(a, b)| a * b).sum::<f64>().sqrt()
     };
+    // H is the thin plate's, whole: sᵀHs = sᵀq for s = Z(ZᵀHZ)⁻¹Zᵀq.
+    let q: Vec<f64> = (0..factor.free().len())
+        .map(|i| (i as f64 * 0.3).cos())
+        .collect();
+    let s = factor.projected(&q).unwrap();
+    let sq: f64 = s.iter().zip(&q).map(|(a, b)| a * b).sum();
+    assert!((factor.h_norm2(&s) - sq).abs() <= 1e-10 * sq, "{sq}");
     let p0 = projected(&fan.surface);
     let (m, history) = descend_tri(fan.surface.clone(), &factor, 3000, 0.0);
     let w = *history.last().unwrap();

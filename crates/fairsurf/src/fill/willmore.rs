@@ -146,10 +146,68 @@ impl Rule {
 
 /// W's integrand (4H² − 2K)|R_u × R_v| at a point times the node's weight
 /// `w`, `None` where the surface is not regular (W skips it) — one
-/// definition for W and the descent's W.
+/// definition for W and the descent's W ([`Integrand`]).
 fn weighted_integrand(d: &crate::SurfaceDerivatives, w: f64) -> Option<f64> {
-    let c = crate::analysis::curvature_from(d)?;
-    Some(w * (4.0 * c.mean * c.mean - 2.0 * c.gaussian) * norm(cross(d.du, d.dv)))
+    Integrand::at(d).map(|i| w * i.value())
+}
+
+/// W's integrand f = (4H² − 2K)|N| at a point in the scalars its value
+/// and its gradient share: with N = R_u × R_v, E, F, G the first
+/// fundamental form, Δ = EG − F² (= |N|²), l = R_uu·N, m = R_uv·N,
+/// n = R_vv·N (the second form times |N|) and X = E n − 2F m + G l,
+/// 4H² = X²/Δ³ and K = (l n − m²)/Δ², so f = X² Δ^(−5/2) − 2(l n − m²)
+/// Δ^(−3/2).
+#[derive(Clone, Copy)]
+struct Integrand {
+    nn: Vec3,
+    e: f64,
+    f: f64,
+    g: f64,
+    det: f64,
+    l: f64,
+    m: f64,
+    n: f64,
+    x: f64,
+    /// Δ^(−3/2) and Δ^(−5/2).
+    d3: f64,
+    d5: f64,
+}
+
+impl Integrand {
+    /// None where the surface is not regular (the test of
+    /// [`crate::analysis::curvature_from`]).
+    #[inline(always)]
+    fn at(d: &crate::SurfaceDerivatives) -> Option<Self> {
+        let (ru, rv) = (d.du, d.dv);
+        let (e, f, g) = (dot(ru, ru), dot(ru, rv), dot(rv, rv));
+        let nn = cross(ru, rv);
+        let det = e * g - f * f;
+        if !crate::analysis::is_regular(det, e, g, norm(nn)) {
+            return None;
+        }
+        let (l, m, n) = (dot(d.duu, nn), dot(d.duv, nn), dot(d.dvv, nn));
+        let x = e * n - 2.0 * f * m + g * l;
+        let s = det.sqrt();
+        let (d3, d5) = ((det * s).recip(), (det * det * s).recip());
+        Some(Self {
+            nn,
+            e,
+            f,
+            g,
+            det,
+            l,
+            m,
+            n,
+            x,
+            d3,
+            d5,
+        })
+    }
+
+    #[inline(always)]
+    fn value(&self) -> f64 {
+        self.x * self.x * self.d5 - 2.0 * (self.l * self.n - self.m * self.m) * self.d3
+    }
 }
 
 /// E's matrix over the free points (one for x, y and z) and its right-hand
@@ -295,7 +353,7 @@ pub(crate) fn descend(
     let descent = Lbfgs {
         steps,
         rel,
-        rescale: false,
+        rescale: None,
     };
     let (x, history) = descent.run(x0, w0, g0, h0, |x| {
         let (w, g) = w_and_gradient(&at(x), &slot, &nodes);
@@ -310,15 +368,20 @@ pub(crate) fn descend(
 /// (Armijo). Stops after `steps` steps, after three steps in a row that
 /// lower it by less than `rel` of itself, or when no step lowers it (along
 /// the L-BFGS direction nor, the pairs forgotten, along −H0 g).
-pub(crate) struct Lbfgs {
+pub(crate) struct Lbfgs<'a> {
     pub steps: usize,
     pub rel: f64,
-    /// Whether H0 is scaled by sᵀy / yᵀH0y of the latest pair (N & W eq.
-    /// 7.20, for an H0 of the right shape but not the right size).
-    pub rescale: bool,
+    /// For an H0 of the right shape but not the right size: s ↦ sᵀH0⁻¹s,
+    /// and H0 is scaled by γ = sᵀH0⁻¹s / sᵀy of the latest pair, so that
+    /// (γH0)⁻¹ has the function's curvature along s (the s-side
+    /// counterpart of Nocedal & Wright's eq. 7.20). None: H0 as it is.
+    pub rescale: Option<&'a Curvature<'a>>,
 }
 
-impl Lbfgs {
+/// s ↦ sᵀH0⁻¹s ([`Lbfgs::rescale`]).
+pub(crate) type Curvature<'a> = dyn Fn(&[f64]) -> f64 + 'a;
+
+impl Lbfgs<'_> {
     /// From `x` where the function is `w` with gradient `g`: the last
     /// accepted point and the value after each accepted step. `h0` applies
     /// H0 (None: it failed, the descent ends); `eval` gives the value and
@@ -399,12 +462,10 @@ impl Lbfgs {
             let yk: Vec<f64> = gn.iter().zip(&g).map(|(a, b)| a - b).collect();
             let sy = dot(&sk, &yk);
             if sy > 0.0 {
-                if self.rescale {
-                    if let Some(hy) = h0(&yk) {
-                        let yhy = dot(&yk, &hy);
-                        if yhy > 0.0 {
-                            gamma = sy / yhy;
-                        }
+                if let Some(curvature) = self.rescale {
+                    let shs = curvature(&sk);
+                    if shs > 0.0 && shs.is_finite() {
+                        gamma = shs / sy;
                     }
                 }
                 if pairs.len() == 10 {
@@ -458,11 +519,12 @@ pub(crate) fn w_and_gradient(
                 acc.fill([0.0; 3]);
                 for (y, &wy) in rule.weights.iter().enumerate() {
                     let d = &grid[x * av.basis.len() + bs * n + y];
-                    let Some(f) = weighted_integrand(d, wx * wy * area) else {
+                    let Some(at) = Integrand::at(d) else {
                         continue;
                     };
-                    sum += f;
-                    let df = integrand_gradient(d).map(|x| wx * wy * area * x);
+                    let w = wx * wy * area;
+                    sum += w * at.value();
+                    let df = integrand_gradient(d, &at).map(|x| w * x);
                     add_v_sums(&mut acc, &df, &av.basis[bs * n + y].1);
                 }
                 add_u_sums(&mut local, &acc, &au.basis[a * n + x].1);
@@ -518,15 +580,21 @@ fn add_u_sums(local: &mut [[f64; 3]], acc: &[[f64; 3]], nu: &[Vec<f64>]) {
 /// product: with V = f_l R_uu + f_m R_uv + f_n R_vv, ∂(V·N)/∂R_u = R_v × V
 /// and ∂(V·N)/∂R_v = V × R_u. (Tested against forward-mode
 /// differentiation of the same formula.)
-fn integrand_gradient(d: &crate::SurfaceDerivatives) -> [f64; 15] {
+fn integrand_gradient(d: &crate::SurfaceDerivatives, at: &Integrand) -> [f64; 15] {
     let (ru, rv) = (d.du, d.dv);
-    let (e, f, g) = (dot(ru, ru), dot(ru, rv), dot(rv, rv));
-    let nn = cross(ru, rv);
-    let det = e * g - f * f;
-    let (l, m, n) = (dot(d.duu, nn), dot(d.duv, nn), dot(d.dvv, nn));
-    let x = e * n - 2.0 * f * m + g * l;
-    let s = det.sqrt();
-    let (d3, d5) = ((det * s).recip(), (det * det * s).recip());
+    let Integrand {
+        nn,
+        e,
+        f,
+        g,
+        det,
+        l,
+        m,
+        n,
+        x,
+        d3,
+        d5,
+    } = *at;
     // f_X, f_Δ; then the totals through X = E n − 2F m + G l, Δ = EG − F².
     let fx = 2.0 * x * d5;
     let fd = -2.5 * x * x * d5 / det + 3.0 * (l * n - m * m) * d3 / det;
@@ -652,7 +720,8 @@ mod tests {
         let us = [0.3, 1.1, 2.7, 3.9];
         let vs = [0.2, 1.5, 2.4];
         for d in s.derivatives_on(&us, &vs) {
-            let (a, b) = (integrand_gradient(&d), integrand_gradient_forward(&d));
+            let at = Integrand::at(&d).unwrap();
+            let (a, b) = (integrand_gradient(&d, &at), integrand_gradient_forward(&d));
             let scale = b.iter().fold(0.0f64, |m, x| m.max(x.abs()));
             for k in 0..15 {
                 assert!(

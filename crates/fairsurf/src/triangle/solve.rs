@@ -114,6 +114,21 @@ impl TriFactored {
         &self.free
     }
 
+    /// sᵀHs over the free coordinates (H the thin plate's, stored whole).
+    pub(crate) fn h_norm2(&self, s: &[f64]) -> f64 {
+        let h = &self.kkt.h;
+        (0..h.ncols())
+            .map(|j| {
+                let col: f64 = h
+                    .row_idx_of_col(j)
+                    .zip(h.val_of_col(j))
+                    .map(|(i, v)| v * s[i])
+                    .sum();
+                col * s[j]
+            })
+            .sum()
+    }
+
     /// r = Z(ZᵀHZ)⁻¹Zᵀq over the free coordinates (Z a basis of the kept
     /// rows' null space), from [H Fᵀ; F 0][r; μ] = [q; 0]: the step that
     /// minimizes ½rᵀHr − qᵀr along the rows. None when the solve fails.
