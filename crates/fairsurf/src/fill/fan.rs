@@ -25,8 +25,10 @@
 //! 4. **Fair inside**: the free points minimize the thin plate (membrane
 //!    if asked) subject to §4.3's G¹ conditions across the spokes and at
 //!    the centre; conditions the fixed rows contradict give way and are
-//!    counted. Measured: gap and normal angle against each neighbour, the
-//!    largest normal angle between the fan's patches, W.
+//!    counted. Then W itself is lowered along the kept conditions (the
+//!    module `fan_willmore`). Measured on the result: gap and normal angle
+//!    against each neighbour, the largest normal angle between the fan's
+//!    patches, W.
 //!
 //! A 3-sided hole can also be one triangular patch ([`fill_triangle`]):
 //! the same rows from all three sides, meeting at the corners. On a
@@ -145,8 +147,11 @@ fn decompose(w: Vec3, x: Vec3, y: Vec3) -> (f64, f64, f64) {
 /// Fills the N-sided `hole` (N ≥ 3) of `faces` with a fan of triangular
 /// patches (see the module documentation). `options.elevate` raises the
 /// degree above the least (the sides' largest + 2, at least 5); the
-/// energy is `options.stretch` and `options.bend` (the normal field and the
-/// Willmore steps of 4-sided fills are not applied to fans yet).
+/// energy is `options.stretch` and `options.bend` (a 4-sided fill's normal
+/// field and linearized Willmore steps are not applied to fans), then W is
+/// lowered by at most `options.descent_steps` steps along the kept G¹
+/// conditions ([`FAN_DESCENT_REL`]; the report's `willmore` lists W before
+/// and after each step).
 ///
 /// Errors ([`Error::Fill`]): a side that is not one Bézier piece (a
 /// B-spline side with interior knots), a corner where two sides continue

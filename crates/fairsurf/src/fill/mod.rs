@@ -46,7 +46,8 @@
 //! filled by a fan of triangular patches around a free centre
 //! ([`fill_fan`]: G¹ to the neighbours exactly by the same two rows, G¹
 //! between the fan's patches by Veltkamp & Wesselink's conditions), a
-//! 3-sided one also by a single triangular patch ([`fill_triangle`]);
+//! 3-sided one also by a single triangular patch ([`fill_triangle`]), and
+//! then W is lowered along those conditions by the same L-BFGS;
 //! [`HoleFill::new`] picks by the number of sides and, for three, by W.
 //!
 //! A rational neighbour (a cylinder, a NURBS face) enters through a
