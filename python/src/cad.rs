@@ -87,7 +87,10 @@ pub(super) fn fill(
         ));
     }
     py.detach(|| {
-        let input = fairsurf_io::FillInput::from_text(&text, step)?;
+        let mut input = fairsurf_io::FillInput::from_text(&text, step)?;
+        let asked = holes.or(input.holes.clone());
+        let choice = fairsurf_io::HoleChoice::of(&input, asked.as_deref())?;
+        input.one_span_sides(&choice)?;
         let mut options = input.options.clone();
         if let Some(w) = normal_weight {
             options.normal_weight = w;
@@ -101,8 +104,6 @@ pub(super) fn fill(
         if let Some(s) = descent_steps {
             options.descent_steps = s;
         }
-        let asked = holes.or(input.holes.clone());
-        let choice = fairsurf_io::HoleChoice::of(&input, asked.as_deref())?;
         let fills = choice.fill(&input.faces, &options)?;
         let mut report = fairsurf_io::fill_report_json(input.faces.len(), &choice, &fills);
         report["stand_ins"] = input.stand_ins_json();

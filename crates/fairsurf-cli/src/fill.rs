@@ -108,6 +108,9 @@ pub fn run(a: Args) -> Result<(), Failure> {
         }
         return Ok(());
     }
+    // A fan's sides are one polynomial piece each: rational faces along
+    // them stand in by one span.
+    input.one_span_sides(&choice).map_err(with_file(&a.input))?;
     let mut options = input.options.clone();
     a.energy.apply(&mut options)?;
     let fills = choice

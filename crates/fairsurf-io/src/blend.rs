@@ -228,13 +228,19 @@ impl BlendInput {
                                         stand_ins.push(None);
                                     }
                                     FaceSurface::Rational(r) => {
-                                        let s = stand_in(&r, FitTolerance::default(), j, f.kind)
-                                            .map_err(|e| {
-                                                Error::scene(
-                                                    format!("{path}.step"),
-                                                    format!("{}: {e}", file.display()),
-                                                )
-                                            })?;
+                                        let s = stand_in(
+                                            &r,
+                                            FitTolerance::default(),
+                                            [false, false],
+                                            j,
+                                            f.kind,
+                                        )
+                                        .map_err(|e| {
+                                            Error::scene(
+                                                format!("{path}.step"),
+                                                format!("{}: {e}", file.display()),
+                                            )
+                                        })?;
                                         faces.push(s.surface);
                                         rational.push(Some(Arc::new(r)));
                                         stand_ins.push(Some((s.position, s.angle)));

@@ -272,6 +272,8 @@ pub struct FillInput {
     /// The scene's fill options (the defaults for STEP), with the rational
     /// faces the stand-ins approximate (`rational_faces`).
     pub options: FillOptions,
+    /// The tolerance the stand-ins were fitted within.
+    pub fit: FitTolerance,
 }
 
 impl FillInput {
@@ -300,6 +302,7 @@ impl FillInput {
                 stand_ins: vec![None; read.len()],
                 holes: None,
                 options: FillOptions::default(),
+                fit: FitTolerance::default(),
             };
             for f in read {
                 match f.surface {
@@ -325,19 +328,64 @@ impl FillInput {
             faces,
             holes: scene.holes.clone(),
             options: scene.fill.options()?,
+            fit: FitTolerance::default(),
         })
     }
 
     /// Fits the rational faces' stand-ins anew within `fit`.
     pub fn refit(&mut self, fit: FitTolerance) -> Result<()> {
+        self.fit = fit;
         for (k, r) in self.options.rational_faces.iter().enumerate() {
             if let Some(r) = r {
-                let s = stand_in(r, fit, k, self.kinds[k])?;
+                let s = stand_in(r, fit, [false, false], k, self.kinds[k])?;
                 self.stand_ins[k] = Some((s.position, s.angle));
                 self.faces[k] = s.surface;
             }
         }
         Ok(())
+    }
+
+    /// Refits, as one polynomial span along the side, the stand-in of each
+    /// rational face that is a side of a chosen hole filled by triangular
+    /// patches (other than four sides: each side must be one polynomial
+    /// piece) and is several spans along it
+    /// ([`RationalSurface::polynomial_spans`], within [`Self::fit`]): the
+    /// corner of a box rounded by three cylinder fillets. The holes keep
+    /// their sides (the same faces, edges and parameters; a stand-in goes
+    /// through its face's corners). Returns the faces refitted.
+    pub fn one_span_sides(&mut self, choice: &HoleChoice) -> Result<Vec<usize>> {
+        let mut one_span: Vec<[bool; 2]> = vec![[false; 2]; self.faces.len()];
+        for &h in &choice.chosen {
+            let hole = &choice.holes[h];
+            if fairsurf::fill::is_four_sided(&self.faces, hole) {
+                continue;
+            }
+            for side in &hole.sides {
+                let k = side.face;
+                if self.options.rational(k).is_none() {
+                    continue;
+                }
+                // Edge U0 / U1 runs along v, V0 / V1 along u.
+                let along_v = matches!(side.edge, Edge::U0 | Edge::U1);
+                let knots = self.faces[k].knots();
+                let along = if along_v { knots.1 } else { knots.0 };
+                if along.spans().len() > 1 {
+                    one_span[k][usize::from(along_v)] = true;
+                }
+            }
+        }
+        let mut refitted = Vec::new();
+        for (k, flags) in one_span.into_iter().enumerate() {
+            if flags == [false; 2] {
+                continue;
+            }
+            let r = self.options.rational(k).expect("a rational face");
+            let s = stand_in(r, self.fit, flags, k, self.kinds[k])?;
+            self.stand_ins[k] = Some((s.position, s.angle));
+            self.faces[k] = s.surface;
+            refitted.push(k);
+        }
+        Ok(refitted)
     }
 
     /// The distance under which boundary points are one when finding
@@ -355,15 +403,16 @@ impl FillInput {
     }
 }
 
-/// A rational face's stand-in within `fit`; errors name face `k` and its
-/// kind.
+/// A rational face's stand-in within `fit` (one span in u and/or v as
+/// `one_span` says); errors name face `k` and its kind.
 pub(crate) fn stand_in(
     r: &RationalSurface,
     fit: FitTolerance,
+    one_span: [bool; 2],
     k: usize,
     kind: &str,
 ) -> Result<fairsurf::bspline::StandIn> {
-    r.polynomial(fit)
+    r.polynomial_spans(fit, one_span)
         .map_err(|e| Error::scene(format!("face {k}"), format!("a {kind}: {e}")))
 }
 

@@ -18,8 +18,9 @@ pub struct HoleChoice {
 
 impl HoleChoice {
     /// The holes of `faces`; `asked` (indices) or, without it, every hole
-    /// but the longest when there are several (the outer rim), the one
-    /// hole otherwise. Errors: no hole, an index out of range (named as
+    /// but the outer rim when there are several: the longest that bounds
+    /// its faces from outside ([`fairsurf::fill::Hole::bounds_from_outside`];
+    /// a closed shell's holes do not), the one hole otherwise. Errors: no hole, an index out of range (named as
     /// `holes[k]`).
     pub fn new(faces: &[BSplineSurface], asked: Option<&[usize]>) -> Result<HoleChoice> {
         Self::within(faces, asked, tolerance(faces))
@@ -42,7 +43,14 @@ impl HoleChoice {
                 why: "there is no hole: every face boundary is shared by two faces".into(),
             }));
         }
-        let rim = (holes.len() > 1).then_some(0);
+        // The outer rim of an open sheet: the longest loop that bounds its
+        // faces from outside (none on a closed shell with holes). A loop
+        // whose sense is unclear counts as a rim only when it is the longest.
+        let rim = (holes.len() > 1)
+            .then(|| {
+                (0..holes.len()).find(|&k| holes[k].bounds_from_outside(faces).unwrap_or(k == 0))
+            })
+            .flatten();
         let chosen = match asked {
             Some(a) => {
                 for (k, &h) in a.iter().enumerate() {
@@ -66,8 +74,7 @@ impl HoleChoice {
                 }
                 c
             }
-            None if holes.len() == 1 => vec![0],
-            None => (1..holes.len()).collect(),
+            None => (0..holes.len()).filter(|&h| Some(h) != rim).collect(),
         };
         Ok(HoleChoice { holes, chosen, rim })
     }

@@ -89,3 +89,57 @@ fn a_hole_between_planes_and_cylinders_is_filled_within_tolerance() {
         assert!(off(&f) < 5e-3, "{}", off(&f));
     }
 }
+
+/// The corners of a rounded box (the bundled `rounded_box.step`, Open
+/// CASCADE: every edge of a 2 × 3 × 1.5 box rounded with radius 0.4, the
+/// eight spherical corners removed): a closed shell, so no hole is a rim
+/// and all eight are chosen. Each is 3-sided between cylinder fillets whose
+/// stand-ins are several spans along the hole, which a fan refuses, naming
+/// the stand-in; refitted as one span along the holes, every corner is
+/// filled by triangular patches within the stand-ins' tolerance (measured
+/// against the cylinders themselves), G1 between its patches within the
+/// angle tolerance, and W that of the sphere octant it replaces (π) to
+/// 2e-5 of it.
+#[test]
+fn the_corners_of_a_rounded_box_are_filled_within_tolerance() {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cad/rounded_box.step");
+    let mut input = FillInput::read(&p).unwrap();
+    assert_eq!(input.kinds.iter().filter(|k| **k == "cylinder").count(), 12);
+    let choice = HoleChoice::of(&input, None).unwrap();
+    assert_eq!(choice.rim, None);
+    assert_eq!(choice.chosen, (0..8).collect::<Vec<_>>());
+    assert!(choice.holes.iter().all(|h| h.sides.len() == 3));
+    let e = HoleFill::new(&input.faces, &choice.holes[0], &input.options)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("the stand-in of a rational face"), "{e}");
+    let refitted = input.one_span_sides(&choice).unwrap();
+    assert_eq!(refitted.len(), 12);
+    for &k in &refitted {
+        let (ku, kv) = input.faces[k].knots();
+        assert!(ku.spans().len() == 1 || kv.spans().len() == 1, "face {k}");
+        let (gap, angle) = input.stand_ins[k].unwrap();
+        assert!(gap <= 1e-6 && angle <= 0.01f64.to_radians(), "face {k}");
+    }
+    // Refitting again changes nothing: the sides are one span already.
+    assert!(input.one_span_sides(&choice).unwrap().is_empty());
+    let fills = choice.fill(&input.faces, &input.options).unwrap();
+    for (h, f) in fills.iter().enumerate() {
+        let HoleFill::Fan(fan) = f else {
+            panic!("hole {h}: triangular patches")
+        };
+        for s in &fan.report.sides {
+            assert!(!s.exact, "hole {h}: against the cylinder itself");
+            assert!(
+                s.gap <= 1e-6 && s.angle <= 0.01f64.to_radians(),
+                "{h}: {s:?}"
+            );
+        }
+        assert!(fan.report.inner_angle <= 0.01f64.to_radians(), "{h}");
+        let w = fan.report.curvature.value;
+        assert!(
+            (w - std::f64::consts::PI).abs() <= 2e-5 * w,
+            "hole {h}: W {w}"
+        );
+    }
+}

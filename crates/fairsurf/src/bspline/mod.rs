@@ -49,7 +49,7 @@ mod system;
 
 pub use knots::KnotVector;
 pub use problem::BSplineProblem;
-pub use rational::{FitTolerance, RationalSurface, StandIn};
+pub use rational::{FitTolerance, RationalSurface, StandIn, ONE_SPAN_DEGREE};
 pub use solve::{BSplineSolution, ENERGY_TOLERANCE};
 pub use surface::{BSplineSurface, BezierPiece};
 pub(crate) use system::{BSplineFactor, Reuse};

@@ -60,6 +60,9 @@ pub struct StandIn {
 const SIDE_SAMPLES: usize = 129;
 /// The most pieces a stand-in cuts its domain into, in one direction.
 const MAX_SPANS: usize = 512;
+/// The highest degree of a one-span stand-in direction
+/// ([`RationalSurface::polynomial_spans`]).
+pub const ONE_SPAN_DEGREE: usize = 15;
 
 impl RationalSurface {
     /// The surface of net `surface` and `weights` (one per control point,
@@ -159,16 +162,50 @@ impl RationalSurface {
     /// equal length, their number doubled until the sides are within
     /// tolerance. Errors when 512 pieces are not enough.
     pub fn polynomial(&self, tolerance: FitTolerance) -> Result<StandIn> {
+        self.polynomial_spans(tolerance, [false, false])
+    }
+
+    /// [`Self::polynomial`], but one Bézier span in u (`one_span[0]`)
+    /// and/or v (`one_span[1]`) where the weights vary: its degree raised
+    /// from max(p + 3, 5) by one until the sides are within tolerance, at
+    /// most [`ONE_SPAN_DEGREE`] — for a fill whose sides must each be one
+    /// polynomial piece (a fan of triangular patches). A quarter circle of
+    /// radius 1 is within 1e-6 and 0.01° at degree 10. Errors when the net has
+    /// interior knots in such a direction (a polynomial across a knot of
+    /// the net converges only as fast as the net is smooth there), or when
+    /// the degree is not enough.
+    pub fn polynomial_spans(
+        &self,
+        tolerance: FitTolerance,
+        one_span: [bool; 2],
+    ) -> Result<StandIn> {
         let (ku, kv) = self.surface.knots();
         let (cu, cv) = self.surface.counts();
         let w = |i: usize, j: usize| self.weights[i * cv + j];
         let same = |a: f64, b: f64| (a - b).abs() <= 1e-14 * a.max(b);
         let varies_u = (0..cu).any(|i| (0..cv).any(|j| !same(w(i, j), w(0, j))));
         let varies_v = (0..cu).any(|i| (0..cv).any(|j| !same(w(i, j), w(i, 0))));
+        let one = [one_span[0] && varies_u, one_span[1] && varies_v];
+        for (k, dir) in [(ku, 'u'), (kv, 'v')].into_iter().zip(one) {
+            let spans = k.0.spans().len();
+            if dir && spans > 1 {
+                return Err(Error::Fill {
+                    why: format!(
+                        "a rational face of {spans} spans in {} cannot stand in as one polynomial \
+                         piece there",
+                        k.1
+                    ),
+                });
+            }
+        }
         // Pieces over the whole domain (each span of the net gets its share
-        // by length, at least one): at first two.
-        let start = |_: &KnotVector| 2;
-        let (mut su, mut sv) = (start(ku), start(kv));
+        // by length, at least one): at first two; one-span directions
+        // count degrees instead, from max(p + 3, 5).
+        let first_degree = |k: &KnotVector| (k.degree() + 3).max(5);
+        let (mut su, mut sv) = (
+            if one[0] { first_degree(ku) } else { 2 },
+            if one[1] { first_degree(kv) } else { 2 },
+        );
         loop {
             // Degree d = max(p + 3, 5); the net's own knots kept with the
             // multiplicity that allows its continuity there (C^(p−m) at a
@@ -176,12 +213,17 @@ impl RationalSurface {
             // equal pieces about (b − a)/`pieces` long. A stand-in across a
             // knot of the net would converge as slowly as the net is smooth
             // there.
-            let knots = |k: &KnotVector, varies: bool, pieces: usize| -> Result<KnotVector> {
+            let knots = |k: &KnotVector, varies: bool, one: bool, pieces: usize| {
                 if !varies {
                     return Ok(k.clone());
                 }
-                let (p, d) = (k.degree(), (k.degree() + 3).max(5));
                 let (a, b) = k.domain();
+                if one {
+                    let d = pieces;
+                    let t = [vec![a; d + 1], vec![b; d + 1]].concat();
+                    return KnotVector::new(d, t);
+                }
+                let (p, d) = (k.degree(), first_degree(k));
                 let mut t = vec![a; d + 1];
                 let spans = k.spans();
                 for (n, &(_, x0, x1)) in spans.iter().enumerate() {
@@ -195,7 +237,8 @@ impl RationalSurface {
                 t.extend(std::iter::repeat_n(b, d + 1));
                 KnotVector::new(d, t)
             };
-            let (nu, nv) = (knots(ku, varies_u, su)?, knots(kv, varies_v, sv)?);
+            let nu = knots(ku, varies_u, one[0], su)?;
+            let nv = knots(kv, varies_v, one[1], sv)?;
             let surface = self.interpolate(nu, nv)?;
             let (position, angle) = self.side_deviation(&surface);
             if position <= tolerance.position && angle <= tolerance.angle {
@@ -205,33 +248,37 @@ impl RationalSurface {
                     angle,
                 });
             }
-            if su.max(sv) >= MAX_SPANS || !(varies_u || varies_v) {
+            let limit = |one: bool| if one { ONE_SPAN_DEGREE } else { MAX_SPANS };
+            let done_u = !varies_u || su >= limit(one[0]);
+            let done_v = !varies_v || sv >= limit(one[1]);
+            if done_u && done_v {
+                let what = |varies: bool, one: bool, n: usize| {
+                    if !varies {
+                        "the net's knots".to_string()
+                    } else if one {
+                        format!("one span of degree {n}")
+                    } else {
+                        format!("{n} pieces")
+                    }
+                };
                 return Err(Error::Fill {
                     why: format!(
                         "a rational face could not be approximated by a polynomial one within \
                          {:e} in position and {:e}° in angle (reached {position:e} and {:e}° \
-                         with {} pieces in u and {} in v)",
+                         with {} in u and {} in v)",
                         tolerance.position,
                         tolerance.angle.to_degrees(),
                         angle.to_degrees(),
-                        if varies_u {
-                            su.to_string()
-                        } else {
-                            "the net's".into()
-                        },
-                        if varies_v {
-                            sv.to_string()
-                        } else {
-                            "the net's".into()
-                        },
+                        what(varies_u, one[0], su),
+                        what(varies_v, one[1], sv),
                     ),
                 });
             }
-            if varies_u {
-                su *= 2;
+            if !done_u {
+                su = if one[0] { su + 1 } else { su * 2 };
             }
-            if varies_v {
-                sv *= 2;
+            if !done_v {
+                sv = if one[1] { sv + 1 } else { sv * 2 };
             }
         }
     }
@@ -466,6 +513,68 @@ mod tests {
         let s = flat.polynomial(FitTolerance::default()).unwrap();
         assert!(s.position < 1e-15, "{}", s.position);
         assert_eq!(s.surface.knots(), net.knots());
+    }
+
+    /// One span along the arc: the degree rises until the tolerance holds
+    /// (a quarter circle of radius 1 within 1e-6: degree 10; tighter needs
+    /// more), the sides within it by the measure and, independently, by
+    /// the circle; a net of two spans there is refused by name.
+    #[test]
+    fn a_one_span_stand_in_raises_its_degree() {
+        let c = quarter_cylinder(1.0, 1.0);
+        let one = c
+            .polynomial_spans(FitTolerance::default(), [true, false])
+            .unwrap();
+        assert_eq!(one.surface.knots().0.spans().len(), 1);
+        assert_eq!(one.surface.degree(), (10, 1));
+        assert!(one.position <= 1e-6 && one.angle <= 0.01f64.to_radians());
+        let tight = FitTolerance {
+            position: 1e-8,
+            angle: 1e-6,
+        };
+        let t = c.polynomial_spans(tight, [true, false]).unwrap();
+        // Degree 15 reaches ~1e-9: 1e-10 is refused, saying how far it got.
+        let e = c
+            .polynomial_spans(
+                FitTolerance {
+                    position: 1e-10,
+                    angle: 1e-8,
+                },
+                [true, false],
+            )
+            .unwrap_err();
+        assert!(e.to_string().contains("one span of degree 15 in u"), "{e}");
+        assert!(
+            t.surface.degree().0 > 10 && t.surface.degree().0 <= ONE_SPAN_DEGREE,
+            "{:?}",
+            t.surface.degree()
+        );
+        for s in [&one, &t] {
+            let tol = if std::ptr::eq(s, &one) { 1e-6 } else { 1e-8 };
+            for k in 0..=200 {
+                let p = s.surface.eval(k as f64 / 200.0, 0.0);
+                assert!((p[0].hypot(p[2]) - 1.0).abs() <= tol, "{p:?}");
+            }
+        }
+        // A half cylinder as two rational spans: not one piece.
+        let u = KnotVector::new(2, vec![0.0, 0.0, 0.0, 0.5, 0.5, 1.0, 1.0, 1.0]).unwrap();
+        let r = std::f64::consts::FRAC_1_SQRT_2;
+        let arc = [[1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [-1.0, 1.0], [-1.0, 0.0]];
+        let points: Vec<Vec3> = arc
+            .iter()
+            .flat_map(|a| [[a[0], 0.0, a[1]], [a[0], 1.0, a[1]]])
+            .collect();
+        let weights = [1.0, r, 1.0, r, 1.0].iter().flat_map(|&w| [w, w]).collect();
+        let half = RationalSurface::new(
+            BSplineSurface::new(u, KnotVector::bezier(1), points).unwrap(),
+            weights,
+        )
+        .unwrap();
+        assert!(half.polynomial(FitTolerance::default()).is_ok());
+        let e = half
+            .polynomial_spans(FitTolerance::default(), [true, false])
+            .unwrap_err();
+        assert!(e.to_string().contains("of 2 spans in u"), "{e}");
     }
 
     /// A net only C¹ at an interior knot: the stand-in keeps that knot

@@ -8,7 +8,7 @@
 
 use crate::analysis::Edge;
 use crate::bspline::BSplineSurface;
-use crate::vec3::{add, bounding_diagonal, dist, scale};
+use crate::vec3::{add, bounding_diagonal, cross, dist, dot, norm, scale};
 use crate::{Error, Result, Vec3};
 
 /// One side of a hole: a boundary of one face, or the part `range` of it,
@@ -77,6 +77,51 @@ impl Hole {
                 .collect(),
             length: self.length,
         }
+    }
+
+    /// Whether the loop bounds its faces from outside — the outer rim of
+    /// an open sheet — rather than being a hole in them: its vector area
+    /// ½∮ x × dx, taken the way each face's own boundary runs (counter-
+    /// clockwise in (u, v) about R_u × R_v), against the faces' normals
+    /// there. A rim runs around its faces' area (positive), a hole against
+    /// it (negative: around a missing piece, whose normals agree with the
+    /// faces'), on a sheet and on a closed shell alike. Per side, with its
+    /// own face's sense and normal (faces oriented every which way still
+    /// agree side by side); None when the sum is not clear (below 1e-9 of
+    /// the loop's area scale, or a face without a normal at every side's
+    /// middle).
+    pub fn bounds_from_outside(&self, faces: &[BSplineSurface]) -> Option<bool> {
+        const PER_SIDE: usize = 16;
+        let mut points = Vec::with_capacity(PER_SIDE * self.sides.len());
+        for side in &self.sides {
+            let face = faces.get(side.face)?;
+            let [a, b] = side.range;
+            for j in 0..PER_SIDE {
+                let x = j as f64 / PER_SIDE as f64;
+                let t = if side.reversed {
+                    b - (b - a) * x
+                } else {
+                    a + (b - a) * x
+                };
+                points.push(edge_point(face, side.edge, t));
+            }
+        }
+        let mut area = [0.0; 3];
+        for (k, p) in points.iter().enumerate() {
+            area = add(area, scale(cross(*p, points[(k + 1) % points.len()]), 0.5));
+        }
+        let mut sense = 0.0;
+        for side in &self.sides {
+            let face = &faces[side.face];
+            let (u, v) = surface_param(face, side.edge, 0.5 * (side.range[0] + side.range[1]));
+            let d = face.derivatives_on(&[u], &[v])[0];
+            let n = d.regular_normal()?;
+            // t increasing runs counter-clockwise along V0 and U1.
+            let ccw = matches!(side.edge, Edge::V0 | Edge::U1) != side.reversed;
+            sense += if ccw { 1.0 } else { -1.0 } * dot(area, n);
+        }
+        let scale_ = norm(area) * self.sides.len() as f64;
+        (sense.abs() > 1e-9 * scale_ && scale_ > 0.0).then_some(sense > 0.0)
     }
 
     /// The faces around the hole, each once, in order of first appearance.

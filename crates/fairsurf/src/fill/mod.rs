@@ -74,7 +74,7 @@ mod tests;
 mod willmore;
 
 pub use blend::{blend, Blend, BlendOptions, BlendReport, Bulge, BulgeSearch};
-pub use fan::{fill_fan, fill_triangle, FanFill, FanReport, FAN_DESCENT_REL};
+pub use fan::{fill_fan, fill_triangle, FanFill, FanReport, FAN_DESCENT_REL, RICH_DEGREE};
 pub use holes::{edge_point, find_holes, find_holes_within, surface_param, tolerance, Hole, Side};
 pub use measure::{side_fit, total_curvature, SideFit, TotalCurvature, SIDE_SAMPLES};
 
@@ -237,6 +237,13 @@ pub struct Fill {
     pub report: FillReport,
 }
 
+/// Whether [`HoleFill::new`] fills `hole` with one patch: four sides, each
+/// one edge or several that continue each other (else triangular patches,
+/// whose sides must each be one polynomial piece).
+pub fn is_four_sided(faces: &[BSplineSurface], hole: &Hole) -> bool {
+    grouped(faces, hole).is_ok_and(|(_, groups)| groups.len() == 4)
+}
+
 /// A filled hole of any number of sides: one patch for four sides
 /// ([`fill_hole`]), a fan of triangular patches otherwise ([`fill_fan`]).
 #[derive(Clone, Debug)]
@@ -262,11 +269,7 @@ impl HoleFill {
     /// barycentric parameters is not W: more degree can raise W), keeping
     /// the one with the lowest W.
     pub fn new(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -> Result<Self> {
-        let four = match grouped(faces, hole) {
-            Ok((_, groups)) => groups.len() == 4,
-            Err(_) => false,
-        };
-        if four {
+        if is_four_sided(faces, hole) {
             return fill_hole(faces, hole, options).map(Self::Patch);
         }
         // Triangular patches: a fan, and for three sides one triangle; the

@@ -677,6 +677,31 @@ fn the_fan_descent_reaches_a_minimum_along_the_rows() {
     }
 }
 
+/// A sheet's outer rim bounds its faces from outside, a hole in it does
+/// not — whichever way each face is parametrized (a face transposed turns
+/// its normal and its boundary's sense together).
+#[test]
+fn the_rim_bounds_the_faces_from_outside_and_the_hole_does_not() {
+    let (faces, _) = bicubic_network();
+    let holes = find_holes(&faces).unwrap();
+    assert_eq!(holes[0].bounds_from_outside(&faces), Some(true));
+    assert_eq!(holes[1].bounds_from_outside(&faces), Some(false));
+    let flipped: Vec<BSplineSurface> = faces
+        .iter()
+        .enumerate()
+        .map(|(k, f)| {
+            if k % 2 == 0 {
+                f.transposed()
+            } else {
+                f.clone()
+            }
+        })
+        .collect();
+    let holes = find_holes(&flipped).unwrap();
+    assert_eq!(holes[0].bounds_from_outside(&flipped), Some(true));
+    assert_eq!(holes[1].bounds_from_outside(&flipped), Some(false));
+}
+
 /// A fan refuses what it cannot fill exactly: a side with interior knots.
 #[test]
 fn a_fan_refuses_multi_span_sides() {
