@@ -177,6 +177,8 @@ def hole_edges(shape, count=4):
     for i in range(1, m.Extent() + 1):
         if m.FindFromIndex(i).Size() == 1:
             e = TopoDS.Edge(m.FindKey(i))
+            if BRep_Tool.Degenerated_s(e):
+                continue  # a sphere's pole: no edge of a hole
             c = BRepAdaptor_Curve(e)
             mid = c.Value(0.5 * (c.FirstParameter() + c.LastParameter()))
             free.append((e, TopoDS.Face(m.FindFromIndex(i).First()), mid))

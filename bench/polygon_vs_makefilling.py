@@ -39,6 +39,9 @@ sys.path.insert(0, str(ROOT / "python" / "tests"))
 
 import fill_vs_makefilling as fb  # noqa: E402
 from occ_check import polygon_network  # noqa: E402
+
+sys.path.insert(0, str(ROOT / "examples" / "cad"))
+from rounded_box import faces as rounded_box_faces  # noqa: E402
 from OCP.BRep import BRep_Tool  # noqa: E402
 from OCP.BRepGProp import BRepGProp  # noqa: E402
 from OCP.BRepOffsetAPI import BRepOffsetAPI_MakeFilling  # noqa: E402
@@ -144,9 +147,17 @@ def run(args):
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(args.keep) if args.keep else Path(tmp)
         tmp.mkdir(parents=True, exist_ok=True)
-        for n in (3, 5, 6):
-            shape = fb.sew(polygon_network(n))
-            step_in = tmp / f"polygon{n}.step"
+        for n in (3, 5, 6, "corner"):
+            if n == "corner":
+                # A rounded box (every edge filleted) without the spherical
+                # corner at the origin: a 3-sided hole between cylinders.
+                shape = fb.sew(rounded_box_faces(only_origin=True))
+                n = 3
+                name = "box corner"
+            else:
+                shape = fb.sew(polygon_network(n))
+                name = str(n)
+            step_in = tmp / f"polygon{name.replace(' ', '_')}.step"
             fb.write_step(shape, step_in)
             edges = fb.hole_edges(shape, n)
             times, fill = [], None
@@ -160,7 +171,7 @@ def run(args):
                 fill = TopoDS.Face(mf.Shape())
             mf_angle, mf_gap = fb.seam(fill, edges)
             mf_w, mf_area = w_star(fill)
-            out = tmp / f"polygon{n}.filled.step"
+            out = tmp / f"polygon{name.replace(' ', '_')}.filled.step"
             ptimes, ltimes, report = [], [], None
             for _ in range(args.repeats):
                 time.sleep(0.3)  # Open CASCADE's threads spin on after MakeFilling
@@ -170,7 +181,7 @@ def run(args):
                 ptimes.append(time.perf_counter() - t)
                 report = json.loads(run.stdout)["fills"][0]
                 ltimes.append(report["seconds"]["total"])
-            fan = fb.faces_of(fb.read_step(out))[n:]
+            fan = fb.faces_of(fb.read_step(out))[len(fb.faces_of(shape)):]
             assert len(fan) == report["patches"]
             fs_angle = fs_gap = fs_w = 0.0
             for e, nb in edges:
@@ -181,16 +192,16 @@ def run(args):
                 assert abs(area - 1) < 1e-6, area
                 fs_w += w
             assert abs(mf_area - 1) < 1e-6, mf_area
-            rows.append((n, statistics.median(times), mf_angle, mf_gap, mf_w,
+            rows.append((name, statistics.median(times), mf_angle, mf_gap, mf_w,
                          statistics.median(ltimes), statistics.median(ptimes), fs_angle, fs_gap,
                          fs_w, report["max_angle_deg"], report["inner_angle_deg"],
                          report["curvature_w"]))
-    print(f"{'sides':5} {'MakeFilling':>34} | {'fairsurf fill: fan (measured by Open CASCADE)':>52} | "
+    print(f"{'sides':>10} {'MakeFilling':>34} | {'fairsurf fill: fan (measured by Open CASCADE)':>52} | "
           f"{'fairsurf reports':>30}")
-    print(f"{'':5} {'ms':>7} {'angle°':>9} {'gap':>8} {'W':>9} | {'lib ms':>7} {'proc ms':>8} "
+    print(f"{'':10} {'ms':>7} {'angle°':>9} {'gap':>8} {'W':>9} | {'lib ms':>7} {'proc ms':>8} "
           f"{'angle°':>9} {'gap':>8} {'W':>9} {'W/W_MF':>7} | {'angle°':>9} {'inner°':>9} {'W':>9}")
     for (n, mt, ma, mg, mw, lt, pt, fa, fg, fw, ra, ri, rw) in rows:
-        print(f"{n:5} {1e3 * mt:7.2f} {ma:9.2e} {mg:8.1e} {mw:9.6f} | {1e3 * lt:7.2f} "
+        print(f"{n:>10} {1e3 * mt:7.2f} {ma:9.2e} {mg:8.1e} {mw:9.6f} | {1e3 * lt:7.2f} "
               f"{1e3 * pt:8.1f} {fa:9.1e} {fg:8.1e} {fw:9.6f} {fw / mw:7.4f} | {ra:9.1e} "
               f"{ri:9.1e} {rw:9.6f}")
 

@@ -22,20 +22,31 @@ from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS
 
 
-def faces():
+RADIUS = 0.4
+
+
+def faces(only_origin: bool = False):
+    """The rounded box's faces without its spherical corners (with
+    `only_origin`, without only the corner at the origin, whose sphere is
+    centred at (r, r, r))."""
     box = BRepPrimAPI_MakeBox(2.0, 3.0, 1.5).Shape()
     rounded = BRepFilletAPI_MakeFillet(box)
     ex = TopExp_Explorer(box, TopAbs_EDGE)
     while ex.More():
-        rounded.Add(0.4, TopoDS.Edge(ex.Current()))
+        rounded.Add(RADIUS, TopoDS.Edge(ex.Current()))
         ex.Next()
     rounded.Build()
     out = []
     ex = TopExp_Explorer(rounded.Shape(), TopAbs_FACE)
     while ex.More():
         f = TopoDS.Face(ex.Current())
-        if BRepAdaptor_Surface(f).GetType() != GeomAbs_Sphere:
+        s = BRepAdaptor_Surface(f)
+        if s.GetType() != GeomAbs_Sphere:
             out.append(f)
+        elif only_origin:
+            c = s.Sphere().Location()
+            if max(abs(c.X() - RADIUS), abs(c.Y() - RADIUS), abs(c.Z() - RADIUS)) > 1e-9:
+                out.append(f)
         ex.Next()
     return out
 

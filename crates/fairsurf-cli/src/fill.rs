@@ -30,7 +30,8 @@ pub struct Args {
     #[arg(long)]
     list: bool,
     /// Fill hole K (repeatable; as `--list` numbers them). Default: every
-    /// hole but the outer rim (the longest loop) when there are several.
+    /// hole but the outer rim of an open sheet (the longest loop that bounds
+    /// its faces from outside) when there are several.
     #[arg(long = "hole", value_name = "K")]
     holes: Vec<usize>,
     /// Print the report as JSON on standard output instead of the summary.
@@ -170,7 +171,7 @@ fn summary(
         choice
             .rim
             .filter(|r| !choice.chosen.contains(r))
-            .map(|r| format!(" (hole {r}, the longest, taken as the outer rim)"))
+            .map(|r| format!(" (hole {r}, taken as the outer rim)"))
             .unwrap_or_default()
     )];
     let rational: Vec<String> = input
@@ -250,6 +251,9 @@ fn summary(
                         r.solve.triangular.as_ref().map_or(0, |t| t.rows),
                     )
                 });
+                if let Some(note) = &r.descent_note {
+                    lines.push(format!("    {note}"));
+                }
                 let c = &r.corners;
                 if c.position > 1e-12 || c.tangent > 1e-10 || c.twist > 1e-10 {
                     lines.push(format!(

@@ -43,8 +43,10 @@ pub struct FillScene {
     /// shares.
     pub faces: Vec<FaceSpec>,
     /// Which holes to fill, by their index in `fairsurf fill --list`
-    /// (longest loop first). Default: every hole but the outer rim (the
-    /// longest loop) when there are several, the one loop otherwise.
+    /// (longest loop first). Default: every hole but the outer rim of an
+    /// open sheet (the longest loop that bounds its faces from outside; a
+    /// closed shell has none) when there are several, the one loop
+    /// otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub holes: Option<Vec<usize>>,
     /// How to fill.
@@ -272,8 +274,11 @@ pub struct FillInput {
     /// The scene's fill options (the defaults for STEP), with the rational
     /// faces the stand-ins approximate (`rational_faces`).
     pub options: FillOptions,
-    /// The tolerance the stand-ins were fitted within.
-    pub fit: FitTolerance,
+    /// The tolerance the stand-ins were fitted within ([`Self::fit`]).
+    fit: FitTolerance,
+    /// Per face, the directions its stand-in is one span in
+    /// ([`Self::one_span_sides`]); a refit keeps them.
+    one_span: Vec<[bool; 2]>,
 }
 
 impl FillInput {
@@ -303,6 +308,7 @@ impl FillInput {
                 holes: None,
                 options: FillOptions::default(),
                 fit: FitTolerance::default(),
+                one_span: vec![[false; 2]; read.len()],
             };
             for f in read {
                 match f.surface {
@@ -322,6 +328,7 @@ impl FillInput {
         }
         let scene = FillScene::from_json(text)?;
         let faces = scene.faces()?;
+        let count = faces.len();
         Ok(FillInput {
             kinds: vec!["B-spline"; faces.len()],
             stand_ins: vec![None; faces.len()],
@@ -329,15 +336,22 @@ impl FillInput {
             holes: scene.holes.clone(),
             options: scene.fill.options()?,
             fit: FitTolerance::default(),
+            one_span: vec![[false; 2]; count],
         })
     }
 
-    /// Fits the rational faces' stand-ins anew within `fit`.
+    /// The tolerance the rational faces' stand-ins are fitted within.
+    pub fn fit(&self) -> FitTolerance {
+        self.fit
+    }
+
+    /// Fits the rational faces' stand-ins anew within `fit` (those made
+    /// one span by [`Self::one_span_sides`] stay so).
     pub fn refit(&mut self, fit: FitTolerance) -> Result<()> {
         self.fit = fit;
         for (k, r) in self.options.rational_faces.iter().enumerate() {
             if let Some(r) = r {
-                let s = stand_in(r, fit, [false, false], k, self.kinds[k])?;
+                let s = stand_in(r, fit, self.one_span[k], k, self.kinds[k])?;
                 self.stand_ins[k] = Some((s.position, s.angle));
                 self.faces[k] = s.surface;
             }
@@ -352,7 +366,9 @@ impl FillInput {
     /// ([`RationalSurface::polynomial_spans`], within [`Self::fit`]): the
     /// corner of a box rounded by three cylinder fillets. The holes keep
     /// their sides (the same faces, edges and parameters; a stand-in goes
-    /// through its face's corners). Returns the faces refitted.
+    /// through its face's corners). Returns the faces refitted (a face
+    /// whose weights do not vary along the side keeps its own knots there:
+    /// it is exact, and not refitted). Errors name the face.
     pub fn one_span_sides(&mut self, choice: &HoleChoice) -> Result<Vec<usize>> {
         let mut one_span: Vec<[bool; 2]> = vec![[false; 2]; self.faces.len()];
         for &h in &choice.chosen {
@@ -376,14 +392,21 @@ impl FillInput {
         }
         let mut refitted = Vec::new();
         for (k, flags) in one_span.into_iter().enumerate() {
-            if flags == [false; 2] {
+            let flags = [
+                flags[0] || self.one_span[k][0],
+                flags[1] || self.one_span[k][1],
+            ];
+            if flags == self.one_span[k] {
                 continue;
             }
             let r = self.options.rational(k).expect("a rational face");
             let s = stand_in(r, self.fit, flags, k, self.kinds[k])?;
-            self.stand_ins[k] = Some((s.position, s.angle));
-            self.faces[k] = s.surface;
-            refitted.push(k);
+            self.one_span[k] = flags;
+            if s.surface != self.faces[k] {
+                self.stand_ins[k] = Some((s.position, s.angle));
+                self.faces[k] = s.surface;
+                refitted.push(k);
+            }
         }
         Ok(refitted)
     }

@@ -218,6 +218,7 @@ pub(super) fn fan_fill_json(hole: usize, fan: &FanFill) -> Value {
         "curvature_w": r.curvature.value,
         "curvature_w_error": r.curvature.error,
         "willmore_w": r.willmore,
+        "descent_note": r.descent_note,
         "solve": crate::tri_result::tri_report_json(s),
         "seconds": {
             "setup": r.seconds.setup,

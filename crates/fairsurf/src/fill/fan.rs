@@ -32,9 +32,10 @@
 //!
 //! A 3-sided hole can also be one triangular patch ([`fill_triangle`]):
 //! the same rows from all three sides, meeting at the corners. On a
-//! triangle in the graph of a cubic it measured W 0.5914 against the
-//! fan's 0.7545 (MakeFilling 0.5911): the fan's 120° centre angles make the
-//! thin plate in the patches' own parameters far from W.
+//! triangle in the graph of a cubic its thin plate measured W 0.5914
+//! against the fan's 0.7545 (MakeFilling 0.5911): the fan's 120° centre
+//! angles make the thin plate in the patches' own parameters far from W.
+//! After the descent on W both come to 0.59082.
 
 use super::fan_willmore;
 use super::holes::Hole;
@@ -43,6 +44,7 @@ use super::measure::{
 };
 use super::strip::Strip;
 use super::{faces_like_side_0, side_face, CornerMismatch, FillOptions, FillSeconds};
+use crate::analysis::largest_tri_normal_turn;
 use crate::bspline::{BSplineSurface, RationalSurface};
 use crate::constraint::Constraint;
 use crate::curve::elevate_points;
@@ -59,7 +61,10 @@ use std::time::Instant;
 #[derive(Clone, Debug, PartialEq)]
 pub struct FanReport {
     /// The triangular thin-plate solve's report (the surface the descent
-    /// on W starts from): energy, its check, the G¹ rows kept and dropped.
+    /// on W starts from): its energy, its check, the G¹ rows kept and
+    /// dropped with their residuals there; its geometric figures (the
+    /// largest normal angle across the patches' edges, the largest normal
+    /// turn) measured again on the surface returned.
     pub solve: SolveReport,
     /// Per side, in the hole's order: gap and normal angle measured on the
     /// returned surface against the neighbour.
@@ -83,8 +88,13 @@ pub struct FanReport {
     /// Seconds: rows, solve, measurements.
     pub seconds: FillSeconds,
     /// Seconds spent on the candidates not kept ([`super::HoleFill::new`]
-    /// tries two degrees, and for three sides one triangle too).
+    /// tries a fan, and for three sides one triangle too; without descent
+    /// steps each at two degrees).
     pub other_seconds: f64,
+    /// Why W was not lowered though descent steps were asked for (no kept
+    /// factorization, or the descent opened the seams between the
+    /// patches), None otherwise.
+    pub descent_note: Option<String>,
 }
 
 /// A hole filled by a fan of triangular patches.
@@ -273,8 +283,9 @@ fn prepare(
         if spans != 1 {
             let face = hole.sides[k].face;
             let stand_in = if options.rational(face).is_some() {
-                " (the stand-in of a rational face: fit it as one span along the side, \
-                 RationalSurface::polynomial_spans — `fairsurf fill` does)"
+                " (the stand-in of a rational face: where its weights vary along the side it \
+                 can stand in as one span, RationalSurface::polynomial_spans, as `fairsurf \
+                 fill` makes it)"
             } else {
                 ""
             };
@@ -510,6 +521,7 @@ fn finish(
                 measure: 0.0,
             },
             other_seconds: 0.0,
+            descent_note: None,
         },
         factor: factor.map(Arc::from),
     };
@@ -544,24 +556,55 @@ impl FanFill {
     /// neighbour, the largest normal angle between the patches.
     pub(super) fn completed(mut self, faces: &[BSplineSurface], options: &FillOptions) -> Self {
         let t = Instant::now();
-        let factor = (options.descent_steps > 0)
-            .then(|| self.factor.take())
-            .flatten();
-        if let Some(factor) = factor {
-            let (surface, history) = fan_willmore::descend_tri(
-                self.surface.clone(),
-                &factor,
-                options.descent_steps,
-                FAN_DESCENT_REL,
-            );
-            self.surface = surface;
-            self.report.willmore = history;
-            self.report.seconds.measure += t.elapsed().as_secs_f64();
-            self.measure_w();
+        // The factorization is used here or dropped (it may be large).
+        let factor = self.factor.take();
+        let thin_plate = max_edge_normal_angle(&self.surface, 65).map_or(0.0, |a| a.0);
+        let mut inner_angle = thin_plate;
+        match factor {
+            _ if options.descent_steps == 0 => {}
+            None => {
+                self.report.descent_note = Some(
+                    "no descent on W: the thin plate's KKT factorization was not kept (its G1 \
+                     rows needed a looser pivot tolerance)"
+                        .into(),
+                );
+            }
+            Some(factor) => {
+                let (surface, history) = fan_willmore::descend_tri(
+                    self.surface.clone(),
+                    &factor,
+                    options.descent_steps,
+                    FAN_DESCENT_REL,
+                );
+                // Steps keep the kept G¹ rows; rows dropped as inconsistent
+                // may drift. Seams between the patches opened beyond twice
+                // the thin plate's (and 1e-9°) are not worth the W.
+                let after = max_edge_normal_angle(&surface, 65).map_or(0.0, |a| a.0);
+                if after <= 2.0 * thin_plate + 1e-9f64.to_radians() {
+                    self.surface = surface;
+                    self.report.willmore = history;
+                    inner_angle = after;
+                } else {
+                    self.report.descent_note = Some(format!(
+                        "the thin plate is kept: the descent on W (to {:.6}) opened the seams \
+                         between the patches from {:.1e}° to {:.1e}°",
+                        history.last().copied().unwrap_or(f64::NAN),
+                        thin_plate.to_degrees(),
+                        after.to_degrees()
+                    ));
+                }
+                self.report.seconds.measure += t.elapsed().as_secs_f64();
+                self.measure_w();
+            }
         }
         let t = Instant::now();
         let (surface, hole, r) = (&self.surface, &self.hole, &mut self.report);
-        r.inner_angle = max_edge_normal_angle(surface, 65).map_or(0.0, |a| a.0);
+        r.inner_angle = inner_angle;
+        // The solve's geometric figures, of the surface returned.
+        if let Some(tri) = r.solve.triangular.as_mut() {
+            tri.max_edge_normal_angle = max_edge_normal_angle(surface, 65);
+            tri.normal_turn = largest_tri_normal_turn(surface, 2 * surface.degree() + 2);
+        }
         r.sides = (0..hole.sides.len())
             .map(|k| {
                 let side = hole.sides[k];
