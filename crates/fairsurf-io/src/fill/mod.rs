@@ -109,8 +109,8 @@ pub struct FillSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub willmore_steps: Option<usize>,
     /// Then at most this many steps lowering W itself (L-BFGS), stopping
-    /// after three in a row that each gain less than 1e-8 of W (default 200;
-    /// 0 to 10000).
+    /// after three in a row that each gain less than 1e-8 of W (1e-6 for
+    /// triangular patches; default 200; 0 to 10000).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub descent_steps: Option<usize>,
 }

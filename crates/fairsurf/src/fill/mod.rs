@@ -107,7 +107,8 @@ pub struct FillOptions {
     /// Degrees added to the fill over its sides' largest degree (in u and
     /// in v); more freedom for the same boundary data. A direction whose
     /// sides already have [`RICH_SIDES`] control points is not elevated
-    /// (elevation would only raise its knots' multiplicities).
+    /// (elevation would only raise its knots' multiplicities); nor are
+    /// triangular patches whose least degree is [`RICH_DEGREE`] or more.
     pub elevate: usize,
     /// At least this many control points in u and in v (more elevation
     /// when the sides have fewer), at least 5: two rings on each side and
@@ -131,11 +132,12 @@ pub struct FillOptions {
     /// of W, its stopping rule, on the bundled and benchmark holes) in
     /// 30–40% less time.
     pub willmore_steps: usize,
-    /// Then at most this many steps that lower W itself (L-BFGS on W whose
-    /// first inverse Hessian is the frozen-metric operator's, see the
-    /// module `willmore`),
-    /// stopping after three steps in a row that each lower W by less than
-    /// 1e-8 of itself; 0 for none.
+    /// Then at most this many steps that lower W itself: L-BFGS on W whose
+    /// first inverse Hessian is, for a 4-sided patch, the frozen-metric
+    /// operator's (the module `willmore`), stopping after three steps in a
+    /// row that each lower W by less than 1e-8 of itself; for triangular
+    /// patches the thin plate's under the kept G¹ rows (the module
+    /// `fan_willmore`), stopping at [`FAN_DESCENT_REL`]. 0 for none.
     pub descent_steps: usize,
     /// Per face index, the rational surface that face is a polynomial
     /// stand-in for ([`RationalSurface::polynomial`]): the fill takes its
