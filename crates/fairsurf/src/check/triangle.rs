@@ -27,6 +27,8 @@ use crate::solve::kkt::KktFactor;
 use crate::triangle::energy::{bend_stencils, falling, stretch_stencils, Stencil};
 use crate::triangle::{linear_index, point_count, InternalEnergy, TriSurface};
 use crate::Result;
+use std::cell::RefCell;
+use std::sync::Arc;
 
 /// The internal and external energies and ∂E/∂x over the flattened
 /// coordinates 3g + c of the global control points.
@@ -254,12 +256,49 @@ fn quadratics_with<const FMA: bool>(
     e
 }
 
+/// A form matrix's key: the weight's bits, the degree, bend or stretch.
+type FormKey = (u64, usize, bool);
+
+/// The most form matrices [`form_matrix`] keeps per thread.
+const KEPT_FORMS: usize = 8;
+
+thread_local! {
+    /// Form matrices by (weight's bits, degree, bend or stretch), latest
+    /// last: a fill solves the same energy at one degree many times.
+    static FORMS: RefCell<Vec<(FormKey, Arc<Vec<Dd>>)>> =
+        const { RefCell::new(Vec::new()) };
+}
+
+/// [`Form::matrix`] of the thin plate (`bend`) or the membrane at
+/// `weight` and degree n, kept per thread (it depends on nothing else,
+/// and a degree-12 patch's takes ~1 ms in double-double); None as
+/// [`Form::new`].
+fn form_matrix(weight: f64, n: usize, bend: bool) -> Option<Arc<Vec<Dd>>> {
+    let key = (weight.to_bits(), n, bend);
+    if let Some(k) = FORMS.with_borrow(|f| f.iter().find(|e| e.0 == key).map(|e| e.1.clone())) {
+        return Some(k);
+    }
+    let stencils = if bend {
+        bend_stencils()
+    } else {
+        stretch_stencils()
+    };
+    let k = Arc::new(Form::new(weight, n, stencils)?.matrix(n));
+    FORMS.with_borrow_mut(|f| {
+        if f.len() == KEPT_FORMS {
+            f.remove(0);
+        }
+        f.push((key, k.clone()));
+    });
+    Some(k)
+}
+
 /// E and ∂E/∂x of a triangular problem at `surface`'s control points: the
 /// internal energy and the operators (each a strength, whether it repels,
 /// and its residuals over the flattened coordinates).
 pub(crate) struct TriEnergy<'a> {
-    stretch: Option<Vec<Dd>>,
-    bend: Option<Vec<Dd>>,
+    stretch: Option<Arc<Vec<Dd>>>,
+    bend: Option<Arc<Vec<Dd>>>,
     operators: Vec<(f64, bool, &'a [Residual])>,
 }
 
@@ -271,8 +310,8 @@ impl<'a> TriEnergy<'a> {
         operators: Vec<(f64, bool, &'a [Residual])>,
     ) -> Self {
         Self {
-            stretch: Form::new(energy.stretch, n, stretch_stencils()).map(|f| f.matrix(n)),
-            bend: Form::new(energy.bend, n, bend_stencils()).map(|f| f.matrix(n)),
+            stretch: form_matrix(energy.stretch, n, false),
+            bend: form_matrix(energy.bend, n, true),
             operators,
         }
     }
@@ -292,7 +331,7 @@ impl<'a> TriEnergy<'a> {
             .map(|k| &k[..])
             .collect();
         let mut values = quadratics(&ks, surface, &x, &mut gradient).into_iter();
-        let mut value = |k: &Option<Vec<Dd>>| match k {
+        let mut value = |k: &Option<Arc<Vec<Dd>>>| match k {
             Some(_) => values.next().unwrap_or(Dd::new(0.0)),
             None => Dd::new(0.0),
         };
@@ -479,6 +518,23 @@ mod tests {
             .collect();
         s.set_points(pts).unwrap();
         s
+    }
+
+    /// A kept form matrix is the one a fresh quadrature gives, value for
+    /// value; the same key gives the same matrix, another weight another.
+    #[test]
+    fn kept_form_matrices_are_the_fresh_ones() {
+        let a = form_matrix(1.0, 5, true).unwrap();
+        let b = form_matrix(1.0, 5, true).unwrap();
+        assert!(Arc::ptr_eq(&a, &b));
+        let fresh = Form::new(1.0, 5, bend_stencils()).unwrap().matrix(5);
+        assert!(a
+            .iter()
+            .zip(&fresh)
+            .all(|(x, y)| x.hi == y.hi && x.lo == y.lo));
+        let c = form_matrix(2.0, 5, true).unwrap();
+        assert!(!Arc::ptr_eq(&a, &c) && (c[0].hi - 2.0 * a[0].hi).abs() <= 1e-15 * c[0].hi.abs());
+        assert!(form_matrix(0.0, 5, false).is_none());
     }
 
     #[test]
