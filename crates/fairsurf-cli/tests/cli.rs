@@ -1480,6 +1480,42 @@ fn fill_fills_a_pentagonal_hole_with_a_fan() {
     );
 }
 
+/// The corners of the rounded box: every one filled (a closed shell has no
+/// rim), the stand-ins made one span along the corners; a tolerance one
+/// span of degree 15 cannot reach is refused, naming the face and how far
+/// it got, exit 2, nothing written.
+#[test]
+fn fill_fills_the_corners_of_a_rounded_box_or_says_why_not() {
+    let d = tmpdir("fill-box");
+    let out = d.join("box.step");
+    let input = examples().join("cad/rounded_box.step");
+    let o = fairsurf(&["fill", input.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s = String::from_utf8_lossy(&o.stdout);
+    assert!(s.contains("filled [0, 1, 2, 3, 4, 5, 6, 7]\n"), "{s}");
+    assert_eq!(
+        s.matches("3 triangular patches of degree 12").count(),
+        8,
+        "{s}"
+    );
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert_eq!(text.matches("=ADVANCED_FACE(").count(), 18 + 24);
+    std::fs::remove_file(&out).unwrap();
+    let e = exits_2(
+        "fill",
+        &out,
+        &[
+            input.to_str().unwrap(),
+            "--tolerance",
+            "1e-11",
+            "--angle-tolerance",
+            "1e-8",
+        ],
+    );
+    assert!(e.contains("face 1: a cylinder:"), "{e}");
+    assert!(e.contains("with one span of degree 15"), "{e}");
+}
+
 /// Runs `fairsurf <command> <args> -o <out>`, which must exit 2 and leave
 /// no `out`; its standard error.
 fn exits_2(command: &str, out: &std::path::Path, args: &[&str]) -> String {
