@@ -267,9 +267,10 @@ impl HoleFill {
     /// pentagon of `examples/cad/fill_pentagon.json` came to W 1.03144 at
     /// degree 5, 1.03138 at 7 and 8; the one triangle's thin plate was 22%
     /// below the fan of three's, after the descent 3e-6 above it).
-    /// Without, at the asked degree and at the least (the thin plate in
-    /// barycentric parameters is not W: more degree can raise W), keeping
-    /// the one with the lowest W.
+    /// The least degree is tried too when none at the asked degree
+    /// solves. Without descent steps, at the asked degree and at the least
+    /// (the thin plate in barycentric parameters is not W: more degree can
+    /// raise W), keeping the one with the lowest W.
     pub fn new(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -> Result<Self> {
         if is_four_sided(faces, hole) {
             return fill_hole(faces, hole, options).map(Self::Patch);
@@ -284,11 +285,21 @@ impl HoleFill {
             });
         }
         let mut tried: Vec<Result<FanFill>> = Vec::new();
-        for o in &degrees {
+        let mut k = 0;
+        while k < degrees.len() {
+            let o = &degrees[k];
             tried.push(fan::fan_candidate(faces, hole, o));
             if hole.sides.len() == 3 {
                 tried.push(fan::triangle_candidate(faces, hole, o));
             }
+            // With descent steps the least degree is a fallback only.
+            if k == 0 && degrees.len() == 1 && o.elevate > 0 && tried.iter().all(Result::is_err) {
+                degrees.push(FillOptions {
+                    elevate: 0,
+                    ..options.clone()
+                });
+            }
+            k += 1;
         }
         let total = |f: &FanFill| {
             let s = f.report.seconds;
