@@ -558,8 +558,14 @@ impl FanFill {
         let t = Instant::now();
         // The factorization is used here or dropped (it may be large).
         let factor = self.factor.take();
-        let thin_plate = max_edge_normal_angle(&self.surface, 65).map_or(0.0, |a| a.0);
-        let mut inner_angle = thin_plate;
+        // The thin plate's seams, as its solve measured them.
+        let thin_plate = self
+            .report
+            .solve
+            .triangular
+            .as_ref()
+            .and_then(|f| f.max_edge_normal_angle);
+        let angle = |a: Option<(f64, [usize; 2])>| a.map_or(0.0, |a| a.0);
         match factor {
             _ if options.descent_steps == 0 => {}
             None => {
@@ -579,32 +585,38 @@ impl FanFill {
                 // Steps keep the kept G¹ rows; rows dropped as inconsistent
                 // may drift. Seams between the patches opened beyond twice
                 // the thin plate's (and 1e-9°) are not worth the W.
-                let after = max_edge_normal_angle(&surface, 65).map_or(0.0, |a| a.0);
-                if after <= 2.0 * thin_plate + 1e-9f64.to_radians() {
+                let after = max_edge_normal_angle(&surface, 65);
+                if angle(after) <= 2.0 * angle(thin_plate) + 1e-9f64.to_radians() {
+                    // The solve's geometric figures, of the surface returned.
+                    if let Some(tri) = self.report.solve.triangular.as_mut() {
+                        tri.max_edge_normal_angle = after;
+                        tri.normal_turn =
+                            largest_tri_normal_turn(&surface, 2 * surface.degree() + 2);
+                    }
                     self.surface = surface;
                     self.report.willmore = history;
-                    inner_angle = after;
+                    self.report.seconds.measure += t.elapsed().as_secs_f64();
+                    self.measure_w();
                 } else {
                     self.report.descent_note = Some(format!(
                         "the thin plate is kept: the descent on W (to {:.6}) opened the seams \
                          between the patches from {:.1e}° to {:.1e}°",
                         history.last().copied().unwrap_or(f64::NAN),
-                        thin_plate.to_degrees(),
-                        after.to_degrees()
+                        angle(thin_plate).to_degrees(),
+                        angle(after).to_degrees()
                     ));
+                    self.report.seconds.measure += t.elapsed().as_secs_f64();
                 }
-                self.report.seconds.measure += t.elapsed().as_secs_f64();
-                self.measure_w();
             }
         }
         let t = Instant::now();
         let (surface, hole, r) = (&self.surface, &self.hole, &mut self.report);
-        r.inner_angle = inner_angle;
-        // The solve's geometric figures, of the surface returned.
-        if let Some(tri) = r.solve.triangular.as_mut() {
-            tri.max_edge_normal_angle = max_edge_normal_angle(surface, 65);
-            tri.normal_turn = largest_tri_normal_turn(surface, 2 * surface.degree() + 2);
-        }
+        r.inner_angle = angle(
+            r.solve
+                .triangular
+                .as_ref()
+                .and_then(|f| f.max_edge_normal_angle),
+        );
         r.sides = (0..hole.sides.len())
             .map(|k| {
                 let side = hole.sides[k];
