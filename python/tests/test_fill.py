@@ -524,6 +524,28 @@ def test_the_python_fill_of_a_pentagon_is_a_triangular_surface(tmp_path: Path):
     assert count(read_step(tmp_path / "fan.step"), TopAbs_FACE) == 10
 
 
+def rounded_box_faces(only_origin: bool = False) -> list:
+    """The faces of `examples/cad/rounded_box.py`'s box, by the example's own
+    builder."""
+    import sys
+
+    sys.path.insert(0, str(EXAMPLES))
+    from rounded_box import faces
+
+    return faces(only_origin)
+
+
+def fill_sewn(cli: Path, faces: list, tmp_path: Path) -> tuple[Path, dict]:
+    """`faces` sewn by Open CASCADE into a STEP file, filled by `fairsurf fill
+    --json`: the output file and the report."""
+    step_in = tmp_path / "in.step"
+    sewn_step(faces, step_in)
+    out = tmp_path / "filled.step"
+    run = subprocess.run([str(cli), "fill", str(step_in), "-o", str(out), "--json"],
+                         check=True, capture_output=True, text=True)
+    return out, json.loads(run.stdout)
+
+
 def test_the_corners_of_a_rounded_box_are_filled(cli: Path, tmp_path: Path):
     """A box with every edge rounded by Open CASCADE (BRepFilletAPI_MakeFillet),
     its eight spherical corners removed: a closed shell with eight 3-sided
@@ -533,19 +555,9 @@ def test_the_corners_of_a_rounded_box_are_filled(cli: Path, tmp_path: Path):
     (no free edge after sewing), the angles Open CASCADE measures agree with
     the report and are within the default tolerance (0.01°), and each fill's W
     is that of the sphere octant it replaces (π, as 2/r² × πr²/2) to 2e-5 of it."""
-    import sys
-
-    sys.path.insert(0, str(EXAMPLES))
-    from rounded_box import faces as rounded_box_faces  # the example's own builder
-
     faces = rounded_box_faces()
     assert len(faces) == 18
-    step_in = tmp_path / "rounded_box.step"
-    sewn_step(faces, step_in)
-    out = tmp_path / "filled.step"
-    run = subprocess.run([str(cli), "fill", str(step_in), "-o", str(out), "--json"],
-                         check=True, capture_output=True, text=True)
-    report = json.loads(run.stdout)
+    out, report = fill_sewn(cli, faces, tmp_path)
     assert [h["rim"] for h in report["holes"]] == [False] * 8
     fills = report["fills"]
     assert sorted(f["hole"] for f in fills) == list(range(8))
@@ -572,3 +584,35 @@ def test_the_corners_of_a_rounded_box_are_filled(cli: Path, tmp_path: Path):
         # 3.141579: the fair fill of boundary data within 9e-4° is a hair
         # below the octant (with --tolerance 1e-8 it is π to 7 digits).
         assert abs(f["curvature_w"] - math.pi) < 5e-5, f["curvature_w"]
+
+
+def test_holes_touching_at_a_vertex_are_filled_apart(cli: Path, tmp_path: Path):
+    """The rounded box without its bottom plane and without the spherical
+    corner at the origin (the other seven corners kept): the two holes touch
+    at the corner's vertex on the bottom plane's boundary, where four free
+    edges meet. They are two loops — the 4-sided bottom (four cylinders'
+    straight edges) and the 3-sided corner — not one 7-sided loop; both are
+    filled (the box is otherwise closed: no rim), the bottom by a plane
+    (W = 0), the corner by a fan (W = π), and Open CASCADE sews the result
+    with no free edge."""
+    from OCP.BRepAdaptor import BRepAdaptor_Surface
+    from OCP.GeomAbs import GeomAbs_Plane
+
+    def bottom(f) -> bool:
+        s = BRepAdaptor_Surface(f)
+        return s.GetType() == GeomAbs_Plane and abs(s.Plane().Location().Z()) < 1e-9 \
+            and abs(s.Plane().Axis().Direction().Z()) > 0.9
+
+    faces = [f for f in rounded_box_faces(only_origin=True) if not bottom(f)]
+    assert len(faces) == 24
+    out, report = fill_sewn(cli, faces, tmp_path)
+    assert [h["sides"] for h in report["holes"]] == [4, 3]
+    assert [h["rim"] for h in report["holes"]] == [False, False]
+    fills = sorted(report["fills"], key=lambda f: f["hole"])
+    assert [f["kind"] for f in fills] == ["patch", "fan"]
+    assert abs(fills[0]["curvature_w"]) < 1e-6  # a plane, met within 9e-4°
+    assert abs(fills[1]["curvature_w"] - math.pi) < 5e-5
+    assert all(f["max_angle_deg"] < 0.01 for f in fills)
+    shape = read_step(out)
+    assert count(shape, TopAbs_FACE) == 24 + 1 + fills[1]["patches"]
+    assert free_edges_after_sewing(shape) == 0

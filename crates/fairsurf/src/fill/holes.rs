@@ -310,25 +310,60 @@ pub fn find_holes_within(faces: &[BSplineSurface], tol: f64) -> Result<Vec<Hole>
             at = if reversed { ends[k].0 } else { ends[k].1 };
             sides.push((k, reversed));
         }
-        let length = sides
-            .iter()
-            .map(|&(k, _)| polyline_length(&faces[free[k].face], free[k].edge, free[k].range))
-            .sum();
-        holes.push(Hole {
-            sides: sides
-                .into_iter()
-                .map(|(k, reversed)| Side {
-                    face: free[k].face,
-                    edge: free[k].edge,
-                    reversed,
-                    range: free[k].range,
-                })
-                .collect(),
-            length,
-        });
+        let start_vertex = |&(k, reversed): &(usize, bool)| {
+            if reversed {
+                ends[k].1
+            } else {
+                ends[k].0
+            }
+        };
+        for sides in split_at_repeated_vertices(sides, start_vertex) {
+            let length = sides
+                .iter()
+                .map(|&(k, _)| polyline_length(&faces[free[k].face], free[k].edge, free[k].range))
+                .sum();
+            holes.push(Hole {
+                sides: sides
+                    .into_iter()
+                    .map(|(k, reversed)| Side {
+                        face: free[k].face,
+                        edge: free[k].edge,
+                        reversed,
+                        range: free[k].range,
+                    })
+                    .collect(),
+                length,
+            });
+        }
     }
     holes.sort_by(|a, b| b.length.total_cmp(&a.length));
     Ok(holes)
+}
+
+/// A closed walk of sides cut into loops that pass each vertex once:
+/// where holes touch at a vertex (four or more free edges meet there), the
+/// walk may go on into the other hole and come back to the vertex later;
+/// the stretch between two visits of a vertex is then a loop of its own
+/// (between two holes that touch only there it is exactly one of them),
+/// and what is left is again a closed walk. `start` gives the vertex a side
+/// starts from (side k + 1 starts where side k ends, the last ends where
+/// the first starts).
+fn split_at_repeated_vertices<T: Copy>(
+    mut walk: Vec<T>,
+    start: impl Fn(&T) -> usize,
+) -> Vec<Vec<T>> {
+    let mut loops = Vec::new();
+    'cut: loop {
+        for j in 1..walk.len() {
+            if let Some(i) = (0..j).find(|&i| start(&walk[i]) == start(&walk[j])) {
+                loops.push(walk.drain(i..j).collect());
+                continue 'cut;
+            }
+        }
+        break;
+    }
+    loops.push(walk);
+    loops
 }
 
 /// The length of a polygon through 33 points of the edge's part `range`.

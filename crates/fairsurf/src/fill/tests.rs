@@ -720,6 +720,17 @@ fn a_fan_refuses_multi_span_sides() {
 /// faces left out: a 4-sided hole whose every side is two edges, and the
 /// missing region (one Bézier patch).
 fn two_by_two_hole() -> (Vec<BSplineSurface>, BSplineSurface) {
+    let (s, faces) = four_by_four(|i, j| !((1..3).contains(&i) && (1..3).contains(&j)));
+    let (_, centre) = s.split_u(0.2).unwrap();
+    let (centre, _) = centre.split_u(0.7).unwrap();
+    let (_, centre) = centre.split_v(0.2).unwrap();
+    let (centre, _) = centre.split_v(0.7).unwrap();
+    (faces, centre)
+}
+
+/// A wavy bi-quintic cut unevenly into 4 × 4 pieces, and the pieces
+/// (column i, row j) that `keep` keeps, column by column.
+fn four_by_four(keep: impl Fn(usize, usize) -> bool) -> (BSplineSurface, Vec<BSplineSurface>) {
     let whole = TensorPatch::from_fn(5, 5, |i, j| {
         let (x, y) = (3.0 * i as f64 / 5.0, 3.0 * j as f64 / 5.0);
         [
@@ -749,21 +760,41 @@ fn two_by_two_hole() -> (Vec<BSplineSurface>, BSplineSurface) {
         .into_iter()
         .map(|col| strips(col, &|x, c| x.split_v(c).unwrap()))
         .collect();
-    let (_, centre) = s.split_u(0.2).unwrap();
-    let (centre, _) = centre.split_u(0.7).unwrap();
-    let (_, centre) = centre.split_v(0.2).unwrap();
-    let (centre, _) = centre.split_v(0.7).unwrap();
     let faces = pieces
         .into_iter()
         .enumerate()
         .flat_map(|(i, row)| {
             row.into_iter()
                 .enumerate()
-                .filter(move |&(j, _)| !((1..3).contains(&i) && (1..3).contains(&j)))
+                .filter(|&(j, _)| keep(i, j))
                 .map(|(_, f)| f)
+                .collect::<Vec<_>>()
         })
         .collect();
-    (faces, centre)
+    (s, faces)
+}
+
+/// Two holes that touch at one vertex (pieces (1, 1) and (2, 2) of a 4 × 4
+/// cut left out, or (1, 2) and (2, 1): four free edges meet at their
+/// common corner) are two 4-sided loops, each filled by one patch G¹ to its
+/// own four neighbours, and the rim is a third loop.
+#[test]
+fn holes_touching_at_a_vertex_are_found_apart() {
+    for gone in [[(1, 1), (2, 2)], [(1, 2), (2, 1)]] {
+        let (_, faces) = four_by_four(|i, j| !gone.contains(&(i, j)));
+        let holes = find_holes(&faces).unwrap();
+        let sides: Vec<usize> = holes.iter().map(|h| h.sides.len()).collect();
+        assert_eq!(sides, [16, 4, 4], "{gone:?}: the rim and two 4-sided holes");
+        assert_eq!(holes[0].bounds_from_outside(&faces), Some(true));
+        for hole in &holes[1..] {
+            assert_eq!(hole.faces().len(), 4, "{gone:?}: its own 4 neighbours");
+            assert_eq!(hole.bounds_from_outside(&faces), Some(false));
+            let fill = fill_hole(&faces, hole, &exact_options()).unwrap();
+            for f in &fill.report.sides {
+                assert!(f.gap < 1e-12 && f.angle.to_degrees() < 1e-9, "{f:?}");
+            }
+        }
+    }
 }
 
 /// A hole whose sides are two edges each is one 4-sided patch: the edges
