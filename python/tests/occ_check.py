@@ -171,6 +171,12 @@ def polygon_network(n: int):
     """A regular n-gon hole (circumradius 1) in the graph of a cubic, ringed
     by n bicubic Bezier faces (each the graph over the quad between a hole
     side and the polygon of radius 2), as Open CASCADE faces."""
+    return [bezier_face(net) for net in polygon_nets(n)]
+
+
+def polygon_nets(n: int):
+    """The control nets of `polygon_network`'s faces (4 x 4 each, rows along
+    u: u runs along the hole's side, v away from it)."""
     import numpy as np
     from math import comb
 
@@ -193,5 +199,5 @@ def polygon_network(n: int):
                 xy = (1 - w) * ((1 - s) * c0 + s * c1) + w * ((1 - s) * o0 + s * o1)
                 vals[i, j] = [xy[0], xy[1], f(*xy)]
         net = np.einsum("ia,jb,abc->ijc", inv, inv, vals)
-        faces.append(bezier_face(net.tolist()))
+        faces.append(net.tolist())
     return faces

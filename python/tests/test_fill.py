@@ -12,6 +12,7 @@ from pathlib import Path
 from occ_check import (
     bezier_face,
     polygon_network,
+    polygon_nets,
     bspline_surface,
     count,
     free_edges_after_sewing,
@@ -434,6 +435,42 @@ def test_polygonal_holes_are_filled_by_sewn_g1_fans(cli: Path, tmp_path: Path):
         sewn_step(polygon_network(n), step_in)
         fill = check_fan(cli, step_in, tmp_path, n)
         assert fill["solve"]["dropped_continuity"] == []
+
+
+def test_sides_with_knots_are_filled_by_sewn_g1_fans(cli: Path, tmp_path: Path):
+    """The triangle of `polygon_network` with one neighbour a B-spline with a
+    knot inside the hole's side (u = 0.4) and another cut by Open CASCADE
+    (Segment) into two faces at u = 0.6: the hole's boundary runs straight on
+    through two points, and the fan cuts its sides there (five patches, G1
+    at the straight corners by their own rule). Open CASCADE reads the file,
+    sews it with only the rim free, and measures G1 to rounding across the
+    sides and between the patches."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+
+    nets = polygon_nets(3)
+    with_knot = bspline_surface(nets[0], [0.0, 1.0], [4, 4], [0.0, 1.0], [4, 4], 3, 3)
+    with_knot.InsertUKnot(0.4, 1, 1e-12)
+    faces = [BRepBuilderAPI_MakeFace(with_knot, 1e-7).Face()]
+    for u0, u1 in ((0.0, 0.6), (0.6, 1.0)):
+        piece = bspline_surface(nets[1], [0.0, 1.0], [4, 4], [0.0, 1.0], [4, 4], 3, 3)
+        piece.Segment(u0, u1, 0.0, 1.0)
+        faces.append(BRepBuilderAPI_MakeFace(piece, 1e-7).Face())
+    faces.append(bezier_face(nets[2]))
+    out, report = fill_sewn(cli, faces, tmp_path)
+    assert [h["sides"] for h in report["holes"]] == [4, 4]  # the rim, the hole
+    (fill,) = report["fills"]
+    assert fill["kind"] == "fan" and fill["patches"] == 5 and len(fill["sides"]) == 5
+    assert fill["max_angle_deg"] < 1e-9 and fill["inner_angle_deg"] < 1e-8
+    assert fill["solve"]["dropped_continuity"] == []
+    shape = read_step(out)
+    assert count(shape, TopAbs_FACE) == 4 + 5
+    assert free_edges_after_sewing(shape) == 4
+    seam = seams(shape)
+    sides = [s for s in seam if s[0][0] < 4 <= s[0][1]]
+    inner = [s for s in seam if s[0][0] >= 4]
+    assert len(sides) == 5 and len(inner) == 5
+    assert max(s[1] for s in sides) < 1e-9 and max(s[2] for s in sides) < 1e-12
+    assert max(s[1] for s in inner) < 1e-8 and max(s[2] for s in inner) < 1e-9
 
 
 def wavy_bezier():

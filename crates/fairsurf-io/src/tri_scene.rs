@@ -359,6 +359,7 @@ impl TriScene {
                 EdgesSpec::Off => EdgeContinuity::Off,
             },
             boundary_angles: Vec::new(),
+            boundary_rules: Vec::new(),
         };
         for a in &self.continuity.boundary_angles {
             continuity

@@ -565,6 +565,7 @@ mod triangular {
                         vertices,
                         edges: EdgeContinuity::Off,
                         boundary_angles: Vec::new(),
+                        boundary_rules: Vec::new(),
                     });
                 let r = p.solve().unwrap().report;
                 let c = r.check.unwrap();

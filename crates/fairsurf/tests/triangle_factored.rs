@@ -274,6 +274,7 @@ fn a_weight_change_keeps_the_ordering() {
         vertices: true,
         edges: EdgeContinuity::Off,
         boundary_angles: Vec::new(),
+        boundary_rules: Vec::new(),
     };
     // The boundary fixed, an interior control point pinned at height z.
     let pinned = |continuity: Continuity, stretch: f64, z: f64| {

@@ -674,6 +674,7 @@ fn bad_constraints_are_errors_naming_them() {
         .with_fixed_boundary()
         .with_continuity(Continuity {
             boundary_angles: vec![(0, 7.0)],
+            boundary_rules: Vec::new(),
             ..Continuity::default()
         })
         .solve()

@@ -587,6 +587,7 @@ mod tests {
                 vertices: false,
                 edges: EdgeContinuity::Off,
                 boundary_angles: Vec::new(),
+                boundary_rules: Vec::new(),
             })
             .solve()
             .unwrap();

@@ -42,7 +42,8 @@
 //!    the corners (Chebyshev–Lobatto), and W = ∫∫ κ₁² + κ₂² dA of the fill
 //!    ([`total_curvature`]).
 //!
-//! A hole of 3, 5 or more sides, each one Bézier piece of a neighbour, is
+//! A hole of 3, 5 or more sides (sides of several Bézier pieces cut at
+//! their knots, each piece a side) is
 //! filled by a fan of triangular patches around a free centre
 //! ([`fill_fan`]: G¹ to the neighbours exactly by the same two rows, G¹
 //! between the fan's patches by Veltkamp & Wesselink's conditions), a

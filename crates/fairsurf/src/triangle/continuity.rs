@@ -62,6 +62,10 @@ pub enum EdgeContinuity {
     Off,
 }
 
+/// An explicit tangent rule at a boundary vertex ([`Continuity::boundary_rules`]):
+/// the vertex and its weight on each of its three neighbours.
+pub type BoundaryRule = (usize, [(usize, f64); 3]);
+
 /// Which default continuity constraints apply (§4.3). They yield to the
 /// user's interpolation constraints: a condition that contradicts them is
 /// dropped and reported.
@@ -76,6 +80,17 @@ pub struct Continuity {
     /// solved (the angle between the two boundary edges' first tangents;
     /// π for a straight boundary, the paper's default).
     pub boundary_angles: Vec<(usize, f64)>,
+    /// Explicit tangent rules at boundary vertices where two patches meet
+    /// (one interior edge), by vertex: Σ w_y·d_y = 0 over the vertex's three
+    /// neighbours y (the two along the boundary and the interior edge's
+    /// other end), d_y the first control point along the edge towards y
+    /// minus the vertex. They replace the angle rule there; on a straight
+    /// boundary (α = π) the angle rule asks d_{i−1} + d_{i+1} = 0, tangents
+    /// of equal length, where |d_{i+1}|·d_{i−1} + |d_{i−1}|·d_{i+1} = 0
+    /// asks only that they be opposite (the fan of a hole whose side runs
+    /// on through a knot, [`crate::fill::fill_fan`]). The weights along the
+    /// boundary must be positive.
+    pub boundary_rules: Vec<BoundaryRule>,
 }
 
 impl Default for Continuity {
@@ -84,6 +99,7 @@ impl Default for Continuity {
             vertices: true,
             edges: EdgeContinuity::Exact,
             boundary_angles: Vec::new(),
+            boundary_rules: Vec::new(),
         }
     }
 }
@@ -95,6 +111,7 @@ impl Continuity {
             vertices: false,
             edges: EdgeContinuity::Off,
             boundary_angles: Vec::new(),
+            boundary_rules: Vec::new(),
         }
     }
 
@@ -103,7 +120,12 @@ impl Continuity {
     /// naming a bad boundary angle.
     pub fn rows(&self, surface: &TriSurface) -> Result<Vec<Row>> {
         let n = surface.degree();
-        let vertex_theta = self.vertex_angles(surface)?;
+        let mut vertex_theta = self.vertex_angles(surface)?;
+        let rules = self.checked_rules(surface)?;
+        for &(x, _) in &rules {
+            vertex_theta[x] = 0.0; // finite: the rule applies there
+        }
+        let rule = |x: usize| rules.iter().find(|r| r.0 == x).map(|r| r.1);
         let mut vertex_rows = Vec::new();
         let mut edge_rows = Vec::new();
         for (e, edge) in surface.edges().iter().enumerate() {
@@ -112,8 +134,24 @@ impl Continuity {
             };
             let [a, b] = edge.vertices;
             let (ta, tb) = (vertex_theta[a], vertex_theta[b]);
-            let start = Coefficients::new(-2.0 * ta.cos(), 1.0, 1.0);
-            let end = Coefficients::new(2.0 * tb.cos() - 2.0, 1.0, 1.0);
+            // The rule f·d_L + g·d_R − c·d_M = 0 at A reads (e₀, f₀, g₀) =
+            // (−c, f, g); at B (e₁, f₁, g₁) = (c − f − g, f, g) (d_M towards
+            // the other end, d_L and d_R towards the patches' third corners).
+            let weight =
+                |w: [(usize, f64); 3], y: usize| w.iter().find(|p| p.0 == y).map_or(0.0, |p| p.1);
+            let start = match rule(a) {
+                Some(w) => {
+                    Coefficients::new(weight(w, b), weight(w, nb.third[0]), weight(w, nb.third[1]))
+                }
+                None => Coefficients::new(-2.0 * ta.cos(), 1.0, 1.0),
+            };
+            let end = match rule(b) {
+                Some(w) => {
+                    let (f, g) = (weight(w, nb.third[0]), weight(w, nb.third[1]));
+                    Coefficients::new(-weight(w, a) - f - g, f, g)
+                }
+                None => Coefficients::new(2.0 * tb.cos() - 2.0, 1.0, 1.0),
+            };
             let label = format!("edge {a}–{b}");
             if self.vertices {
                 if ta.is_finite() {
@@ -159,6 +197,54 @@ impl Continuity {
         }
         vertex_rows.extend(edge_rows);
         Ok(vertex_rows)
+    }
+
+    /// The explicit boundary rules, each checked: a boundary vertex of two
+    /// patches, its weights on its three neighbours, positive along the
+    /// boundary, finite.
+    fn checked_rules(&self, surface: &TriSurface) -> Result<Vec<BoundaryRule>> {
+        let v = surface.vertex_count();
+        let mut neighbours: Vec<Vec<usize>> = vec![Vec::new(); v];
+        let mut on_boundary: Vec<Vec<usize>> = vec![Vec::new(); v];
+        for edge in surface.edges() {
+            let [a, b] = edge.vertices;
+            neighbours[a].push(b);
+            neighbours[b].push(a);
+            if edge.is_boundary() {
+                on_boundary[a].push(b);
+                on_boundary[b].push(a);
+            }
+        }
+        for &(x, w) in &self.boundary_rules {
+            let what = format!("boundary rule at vertex {x}");
+            let fits = x < v && on_boundary[x].len() == 2 && neighbours[x].len() == 3 && {
+                let mut ys: Vec<usize> = w.iter().map(|p| p.0).collect();
+                let mut ns = neighbours[x].clone();
+                ys.sort_unstable();
+                ns.sort_unstable();
+                ys == ns
+            };
+            if !fits {
+                return Err(Error::Mismatch {
+                    what,
+                    expected: "a boundary vertex of two patches, weights on its three neighbours"
+                        .into(),
+                    got: format!("{w:?}"),
+                });
+            }
+            let along_boundary_positive = w
+                .iter()
+                .filter(|p| on_boundary[x].contains(&p.0))
+                .all(|p| p.1 > 0.0);
+            if !(along_boundary_positive && w.iter().all(|p| p.1.is_finite())) {
+                return Err(Error::Mismatch {
+                    what,
+                    expected: "finite weights, positive along the boundary".into(),
+                    got: format!("{w:?}"),
+                });
+            }
+        }
+        Ok(self.boundary_rules.clone())
     }
 
     /// θ for each vertex's rule: 2π/k inside, α/k on the boundary (k
@@ -256,6 +342,8 @@ struct EdgeNeighbourhood {
     m: Vec<usize>,
     l: Vec<usize>,
     r: Vec<usize>,
+    /// The third corners of the left and the right patch.
+    third: [usize; 2],
 }
 
 impl EdgeNeighbourhood {
@@ -263,10 +351,17 @@ impl EdgeNeighbourhood {
         let edge = surface.edges()[e];
         let (left, right) = (edge.triangles[0]?, edge.triangles[1]?);
         let row = |t: usize| next_row(surface, t, edge.vertices);
+        let third = |t: usize| {
+            surface.triangles()[t]
+                .into_iter()
+                .find(|c| !edge.vertices.contains(c))
+                .expect("a triangle's third corner")
+        };
         Some(Self {
             m: surface.edge_points(e),
             l: row(left),
             r: row(right),
+            third: [third(left), third(right)],
         })
     }
 
@@ -486,6 +581,61 @@ mod tests {
             assert!((fast - slow).abs() < 1e-12, "n = {n}: {fast} vs {slow}");
             assert_eq!(at, at_slow, "n = {n}");
             assert!(fast > 0.01, "n = {n}: the surface is kinked");
+        }
+    }
+
+    /// A boundary rule is checked: at a boundary vertex of two patches,
+    /// with weights on its three neighbours, positive along the boundary;
+    /// a straight boundary's rule |d_b|·d_a + |d_a|·d_b = 0 holds on a
+    /// plane's fan whose boundary tangents there are opposite and of
+    /// unequal length (no row is violated).
+    #[test]
+    fn boundary_rules_are_checked() {
+        // Two triangles (0, 1, 2) and (0, 2, 3) over a plane, vertex 2 on
+        // the straight boundary 1–2–3, |1 − 2| = 1 and |3 − 2| = 2.
+        let v = [
+            [0.0, 1.0, 0.0],
+            [-1.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+        ];
+        let s = TriSurface::new(&v, &[[0, 1, 2], [0, 2, 3]], 3);
+        let rows = |rules: Vec<BoundaryRule>| {
+            Continuity {
+                boundary_rules: rules,
+                ..Continuity::default()
+            }
+            .rows(&s)
+        };
+        // At 2: weights on vertex 1 (|d_3| ∝ 2) and 3 (|d_1| ∝ 1), none on
+        // 0. At 0 (tangents (−1, −1), (2, −1), (0, −1) to 1, 3, 2, each
+        // over 3): 2·d_1 + d_3 − 3·d_2 = 0.
+        let good = rows(vec![
+            (2, [(1, 2.0), (3, 1.0), (0, 0.0)]),
+            (0, [(1, 2.0), (3, 1.0), (2, -3.0)]),
+        ])
+        .unwrap();
+        let x: Vec<f64> = s.points().iter().flat_map(|p| *p).collect();
+        for r in &good {
+            let value: f64 = r.terms.iter().map(|&(c, a)| a * x[c]).sum();
+            assert!(value.abs() < 1e-14, "{}: {value}", r.name);
+        }
+        // The angle rule there asks equal lengths: violated on this net.
+        let angle_rule = rows(Vec::new()).unwrap();
+        let worst = angle_rule
+            .iter()
+            .map(|r| r.terms.iter().map(|&(c, a)| a * x[c]).sum::<f64>().abs())
+            .fold(0.0, f64::max);
+        assert!(worst > 0.1, "{worst}");
+        for bad in [
+            vec![(1, [(0, 1.0), (2, 1.0), (3, 1.0)])], // vertex 1: on one patch
+            vec![(2, [(1, 1.0), (0, 1.0), (0, 0.0)])], // not its three neighbours
+            vec![(2, [(1, -1.0), (3, 1.0), (0, 0.0)])], // negative along the boundary
+            vec![(2, [(1, f64::NAN), (3, 1.0), (0, 0.0)])],
+            vec![(9, [(1, 1.0), (3, 1.0), (0, 0.0)])],
+        ] {
+            let e = rows(bad.clone()).unwrap_err().to_string();
+            assert!(e.contains("boundary rule at vertex"), "{bad:?}: {e}");
         }
     }
 }

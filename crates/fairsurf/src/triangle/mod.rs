@@ -90,7 +90,7 @@ pub use crate::operator::{NewtonReport, Operator, OperatorOutcome, Place, Region
 pub use crate::solve::kkt::{Factorization, KktInfo};
 pub use bernstein::{tri_bernstein, tri_bernstein_all, trinomial, Bary};
 pub use constraint::{Constraint, NamedConstraint};
-pub use continuity::{max_edge_normal_angle, Continuity, EdgeContinuity};
+pub use continuity::{max_edge_normal_angle, BoundaryRule, Continuity, EdgeContinuity};
 pub use energy::{
     bend_matrix, bend_value, stretch_matrix, stretch_value, InternalEnergy, EQUILATERAL,
     EQUILATERAL_AREA,
