@@ -989,3 +989,43 @@ fn a_knot_at_rounding_distance_from_an_end_is_an_error() {
         assert!(e.contains("closer to an end than double precision"), "{e}");
     }
 }
+
+/// Many knots: the triangle with 1 to 6 knots inside every side (fans of
+/// 6 to 21 patches, the knots spread unevenly) solves at degrees 5 to 8,
+/// G¹ to rounding inside and out, no condition dropped. (A straight
+/// corner's rule puts no weight on the spoke: the condition next to it
+/// holds the spoke's second point by e + f + g = 0; left to rounding, that
+/// ~1e-16 coefficient was a row of one free point and the KKT system was
+/// singular at some degrees.)
+#[test]
+fn fans_of_many_knots_solve_at_every_degree() {
+    for per in 1..=6 {
+        let (mut faces, hole) = polygon_hole(3, 3, cubic);
+        for k in 0..3 {
+            let side = hole.sides[k];
+            for j in 0..per {
+                let t = (j as f64 + 1.0) / (per as f64 + 1.0) + 0.03 * (k as f64 - 1.0);
+                faces[side.face] = match side.edge {
+                    Edge::U0 | Edge::U1 => faces[side.face].insert_knot_v(t).unwrap(),
+                    Edge::V0 | Edge::V1 => faces[side.face].insert_knot_u(t).unwrap(),
+                };
+            }
+        }
+        for elevate in 0..=3 {
+            let o = FillOptions {
+                elevate,
+                descent_steps: 0,
+                ..FillOptions::default()
+            };
+            let fan = fill_fan(&faces, &hole, &o)
+                .unwrap_or_else(|e| panic!("{per} knots, elevation {elevate}: {e}"));
+            let r = &fan.report;
+            assert_eq!(fan.surface.patch_count(), 3 * (per + 1));
+            assert!(r.solve.triangular.as_ref().unwrap().dropped.is_empty());
+            for f in &r.sides {
+                assert!(f.gap < 1e-11 && f.angle.to_degrees() < 1e-9, "{per}: {f:?}");
+            }
+            assert!(r.inner_angle.to_degrees() < 1e-9, "{per}, {elevate}");
+        }
+    }
+}

@@ -148,7 +148,10 @@ impl Continuity {
             let end = match rule(b) {
                 Some(w) => {
                     let (f, g) = (weight(w, nb.third[0]), weight(w, nb.third[1]));
-                    Coefficients::new(-weight(w, a) - f - g, f, g)
+                    Coefficients {
+                        sum: Some(-weight(w, a)),
+                        ..Coefficients::new(-weight(w, a) - f - g, f, g)
+                    }
                 }
                 None => Coefficients::new(2.0 * tb.cos() - 2.0, 1.0, 1.0),
             };
@@ -322,11 +325,17 @@ struct Coefficients {
     e: f64,
     f: f64,
     g: f64,
+    /// e + f + g given exactly (an explicit rule's −w_a at B, 0 when the
+    /// rule puts no weight on the spoke): the coefficient of M_j is then
+    /// not left to the rounding of e + f + g, whose ~1e-16 would make a
+    /// row of fixed points hold one free point by a rounding-sized
+    /// coefficient (a singular KKT system).
+    sum: Option<f64>,
 }
 
 impl Coefficients {
     fn new(e: f64, f: f64, g: f64) -> Self {
-        Self { e, f, g }
+        Self { e, f, g, sum: None }
     }
 
     fn lerp(self, other: Self, t: f64) -> Self {
@@ -367,6 +376,14 @@ impl EdgeNeighbourhood {
 
     /// Terms (point, coefficient) of s·(c.e(M_{i+1} − M_i) + c.f(L_j − M_j) + c.g(R_j − M_j)).
     fn condition(&self, i: usize, c: Coefficients, j: usize, s: f64) -> Vec<(usize, f64)> {
+        if let (Some(sum), true) = (c.sum, i == j) {
+            return merge(vec![
+                (self.m[i + 1], s * c.e),
+                (self.m[i], -s * sum),
+                (self.l[j], s * c.f),
+                (self.r[j], s * c.g),
+            ]);
+        }
         merge(vec![
             (self.m[i + 1], s * c.e),
             (self.m[i], -s * c.e),
