@@ -432,9 +432,23 @@ fn straight_spokes(
         let Some(x) = crate::bspline::solve_dense(a, b) else {
             break; // degenerate: the spokes stand, the solve reports the rows
         };
+        let start: Vec<f64> = straight.iter().map(|c| norm(spoke[c.k])).collect();
         for (i, c) in straight.iter().enumerate() {
             for (b, dir) in c.basis.iter().enumerate() {
                 spoke[c.k] = add(spoke[c.k], scale(*dir, x[2 * i + b][0] / norms[2 * i + b]));
+            }
+            // The condition's d must still point into the hole: between
+            // straight corners only (a boundary with few real corners) it
+            // shrinks towards nothing.
+            if dot(spoke[c.k], c.basis[0]) <= 1e-3 * start[i] {
+                return Err(Error::Fill {
+                    why: format!(
+                        "at corner {}, where the hole's boundary runs straight on, G¹ between \
+                         the fan's patches leaves no spoke into the hole (the boundary has too \
+                         few corners for a fan)",
+                        c.k
+                    ),
+                });
             }
         }
     }
@@ -604,6 +618,13 @@ fn prepare(
             });
         }
         corner_sides.push((da, db, gamma));
+    }
+    if corner_sides.iter().all(|c| c.2 >= STRAIGHT) {
+        return Err(Error::Fill {
+            why: "the hole's boundary runs smoothly all round (no corner): a fan around a \
+                  centre cannot fill it"
+                .into(),
+        });
     }
     Ok(Prepared {
         hole,

@@ -1029,3 +1029,55 @@ fn fans_of_many_knots_solve_at_every_degree() {
         }
     }
 }
+
+/// A round hole (four cubic quarter-circle arcs meeting C¹, in the graph
+/// of a cubic: the boundary turns nowhere) is not 4-sided and has no corner
+/// for a fan: refused, saying so, not filled with a degenerate spoke.
+#[test]
+fn a_round_hole_is_refused_by_name() {
+    // Quarter-circle cubic arcs (handles 0.5523), C1 at the joints.
+    let k = 0.552_284_749_8;
+    let arc = |q: usize, s: f64| -> [f64; 2] {
+        let a = q as f64 * std::f64::consts::FRAC_PI_2 + 0.2;
+        let (c, sn) = (a.cos(), a.sin());
+        let (c1, s1) = (
+            (a + std::f64::consts::FRAC_PI_2).cos(),
+            (a + std::f64::consts::FRAC_PI_2).sin(),
+        );
+        let p = [
+            [c, sn],
+            [c - k * sn, sn + k * c],
+            [c1 + k * s1, s1 - k * c1],
+            [c1, s1],
+        ];
+        let b = [
+            (1.0 - s).powi(3),
+            3.0 * s * (1.0 - s).powi(2),
+            3.0 * s * s * (1.0 - s),
+            s.powi(3),
+        ];
+        let mut out = [0.0; 2];
+        for i in 0..4 {
+            for d in 0..2 {
+                out[d] += b[i] * p[i][d];
+            }
+        }
+        out
+    };
+    let faces: Vec<BSplineSurface> = (0..4)
+        .map(|q| {
+            let lift = |s: f64, t: f64| {
+                let c = arc(q, s);
+                let (x, y) = ((1.0 + t) * c[0], (1.0 + t) * c[1]);
+                [x, y, cubic(x, y)]
+            };
+            BSplineSurface::from_bezier(&interpolate(9, lift, 0.0, 1.0))
+        })
+        .collect();
+    let holes = find_holes(&faces).unwrap();
+    assert_eq!(holes.len(), 2, "the rim and the hole");
+    let e = HoleFill::new(&faces, &holes[1], &FillOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("runs smoothly all round (no corner)"), "{e}");
+}
