@@ -430,3 +430,37 @@ fn nearest_on_boundary(face: &BSplineSurface, edge: Edge, range: [f64; 2], p: Ve
     };
     crate::curve::nearest_parameter_by(point, curve, (range[0], range[1]), p)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::split_at_repeated_vertices;
+
+    /// Sides as (start, end) vertices; each loop closes on itself and
+    /// every side is in exactly one loop.
+    fn loops(walk: &[(usize, usize)]) -> Vec<Vec<(usize, usize)>> {
+        let out = split_at_repeated_vertices(walk.to_vec(), |s| s.0);
+        for l in &out {
+            for (k, s) in l.iter().enumerate() {
+                assert_eq!(s.1, l[(k + 1) % l.len()].0, "{l:?} closes");
+            }
+        }
+        assert_eq!(out.iter().map(Vec::len).sum::<usize>(), walk.len());
+        out
+    }
+
+    #[test]
+    fn a_walk_through_a_vertex_twice_is_two_loops() {
+        // 5 → 0, then the other hole 0 → 1 → 2 → 0, then 0 → 6 → 5.
+        let walk = [(5, 0), (0, 1), (1, 2), (2, 0), (0, 6), (6, 5)];
+        let out = loops(&walk);
+        assert_eq!(
+            out,
+            [vec![(0, 1), (1, 2), (2, 0)], vec![(5, 0), (0, 6), (6, 5)]]
+        );
+        // Three holes at one vertex, and a walk that passes nothing twice.
+        let walk = [(0, 1), (1, 0), (0, 2), (2, 3), (3, 0), (0, 4), (4, 0)];
+        assert_eq!(loops(&walk).len(), 3);
+        let walk = [(0, 1), (1, 2), (2, 0)];
+        assert_eq!(loops(&walk), [walk.to_vec()]);
+    }
+}

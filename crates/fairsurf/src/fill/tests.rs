@@ -707,7 +707,7 @@ fn the_rim_bounds_the_faces_from_outside_and_the_hole_does_not() {
 /// not of one length), one patch per piece. The pentagon with one side's
 /// neighbour given a knot at 0.4 (pieces of unequal length) and the
 /// triangle with a knot on every side: G¹ to the neighbours and between
-/// the patches to rounding, no condition dropped, W within 0.1% of the
+/// the patches to rounding, no condition dropped, W within 3e-5 of the
 /// fan over the uncut sides (one polynomial: the same boundary data); one
 /// triangular patch refuses them.
 #[test]
@@ -737,8 +737,8 @@ fn a_fan_cuts_sides_at_their_knots() {
             r.inner_angle.to_degrees()
         );
         let (w, w0) = (r.curvature.value, plain.report.curvature.value);
-        assert!((w - w0).abs() < 1e-3 * w0, "{n}: W {w} against {w0}");
-        eprintln!("{n}: W {w} against {w0}, steps {}", r.willmore.len());
+        // 2.2e-6 (pentagon) and 1.8e-5 (triangle) of W apart.
+        assert!((w - w0).abs() < 3e-5 * w0, "{n}: W {w} against {w0}");
         if n == 3 {
             let e = fill_triangle(&faces, &hole, &FillOptions::default())
                 .unwrap_err()
@@ -1030,12 +1030,11 @@ fn fans_of_many_knots_solve_at_every_degree() {
     }
 }
 
-/// A round hole (four cubic quarter-circle arcs meeting C¹, in the graph
-/// of a cubic: the boundary turns nowhere) is not 4-sided and has no corner
-/// for a fan: refused, saying so, not filled with a degenerate spoke.
-#[test]
-fn a_round_hole_is_refused_by_name() {
-    // Quarter-circle cubic arcs (handles 0.5523), C1 at the joints.
+/// A round hole in the graph of a cubic: four cubic quarter-circle arcs
+/// (handles 0.5523) meeting C¹, ringed by four faces out to radius 2; the
+/// first `corners` arcs start with their first handle turned by `turn`
+/// radians (a corner there). The faces and the hole.
+fn round_hole(corners: usize, turn: f64) -> (Vec<BSplineSurface>, Hole) {
     let k = 0.552_284_749_8;
     let arc = |q: usize, s: f64| -> [f64; 2] {
         let a = q as f64 * std::f64::consts::FRAC_PI_2 + 0.2;
@@ -1044,9 +1043,15 @@ fn a_round_hole_is_refused_by_name() {
             (a + std::f64::consts::FRAC_PI_2).cos(),
             (a + std::f64::consts::FRAC_PI_2).sin(),
         );
+        let (ct, st) = if q < corners {
+            (turn.cos(), turn.sin())
+        } else {
+            (1.0, 0.0)
+        };
+        let start = [-sn * ct - c * st, c * ct - sn * st];
         let p = [
             [c, sn],
-            [c - k * sn, sn + k * c],
+            [c + k * start[0], sn + k * start[1]],
             [c1 + k * s1, s1 - k * c1],
             [c1, s1],
         ];
@@ -1076,8 +1081,35 @@ fn a_round_hole_is_refused_by_name() {
         .collect();
     let holes = find_holes(&faces).unwrap();
     assert_eq!(holes.len(), 2, "the rim and the hole");
-    let e = HoleFill::new(&faces, &holes[1], &FillOptions::default())
+    (faces, holes[1].clone())
+}
+
+/// A round hole (the boundary turns nowhere) is not 4-sided and has no
+/// corner for a fan: refused, saying so, not filled with a degenerate
+/// spoke.
+#[test]
+fn a_round_hole_is_refused_by_name() {
+    let (faces, hole) = round_hole(0, 0.0);
+    let e = HoleFill::new(&faces, &hole, &FillOptions::default())
         .unwrap_err()
         .to_string();
     assert!(e.contains("runs smoothly all round (no corner)"), "{e}");
+}
+
+/// The round hole with one to three corners (arcs turned by 0.1 or 0.3
+/// rad at their start) and straight corners at the other joints: there
+/// the construction at the straight corners does not hold (the thin
+/// plate's patches met at 0.1–110° with every G¹ condition held, W up to
+/// 4000), and the fan is refused naming the opened seams.
+#[test]
+fn a_fan_whose_straight_corners_fail_is_refused() {
+    for corners in 1..=3 {
+        for turn in [0.1, 0.3] {
+            let (faces, hole) = round_hole(corners, turn);
+            let e = HoleFill::new(&faces, &hole, &FillOptions::default())
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains("opens its seams by"), "{corners}, {turn}: {e}");
+        }
+    }
 }

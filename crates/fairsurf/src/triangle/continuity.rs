@@ -218,8 +218,22 @@ impl Continuity {
                 on_boundary[b].push(a);
             }
         }
-        for &(x, w) in &self.boundary_rules {
+        for (r, &(x, w)) in self.boundary_rules.iter().enumerate() {
             let what = format!("boundary rule at vertex {x}");
+            if x >= v {
+                return Err(Error::Mismatch {
+                    what,
+                    expected: "a vertex of the surface".into(),
+                    got: format!("vertex {x} of {v}"),
+                });
+            }
+            if self.boundary_rules[..r].iter().any(|p| p.0 == x) {
+                return Err(Error::Mismatch {
+                    what,
+                    expected: "one rule per vertex".into(),
+                    got: "a second rule".into(),
+                });
+            }
             let fits = x < v && on_boundary[x].len() == 2 && neighbours[x].len() == 3 && {
                 let mut ys: Vec<usize> = w.iter().map(|p| p.0).collect();
                 let mut ns = neighbours[x].clone();
@@ -644,7 +658,38 @@ mod tests {
             .map(|r| r.terms.iter().map(|&(c, a)| a * x[c]).sum::<f64>().abs())
             .fold(0.0, f64::max);
         assert!(worst > 0.1, "{worst}");
+        // The same with the apex numbered last (3) and the boundary's
+        // middle first (0): the apex's rule, with its weight −3 on the
+        // spoke, is now at the edge's end B (e₁ + f₁ + g₁ = 3 given exactly).
+        let relabelled = [v[2], v[1], v[3], v[0]];
+        let s2 = TriSurface::new(&relabelled, &[[3, 1, 0], [3, 0, 2]], 3);
+        let rules2 = |spoke: f64| {
+            Continuity {
+                boundary_rules: vec![
+                    (0, [(1, 2.0), (2, 1.0), (3, 0.0)]),
+                    (3, [(1, 2.0), (2, 1.0), (0, spoke)]),
+                ],
+                ..Continuity::default()
+            }
+            .rows(&s2)
+            .unwrap()
+        };
+        let x2: Vec<f64> = s2.points().iter().flat_map(|p| *p).collect();
+        let worst2 = |rows: &[Row]| {
+            rows.iter()
+                .map(|r| r.terms.iter().map(|&(c, a)| a * x2[c]).sum::<f64>().abs())
+                .fold(0.0, f64::max)
+        };
+        assert_eq!(rules2(-3.0).len(), good.len());
+        assert!(worst2(&rules2(-3.0)) < 1e-14);
+        // A wrong sign on the spoke breaks the apex's rows.
+        assert!(worst2(&rules2(3.0)) > 0.1);
+        let twice = vec![
+            (2, [(1, 2.0), (3, 1.0), (0, 0.0)]),
+            (2, [(1, 2.0), (3, 1.0), (0, 0.0)]),
+        ];
         for bad in [
+            twice,
             vec![(1, [(0, 1.0), (2, 1.0), (3, 1.0)])], // vertex 1: on one patch
             vec![(2, [(1, 1.0), (0, 1.0), (0, 0.0)])], // not its three neighbours
             vec![(2, [(1, -1.0), (3, 1.0), (0, 0.0)])], // negative along the boundary
