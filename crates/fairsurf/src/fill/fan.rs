@@ -218,7 +218,6 @@ pub(super) fn fan_candidate(
         mut corners,
     } = prepare(faces, hole, options, 5, true)?;
     let count = hole.sides.len();
-    let hole_faces: Vec<usize> = hole.sides.iter().map(|s| s.face).collect();
     // The spoke's first difference d at each corner V_k (start of side k):
     // by §4.3's rule d_a + d_b − 2cos(γ/2)·d = 0 at a corner. Where the
     // boundary runs straight on (γ = π) that rule would ask |d_a| = |d_b|
@@ -322,8 +321,11 @@ pub(super) fn fan_candidate(
         false,
     );
     // Corner 0 is C: T_u × T_v is the normal of (C, V_k, V_{k+1}).
-    let pieces = hole.sides.len();
-    let rational = if (0..pieces).any(|k| options.rational(hole_faces[k]).is_some()) {
+    let rational = if hole
+        .sides
+        .iter()
+        .any(|s| options.rational(s.face).is_some())
+    {
         " (a rational face's stand-in can be one span along the side: \
          RationalSurface::polynomial_spans, as `fairsurf fill` makes it)"
     } else {
@@ -331,7 +333,7 @@ pub(super) fn fan_candidate(
     };
     let cut = |why: String| Error::Fill {
         why: format!(
-            "the fan of {pieces} patches (the hole's sides cut at their {} knots){why}",
+            "the fan of {count} patches (the hole's sides cut at their {} knots){why}",
             straight.len()
         ),
     };

@@ -121,8 +121,9 @@ impl Continuity {
     pub fn rows(&self, surface: &TriSurface) -> Result<Vec<Row>> {
         let n = surface.degree();
         let mut vertex_theta = self.vertex_angles(surface)?;
-        let rules = self.checked_rules(surface)?;
-        for &(x, _) in &rules {
+        self.check_rules(surface)?;
+        let rules = &self.boundary_rules;
+        for &(x, _) in rules {
             vertex_theta[x] = 0.0; // finite: the rule applies there
         }
         let rule = |x: usize| rules.iter().find(|r| r.0 == x).map(|r| r.1);
@@ -202,10 +203,10 @@ impl Continuity {
         Ok(vertex_rows)
     }
 
-    /// The explicit boundary rules, each checked: a boundary vertex of two
-    /// patches, its weights on its three neighbours, positive along the
-    /// boundary, finite.
-    fn checked_rules(&self, surface: &TriSurface) -> Result<Vec<BoundaryRule>> {
+    /// Checks the explicit boundary rules: each at a boundary vertex of two
+    /// patches, one per vertex, its weights on its three neighbours,
+    /// positive along the boundary, finite.
+    fn check_rules(&self, surface: &TriSurface) -> Result<()> {
         let v = surface.vertex_count();
         let mut neighbours: Vec<Vec<usize>> = vec![Vec::new(); v];
         let mut on_boundary: Vec<Vec<usize>> = vec![Vec::new(); v];
@@ -234,7 +235,7 @@ impl Continuity {
                     got: "a second rule".into(),
                 });
             }
-            let fits = x < v && on_boundary[x].len() == 2 && neighbours[x].len() == 3 && {
+            let fits = on_boundary[x].len() == 2 && neighbours[x].len() == 3 && {
                 let mut ys: Vec<usize> = w.iter().map(|p| p.0).collect();
                 let mut ns = neighbours[x].clone();
                 ys.sort_unstable();
@@ -261,7 +262,7 @@ impl Continuity {
                 });
             }
         }
-        Ok(self.boundary_rules.clone())
+        Ok(())
     }
 
     /// θ for each vertex's rule: 2π/k inside, α/k on the boundary (k
