@@ -153,6 +153,23 @@ impl RationalSurface {
         a.iter().zip(&w).map(|(a, w)| quotient(a, w)).collect()
     }
 
+    /// R, R_u and R_v on the grid `us` × `vs` (u-major), by the quotient
+    /// rule on A = w R ([`BSplineSurface::tangents_on`]'s lines).
+    pub(crate) fn tangents_on(&self, us: &[f64], vs: &[f64]) -> Vec<[Vec3; 3]> {
+        let a = self.numerator.tangents_on(us, vs);
+        let w = self.denominator.tangents_on(us, vs);
+        a.iter()
+            .zip(&w)
+            .map(|(a, w)| {
+                let r = 1.0 / w[0][0];
+                let point = scale(a[0], r);
+                let du = scale(sub(a[1], scale(point, w[1][0])), r);
+                let dv = scale(sub(a[2], scale(point, w[2][0])), r);
+                [point, du, dv]
+            })
+            .collect()
+    }
+
     /// A polynomial B-spline on the same parameter rectangle within
     /// `tolerance` of this surface along its four sides: interpolation at
     /// the Greville abscissae; in a direction where the weights do not

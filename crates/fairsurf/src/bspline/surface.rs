@@ -204,6 +204,78 @@ impl BSplineSurface {
         out
     }
 
+    /// R, R_u and R_v on the grid `us` × `vs` (u-major, as
+    /// [`derivatives_on`](Self::derivatives_on)), for lines of constant u
+    /// or v (the sides of a fill, compared with its neighbours): the net is
+    /// first summed along the direction with fewer parameters (per such
+    /// parameter, the rows' or columns' values and first derivatives), then
+    /// each point takes 3(p + 1) products of those sums.
+    pub(crate) fn tangents_on(&self, us: &[f64], vs: &[f64]) -> Vec<[Vec3; 3]> {
+        let (p, q) = self.degree();
+        let (cu, cv) = self.counts();
+        let (nu, nv) = (us.len(), vs.len());
+        let mut out = vec![[[0.0; 3]; 3]; nu * nv];
+        // Summed first along u when there are fewer u's (the roles of the
+        // directions swap: "few" is the summed one, "many" the other).
+        let few_u = nu < nv;
+        let (few, many) = if few_u { (us, vs) } else { (vs, us) };
+        let (kf, km) = if few_u {
+            (&self.u, &self.v)
+        } else {
+            (&self.v, &self.u)
+        };
+        let (df, dm) = if few_u { (p, q) } else { (q, p) };
+        let lines = if few_u { cv } else { cu };
+        let point = |fi: usize, mi: usize| {
+            if few_u {
+                self.points[fi * cv + mi]
+            } else {
+                self.points[mi * cv + fi]
+            }
+        };
+        let mut bf = vec![0.0; 2 * (df + 1)];
+        let mut bm = vec![0.0; 2 * (dm + 1)];
+        let (mut s0, mut s1) = (vec![[0.0; 3]; lines], vec![[0.0; 3]; lines]);
+        for (a, &t) in few.iter().enumerate() {
+            let k = kf.span(t);
+            kf.basis_derivatives_into(k, t, 1, &mut bf);
+            // s_r[m] = Σ_i N_i^(r)(t) P along the few direction, per line m.
+            for m in 0..lines {
+                let (mut x0, mut x1) = ([0.0; 3], [0.0; 3]);
+                for i in 0..=df {
+                    let pt = point(k - df + i, m);
+                    let (n0, n1) = (bf[i], bf[df + 1 + i]);
+                    for c in 0..3 {
+                        x0[c] += n0 * pt[c];
+                        x1[c] += n1 * pt[c];
+                    }
+                }
+                (s0[m], s1[m]) = (x0, x1);
+            }
+            for (b, &t) in many.iter().enumerate() {
+                let k = km.span(t);
+                km.basis_derivatives_into(k, t, 1, &mut bm);
+                let (mut r, mut dmany, mut dfew) = ([0.0; 3], [0.0; 3], [0.0; 3]);
+                for j in 0..=dm {
+                    let (x0, x1) = (s0[k - dm + j], s1[k - dm + j]);
+                    let (n0, n1) = (bm[j], bm[dm + 1 + j]);
+                    for c in 0..3 {
+                        r[c] += n0 * x0[c];
+                        dmany[c] += n1 * x0[c];
+                        dfew[c] += n0 * x1[c];
+                    }
+                }
+                let (at, du, dv) = if few_u {
+                    (b + a * nv, dfew, dmany)
+                } else {
+                    (a + b * nv, dmany, dfew)
+                };
+                out[at] = [r, du, dv];
+            }
+        }
+        out
+    }
+
     /// `out[r][s]` = ∂^(r+s)R/∂u^r∂v^s for r + s ≤ `order` ≤ 2 (A3.6; the
     /// others 0), without allocating for degrees below 8.
     fn partials(&self, u: f64, v: f64, order: usize) -> [[Vec3; 3]; 3] {

@@ -61,7 +61,7 @@ use super::fan_willmore;
 use super::holes::Hole;
 use super::holes::Side;
 use super::measure::{
-    compare, neighbour_derivatives, side_parameters, total_curvature, SideFit, TotalCurvature,
+    compare, neighbour_tangents, side_parameters, total_curvature, SideFit, TotalCurvature,
 };
 use super::strip::{Strip, KNOT_SNAP};
 use super::{faces_like_side_0, side_face, CornerMismatch, FillOptions, FillSeconds};
@@ -1063,7 +1063,13 @@ fn patch_side_fit(
 ) -> SideFit {
     let patch = surface.patch(at(0.5).0);
     let ts = side_parameters();
-    let da: Vec<_> = ts.iter().map(|&t| patch.derivatives(at(t).1)).collect();
-    let db = neighbour_derivatives(face, exact, side, &ts);
+    let da: Vec<_> = ts
+        .iter()
+        .map(|&t| {
+            let d = patch.derivatives(at(t).1);
+            [d.point, d.du, d.dv]
+        })
+        .collect();
+    let db = neighbour_tangents(face, exact, side, &ts);
     compare(&da, &db, side, false, exact.is_none())
 }

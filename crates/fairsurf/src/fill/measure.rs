@@ -3,8 +3,9 @@
 
 use super::holes::{surface_param, Side};
 use crate::bspline::{BSplineSurface, RationalSurface};
+use crate::tensor::regular_normal;
 use crate::vec3::{angle, dist};
-use crate::SurfaceDerivatives;
+use crate::Vec3;
 
 /// Parameters sampled per side: Chebyshev–Lobatto points, clustered at the
 /// corners where the largest deviations of an approximate fill sit.
@@ -33,9 +34,26 @@ pub struct SideFit {
     pub exact: bool,
 }
 
-/// A surface's derivatives on a grid of (u, v) (as
-/// [`BSplineSurface::derivatives_on`]).
-type GridEval<'a> = &'a dyn Fn(&[f64], &[f64]) -> Vec<SurfaceDerivatives>;
+/// A point with its two first derivatives: R, R_u, R_v.
+pub(crate) type Tangents = [Vec3; 3];
+
+/// A surface's [`Tangents`] on a grid of (u, v) (as
+/// [`BSplineSurface::tangents_on`]).
+type GridEval<'a> = &'a dyn Fn(&[f64], &[f64]) -> Vec<Tangents>;
+
+/// `grid` at the points `at(t)` for the side parameters `ts`, which lie on
+/// one line of constant u or v: one grid evaluation.
+fn line(grid: GridEval, at: &dyn Fn(f64) -> (f64, f64), ts: &[f64]) -> Vec<Tangents> {
+    let pts: Vec<(f64, f64)> = ts.iter().map(|&t| at(t)).collect();
+    if pts.iter().all(|p| p.0 == pts[0].0) {
+        let vs: Vec<f64> = pts.iter().map(|p| p.1).collect();
+        grid(&[pts[0].0], &vs)
+    } else {
+        debug_assert!(pts.iter().all(|p| p.1 == pts[0].1), "a side on no line");
+        let us: Vec<f64> = pts.iter().map(|p| p.0).collect();
+        grid(&us, &[pts[0].1])
+    }
+}
 
 /// Compares the fill's side `k` with the neighbour `face` along `side`.
 pub fn side_fit(fill: &BSplineSurface, k: usize, face: &BSplineSurface, side: Side) -> SideFit {
@@ -52,32 +70,13 @@ pub(crate) fn side_fit_facing(
     side: Side,
     flipped: bool,
 ) -> SideFit {
-    let ts = side_parameters();
-    // Both sides are lines of constant u or v: one grid evaluation each.
-    let line = |grid: GridEval, at: &dyn Fn(f64) -> (f64, f64)| {
-        let pts: Vec<(f64, f64)> = ts.iter().map(|&t| at(t)).collect();
-        if pts.iter().all(|p| p.0 == pts[0].0) {
-            let vs: Vec<f64> = pts.iter().map(|p| p.1).collect();
-            grid(&[pts[0].0], &vs)
-        } else {
-            let us: Vec<f64> = pts.iter().map(|p| p.0).collect();
-            grid(&us, &[pts[0].1])
-        }
-    };
-    let da = line(&|u, v| fill.derivatives_on(u, v), &|t| {
-        super::fill_param(k, t)
-    });
-    let on = |t| neighbour_param(face, side, t);
-    let db = match exact {
-        Some(r) => line(&|u, v| r.derivatives_on(u, v), &on),
-        None => line(&|u, v| face.derivatives_on(u, v), &on),
-    };
-    compare(&da, &db, side, flipped, exact.is_none())
+    piece_fit(fill, k, [0.0, 1.0], face, exact, side, flipped)
 }
 
 /// The fill's side k on [span₀, span₁] of its parameter (along the hole's
 /// traversal) against the neighbour `face` along the whole of `side`: one
-/// edge of a side made of several.
+/// edge of a side made of several; the neighbour's normal turned around
+/// when `flipped`.
 pub(crate) fn piece_fit(
     fill: &BSplineSurface,
     k: usize,
@@ -85,39 +84,31 @@ pub(crate) fn piece_fit(
     face: &BSplineSurface,
     exact: Option<&RationalSurface>,
     side: Side,
+    flipped: bool,
 ) -> SideFit {
-    if span == [0.0, 1.0] {
-        return side_fit_facing(fill, k, face, exact, side, false);
-    }
     let ts = side_parameters();
-    let da: Vec<SurfaceDerivatives> = ts
-        .iter()
-        .map(|&t| {
-            let (u, v) = super::fill_param(k, span[0] + (span[1] - span[0]) * t);
-            fill.derivatives(u, v)
-        })
-        .collect();
-    let db = neighbour_derivatives(face, exact, side, &ts);
-    compare(&da, &db, side, false, exact.is_none())
+    let da = line(
+        &|u, v| fill.tangents_on(u, v),
+        &|t| super::fill_param(k, span[0] + (span[1] - span[0]) * t),
+        &ts,
+    );
+    let db = neighbour_tangents(face, exact, side, &ts);
+    compare(&da, &db, side, flipped, exact.is_none())
 }
 
-/// The neighbour's derivatives at parameters `ts` of the hole's side: of
+/// The neighbour's [`Tangents`] at parameters `ts` of the hole's side: of
 /// the rational surface `exact` when the face stands in for one.
-pub(crate) fn neighbour_derivatives(
+pub(crate) fn neighbour_tangents(
     face: &BSplineSurface,
     exact: Option<&RationalSurface>,
     side: Side,
     ts: &[f64],
-) -> Vec<SurfaceDerivatives> {
-    ts.iter()
-        .map(|&t| {
-            let (u, v) = neighbour_param(face, side, t);
-            match exact {
-                Some(r) => r.derivatives(u, v),
-                None => face.derivatives(u, v),
-            }
-        })
-        .collect()
+) -> Vec<Tangents> {
+    let on = |t| neighbour_param(face, side, t);
+    match exact {
+        Some(r) => line(&|u, v| r.tangents_on(u, v), &on, ts),
+        None => line(&|u, v| face.tangents_on(u, v), &on, ts),
+    }
 }
 
 /// The [`SIDE_SAMPLES`] parameters on [0, 1] a side is compared at:
@@ -137,16 +128,17 @@ pub(crate) fn neighbour_param(face: &BSplineSurface, side: Side, t: f64) -> (f64
 /// The fit of the fill's derivatives `da` against the neighbour's `db` at
 /// the same side parameters.
 pub(crate) fn compare(
-    da: &[SurfaceDerivatives],
-    db: &[SurfaceDerivatives],
+    da: &[Tangents],
+    db: &[Tangents],
     side: Side,
     flipped: bool,
     exact: bool,
 ) -> SideFit {
     let (mut gap, mut ang, mut singular) = (0.0f64, 0.0f64, 0usize);
     for (a, b) in da.iter().zip(db) {
-        gap = gap.max(dist(a.point, b.point));
-        let (Some(na), Some(mut nb)) = (a.regular_normal(), b.regular_normal()) else {
+        gap = gap.max(dist(a[0], b[0]));
+        let (Some(na), Some(mut nb)) = (regular_normal(a[1], a[2]), regular_normal(b[1], b[2]))
+        else {
             singular += 1;
             continue;
         };

@@ -422,6 +422,7 @@ pub fn fill_hole(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -
                 &faces[side.face],
                 options.rational(side.face),
                 side,
+                false,
             ));
         }
     }

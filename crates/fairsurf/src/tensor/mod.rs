@@ -6,5 +6,5 @@ mod samples;
 
 pub use constraint::{TensorConstraint, Uv};
 
-pub(crate) use patch::{chunk3, GridRows, GRID_LANES};
+pub(crate) use patch::{chunk3, regular_normal, GridRows, GRID_LANES};
 pub use patch::{SurfaceDerivatives, TensorPatch};

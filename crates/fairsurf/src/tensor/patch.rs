@@ -81,13 +81,18 @@ impl SurfaceDerivatives {
     /// pole, a fan's corner) one derivative is rounding noise and so is the
     /// direction of the cross product.
     pub fn regular_normal(&self) -> Option<Vec3> {
-        let n = cross(self.du, self.dv);
-        let scale = dot(self.du, self.du) + dot(self.dv, self.dv);
-        if norm(n) <= 1e-8 * scale {
-            return None;
-        }
-        normalize(n)
+        regular_normal(self.du, self.dv)
     }
+}
+
+/// [`SurfaceDerivatives::regular_normal`] from the two first derivatives.
+pub(crate) fn regular_normal(du: Vec3, dv: Vec3) -> Option<Vec3> {
+    let n = cross(du, dv);
+    let scale = dot(du, du) + dot(dv, dv);
+    if norm(n) <= 1e-8 * scale {
+        return None;
+    }
+    normalize(n)
 }
 
 impl crate::surface::ControlNet for TensorPatch {
