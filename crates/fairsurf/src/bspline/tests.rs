@@ -806,6 +806,22 @@ fn derivatives_on_a_grid_are_the_pointwise_ones() {
     let s = BSplineSurface::new(u, v, pts).unwrap();
     let (us, vs) = ([0.0, 0.3, 0.71, 1.5], [-1.0, -0.2, 0.0, 1.3, 2.0]);
     let grid = s.derivatives_on(&us, &vs);
+    // The first derivatives summed the other way round (fewer v's or
+    // fewer u's first): the same to rounding, every grid shape.
+    for (a, b) in [(&us[..], &vs[..]), (&us[..2], &vs[..]), (&us[..], &vs[..1])] {
+        let lean = s.tangents_on(a, b);
+        assert_eq!(lean.len(), a.len() * b.len());
+        for (i, &x) in a.iter().enumerate() {
+            for (j, &y) in b.iter().enumerate() {
+                let d = s.derivatives(x, y);
+                for (e, f) in lean[i * b.len() + j].iter().zip([d.point, d.du, d.dv]) {
+                    for c in 0..3 {
+                        assert!((e[c] - f[c]).abs() <= 1e-12 * (1.0 + f[c].abs()), "{x} {y}");
+                    }
+                }
+            }
+        }
+    }
     for (i, &a) in us.iter().enumerate() {
         for (j, &b) in vs.iter().enumerate() {
             let (g, d) = (&grid[i * vs.len() + j], s.derivatives(a, b));
@@ -827,12 +843,29 @@ fn derivatives_on_a_grid_are_the_pointwise_ones() {
 
 /// The editor's drags on a B-spline surface: a kept factor is used as it is
 /// when only a fixed point moved (the same answer as a fresh solve), its
-/// ordering when a weight changed, and neither for another free set —
-/// counted by the reports and the cache, not timed.
+/// ordering when a weight changed (sparse factors: more than
+/// `DENSE_UNKNOWNS` unknowns; a dense factor has no ordering to keep), and
+/// neither for another free set — counted by the reports and the cache, not
+/// timed.
 #[test]
 fn a_cache_reuses_the_factor_for_moved_points_and_the_ordering_for_weights() {
+    let uniform = |p: usize, spans: usize| {
+        let mut k = vec![0.0; p];
+        k.extend((0..=spans).map(|i| i as f64 / spans as f64));
+        k.extend(vec![1.0; p]);
+        knots(p, &k)
+    };
+    // 8 free points (dense), and 19 × 15 = 285 (sparse).
+    for (u, v) in [uneven(), (uniform(3, 20), uniform(3, 16))] {
+        let free = (u.count() - 4) * (v.count() - 4);
+        let sparse = free > super::system::DENSE_UNKNOWNS;
+        cache_reuse(u, v, sparse);
+    }
+}
+
+/// The cache's drags on the wavy net over `u` × `v`.
+fn cache_reuse(u: KnotVector, v: KnotVector, sparse: bool) {
     let cache = crate::FactorCache::new(8, 1 << 30);
-    let (u, v) = uneven();
     let s = wavy(u, v);
     let problem = |s: &BSplineSurface, rings: usize, bend: f64| {
         BSplineProblem::from_surface(s.clone())
@@ -865,13 +898,13 @@ fn a_cache_reuses_the_factor_for_moved_points_and_the_ordering_for_weights() {
     assert_eq!(cache.len(), 1);
     // The bend weight doubled: the pattern kept, the numbers new.
     let heavier = cache.solve_bspline(&problem(&moved, 2, 2.0)).unwrap();
-    assert!(!heavier.report.reused && heavier.report.reused_symbolic);
+    assert!(!heavier.report.reused && heavier.report.reused_symbolic == sparse);
     same(&heavier, &problem(&moved, 2, 2.0).solve().unwrap());
     // It replaced the factor of its pattern: the weight's next step reuses
     // its ordering again, the cache still holds one.
     assert_eq!(cache.len(), 1);
     let next = cache.solve_bspline(&problem(&moved, 2, 2.5)).unwrap();
-    assert!(next.report.reused_symbolic && cache.len() == 1);
+    assert!(next.report.reused_symbolic == sparse && cache.len() == 1);
     // One ring fixed: another free set, nothing reused.
     let wider = cache.solve_bspline(&problem(&moved, 1, 2.0)).unwrap();
     assert!(!wider.report.reused && !wider.report.reused_symbolic);
