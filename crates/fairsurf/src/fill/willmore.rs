@@ -33,7 +33,7 @@ use faer::Mat;
 /// One step: the surface on `reference`'s knots that minimizes E with g
 /// and Γ from `reference`, the points where `free` is false kept.
 pub(crate) fn step(reference: &BSplineSurface, free: &[bool]) -> Result<BSplineSurface> {
-    let (h, b, slot) = system(reference, free, &Rule::of(reference));
+    let (h, b, slot) = system(reference, free, &Rule::of(reference), true);
     let llt = h.llt(faer::Side::Lower).map_err(|_| not_definite())?;
     let x = faer::linalg::solvers::Solve::solve(&llt, &b);
     let points = reference
@@ -210,13 +210,16 @@ impl Integrand {
     }
 }
 
-/// E's matrix over the free points (one for x, y and z) and its right-hand
-/// sides from the fixed ones, g and Γ from `reference`; each point's row.
+/// E's matrix over the free points (one for x, y and z) and, when `rhs`,
+/// its right-hand sides from the fixed ones (else zero: then only the free
+/// points' columns of L are formed), g and Γ from `reference`; each
+/// point's row.
 #[allow(clippy::type_complexity)]
 fn system(
     reference: &BSplineSurface,
     free: &[bool],
     nodes: &Rule,
+    rhs: bool,
 ) -> (Mat<f64>, Mat<f64>, Vec<Option<usize>>) {
     let ((p, q), (_, cv)) = (reference.degree(), reference.counts());
     let slot = slots(free);
@@ -225,15 +228,22 @@ fn system(
     let mut b = Mat::<f64>::zeros(nf, 3);
     let (gu, gv) = (&nodes.rule, &nodes.rule);
     let size = (p + 1) * (q + 1);
-    // Per span: the rows √w·L(B_a) at every node, and LᵀL by one product.
-    let mut lm = Mat::<f64>::zeros(gu.nodes.len() * gv.nodes.len(), size);
+    // Per span: the rows √w·L(B_a) at every node (the span's points a, or
+    // its free ones), and LᵀL by one product.
     let (au, av) = (&nodes.u, &nodes.v);
     let (n, m) = (gu.nodes.len(), gv.nodes.len());
+    let point = |su: usize, sv: usize, a: usize| (su - p + a / (q + 1)) * cv + sv - q + a % (q + 1);
     for (a, &(su, u0, u1)) in au.spans.iter().enumerate() {
         // The surface at this u-span's nodes and every v node.
         let grid = nodes.row(reference, a);
         for (bs, &(sv, v0, v1)) in av.spans.iter().enumerate() {
-            lm.fill(0.0);
+            let cols: Vec<usize> = (0..size)
+                .filter(|&a| rhs || slot[point(su, sv, a)].is_some())
+                .collect();
+            if cols.is_empty() {
+                continue;
+            }
+            let mut lm = Mat::<f64>::zeros(n * m, cols.len());
             for (x, &wx) in gu.weights.iter().enumerate() {
                 let nu = &au.basis[a * n + x].1;
                 for (y, &wy) in gv.weights.iter().enumerate() {
@@ -256,20 +266,19 @@ fn system(
                     let cvv = gi[0] * guu.1 + 2.0 * gi[1] * guv.1 + gi[2] * gvv.1;
                     let sw = (wx * wy * (u1 - u0) * (v1 - v0) * det.sqrt()).sqrt();
                     let row = x * m + y;
-                    for i in 0..=p {
-                        for j in 0..=q {
-                            lm[(row, i * (q + 1) + j)] = sw
-                                * (gi[0] * nu[2][i] * nv[0][j]
-                                    + 2.0 * gi[1] * nu[1][i] * nv[1][j]
-                                    + gi[2] * nu[0][i] * nv[2][j]
-                                    - cu * nu[1][i] * nv[0][j]
-                                    - cvv * nu[0][i] * nv[1][j]);
-                        }
+                    for (col, &c) in cols.iter().enumerate() {
+                        let (i, j) = (c / (q + 1), c % (q + 1));
+                        lm[(row, col)] = sw
+                            * (gi[0] * nu[2][i] * nv[0][j]
+                                + 2.0 * gi[1] * nu[1][i] * nv[1][j]
+                                + gi[2] * nu[0][i] * nv[2][j]
+                                - cu * nu[1][i] * nv[0][j]
+                                - cvv * nu[0][i] * nv[1][j]);
                     }
                 }
             }
             // Small products: sequential (a thread pool's start costs more).
-            let mut local = Mat::<f64>::zeros(size, size);
+            let mut local = Mat::<f64>::zeros(cols.len(), cols.len());
             faer::linalg::matmul::matmul(
                 local.as_mut(),
                 faer::Accum::Replace,
@@ -278,12 +287,13 @@ fn system(
                 1.0,
                 faer::Par::Seq,
             );
-            for a in 0..size {
-                let ka = (su - p + a / (q + 1)) * cv + sv - q + a % (q + 1);
-                let Some(ra) = slot[ka] else { continue };
-                for c in 0..size {
-                    let kc = (su - p + c / (q + 1)) * cv + sv - q + c % (q + 1);
-                    let hac = local[(a, c)];
+            for (la, &a) in cols.iter().enumerate() {
+                let Some(ra) = slot[point(su, sv, a)] else {
+                    continue;
+                };
+                for (lc, &c) in cols.iter().enumerate() {
+                    let kc = point(su, sv, c);
+                    let hac = local[(la, lc)];
                     match slot[kc] {
                         Some(rc) => h[(ra, rc)] += hac,
                         None => {
@@ -316,7 +326,7 @@ pub(crate) fn descend(
     rel: f64,
 ) -> (BSplineSurface, Vec<f64>) {
     let nodes = Rule::of(&start);
-    let (a, _, slot) = system(&start, free, &nodes);
+    let (a, _, slot) = system(&start, free, &nodes, false);
     let Ok(llt) = a.llt(faer::Side::Lower) else {
         return (start, Vec::new());
     };
@@ -366,8 +376,10 @@ pub(crate) fn descend(
 /// its gradient, from an initial inverse Hessian H0. Each step is halved
 /// until the function falls by at least 1e-4 of the predicted amount
 /// (Armijo). Stops after `steps` steps, after three steps in a row that
-/// lower it by less than `rel` of itself, or when no step lowers it (along
-/// the L-BFGS direction nor, the pairs forgotten, along −H0 g).
+/// lower it by less than `rel` of itself, after one such step when the
+/// next step's quadratic model (−½ gᵀd) promises less than `rel` too, or
+/// when no step lowers it (along the L-BFGS direction nor, the pairs
+/// forgotten, along −H0 g).
 pub(crate) struct Lbfgs<'a> {
     pub steps: usize,
     pub rel: f64,
@@ -432,6 +444,12 @@ impl Lbfgs<'_> {
                     }
                     pairs.clear();
                     continue;
+                }
+                // Converged: the last step gained less than rel, and the
+                // quadratic model along d (its least at t = 1 for the
+                // Newton-like step: −slope/2) promises less than rel too.
+                if small > 0 && -0.5 * slope <= self.rel * w {
+                    return (x, history);
                 }
                 t = 1.0;
                 for _ in 0..20 {
