@@ -4,14 +4,14 @@
 
 use crate::check;
 use crate::solve::compensated::dot2_residual;
+use crate::solve::dense::{SpdFactor, SpdOptions};
 use crate::solve::kkt::KktInfo;
 use crate::solve::kkt::{hager, sparse_llt, LltFailure};
 use crate::{Error, Result, Vec3};
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::solvers::{Llt, SolveCore};
 use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky};
 use faer::sparse::{SparseColMat, Triplet};
-use faer::{Conj, Mat, Par, Side};
+use faer::{Conj, Mat, Par};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -20,6 +20,10 @@ use std::time::Instant;
 /// the normal field) faer's sparse Cholesky took 0.5 ms on 108 unknowns
 /// (0.18 ms of it the symbolic analysis), its dense one a tenth of that.
 pub(crate) const DENSE_UNKNOWNS: usize = 160;
+
+/// Why a free block is not positive definite.
+const HINT: &str =
+    "the energy does not determine the free control points: add bend or stretch, or fix more points";
 
 /// A B-spline system's Cholesky factor, kept between solves for the
 /// editor's drags ([`crate::FactorCache::solve_bspline`]): the matrix it
@@ -41,8 +45,9 @@ enum Numbers {
         values: Vec<f64>,
     },
     /// Dense (at most [`DENSE_UNKNOWNS`] unknowns): the lower triangle
-    /// (the upper zero) and its factor.
-    Dense { lower: Mat<f64>, llt: Llt<f64> },
+    /// (the upper zero) and its factor (equilibrated, on this thread:
+    /// [`SpdFactor`]).
+    Dense { lower: Mat<f64>, factor: SpdFactor },
 }
 
 /// A matrix to factor or factored, in the form its size asks for.
@@ -101,7 +106,7 @@ impl BSplineFactor {
                     MemStack::new(&mut mem),
                 );
             }
-            Numbers::Dense { llt, .. } => llt.solve_in_place_with_conj(Conj::No, rhs.as_mut()),
+            Numbers::Dense { factor, .. } => *rhs = factor.apply(rhs),
         }
     }
 
@@ -271,17 +276,19 @@ pub(super) fn unconstrained(
     let not_positive = || Error::NotPositiveDefinite {
         unknowns: 3 * nf,
         pivot: 0,
-        hint: "the energy does not determine the free control points: add bend or stretch, or \
-               fix more points"
-            .into(),
+        hint: HINT.into(),
     };
     let (factored, reuse) = match same {
         Some(f) => (f.clone(), Reuse::Numeric),
         None => {
             let (numbers, reuse) = match matrix {
                 Owned::Dense(lower) => {
-                    let llt = lower.llt(Side::Lower).map_err(|_| not_positive())?;
-                    (Numbers::Dense { lower, llt }, Reuse::New)
+                    let options = SpdOptions {
+                        estimate_condition: false,
+                        singular_condition: f64::INFINITY,
+                    };
+                    let factor = SpdFactor::new(&lower, options, HINT, None)?;
+                    (Numbers::Dense { lower, factor }, Reuse::New)
                 }
                 Owned::Sparse(lower) => {
                     let (symbolic, values) = sparse_llt(&lower, pattern).map_err(|e| match e {

@@ -26,6 +26,7 @@
 
 use crate::basis::GaussLegendre;
 use crate::bspline::BSplineSurface;
+use crate::solve::dense::{SpdFactor, SpdOptions};
 use crate::vec3::{cross, dot, norm};
 use crate::{Error, Result, Vec3};
 use faer::Mat;
@@ -34,8 +35,7 @@ use faer::Mat;
 /// and Γ from `reference`, the points where `free` is false kept.
 pub(crate) fn step(reference: &BSplineSurface, free: &[bool]) -> Result<BSplineSurface> {
     let (h, b, slot) = system(reference, free, &Rule::of(reference), true);
-    let llt = h.llt(faer::Side::Lower).map_err(|_| not_definite())?;
-    let x = faer::linalg::solvers::Solve::solve(&llt, &b);
+    let x = factor(&h).ok_or_else(not_definite)?.apply(&b);
     let points = reference
         .points()
         .iter()
@@ -43,6 +43,16 @@ pub(crate) fn step(reference: &BSplineSurface, free: &[bool]) -> Result<BSplineS
         .map(|(&pt, s)| s.map_or(pt, |r| [x[(r, 0)], x[(r, 1)], x[(r, 2)]]))
         .collect();
     Ok(reference.with_points(points))
+}
+
+/// The Cholesky factor of the SPD matrix `h` (on this thread, equilibrated;
+/// None when not positive definite).
+fn factor(h: &Mat<f64>) -> Option<SpdFactor> {
+    let options = SpdOptions {
+        estimate_condition: false,
+        singular_condition: f64::INFINITY,
+    };
+    SpdFactor::new(h, options, "", None).ok()
 }
 
 fn not_definite() -> Error {
@@ -327,7 +337,7 @@ pub(crate) fn descend(
 ) -> (BSplineSurface, Vec<f64>) {
     let nodes = Rule::of(&start);
     let (a, _, slot) = system(&start, free, &nodes, false);
-    let Ok(llt) = a.llt(faer::Side::Lower) else {
+    let Some(llt) = factor(&a) else {
         return (start, Vec::new());
     };
     let nf = a.nrows();
@@ -348,7 +358,7 @@ pub(crate) fn descend(
     };
     let h0 = |q: &[f64]| -> Option<Vec<f64>> {
         let q = Mat::<f64>::from_fn(nf, 3, |r, k| q[3 * r + k]);
-        let mut x = faer::linalg::solvers::Solve::solve(&llt, &q);
+        let mut x = llt.apply(&q);
         x *= faer::Scale(0.5);
         Some(flat(&x))
     };
