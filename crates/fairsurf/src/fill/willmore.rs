@@ -842,4 +842,47 @@ mod tests {
             }
         }
     }
+
+    /// L-BFGS's stops on f(x) = 1 + ½ xᵀAx (A diagonal, condition 100,
+    /// H0 = I): it runs until a step gains less than rel of f and the next
+    /// step's quadratic model promises less too — one or two such steps at
+    /// the end, not the three that stop it without the model's word — and
+    /// ends within rel of the minimum.
+    #[test]
+    fn lbfgs_stops_when_gain_and_model_are_below_rel() {
+        let a = [1.0, 3.0, 10.0, 100.0];
+        let f = |x: &[f64]| {
+            let w = 1.0 + 0.5 * x.iter().zip(&a).map(|(x, a)| a * x * x).sum::<f64>();
+            (
+                w,
+                x.iter().zip(&a).map(|(x, a)| a * x).collect::<Vec<f64>>(),
+            )
+        };
+        let x0 = vec![1.0, -2.0, 0.5, 0.3];
+        let (w0, g0) = f(&x0);
+        let run = |steps: usize, rel: f64| {
+            let descent = Lbfgs {
+                steps,
+                rel,
+                rescale: None,
+            };
+            descent.run(x0.clone(), w0, g0.clone(), |q| Some(q.to_vec()), f)
+        };
+        let rel = 1e-8;
+        let (_, history) = run(200, rel);
+        let w = *history.last().unwrap();
+        let gains: Vec<bool> = std::iter::once(w0)
+            .chain(history.iter().copied())
+            .collect::<Vec<_>>()
+            .windows(2)
+            .map(|p| p[0] - p[1] <= rel * p[0])
+            .collect();
+        let trailing = gains.iter().rev().take_while(|&&small| small).count();
+        assert!(
+            (1..3).contains(&trailing) && history.len() < 200,
+            "{} steps, the last {trailing} small",
+            history.len()
+        );
+        assert!(w - 1.0 <= 10.0 * rel, "W {w}");
+    }
 }
