@@ -122,11 +122,58 @@ pub fn largest_tri_normal_turn(surface: &TriSurface, k: usize) -> Option<TriNorm
         })
         .collect();
     let bary = |[i, j]: [usize; 2]| [i as f64 / kf, j as f64 / kf, (k - i - j) as f64 / kf];
+    // T_u and T_v (up to the factor n, which the unit normal drops) are the
+    // degree-(n−1) patches of the differences P_(i+1)jk − P_ij(k+1) and
+    // P_i(j+1)k − P_ij(k+1) (E_U, E_V): their Bernstein polynomials at the
+    // grid's points, once for every patch.
+    let n = surface.degree();
+    if n == 0 {
+        return None;
+    }
+    let m = n - 1;
+    let terms: Vec<[usize; 3]> = (0..=m)
+        .flat_map(|c| (0..=m - c).map(move |b| [m - c - b, b, c]))
+        .collect();
+    let bernstein: Vec<Vec<f64>> = grid
+        .iter()
+        .map(|&g| {
+            let x = bary(g);
+            terms
+                .iter()
+                .map(|&[a, b, c]| {
+                    multinomial(m, b, c)
+                        * x[0].powi(a as i32)
+                        * x[1].powi(b as i32)
+                        * x[2].powi(c as i32)
+                })
+                .collect()
+        })
+        .collect();
     // The longest chord |n − m|² between neighbouring unit normals, one
     // angle at the end (as the tensor scan does).
     let mut best: Option<(f64, Vec3, Vec3, usize, usize)> = None;
     for (t, patch) in surface.patches().enumerate() {
-        let normals: Vec<_> = grid.iter().map(|&g| patch.normal(bary(g))).collect();
+        let diff = |e: [usize; 3]| -> Vec<Vec3> {
+            terms
+                .iter()
+                .map(|&[a, b, c]| {
+                    sub(
+                        patch.point(a + e[0], b + e[1], c + e[2]),
+                        patch.point(a, b, c + 1),
+                    )
+                })
+                .collect()
+        };
+        let (du, dv) = (diff([1, 0, 0]), diff([0, 1, 0]));
+        let sum = |basis: &[f64], d: &[Vec3]| {
+            basis.iter().zip(d).fold([0.0; 3], |acc, (w, p)| {
+                [acc[0] + w * p[0], acc[1] + w * p[1], acc[2] + w * p[2]]
+            })
+        };
+        let normals: Vec<_> = bernstein
+            .iter()
+            .map(|basis| normalize(cross(sum(basis, &du), sum(basis, &dv))))
+            .collect();
         for (a, near) in neighbours.iter().enumerate() {
             let Some(n) = normals[a] else { continue };
             for &b in near {
@@ -144,6 +191,14 @@ pub fn largest_tri_normal_turn(surface: &TriSurface, k: usize) -> Option<TriNorm
         patch,
         at: bary(grid[a]),
     })
+}
+
+/// m! / ((m − b − c)! b! c!), the trinomial coefficient of the Bernstein
+/// polynomial B_(m−b−c) b c.
+fn multinomial(m: usize, b: usize, c: usize) -> f64 {
+    let choose =
+        |n: usize, k: usize| (0..k).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64);
+    choose(m, c) * choose(m - c, b)
 }
 
 #[cfg(test)]
@@ -198,6 +253,30 @@ mod tests {
         s.set_points(pts).unwrap();
         let t = largest_tri_normal_turn(&s, 24).unwrap();
         assert!(t.is_fold(), "{t:?}");
+        // The scan's normals (Bernstein sums of the derivative nets) are the
+        // patch's own (de Casteljau): the same largest turn from those.
+        let k = 24;
+        let patch = s.patch(0);
+        let at = |i: usize, j: usize| {
+            let b = [
+                i as f64 / k as f64,
+                j as f64 / k as f64,
+                (k - i - j) as f64 / k as f64,
+            ];
+            patch.normal(b)
+        };
+        let mut largest = 0.0f64;
+        for i in 0..=k {
+            for j in 0..=k - i {
+                let near = [(i + 1, j), (i, j + 1), (i + 1, j.wrapping_sub(1))];
+                for (a, b) in near.into_iter().filter(|&(a, b)| b <= k && a + b <= k) {
+                    if let (Some(x), Some(y)) = (at(i, j), at(a, b)) {
+                        largest = largest.max(angle(x, y));
+                    }
+                }
+            }
+        }
+        assert!((largest - t.angle).abs() < 1e-9, "{largest} {t:?}");
         assert_eq!(t.patch, 0);
     }
 }

@@ -114,6 +114,19 @@ impl TriPatch {
         scale(r, (n * (n - 1)) as f64)
     }
 
+    /// T, T_u and T_v at the barycentric point b (the first three of
+    /// [`derivatives`](Self::derivatives), from one de Casteljau reduction
+    /// to degree 1 instead of 2).
+    pub(crate) fn tangents(&self, b: Bary) -> [Vec3; 3] {
+        let n = self.degree();
+        if n == 0 {
+            return [self.points()[0], [0.0; 3], [0.0; 3]];
+        }
+        let q = self.reduce_to(b, 1);
+        let at = |x: Bary| add(add(scale(q[0], x[0]), scale(q[1], x[1])), scale(q[2], x[2]));
+        [at(b), scale(at(E_U), n as f64), scale(at(E_V), n as f64)]
+    }
+
     /// The unit normal T_u × T_v / |T_u × T_v| at the barycentric point b, or
     /// `None` where the patch is not regular (T_u × T_v = 0, e.g. at a corner
     /// whose two neighbouring control points coincide with it).
@@ -132,6 +145,24 @@ impl TriPatch {
 mod tests {
     use super::*;
     use crate::vec3::{add, norm, sub};
+
+    /// [`TriPatch::tangents`] are [`TriPatch::derivatives`]' first three,
+    /// at degrees 0 to 5 and inside, on a side and at a corner.
+    #[test]
+    fn tangents_are_the_first_derivatives() {
+        for n in 0..=5 {
+            let t = TriPatch::from_fn(n, |i, j, k| {
+                let (x, y, z) = (i as f64, j as f64, k as f64);
+                [x + 0.3 * y * y, y - 0.2 * x * z, (x * y + z).sin()]
+            });
+            for b in [[0.2, 0.3, 0.5], [0.0, 0.6, 0.4], [1.0, 0.0, 0.0]] {
+                let d = t.derivatives(b);
+                for (x, y) in t.tangents(b).iter().zip([d.point, d.du, d.dv]) {
+                    assert!(norm(sub(*x, y)) <= 1e-12 * (1.0 + norm(y)), "{n} {b:?}");
+                }
+            }
+        }
+    }
 
     fn wavy(n: usize) -> TriPatch {
         TriPatch::from_fn(n, |i, j, k| {
