@@ -308,7 +308,7 @@ fn report_lines(lines: &mut Vec<String>, r: &fairsurf::SolveReport, road: &str) 
             r.condition_estimate,
             r.refinement_steps,
             r.factor_nonzeros
-                .map(|n| format!("  sparse Cholesky factor {n} nonzeros"))
+                .map(|n| format!("  Cholesky factor {n} nonzeros"))
                 .unwrap_or_default()
         ),
     });

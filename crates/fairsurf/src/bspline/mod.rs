@@ -10,7 +10,7 @@
 //! eq. 5) and [`BSplineProblem`] — the core's [`crate::Problem`] over a
 //! B-spline surface, with the same energy terms, constraints and operators
 //! as a Bézier patch — which minimizes them over the free control points by
-//! sparse Cholesky and confirms the energy on the written net through the
+//! Cholesky (dense up to 160 unknowns, else sparse) and confirms the energy on the written net through the
 //! Bézier pieces' closed forms.
 //!
 //! ```

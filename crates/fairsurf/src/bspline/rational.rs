@@ -494,6 +494,16 @@ mod tests {
             ] {
                 assert!(e(a, b) < 1e-13);
             }
+            // The first derivatives along lines of either direction.
+            let ts = [0.0, 0.2, 0.61, 1.0];
+            for (us, vs) in [(&ts[..], &[v][..]), (&[u][..], &ts[..])] {
+                for (k, t) in s.tangents_on(us, vs).iter().enumerate() {
+                    let d = s.derivatives(us[k / vs.len()], vs[k % vs.len()]);
+                    for (a, b) in t.iter().zip([d.point, d.du, d.dv]) {
+                        assert!(e(*a, b) < 1e-13);
+                    }
+                }
+            }
         }
     }
 

@@ -3,7 +3,8 @@
 //! restricted to the free points — one sparse matrix for x, y and z, or,
 //! with a normal field (which couples them), the interleaved 3n system with
 //! the field's 3 × 3 blocks added — the fixed points moved to the
-//! right-hand side, sparse Cholesky with AMD ordering and iterative
+//! right-hand side, Cholesky (dense up to 160 unknowns, else sparse with AMD
+//! ordering) and iterative
 //! refinement (`system.rs`; with constraints the core's KKT solve,
 //! `constraint.rs`), and the energy on the written net by two roads:
 //! closed forms (Bernstein products on the Bézier pieces, Gram matrices)
@@ -49,7 +50,7 @@ impl BSplineProblem {
     /// [`ENERGY_TOLERANCE`] of its scale; `basis` is "b-spline";
     /// `condition_estimate` is Hager's ‖H‖₁‖H⁻¹‖₁ of the matrix factored;
     /// `timings.analyse` is the energy's two roads (also `check.seconds`),
-    /// `timings.factor` the sparse Cholesky factorization with its
+    /// `timings.factor` the Cholesky factorization with its
     /// condition estimate (Hager's, several solves), `timings.solve` the
     /// solves, refinement and the excess (with constraints the KKT
     /// factorization too, `factor` then 0); `measures` is `None` (the

@@ -118,7 +118,9 @@ impl BSplineFactor {
         }
     }
 
-    /// Whether `m` has this matrix's nonzero pattern (dense: its size).
+    /// Whether `m` has this matrix's nonzero pattern (dense: its size — so
+    /// the cache's newest dense factor replaces a kept one of its size even
+    /// for another free set of as many points: only speed is lost).
     fn same_pattern(&self, m: &Matrix) -> bool {
         match (self.matrix(), m) {
             (Matrix::Sparse(a), Matrix::Sparse(b)) => {
@@ -287,7 +289,12 @@ pub(super) fn unconstrained(
                         estimate_condition: false,
                         singular_condition: f64::INFINITY,
                     };
-                    let factor = SpdFactor::new(&lower, options, HINT, None)?;
+                    // Named by free coordinates, as the sparse path does.
+                    let factor =
+                        SpdFactor::new(&lower, options, HINT, None).map_err(|e| match e {
+                            Error::NotPositiveDefinite { .. } => not_positive(),
+                            other => other,
+                        })?;
                     (Numbers::Dense { lower, factor }, Reuse::New)
                 }
                 Owned::Sparse(lower) => {

@@ -808,7 +808,12 @@ fn derivatives_on_a_grid_are_the_pointwise_ones() {
     let grid = s.derivatives_on(&us, &vs);
     // The first derivatives summed the other way round (fewer v's or
     // fewer u's first): the same to rounding, every grid shape.
-    for (a, b) in [(&us[..], &vs[..]), (&us[..2], &vs[..]), (&us[..], &vs[..1])] {
+    for (a, b) in [
+        (&us[..], &vs[..]),
+        (&us[..2], &vs[..]),
+        (&us[..], &vs[..3]),
+        (&us[..], &vs[..1]),
+    ] {
         let lean = s.tangents_on(a, b);
         assert_eq!(lean.len(), a.len() * b.len());
         for (i, &x) in a.iter().enumerate() {

@@ -868,7 +868,8 @@ impl FanFill {
     /// A candidate made whole: W lowered by at most `options.descent_steps`
     /// steps along the kept G¹ rows, the rows 0 and 1 fixed
     /// ([`fan_willmore`]), until three steps in a row gain less than
-    /// [`FAN_DESCENT_REL`] of W (without the solve's factorization — a
+    /// [`FAN_DESCENT_REL`] of W, or one when the next step's model promises
+    /// less too (without the solve's factorization — a
     /// solve that had to loosen its row tolerance keeps none — no steps);
     /// then measured: per side gap and normal angle against the
     /// neighbour, the largest normal angle between the patches.
@@ -953,7 +954,8 @@ impl FanFill {
 }
 
 /// A fan's descent on W stops after three steps in a row that each gain
-/// less than this part of W. Looser than a 4-sided fill's 1e-8: the thin
+/// less than this part of W (or after one, when the next step's model —
+/// with a curvature pair — promises less too). Looser than a 4-sided fill's 1e-8: the thin
 /// plate in barycentric parameters is a poor model of W's Hessian, and
 /// the last 5e-6 of W took ten times the steps (the pentagon of
 /// `examples/cad/fill_pentagon.json` at degree 7: W 1.0313881 after 10
@@ -1063,13 +1065,7 @@ fn patch_side_fit(
 ) -> SideFit {
     let patch = surface.patch(at(0.5).0);
     let ts = side_parameters();
-    let da: Vec<_> = ts
-        .iter()
-        .map(|&t| {
-            let d = patch.derivatives(at(t).1);
-            [d.point, d.du, d.dv]
-        })
-        .collect();
+    let da: Vec<_> = ts.iter().map(|&t| patch.tangents(at(t).1)).collect();
     let db = neighbour_tangents(face, exact, side, &ts);
     compare(&da, &db, side, false, exact.is_none())
 }

@@ -54,7 +54,8 @@ fn rule(surface: &TriSurface) -> Rule {
 
 /// Lowers W over the free coordinates of `factor` (the solve of `start`'s
 /// thin plate under its kept rows), at most `steps` steps, stopping after
-/// three in a row that gain less than `rel` of W. Returns the surface and
+/// three in a row that gain less than `rel` of W, or after one when the
+/// next step's model promises less too ([`Lbfgs`]). Returns the surface and
 /// W before the first step and after each accepted one.
 pub(crate) fn descend_tri(
     start: TriSurface,

@@ -136,9 +136,10 @@ pub struct FillOptions {
     /// Then at most this many steps that lower W itself: L-BFGS on W whose
     /// first inverse Hessian is, for a 4-sided patch, the frozen-metric
     /// operator's (the module `willmore`), stopping after three steps in a
-    /// row that each lower W by less than 1e-8 of itself; for triangular
-    /// patches the thin plate's under the kept G¹ rows (the module
-    /// `fan_willmore`), stopping at [`FAN_DESCENT_REL`]. 0 for none.
+    /// row that each lower W by less than 1e-8 of itself, or after one when
+    /// the next step's model promises less too; for triangular patches the
+    /// thin plate's under the kept G¹ rows (the module `fan_willmore`),
+    /// stopping at [`FAN_DESCENT_REL`] the same way. 0 for none.
     pub descent_steps: usize,
     /// Per face index, the rational surface that face is a polynomial
     /// stand-in for ([`RationalSurface::polynomial`]): the fill takes its

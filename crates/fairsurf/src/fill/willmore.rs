@@ -387,7 +387,8 @@ pub(crate) fn descend(
 /// until the function falls by at least 1e-4 of the predicted amount
 /// (Armijo). Stops after `steps` steps, after three steps in a row that
 /// lower it by less than `rel` of itself, after one such step when the
-/// next step's quadratic model (−½ gᵀd) promises less than `rel` too, or
+/// next step's quadratic model (−½ gᵀd, with at least one curvature pair)
+/// promises less than `rel` too, or
 /// when no step lowers it (along the L-BFGS direction nor, the pairs
 /// forgotten, along −H0 g).
 pub(crate) struct Lbfgs<'a> {
@@ -457,8 +458,10 @@ impl Lbfgs<'_> {
                 }
                 // Converged: the last step gained less than rel, and the
                 // quadratic model along d (its least at t = 1 for the
-                // Newton-like step: −slope/2) promises less than rel too.
-                if small > 0 && -0.5 * slope <= self.rel * w {
+                // Newton-like step: −slope/2), with at least one curvature
+                // pair in it (H0 alone may be off in scale), promises less
+                // than rel too.
+                if small > 0 && !pairs.is_empty() && -0.5 * slope <= self.rel * w {
                     return (x, history);
                 }
                 t = 1.0;

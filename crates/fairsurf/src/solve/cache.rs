@@ -109,9 +109,9 @@ impl FactorCache {
         Ok(solution)
     }
 
-    /// Solves the B-spline `problem`, reusing a kept sparse Cholesky
-    /// factor: as it is when its matrix is this problem's, value for value
-    /// (only fixed points or guide targets moved: `report.reused`), or its
+    /// Solves the B-spline `problem`, reusing a kept Cholesky factor: as it
+    /// is when its matrix is this problem's, value for value (only fixed
+    /// points or guide targets moved: `report.reused`), or a sparse one's
     /// ordering when only the numbers differ (a weight changed:
     /// `report.reused_symbolic`; the new factor then replaces the kept
     /// one). With constraints nothing is kept (the core's KKT solve factors
