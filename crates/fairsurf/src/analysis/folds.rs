@@ -5,6 +5,7 @@
 //! fair.
 
 use super::curvature::unit_grid;
+use crate::triangle::{multi_indices, tri_bernstein_all};
 use crate::vec3::{angle, cross, dot, normalize, sub, Vec3};
 use crate::{ParamSurface, SurfaceDerivatives, TriSurface};
 
@@ -131,23 +132,10 @@ pub fn largest_tri_normal_turn(surface: &TriSurface, k: usize) -> Option<TriNorm
         return None;
     }
     let m = n - 1;
-    let terms: Vec<[usize; 3]> = (0..=m)
-        .flat_map(|c| (0..=m - c).map(move |b| [m - c - b, b, c]))
-        .collect();
+    let terms: Vec<[usize; 3]> = multi_indices(m).collect();
     let bernstein: Vec<Vec<f64>> = grid
         .iter()
-        .map(|&g| {
-            let x = bary(g);
-            terms
-                .iter()
-                .map(|&[a, b, c]| {
-                    multinomial(m, b, c)
-                        * x[0].powi(a as i32)
-                        * x[1].powi(b as i32)
-                        * x[2].powi(c as i32)
-                })
-                .collect()
-        })
+        .map(|&g| tri_bernstein_all(m, bary(g)))
         .collect();
     // The longest chord |n − m|² between neighbouring unit normals, one
     // angle at the end (as the tensor scan does).
@@ -191,14 +179,6 @@ pub fn largest_tri_normal_turn(surface: &TriSurface, k: usize) -> Option<TriNorm
         patch,
         at: bary(grid[a]),
     })
-}
-
-/// m! / ((m − b − c)! b! c!), the trinomial coefficient of the Bernstein
-/// polynomial B_(m−b−c) b c.
-fn multinomial(m: usize, b: usize, c: usize) -> f64 {
-    let choose =
-        |n: usize, k: usize| (0..k).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64);
-    choose(m, c) * choose(m - c, b)
 }
 
 #[cfg(test)]
