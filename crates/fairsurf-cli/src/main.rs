@@ -134,8 +134,29 @@ fn no_huge_pages() {
     let _ = nix::sys::prctl::set_thp_disable(true);
 }
 
+/// faer's solvers take their thread count from its global parallelism,
+/// whose default asks rayon for it, and asking starts rayon's pool: a
+/// `fairsurf fill` started two threads for a 10-unknown least-squares fit
+/// (degree elevation) that runs on this thread, and they spun in
+/// `sched_yield` beside it on 2 cores. Set the count here (rayon's own
+/// rule: `RAYON_NUM_THREADS`, else the cores available); the pool starts
+/// when work is parallel.
+fn thread_count() {
+    let n = std::env::var("RAYON_NUM_THREADS")
+        .ok()
+        .and_then(|v| v.parse::<usize>().ok())
+        .filter(|&n| n > 0)
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    faer::set_global_parallelism(if n > 1 {
+        faer::Par::rayon(n)
+    } else {
+        faer::Par::Seq
+    });
+}
+
 fn main() -> ExitCode {
     no_huge_pages();
+    thread_count();
     let cli = Cli::parse();
     // Interrupted (SIGINT, SIGTERM, SIGHUP): remove the temporaries of files
     // being written, so every output keeps its old contents, and exit 130.

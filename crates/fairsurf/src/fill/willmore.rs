@@ -287,16 +287,7 @@ fn system(
                     }
                 }
             }
-            // Small products: sequential (a thread pool's start costs more).
-            let mut local = Mat::<f64>::zeros(cols.len(), cols.len());
-            faer::linalg::matmul::matmul(
-                local.as_mut(),
-                faer::Accum::Replace,
-                lm.transpose(),
-                lm.as_ref(),
-                1.0,
-                faer::Par::Seq,
-            );
+            let local = crate::solve::dense::gram(lm.as_ref());
             for (la, &a) in cols.iter().enumerate() {
                 let Some(ra) = slot[point(su, sv, a)] else {
                     continue;
