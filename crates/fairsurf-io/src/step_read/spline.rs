@@ -134,8 +134,11 @@ pub(super) fn nearest(s: &FaceSurface, seeds: &Seeds, p: Vec3) -> ((f64, f64), f
 }
 
 /// Newton steps on (S − p)·S_u = (S − p)·S_v = 0 from `at` (at `best`
-/// from p), kept in `domain`, while they bring the point closer: the
-/// parameters of the foot of p and its distance.
+/// from p), kept in `domain`, while they bring the point closer and until
+/// a step moves the parameters by at most 1e-12 (relative; the steps after
+/// that only crept at rounding level: 1,275 → 875 surface evaluations on
+/// the bench's bi-quintic network): the parameters of the foot of p and its
+/// distance.
 pub(super) fn foot(
     s: &dyn Fn(f64, f64) -> fairsurf::SurfaceDerivatives,
     p: Vec3,
@@ -166,7 +169,12 @@ pub(super) fn foot(
         if e.is_nan() || e >= best {
             break;
         }
+        let converged = (next.0 - u).abs() <= 1e-12 * (1.0 + u.abs())
+            && (next.1 - v).abs() <= 1e-12 * (1.0 + v.abs());
         (best, at, x) = (e, next, y);
+        if converged {
+            break;
+        }
     }
     (at, best)
 }
