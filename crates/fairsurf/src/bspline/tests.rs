@@ -915,3 +915,41 @@ fn cache_reuse(u: KnotVector, v: KnotVector, sparse: bool) {
     assert!(!wider.report.reused && !wider.report.reused_symbolic);
     assert_eq!(cache.len(), 2);
 }
+
+/// A free set the energy does not determine — only a normal field along
+/// z, which no x or y move changes: those coordinates' rows are exactly
+/// zero — is the same error from the dense factor (8 free points) as from
+/// the sparse one (285): not positive definite, counted in free
+/// coordinates, with the hint.
+#[test]
+fn an_undetermined_free_set_is_the_same_error_dense_or_sparse() {
+    let uniform = |p: usize, spans: usize| {
+        let mut k = vec![0.0; p];
+        k.extend((0..=spans).map(|i| i as f64 / spans as f64));
+        k.extend(vec![1.0; p]);
+        knots(p, &k)
+    };
+    for (u, v) in [uneven(), (uniform(3, 20), uniform(3, 16))] {
+        let free = (u.count() - 4) * (v.count() - 4);
+        let up = vec![[0.0, 0.0, 1.0]; 4];
+        let e = BSplineProblem::from_surface(wavy(u, v))
+            .with_fixed_rings(2)
+            .with_term(NormalField::sampled(
+                1.0,
+                crate::energy::SampleGrid::new(1, 1),
+                up,
+                None,
+            ))
+            .solve()
+            .unwrap_err();
+        match &e {
+            Error::NotPositiveDefinite { unknowns, .. } => assert_eq!(*unknowns, 3 * free),
+            other => panic!("{other:?}"),
+        }
+        assert!(
+            e.to_string()
+                .contains("the energy does not determine the free control points"),
+            "{e}"
+        );
+    }
+}
