@@ -163,9 +163,12 @@ impl<'a> Lexer<'a> {
                 Some(b'/') if self.text[self.at..].starts_with(b"/*") => {
                     return Err(self.error("a comment that does not end"))
                 }
-                Some(b'E') if self.text[self.at..].starts_with(b"ENDSEC") => {
-                    self.at += "ENDSEC".len();
-                    return self.expect(b';');
+                Some(b'A'..=b'Z' | b'_') => {
+                    // A whole keyword: `ENDSEC` ends the section, not a
+                    // keyword that holds it (`XENDSEC`).
+                    if self.standard_keyword()? == "ENDSEC" {
+                        return self.expect(b';');
+                    }
                 }
                 Some(_) => self.at += 1,
             }
@@ -508,11 +511,11 @@ mod tests {
 
     /// Every token kind, with comments and line breaks where the syntax
     /// allows them, reads as ruststep reads it; the first of two DATA
-    /// sections is the one returned; a header string holding `ENDSEC;`
-    /// does not end the header.
+    /// sections is the one returned; a header string or keyword holding
+    /// `ENDSEC` does not end the header.
     #[test]
     fn every_token_kind_reads_as_ruststep_reads_it() {
-        let text = "ISO-10303-21;\nHEADER;\nFILE_NAME('a /* b */ ENDSEC;','x',('y'),$);\nENDSEC;\n\
+        let text = "ISO-10303-21;\nHEADER;\nFILE_NAME('a /* b */ ENDSEC;','x',('y'),$);\nXENDSEC(1);\nENDSEC;\n\
             DATA;\n/* a comment */#1=CARTESIAN_POINT('',(0.,-1.5E-3,+2.25E+02));\n\
             #2 = ( BOUNDED_CURVE() B_SPLINE_CURVE(3,(#1,#1),.UNSPECIFIED.,.F.,.F.)\n\
               !USER_KEY(1, - 7) ) ;\n\
