@@ -5,8 +5,9 @@
 //! therefore:
 //! 1. equilibrates symmetrically, Â = S H S with S = diag(1/√H_ii), which
 //!    removes the large spread of Bernstein Gram diagonals;
-//! 2. factors Â = L Lᵀ (a blocked Cholesky on faer's kernels, stopping
-//!    between panels once the work is cancelled, [`crate::budget`]);
+//! 2. factors Â = L Lᵀ (up to [`TINY`] unknowns by a plain loop, past that a
+//!    blocked Cholesky on faer's kernels, stopping between panels once the
+//!    work is cancelled, [`crate::budget`]);
 //! 3. refines iteratively with residuals computed in twice-working precision
 //!    (Ogita–Rump–Oishi compensated dot products), so the returned solution of
 //!    the assembled system is accurate to about ε even when cond·ε is not small;
@@ -185,7 +186,9 @@ pub(crate) fn product(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
 
 /// A = L Lᵀ in place (the lower triangle becomes L; the strict upper
 /// triangle is not read, and faer's kernels overwrite it within the
-/// diagonal blocks), right-looking by panels of [`PANEL`]
+/// diagonal blocks). Up to [`TINY`] unknowns (column-major) by
+/// [`cholesky_tiny`], a loop too short to need a cancellation check;
+/// past that right-looking by panels of [`PANEL`]
 /// columns on faer's kernels: the diagonal block by faer's Cholesky,
 /// the panel below it by a triangular solve, the trailing lower triangle
 /// by a symmetric rank-k update. Between panels it checks for
@@ -288,7 +291,8 @@ fn cholesky_tiny(mut a: MatMut<'_, f64>) -> std::result::Result<(), CholeskyStop
 }
 
 /// AᵀA (symmetric: its lower triangle by dot products of A's columns,
-/// mirrored), by faer's product past [`TINY`] columns.
+/// mirrored), by faer's product on this thread past [`TINY`] columns or
+/// for a strided A.
 pub(crate) fn gram(a: MatRef<'_, f64>) -> Mat<f64> {
     let n = a.ncols();
     let cols: Option<Vec<&[f64]>> = (0..n)
@@ -306,7 +310,21 @@ pub(crate) fn gram(a: MatRef<'_, f64>) -> Mat<f64> {
             }
             out
         }
-        _ => product(a.transpose(), a),
+        _ => {
+            // On this thread, as the descent's per-span products always
+            // ran (each a few ms at most: a thread pool's wake-up costs
+            // more than it saves).
+            let mut out = Mat::<f64>::zeros(n, n);
+            faer::linalg::matmul::matmul(
+                out.as_mut(),
+                Accum::Replace,
+                a.transpose(),
+                a,
+                1.0,
+                Par::Seq,
+            );
+            out
+        }
     }
 }
 
@@ -590,9 +608,20 @@ mod tests {
         // Not positive at row 23: both stop there.
         let mut b = a.clone();
         b[(23, 23)] = -1.0;
+        assert!(matches!(
+            b.llt(faer::Side::Lower),
+            Err(faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index: 23 })
+        ));
         assert_eq!(
             cholesky_in_place(b.as_mut()),
             Err(CholeskyStop::NotPositive(23))
+        );
+        // A NaN pivot too.
+        let mut c = a.clone();
+        c[(7, 7)] = f64::NAN;
+        assert_eq!(
+            cholesky_in_place(c.as_mut()),
+            Err(CholeskyStop::NotPositive(7))
         );
         let mut big = Mat::from_fn(TINY + 1, TINY + 1, |i, j| {
             if i == j {
