@@ -651,6 +651,50 @@ def fill_pentagon():
     })
 
 
+def fill_lens():
+    """A hole of two sides (a lens between the parabolas y = +-0.4 (1 - x^2))
+    in the graph of a quadratic, ringed by four biquartic patches that are
+    exact pieces of it. `fairsurf fill` cuts the two sides at their middles and
+    fills it with a fan of four triangular patches, G1 to the neighbours and
+    to each other."""
+    def f(x, y):
+        return 0.15 * x * y + 0.1 * x * x - 0.08 * y * y
+
+    def h(x):
+        return 0.4 * (1 - x * x)
+
+    a = [bern(4, k / 4) for k in range(5)]
+
+    def piece(xy):
+        # The map (u, v) -> (x, y, f) is polynomial of degree <= 4 in each
+        # parameter: interpolation on the 5 x 5 grid gives its net.
+        vals = [[xy(i / 4, j / 4) for j in range(5)] for i in range(5)]
+        vals = [[[x, y, f(x, y)] for (x, y) in row] for row in vals]
+        rows = [[solve_linear(a, [v[c] for v in vals[i]]) for c in range(3)] for i in range(5)]
+        net = [[[r(solve_linear(a, [rows[i][c][j] for i in range(5)])[ii]) for c in range(3)]
+                for j in range(5)] for ii in range(5)]
+        return {"type": "tensor", "degree": [4, 4], "control_points": net}
+
+    def x_of(u):
+        return -1 + 2 * u
+
+    faces = [
+        piece(lambda u, v: (x_of(u), -1 + v * (1 - h(x_of(u))))),
+        piece(lambda u, v: (x_of(u), h(x_of(u)) + v * (1 - h(x_of(u))))),
+        piece(lambda u, v: (-2 + u, -1 + 2 * v)),
+        piece(lambda u, v: (1 + u, -1 + 2 * v)),
+    ]
+    write("cad/fill_lens.json", {
+        "name": "A hole of two sides (a lens) in a ring of biquartic patches",
+        "description": "Four biquartic Bezier faces, exact pieces of one quadratic graph, around "
+                       "a lens-shaped hole bounded by two parabolic edges that meet at two "
+                       "corners. fairsurf fill cuts both sides at their middles (two straight "
+                       "corners) and fills the hole with a fan of four triangular patches around "
+                       "a free centre, G1 to the neighbours and between the patches.",
+        "faces": faces,
+    })
+
+
 # Wu & Yang Fig. 1-5 on bicubic B-splines (issue 19): the same setups at a
 # designer's resolution, uniform knots, the net over the Greville abscissae.
 
@@ -811,6 +855,7 @@ def bspline_wu_yang():
 if __name__ == "__main__":
     bspline_wu_yang()
     fill_pentagon()
+    fill_lens()
     blend_sheets()
     fill_network()
     bspline_hole()

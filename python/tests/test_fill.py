@@ -437,6 +437,32 @@ def test_polygonal_holes_are_filled_by_sewn_g1_fans(cli: Path, tmp_path: Path):
         assert fill["solve"]["dropped_continuity"] == []
 
 
+def test_a_hole_of_two_sides_is_cut_at_their_middles_and_filled_by_a_sewn_g1_fan(
+        cli: Path, tmp_path: Path):
+    """The lens of fill_lens.json (two parabolic sides, two corners) was
+    refused ("at least 3 sides"); its sides are now cut at their middles:
+    a fan of four patches that Open CASCADE sews to the four faces (only the
+    rim's 8 edges stay free), G1 across the four side pieces and the four
+    spokes as fairsurf reports."""
+    out = tmp_path / "lens.step"
+    run = subprocess.run([str(cli), "fill", str(EXAMPLES / "fill_lens.json"), "-o", str(out),
+                          "--json"], check=True, capture_output=True, text=True)
+    fill = json.loads(run.stdout)["fills"][0]
+    assert fill["kind"] == "fan" and fill["patches"] == 4
+    assert fill["solve"]["dropped_continuity"] == []
+    shape = read_step(out)
+    assert count(shape, TopAbs_FACE) == 8
+    assert free_edges_after_sewing(shape) == 8
+    seam = seams(shape)
+    sides = [s for s in seam if s[0][0] < 4 <= s[0][1]]
+    inner = [s for s in seam if s[0][0] >= 4]
+    assert len(sides) == 4 and len(inner) == 4
+    assert max(s[1] for s in sides) < 1e-9 and fill["max_angle_deg"] < 1e-9
+    assert max(s[2] for s in sides) < 1e-12
+    assert max(s[1] for s in inner) < 1e-8 and fill["inner_angle_deg"] < 1e-8
+    assert max(s[2] for s in inner) < 1e-9
+
+
 def test_sides_with_knots_are_filled_by_sewn_g1_fans(cli: Path, tmp_path: Path):
     """The triangle of `polygon_network` with one neighbour a B-spline with a
     knot inside the hole's side (u = 0.4) and another cut by Open CASCADE

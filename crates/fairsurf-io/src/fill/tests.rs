@@ -160,3 +160,29 @@ fn the_corners_of_a_rounded_box_are_filled_within_tolerance() {
         assert!(w < w_cut, "hole {h}: W {w} against {w_cut}");
     }
 }
+
+/// A hole of two sides (the bundled lens: two parabolic edges, two
+/// corners) is cut at its sides' middles into four pieces (two straight
+/// corners) and filled by a fan of four triangular patches, G1 to the
+/// neighbours to rounding and between the patches, no condition dropped.
+#[test]
+fn a_hole_of_two_sides_is_filled_by_a_fan_of_four() {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cad/fill_lens.json");
+    let input = FillInput::read(&p).unwrap();
+    let choice = HoleChoice::of(&input, None).unwrap();
+    assert_eq!(choice.chosen, vec![1]);
+    assert_eq!(choice.holes[1].sides.len(), 2);
+    let mut fills = choice.fill(&input.faces, &input.options).unwrap();
+    let Some(HoleFill::Fan(f)) = fills.pop() else {
+        panic!("a fan")
+    };
+    assert_eq!(f.surface.patches().count(), 4);
+    assert_eq!(f.report.sides.len(), 4);
+    for s in &f.report.sides {
+        assert!(s.gap < 1e-12 && s.angle < 1e-11, "{s:?}");
+    }
+    assert!(f.report.inner_angle < 1e-10, "{}", f.report.inner_angle);
+    let solve = f.report.solve.triangular.as_ref().unwrap();
+    assert!(solve.dropped.is_empty());
+    assert!(f.report.curvature.value > 0.0 && f.report.curvature.value.is_finite());
+}
