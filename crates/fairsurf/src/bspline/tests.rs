@@ -14,6 +14,14 @@ fn knots(p: usize, k: &[f64]) -> KnotVector {
     KnotVector::new(p, k.to_vec()).unwrap()
 }
 
+/// Clamped uniform knots of degree p with `spans` spans on [0, 1].
+fn uniform(p: usize, spans: usize) -> KnotVector {
+    let mut k = vec![0.0; p];
+    k.extend((0..=spans).map(|i| i as f64 / spans as f64));
+    k.extend(vec![1.0; p]);
+    knots(p, &k)
+}
+
 /// Nonuniform cubic knots with a double interior knot, and quadratic ones.
 fn uneven() -> (KnotVector, KnotVector) {
     (
@@ -854,12 +862,6 @@ fn derivatives_on_a_grid_are_the_pointwise_ones() {
 /// timed.
 #[test]
 fn a_cache_reuses_the_factor_for_moved_points_and_the_ordering_for_weights() {
-    let uniform = |p: usize, spans: usize| {
-        let mut k = vec![0.0; p];
-        k.extend((0..=spans).map(|i| i as f64 / spans as f64));
-        k.extend(vec![1.0; p]);
-        knots(p, &k)
-    };
     // 8 free points (dense), and 19 × 15 = 285 (sparse).
     for (u, v) in [uneven(), (uniform(3, 20), uniform(3, 16))] {
         let free = (u.count() - 4) * (v.count() - 4);
@@ -923,12 +925,6 @@ fn cache_reuse(u: KnotVector, v: KnotVector, sparse: bool) {
 /// coordinates, with the hint.
 #[test]
 fn an_undetermined_free_set_is_the_same_error_dense_or_sparse() {
-    let uniform = |p: usize, spans: usize| {
-        let mut k = vec![0.0; p];
-        k.extend((0..=spans).map(|i| i as f64 / spans as f64));
-        k.extend(vec![1.0; p]);
-        knots(p, &k)
-    };
     for (u, v) in [uneven(), (uniform(3, 20), uniform(3, 16))] {
         let free = (u.count() - 4) * (v.count() - 4);
         let up = vec![[0.0, 0.0, 1.0]; 4];
