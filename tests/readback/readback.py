@@ -19,7 +19,7 @@ round-trip repr ("0.1", "nan"), so that a reader of the JSON gets the exact
 double whatever its JSON number parser does (serde_json's default parser is
 not correctly rounded).
 
-The fairsurf-io tests run this (crates/fairsurf-io/tests/exports.rs) with the interpreter named
+The fairsurf-io tests run this (crates/fairsurf-io/tests/suite/exports.rs) with the interpreter named
 by FAIRSURF_READBACK_PYTHON; `pip install gmsh trimesh plyfile numpy`.
 """
 

@@ -1,7 +1,7 @@
 """Writes revolved.step with Open CASCADE (pip cadquery-ocp): faces on a
 torus and on a sphere as CAD writes them -- TOROIDAL_SURFACE and
 SPHERICAL_SURFACE bounded by four CIRCLE arcs (two parallels, two
-meridians) -- for crates/fairsurf-io/tests/revolved.rs.
+meridians) -- for crates/fairsurf-io/tests/suite/revolved.rs.
 
     python crates/fairsurf-io/tests/data/revolved.py crates/fairsurf-io/tests/data/revolved.step
 

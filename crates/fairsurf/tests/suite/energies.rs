@@ -2,9 +2,7 @@
 //! integrand (or the direct sum over samples), computed from the patch's own
 //! derivatives — not from the assembly code.
 
-mod common;
-
-use common::{random_net, tilted_field, Rng};
+use crate::common::{random_net, tilted_field, Rng};
 use fairsurf::basis::GaussLegendre;
 use fairsurf::vector::{dot, sub};
 use fairsurf::{

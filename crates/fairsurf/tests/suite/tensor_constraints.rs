@@ -6,7 +6,7 @@
 //! surface kinds; targets move with a kept factorization; bad constraints
 //! are refused, naming them.
 
-mod common;
+use crate::common;
 
 use fairsurf::constraint::{ConstraintSurface, Row};
 use fairsurf::triangle::{DomainPoint, TriSurface};

@@ -7,7 +7,7 @@
 //! field; no move along the constraints lowers the energy; bad constraints
 //! are refused, naming them.
 
-mod common;
+use crate::common;
 
 use fairsurf::bspline::{BSplineProblem, BSplineSurface, KnotVector};
 use fairsurf::constraint::{ConstraintSurface, Row};

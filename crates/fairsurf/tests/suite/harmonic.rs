@@ -4,9 +4,7 @@
 //! evaluation, the paper's closed forms, exact reproduction of known
 //! (bi)harmonic polynomials, minimality, planarity.
 
-mod common;
-
-use common::{max_dist, random_net, Rng};
+use crate::common::{max_dist, random_net, Rng};
 use fairsurf::basis::{binomial, GaussLegendre};
 use fairsurf::harmonic::{
     apply, biharmonic, biharmonic_mask, biharmonic_with, compare, extremal, harmonic,

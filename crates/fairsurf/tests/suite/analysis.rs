@@ -1,9 +1,7 @@
 //! Curvature and continuity measures against analytic values and
 //! constructed joins.
 
-mod common;
-
-use common::random_net;
+use crate::common::random_net;
 use faer::linalg::solvers::Solve;
 use faer::Mat;
 use fairsurf::analysis::{abs_mean_curvature, continuity, curvature, Edge};

@@ -1,9 +1,7 @@
 //! Facts about the solve: minimality, reproduction, accuracy, monotone
 //! response to λ and γ, and every error.
 
-mod common;
-
-use common::{max_dist, random_net, tilted_field, Rng};
+use crate::common::{max_dist, random_net, tilted_field, Rng};
 use fairsurf::analysis::normal_deviation;
 use fairsurf::{
     Bend, EnergyTerm, Error, GuideSurface, Measure, NormalField, Problem, SampleGrid, SolveOptions,

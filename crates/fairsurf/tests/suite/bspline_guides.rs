@@ -6,7 +6,7 @@
 //! is the minimum (random moves raise the energy); another domain is
 //! refused.
 
-mod common;
+use crate::common;
 
 use fairsurf::bspline::{BSplineProblem, BSplineSurface, KnotVector};
 use fairsurf::{Bend, GuideSurface};

@@ -148,7 +148,7 @@ fn biharmonic_polynomial_at_every_degree() {
 
 /// E1/E2 as in the benchmarks (λ = 10 with a degree-3 field, γ = 1):
 /// prints which degrees verify and what the check costs. `cargo test
-/// --release -p fairsurf --test check_sweep -- --ignored --nocapture`.
+/// --release -p fairsurf --test suite check_sweep:: -- --ignored --nocapture`.
 #[test]
 #[ignore]
 fn guided_energies_report() {
@@ -254,7 +254,7 @@ fn budgets_refuse_large_work_and_cancel() {
 /// How far verified nets and their surfaces are from the exact minimizer
 /// (the harmonic polynomial's own net): prints net error, surface error on a
 /// 21×21 grid, the excess and the check's cost. `cargo test --release -p
-/// fairsurf --test check_sweep net_errors -- --ignored --nocapture`.
+/// fairsurf --test suite check_sweep::net_errors -- --ignored --nocapture`.
 #[test]
 #[ignore]
 fn net_errors() {
@@ -529,7 +529,7 @@ mod triangular {
 
     /// What the check costs on large triangular solves: cubic patches over
     /// a grid, boundary fixed, stretch 0.1 + bend 1, C0 and G1 at the
-    /// vertices. `cargo test --release -p fairsurf --test check_sweep
+    /// vertices. `cargo test --release -p fairsurf --test suite check_sweep::
     /// triangular_check_cost -- --ignored --nocapture`.
     #[test]
     #[ignore]

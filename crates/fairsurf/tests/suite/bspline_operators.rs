@@ -7,7 +7,7 @@
 //! perturbation lowers the total energy; bad operators are refused, naming
 //! them.
 
-mod common;
+use crate::common;
 
 use fairsurf::basis::GaussLegendre;
 use fairsurf::bspline::{BSplineProblem, BSplineSurface, KnotVector};

@@ -2,9 +2,7 @@
 //! keep the shape exactly and the orientation, the origins locate every
 //! point, and an embedded curve is interpolated by a chain of mesh edges.
 
-mod common;
-
-use common::Rng;
+use crate::common::Rng;
 use fairsurf::triangle::{embed_curve, Bary, CurvePath, DomainPoint, Refinement};
 use fairsurf::vector::{norm, sub};
 use fairsurf::{BezierCurve, Error, TriSurface, Vec3};

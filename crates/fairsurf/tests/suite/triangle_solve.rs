@@ -4,7 +4,7 @@
 //! the constrained minimum, dependent rows are reduced and contradictions
 //! reported, continuity gives way to interpolation, curves are interpolated.
 
-mod common;
+use crate::common;
 
 use fairsurf::triangle::{
     Constraint, Continuity, CurveConstraint, DomainPoint, EdgeContinuity, InternalEnergy,

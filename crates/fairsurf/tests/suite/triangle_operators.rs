@@ -3,7 +3,7 @@
 //! meet their targets better, regions split across patches equal regions
 //! split by hand, repellors converge by Newton's method.
 
-mod common;
+use crate::common;
 
 use fairsurf::basis::polygon::{fan_rule, Uv};
 use fairsurf::triangle::{

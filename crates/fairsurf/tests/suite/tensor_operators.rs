@@ -4,7 +4,7 @@
 //! additive, repellors converge by Newton's method, the solve is
 //! translation-invariant, and bad operators are refused.
 
-mod common;
+use crate::common;
 
 use fairsurf::basis::polygon::{fan_rule, Uv};
 use fairsurf::operator::{Operator, PatchEdge, Target, TensorOperator, TensorPlace};

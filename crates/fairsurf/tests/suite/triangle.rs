@@ -2,9 +2,7 @@
 //! evaluation, derivatives, degree elevation and subdivision, checked against
 //! closed forms, finite differences and each other.
 
-mod common;
-
-use common::Rng;
+use crate::common::Rng;
 use fairsurf::analysis::curvature_from;
 use fairsurf::triangle::{multi_indices, tri_bernstein_all, Bary};
 use fairsurf::vector::{add, cross, norm, normalize, scale, sub};

@@ -6,7 +6,7 @@
 //! analysis), only the numbers factored again; rows that turn inconsistent
 //! are reported as a fresh solve reports them.
 
-mod common;
+use crate::common;
 
 use fairsurf::operator::{Operator, Target};
 use fairsurf::triangle::{

@@ -2,7 +2,7 @@
 //! and over a B-spline surface takes the same energy terms, and each kind
 //! refuses what its assembly cannot integrate, naming the term.
 
-mod common;
+use crate::common;
 
 use fairsurf::bspline::{BSplineProblem, BSplineSurface, KnotVector};
 use fairsurf::energy::Measure;

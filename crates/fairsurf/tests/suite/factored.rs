@@ -4,9 +4,7 @@
 //! fresh solve, with the same accuracy reported; anything that changes the
 //! matrix is refused with a message saying what.
 
-mod common;
-
-use common::{random_net, tilted_field};
+use crate::common::{random_net, tilted_field};
 use fairsurf::energy::{Space, TermForm};
 use fairsurf::operator::{Operator, Target, TensorOperator, TensorPlace};
 use fairsurf::{

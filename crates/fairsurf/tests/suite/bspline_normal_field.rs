@@ -7,7 +7,7 @@
 //! another domain is refused, and so is a B-spline field on a Bézier
 //! patch's problem.
 
-mod common;
+use crate::common;
 
 use fairsurf::basis::GaussLegendre;
 use fairsurf::bspline::{BSplineProblem, BSplineSurface, KnotVector};

@@ -4,13 +4,12 @@
 //! added, a string or type swapped, a value nulled), parsed, validated and
 //! solved. Nothing may panic; every error must be one of the crate's errors;
 //! every solve that returns (tensor or triangular) must carry a passed check
-//! of its written net. Deterministic (a fixed seed), bounded in time: degrees above 12 and
-//! large sample grids are validated, not solved.
+//! of its written net. Deterministic (a fixed seed), bounded in time:
+//! degrees above 12, large sample grids and B-splines of more than 200
+//! control points are validated, not solved (`mutate::small`).
 
-mod mutate;
-
+use crate::mutate::{mutate, small, small_examples, Rng};
 use fairsurf_io::{Outcome, Scene, TensorScene};
-use mutate::{mutate, small, small_examples, Rng};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 /// Parses, validates and (when small) solves; panics only on a finding.

@@ -4,9 +4,7 @@
 //! invariance, null spaces, degree elevation, shared control points,
 //! boundaries, mesh errors and global assembly.
 
-mod common;
-
-use common::Rng;
+use crate::common::Rng;
 use faer::{Mat, Side};
 use fairsurf::basis::GaussLegendre;
 use fairsurf::triangle::{
