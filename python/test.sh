@@ -16,9 +16,13 @@ if ! "$venv/bin/python" -c "import maturin, numpy, pytest, OCP, distributed" >/d
     cadquery-ocp "dask[distributed]"
 fi
 profile=${FAIRSURF_PY_PROFILE:-dev}
+echo "-- build the module ($profile) [${SECONDS} s]"
 PATH="$PWD/$venv/bin:$PATH" MATURIN_PEP517_ARGS="--profile $profile" \
   "$venv/bin/pip" install --quiet --disable-pip-version-check --no-build-isolation \
   --force-reinstall --no-deps ./python
+echo "-- pytest [${SECONDS} s]"
 "$venv/bin/python" -m pytest -q python/tests
+echo "-- the examples [${SECONDS} s]"
 "$venv/bin/python" python/examples/tour.py "target/py-tour"
 "$venv/bin/python" python/examples/dask_sweep.py
+echo "-- done [${SECONDS} s]"
