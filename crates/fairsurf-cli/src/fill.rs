@@ -39,10 +39,11 @@ pub struct Args {
     json: bool,
     /// Rational faces (cylinders, cones, rational B-splines) are met
     /// through a polynomial stand-in within this distance along their
-    /// sides (at the same parameter).
+    /// sides (at the same parameter); a fill whose measured gap to a
+    /// neighbour is larger is flagged.
     #[arg(long, value_name = "DISTANCE", default_value_t = 1e-6)]
     tolerance: f64,
-    /// … and within this normal angle, degrees.
+    /// … and within this normal angle, degrees (likewise flagged).
     #[arg(long, value_name = "DEGREES", default_value_t = 0.01)]
     angle_tolerance: f64,
     #[command(flatten)]
@@ -144,12 +145,24 @@ pub fn run(a: Args) -> Result<(), Failure> {
     )?;
     if a.json {
         let mut out = fill_report_json(input.faces.len(), &choice, &fills);
+        out["tolerances"] = json!({"gap": fit.position, "angle_deg": a.angle_tolerance});
+        for (report, fill) in out["fills"]
+            .as_array_mut()
+            .expect("fills")
+            .iter_mut()
+            .zip(&fills)
+        {
+            report["sides_beyond_tolerances"] = json!(beyond(fill, fit));
+        }
         out["stand_ins"] = input.stand_ins_json();
         out["input"] = json!(a.input.display().to_string());
         out["output"] = json!(output.display().to_string());
         crate::say!("{}", serde_json::to_string_pretty(&out).expect("JSON"));
     } else {
-        crate::say!("{}", summary(&a.input, output, &input, &choice, &fills));
+        crate::say!(
+            "{}",
+            summary(&a.input, output, &input, &choice, &fills, fit)
+        );
     }
     Ok(())
 }
@@ -160,6 +173,7 @@ fn summary(
     input: &FillInput,
     choice: &HoleChoice,
     fills: &[HoleFill],
+    tolerance: FitTolerance,
 ) -> String {
     let faces = input.faces.len();
     let mut lines = vec![format!(
@@ -264,6 +278,20 @@ fn summary(
                 }
             }
         }
+        let sides = beyond(fill, tolerance);
+        if !sides.is_empty() {
+            lines.push(format!(
+                "    beyond the tolerances (gap {:.0e}, angle {:.0e}°) along sides {sides:?}: not \
+                 G1 to the neighbours there to the tolerance{}",
+                tolerance.position,
+                tolerance.angle.to_degrees(),
+                if fill.corners().tangent > 1e-10 {
+                    " (the sides disagree at a corner, above)"
+                } else {
+                    ""
+                }
+            ));
+        }
     }
     lines.push(format!(
         "{}: {} faces",
@@ -271,6 +299,17 @@ fn summary(
         faces + fills.iter().map(|f| f.patches().len()).sum::<usize>()
     ));
     lines.join("\n")
+}
+
+/// The sides (in the report's order) where the fill was measured farther
+/// from its neighbour than the tolerances: gap or normal angle.
+fn beyond(fill: &HoleFill, fit: FitTolerance) -> Vec<usize> {
+    fill.sides()
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| !(s.gap <= fit.position && s.angle <= fit.angle))
+        .map(|(k, _)| k)
+        .collect()
 }
 
 /// How many of the steps after the thin plate lowered W (each a new least

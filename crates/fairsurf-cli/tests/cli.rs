@@ -1480,6 +1480,55 @@ fn fill_fills_a_pentagonal_hole_with_a_fan() {
     );
 }
 
+/// A fill measured beyond the tolerances is flagged, not passed off: the
+/// lens with one face's hole edge bent near a corner (its control point
+/// next to the corner lifted by 0.02; the faces still share their edges)
+/// is filled, but 1.8° from the bent face along the two pieces next to
+/// that corner. The summary says so and names the corner disagreement; the
+/// JSON lists those sides. The exact lens flags nothing.
+#[test]
+fn fill_flags_sides_beyond_the_tolerances() {
+    let d = tmpdir("fill-beyond");
+    let lens = examples().join("cad/fill_lens.json");
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&lens).unwrap()).unwrap();
+    let z = &mut v["faces"][0]["control_points"][3][4][2];
+    *z = serde_json::json!(z.as_f64().unwrap() + 0.02);
+    let bent = d.join("bent.json");
+    std::fs::write(&bent, v.to_string()).unwrap();
+    let out = d.join("bent.step");
+    let run = |scene: &Path, json: bool| {
+        let mut args = vec!["fill", scene.to_str().unwrap(), "-o", out.to_str().unwrap()];
+        if json {
+            args.push("--json");
+        }
+        let o = fairsurf(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        o
+    };
+    let s = String::from_utf8_lossy(&run(&bent, false).stdout).into_owned();
+    assert!(
+        s.contains(
+            "beyond the tolerances (gap 1e-6, angle 1e-2°) along sides [1, 2]: not G1 to the \
+             neighbours there to the tolerance (the sides disagree at a corner, above)"
+        ),
+        "{s}"
+    );
+    let r: serde_json::Value = serde_json::from_slice(&run(&bent, true).stdout).unwrap();
+    let fill = &r["fills"][0];
+    assert_eq!(fill["sides_beyond_tolerances"], serde_json::json!([1, 2]));
+    let worst = fill["max_angle_deg"].as_f64().unwrap();
+    assert!(worst > 1.0 && worst < 3.0, "{worst}");
+    assert_eq!(r["tolerances"]["angle_deg"], 0.01);
+    let s = String::from_utf8_lossy(&run(&lens, false).stdout).into_owned();
+    assert!(!s.contains("beyond the tolerances"), "{s}");
+    let r: serde_json::Value = serde_json::from_slice(&run(&lens, true).stdout).unwrap();
+    assert_eq!(
+        r["fills"][0]["sides_beyond_tolerances"],
+        serde_json::json!([])
+    );
+}
+
 /// The corners of the rounded box: every one filled (a closed shell has no
 /// rim), the stand-ins made one span along the corners; a tolerance one
 /// span of degree 15 cannot reach is refused, naming the face and how far

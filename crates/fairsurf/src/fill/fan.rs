@@ -195,8 +195,10 @@ fn decompose(w: Vec3, x: Vec3, y: Vec3) -> (f64, f64, f64) {
 /// that is concave, a boundary with no corner (a round hole), a
 /// neighbour whose cross derivative does not point into the hole at a
 /// corner, a fan cut at knots whose construction at the straight corners
-/// fails (no spoke into the hole, or seams opened beyond
-/// 0.01° with every G¹ condition held); and the solve's own refusals.
+/// fails (no spoke into the hole, or seams opened beyond 0.01° with every
+/// G¹ condition held: the message names a corner where the neighbours'
+/// tangent planes disagree when there is one, else the boundary's too few
+/// real corners); and the solve's own refusals.
 pub fn fill_fan(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -> Result<FanFill> {
     Ok(fan_candidate(faces, hole, options)?.completed(faces, options))
 }
@@ -357,9 +359,24 @@ pub(super) fn fan_candidate(
         .and_then(|f| f.max_edge_normal_angle)
         .map_or(0.0, |a| a.0);
     if !straight.is_empty() && (seam > CUT_SEAM_LIMIT || seam.is_nan()) {
+        // Two causes were met: neighbours that disagree on the tangent
+        // plane at a corner (faces sampled, not cut from one surface), and
+        // a boundary with too few real corners for the construction.
+        let (plane, at) = corner_planes(&s);
+        let why = if plane > CORNER_PLANES {
+            format!(
+                "the neighbours' tangent planes disagree by {:.2e}° at corner {at} (sides \
+                 numbered as cut): the fan's G¹ needs one tangent plane at each corner",
+                plane.to_degrees()
+            )
+        } else {
+            "the construction at the straight corners fails on this boundary: too few real \
+             corners"
+                .to_string()
+        };
         return Err(cut(format!(
-            " opens its seams by {:.2e}° with every G¹ condition held (above {:.0e}°: the \
-             construction at the straight corners fails on this boundary){rational}",
+            " opens its seams by {:.2e}° with every G¹ condition held (above {:.0e}°; {why})\
+             {rational}",
             seam.to_degrees(),
             CUT_SEAM_LIMIT.to_degrees()
         )));
@@ -373,6 +390,34 @@ pub(super) fn fan_candidate(
 /// rounded box through 8-span stand-ins); where the construction fails it
 /// was 0.1–110°.
 const CUT_SEAM_LIMIT: f64 = 0.01 * std::f64::consts::PI / 180.0;
+
+/// The angle (radians) between the neighbours' tangent planes at a corner
+/// above which a fan's opened seams are blamed on them: 1e-6°. Exact data
+/// (faces cut from one surface) give 1e-14°, faces sampled from one at
+/// their control points 1e-2°.
+const CORNER_PLANES: f64 = 1e-6 * std::f64::consts::PI / 180.0;
+
+/// The largest angle (radians) between the tangent planes the two sides
+/// meeting at a corner give (their neighbours' normals P′ × D, D into the
+/// hole), and that corner (the start of side k).
+fn corner_planes(s: &[Strip]) -> (f64, usize) {
+    let count = s.len();
+    let normal = |k: usize, t: f64| {
+        let x = s[k].at(t);
+        crate::vec3::cross(x.dpos, x.der)
+    };
+    (0..count)
+        .map(|k| {
+            (
+                angle(normal((k + count - 1) % count, 1.0), normal(k, 0.0)),
+                k,
+            )
+        })
+        .fold(
+            (0.0, 0),
+            |a, b| if b.0 > a.0 || b.0.is_nan() { b } else { a },
+        )
+}
 
 /// A straight corner of a fan: the corner k, its rule's weights on the
 /// previous and the next side's tangent, and a basis of the neighbour's

@@ -359,6 +359,14 @@ impl HoleFill {
         }
     }
 
+    /// The disagreements at the hole's corners.
+    pub fn corners(&self) -> CornerMismatch {
+        match self {
+            Self::Patch(f) => f.report.corners,
+            Self::Fan(f) => f.report.corners,
+        }
+    }
+
     /// W of the fill.
     pub fn curvature(&self) -> TotalCurvature {
         match self {
