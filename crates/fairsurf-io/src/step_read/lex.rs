@@ -13,7 +13,7 @@
 //! exponent may be written `e`, white space may stand before a section's
 //! `;`, a byte-order mark may lead, and the sections other than DATA
 //! (HEADER, ANCHOR, REFERENCE) are only scanned, for their strings,
-//! comments and `ENDSEC;`. Errors name the line and column (in
+//! `<URI>`s, comments and `ENDSEC;`. Errors name the line and column (in
 //! characters).
 
 use ruststep::ast::{DataSection, EntityInstance, Name, Parameter, Record, SubSuperRecord};
@@ -180,6 +180,13 @@ impl<'a> Lexer<'a> {
                 Some(b'/') if self.text[self.at..].starts_with(b"/*") => {
                     return Err(self.error("a comment that does not end"))
                 }
+                // An ANCHOR's or REFERENCE's `<URI>` (§9, §10): an
+                // apostrophe inside it does not start a string (a URI
+                // holds no `>`, RFC 3986).
+                Some(b'<') => match self.text[self.at..].iter().position(|&b| b == b'>') {
+                    Some(n) => self.at += n + 1,
+                    None => return Err(self.error("a <URI> that does not end")),
+                },
                 Some(b'A'..=b'Z' | b'_') => {
                     // A whole keyword: `ENDSEC` ends the section, not a
                     // keyword that holds it (`XENDSEC`).
@@ -621,6 +628,28 @@ mod tests {
                 Parameter::Real(1.5e-3),
                 Parameter::List(vec![]),
             ])
+        );
+    }
+
+    /// ANCHOR and REFERENCE sections (ISO 10303-21 §9, §10) are passed
+    /// over, an apostrophe inside their `<URI>`s included; a URI that does
+    /// not end is an error naming it.
+    #[test]
+    fn anchor_and_reference_sections_with_uris_are_passed_over() {
+        let text = |extra: &str| {
+            format!(
+                "ISO-10303-21;\nHEADER;\nFILE_SCHEMA(('X'));\nENDSEC;\n\
+                 ANCHOR;\n<it's> = #1;\n<b> = <https://example.com/a's.stp#c>;\nENDSEC;\n\
+                 REFERENCE;\n#20 = <other.stp#it's>;\n{extra}ENDSEC;\n\
+                 DATA;\n#1=A('x');\nENDSEC;\nEND-ISO-10303-21;\n"
+            )
+        };
+        let tree = ours(&text(""));
+        assert_eq!(tree.entities.len(), 1);
+        let e = first_data_section(&text("#21 = <open's;\n")).unwrap_err();
+        assert_eq!(
+            e,
+            "line 11, column 7: a <URI> that does not end, found `<open's;`"
         );
     }
 
