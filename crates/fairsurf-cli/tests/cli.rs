@@ -1607,6 +1607,25 @@ fn bad_fills_exit_2_and_write_nothing() {
     let fillet = examples().join("cad/fillet_hole.step");
     assert!(run(&[fillet.to_str().unwrap(), "--tolerance", "1e-30"])
         .contains("could not be approximated by a polynomial one within 1e-30"));
+    // A plane whose axis overflows (found by tests/suite/fill_fuzz.rs):
+    // truck-geometry panics inside the reader; the error names the face and
+    // what the panic said, and no panic message is printed.
+    let step = std::fs::read_to_string(&fillet).unwrap();
+    let axis = "#292 = DIRECTION('',(0.,0.,1.));";
+    assert!(step.contains(axis));
+    let broken = d.join("broken_plane.step");
+    std::fs::write(
+        &broken,
+        step.replace(axis, "#292 = DIRECTION('',(0.,1.E300,1.));"),
+    )
+    .unwrap();
+    let e = run(&[broken.to_str().unwrap()]);
+    assert!(
+        e.contains("face 5: the face's geometry could not be evaluated: called `Option::unwrap()`")
+            && e.contains("(truck-geometry-"),
+        "{e}"
+    );
+    assert!(!e.contains("panicked"), "{e}");
     let text: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&scene).unwrap()).unwrap();
     let write = |name: &str, v: &serde_json::Value| write_json(&d, name, v);

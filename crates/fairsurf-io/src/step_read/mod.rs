@@ -116,10 +116,12 @@ pub fn read_step(text: &str) -> Result<Vec<StepFace>> {
     let data = &mut data;
     same_sense_edges(data);
     let data = &*data;
-    let table = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        Table::from_data_section(data)
-    }))
-    .map_err(|_| bad("", "the STEP reader (truck-stepio) failed on this file"))?;
+    let table = guarded(|| Table::from_data_section(data)).map_err(|e| {
+        bad(
+            "",
+            format!("the STEP reader (truck-stepio) failed on this file: {e}"),
+        )
+    })?;
     let mut shells: Vec<_> = table.shell.iter().collect();
     if shells.is_empty() {
         return Err(bad(
@@ -130,16 +132,14 @@ pub fn read_step(text: &str) -> Result<Vec<StepFace>> {
     shells.sort_by_key(|(id, _)| **id);
     let mut faces = Vec::new();
     for (id, shell) in shells {
-        let compressed = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            table.to_compressed_shell(shell)
-        }))
-        .map_err(|_| {
-            bad(
-                format!("#{id}"),
-                "the STEP reader (truck-stepio) failed on the shell",
-            )
-        })?
-        .map_err(|e| bad(format!("#{id}"), format!("cannot read the shell: {e}")))?;
+        let compressed = guarded(|| table.to_compressed_shell(shell))
+            .map_err(|e| {
+                bad(
+                    format!("#{id}"),
+                    format!("the STEP reader (truck-stepio) failed on the shell: {e}"),
+                )
+            })?
+            .map_err(|e| bad(format!("#{id}"), format!("cannot read the shell: {e}")))?;
         if compressed.faces.len() != shell.cfs_faces.len() {
             return Err(bad(
                 format!("#{id}"),
@@ -153,15 +153,71 @@ pub fn read_step(text: &str) -> Result<Vec<StepFace>> {
         }
         for (k, face) in compressed.faces.iter().enumerate() {
             let path = format!("#{id} face {k}");
-            let f = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                step_face(face, &compressed)
-            }))
-            .unwrap_or_else(|_| Err("the face's geometry could not be evaluated".into()))
-            .map_err(|m| bad(&path, m))?;
+            let f = guarded(|| step_face(face, &compressed))
+                .unwrap_or_else(|e| Err(format!("the face's geometry could not be evaluated: {e}")))
+                .map_err(|m| bad(&path, m))?;
             faces.push(f);
         }
     }
     Ok(faces)
+}
+
+thread_local! {
+    /// Whether a panic on this thread is [`guarded`]'s to report (not the
+    /// process's panic hook's), and what it said.
+    static GUARD: std::cell::RefCell<Option<Option<String>>> = const { std::cell::RefCell::new(None) };
+}
+
+/// `f()`, or what its panic said and where (truck-stepio and
+/// truck-geometry `unwrap` on some malformed geometry: a plane of zero
+/// normal, …). The panic is not printed: the process's panic hook is
+/// wrapped once so that it stays quiet on a thread inside `guarded`, and
+/// the message becomes part of the error that names the entity or face.
+fn guarded<T>(f: impl FnOnce() -> T) -> std::result::Result<T, String> {
+    static WRAP: std::sync::Once = std::sync::Once::new();
+    WRAP.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            let quiet = GUARD.with(|g| {
+                let mut g = g.borrow_mut();
+                match g.as_mut() {
+                    Some(said) => {
+                        let message = info
+                            .payload()
+                            .downcast_ref::<&str>()
+                            .map(|s| s.to_string())
+                            .or_else(|| info.payload().downcast_ref::<String>().cloned())
+                            .unwrap_or_else(|| "a panic".into());
+                        // A dependency's file from its crate folder on
+                        // (not the registry's path on this machine).
+                        let place = info
+                            .location()
+                            .map(|l| {
+                                let file = l.file();
+                                let short = file
+                                    .split_once("/registry/src/")
+                                    .and_then(|(_, rest)| rest.split_once('/'))
+                                    .map_or(file, |(_, krate)| krate);
+                                format!(" ({short}:{})", l.line())
+                            })
+                            .unwrap_or_default();
+                        *said = Some(format!("{message}{place}"));
+                        true
+                    }
+                    None => false,
+                }
+            });
+            if !quiet {
+                previous(info);
+            }
+        }));
+    });
+    let outer = GUARD.with(|g| g.borrow_mut().replace(None));
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(f));
+    let said = GUARD
+        .with(|g| std::mem::replace(&mut *g.borrow_mut(), outer))
+        .flatten();
+    result.map_err(|_| said.unwrap_or_else(|| "a panic".into()))
 }
 
 /// Every SURFACE_CURVE's preferred representation (`.PCURVE_S1.`,

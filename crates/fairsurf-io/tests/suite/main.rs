@@ -6,6 +6,7 @@
 mod mutate;
 
 mod exports;
+mod fill_fuzz;
 mod fuzz;
 mod monterde_ugail;
 mod revolved;
