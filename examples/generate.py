@@ -651,6 +651,57 @@ def fill_pentagon():
     })
 
 
+def fill_round():
+    """A round hole (four C1 cubic quarter-circle arcs of radius 1, no corner)
+    in the graph of a quadratic, ringed by four faces out to radius 2 that are
+    exact pieces of it (degree 6 along the arcs, 2 across). `fairsurf fill`
+    fills it with a fan of four triangular patches around a free centre, G1 to
+    the neighbours and between the patches."""
+    def f(x, y):
+        return 0.15 * x * y + 0.1 * x * x - 0.08 * y * y
+
+    k = 4 / 3 * math.tan(math.pi / 8)
+
+    def arc(q, s):
+        a0, a1 = q * math.pi / 2 + 0.2, (q + 1) * math.pi / 2 + 0.2
+        p0 = (math.cos(a0), math.sin(a0))
+        p3 = (math.cos(a1), math.sin(a1))
+        p1 = (p0[0] - k * p0[1], p0[1] + k * p0[0])
+        p2 = (p3[0] + k * p3[1], p3[1] - k * p3[0])
+        b = bern(3, s)
+        return tuple(sum(b[i] * pt[c] for i, pt in enumerate((p0, p1, p2, p3))) for c in range(2))
+
+    def piece(q):
+        # (u, v) -> ((1 + v) arc(u), f): degree 6 in u, 2 in v; interpolation
+        # on the 7 x 3 grid gives its net exactly.
+        du, dv = 6, 2
+        au = [bern(du, i / du) for i in range(du + 1)]
+        av = [bern(dv, j / dv) for j in range(dv + 1)]
+        vals = []
+        for i in range(du + 1):
+            row = []
+            for j in range(dv + 1):
+                x, y = arc(q, i / du)
+                x, y = (1 + j / dv) * x, (1 + j / dv) * y
+                row.append([x, y, f(x, y)])
+            vals.append(row)
+        rows = [[solve_linear(av, [vals[i][j][c] for j in range(dv + 1)]) for c in range(3)]
+                for i in range(du + 1)]
+        net = [[[r(solve_linear(au, [rows[i][c][j] for i in range(du + 1)])[ii]) for c in range(3)]
+                for j in range(dv + 1)] for ii in range(du + 1)]
+        return {"type": "tensor", "degree": [du, dv], "control_points": net}
+
+    write("cad/fill_round.json", {
+        "name": "A round hole in a ring of four faces",
+        "description": "Four faces of degree 6 x 2, exact pieces of one quadratic graph, around "
+                       "a round hole bounded by four cubic quarter-circle arcs that meet C1 (no "
+                       "corner). fairsurf fill fills it with a fan of four triangular patches "
+                       "around a free centre, their rows next to the boundary cubic in their "
+                       "weights, G1 to the neighbours and between the patches.",
+        "faces": [piece(q) for q in range(4)],
+    })
+
+
 def fill_lens():
     """A hole of two sides (a lens between the parabolas y = +-0.4 (1 - x^2))
     in the graph of a quadratic, ringed by four biquartic patches that are
@@ -856,6 +907,7 @@ if __name__ == "__main__":
     bspline_wu_yang()
     fill_pentagon()
     fill_lens()
+    fill_round()
     blend_sheets()
     fill_network()
     bspline_hole()
