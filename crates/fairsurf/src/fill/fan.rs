@@ -811,72 +811,69 @@ fn prepare(
     } else {
         options.elevate
     };
-    // A round hole (no real corner, fans only): its rows 1 are cubic in α
-    // and β along each piece ([`round_rows`]), so W is of degree p + 3.
-    let round = fan
-        && (0..count).all(|k| {
-            let (end, start) = (s[(k + count - 1) % count].at(1.0), s[k].at(0.0));
-            std::f64::consts::PI - angle(end.dpos, start.dpos) >= STRAIGHT
-        });
-    let n = (least + elevate)
-        .max(min_degree)
-        .max(if round { p_max + 4 } else { 0 });
-    let rows0: Vec<Vec<Vec3>> = s
-        .iter()
-        .map(|st| elevate_points(&st.pos, n - st.degree()))
-        .collect();
-    let mut corners = CornerMismatch::default();
-    let mut corner_sides = Vec::with_capacity(count);
-    for k in 0..count {
-        let prev = &rows0[(k + count - 1) % count];
-        let v = rows0[k][0];
-        corners.position = corners.position.max(dist(prev[n], v));
-        let (da, db) = (sub(prev[n - 1], prev[n]), sub(rows0[k][1], v));
-        let gamma = angle(da, db);
-        if gamma >= STRAIGHT {
-            if fan {
-                // The boundary runs on: the spoke's rule is the fan's own.
-                corner_sides.push((da, db, gamma));
-                continue;
+    let mut n = (least + elevate).max(min_degree);
+    // Rows 0 at degree n, and per corner the two sides' first differences
+    // and their angle (errors: folded, concave; for one triangle a corner
+    // where the boundary runs straight on).
+    type Corners = (Vec<Vec<Vec3>>, Vec<(Vec3, Vec3, f64)>, CornerMismatch);
+    let at_degree = |n: usize| -> Result<Corners> {
+        let rows0: Vec<Vec<Vec3>> = s
+            .iter()
+            .map(|st| elevate_points(&st.pos, n - st.degree()))
+            .collect();
+        let mut corners = CornerMismatch::default();
+        let mut corner_sides = Vec::with_capacity(count);
+        for k in 0..count {
+            let prev = &rows0[(k + count - 1) % count];
+            let v = rows0[k][0];
+            corners.position = corners.position.max(dist(prev[n], v));
+            let (da, db) = (sub(prev[n - 1], prev[n]), sub(rows0[k][1], v));
+            let gamma = angle(da, db);
+            if gamma >= STRAIGHT {
+                if fan {
+                    // The boundary runs on: the spoke's rule is the fan's own.
+                    corner_sides.push((da, db, gamma));
+                    continue;
+                }
+                return Err(Error::Fill {
+                    why: format!(
+                        "sides {} and {k} of the hole continue each other at corner {k} \
+                         ({:.4}°): one triangular patch needs three corners (a fan takes it)",
+                        (k + count - 1) % count,
+                        gamma.to_degrees()
+                    ),
+                });
             }
-            return Err(Error::Fill {
-                why: format!(
-                    "sides {} and {k} of the hole continue each other at corner {k} ({:.4}°): \
-                     one triangular patch needs three corners (a fan takes it)",
-                    (k + count - 1) % count,
-                    gamma.to_degrees()
-                ),
-            });
+            if gamma <= 1e-9 {
+                return Err(Error::Fill {
+                    why: format!(
+                        "the hole's sides {} and {k} fold back on each other at corner \
+                         {k}{numbered}",
+                        (k + count - 1) % count
+                    ),
+                });
+            }
+            // The bisector of da and db points into the hole at a convex
+            // corner; at a concave one (inside angle above 180°) out of it.
+            if dot(add(da, db), s[k].at(0.0).der) <= 0.0 {
+                return Err(Error::Fill {
+                    why: format!(
+                        "corner {k} of the hole is concave (its inside angle is above 180°): a \
+                         fan around a centre cannot fill it{numbered}"
+                    ),
+                });
+            }
+            corner_sides.push((da, db, gamma));
         }
-        if gamma <= 1e-9 {
-            return Err(Error::Fill {
-                why: format!(
-                    "the hole's sides {} and {k} fold back on each other at corner {k}{numbered}",
-                    (k + count - 1) % count
-                ),
-            });
-        }
-        // The bisector of da and db points into the hole at a convex
-        // corner; at a concave one (inside angle above 180°) out of it.
-        if dot(add(da, db), s[k].at(0.0).der) <= 0.0 {
-            return Err(Error::Fill {
-                why: format!(
-                    "corner {k} of the hole is concave (its inside angle is above 180°): a fan \
-                     around a centre cannot fill it{numbered}"
-                ),
-            });
-        }
-        corner_sides.push((da, db, gamma));
-    }
+        Ok((rows0, corner_sides, corners))
+    };
+    let (mut rows0, mut corner_sides, mut corners) = at_degree(n)?;
+    // A round hole (no real corner; fans only): its rows 1 are cubic in α
+    // and β along each piece ([`round_slopes`]), W of degree p + 3.
     let round = corner_sides.iter().all(|c| c.2 >= STRAIGHT);
-    if round && rows0[0].len() < p_max + 5 {
-        // The pre-pass above and the corners measured on the rows disagree
-        // (a turn of about 1e-6 rad): the degree is too low for round rows.
-        return Err(Error::Fill {
-            why: "the hole's boundary turns by about 1e-6 rad at its only corners: neither a \
-                  round hole nor one with corners"
-                .into(),
-        });
+    if round && n < p_max + 4 {
+        n = p_max + 4;
+        (rows0, corner_sides, corners) = at_degree(n)?;
     }
     Ok(Prepared {
         hole,
