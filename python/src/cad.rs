@@ -105,7 +105,8 @@ pub(super) fn fill(
             options.descent_steps = s;
         }
         let fills = choice.fill(&input.faces, &options)?;
-        let mut report = fairsurf_io::fill_report_json(input.faces.len(), &choice, &fills);
+        let mut report =
+            fairsurf_io::fill_report_json(input.faces.len(), &choice, &fills, input.fit());
         report["stand_ins"] = input.stand_ins_json();
         Ok(PyFilled {
             sew_within: input.hole_tolerance(),

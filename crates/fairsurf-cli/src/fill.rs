@@ -7,8 +7,8 @@ use fairsurf::bspline::{BSplineSurface, FitTolerance};
 use fairsurf::fill::{FillOptions, HoleFill};
 use fairsurf::triangle::TriSurface;
 use fairsurf_io::{
-    fill_report_json, fill_surfaces, write_atomic, Batch, CadSurface, FillInput, HoleChoice,
-    SurfaceMesh,
+    fill_report_json, fill_surfaces, sides_beyond, write_atomic, Batch, CadSurface, FillInput,
+    HoleChoice, SurfaceMesh,
 };
 use fairsurf_render::{render, ColourBy, Panel, Range, RenderOptions};
 use serde_json::json;
@@ -144,16 +144,7 @@ pub fn run(a: Args) -> Result<(), Failure> {
         &fans,
     )?;
     if a.json {
-        let mut out = fill_report_json(input.faces.len(), &choice, &fills);
-        out["tolerances"] = json!({"gap": fit.position, "angle_deg": a.angle_tolerance});
-        for (report, fill) in out["fills"]
-            .as_array_mut()
-            .expect("fills")
-            .iter_mut()
-            .zip(&fills)
-        {
-            report["sides_beyond_tolerances"] = json!(beyond(fill, fit));
-        }
+        let mut out = fill_report_json(input.faces.len(), &choice, &fills, fit);
         out["stand_ins"] = input.stand_ins_json();
         out["input"] = json!(a.input.display().to_string());
         out["output"] = json!(output.display().to_string());
@@ -161,7 +152,14 @@ pub fn run(a: Args) -> Result<(), Failure> {
     } else {
         crate::say!(
             "{}",
-            summary(&a.input, output, &input, &choice, &fills, fit)
+            summary(
+                &a.input,
+                output,
+                &input,
+                &choice,
+                &fills,
+                (a.tolerance, a.angle_tolerance)
+            )
         );
     }
     Ok(())
@@ -173,8 +171,12 @@ fn summary(
     input: &FillInput,
     choice: &HoleChoice,
     fills: &[HoleFill],
-    tolerance: FitTolerance,
+    (gap_tolerance, degrees): (f64, f64),
 ) -> String {
+    let tolerance = FitTolerance {
+        position: gap_tolerance,
+        angle: degrees.to_radians(),
+    };
     let faces = input.faces.len();
     let mut lines = vec![format!(
         "{}: {}, {}; filled {:?}{}",
@@ -278,13 +280,15 @@ fn summary(
                 }
             }
         }
-        let sides = beyond(fill, tolerance);
+        let sides = sides_beyond(fill, tolerance);
         if !sides.is_empty() {
             lines.push(format!(
-                "    beyond the tolerances (gap {:.0e}, angle {:.0e}°) along sides {sides:?}: not \
-                 G1 to the neighbours there to the tolerance{}",
-                tolerance.position,
-                tolerance.angle.to_degrees(),
+                "    beyond the tolerances (gap {gap_tolerance:e}, angle {degrees:e}°) along {} \
+                 {sides:?}: not G1 to the neighbours there to the tolerance{}",
+                match fill {
+                    HoleFill::Patch(_) => "sides",
+                    HoleFill::Fan(_) => "sides (as cut for the fan)",
+                },
                 if fill.corners().tangent > 1e-10 {
                     " (the sides disagree at a corner, above)"
                 } else {
@@ -299,17 +303,6 @@ fn summary(
         faces + fills.iter().map(|f| f.patches().len()).sum::<usize>()
     ));
     lines.join("\n")
-}
-
-/// The sides (in the report's order) where the fill was measured farther
-/// from its neighbour than the tolerances: gap or normal angle.
-fn beyond(fill: &HoleFill, fit: FitTolerance) -> Vec<usize> {
-    fill.sides()
-        .iter()
-        .enumerate()
-        .filter(|(_, s)| !(s.gap <= fit.position && s.angle <= fit.angle))
-        .map(|(k, _)| k)
-        .collect()
 }
 
 /// How many of the steps after the thin plate lowered W (each a new least

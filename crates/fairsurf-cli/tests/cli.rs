@@ -1509,8 +1509,9 @@ fn fill_flags_sides_beyond_the_tolerances() {
     let s = String::from_utf8_lossy(&run(&bent, false).stdout).into_owned();
     assert!(
         s.contains(
-            "beyond the tolerances (gap 1e-6, angle 1e-2°) along sides [1, 2]: not G1 to the \
-             neighbours there to the tolerance (the sides disagree at a corner, above)"
+            "beyond the tolerances (gap 1e-6, angle 1e-2°) along sides (as cut for the fan) \
+             [1, 2]: not G1 to the neighbours there to the tolerance (the sides disagree at a \
+             corner, above)"
         ),
         "{s}"
     );
@@ -1519,7 +1520,8 @@ fn fill_flags_sides_beyond_the_tolerances() {
     assert_eq!(fill["sides_beyond_tolerances"], serde_json::json!([1, 2]));
     let worst = fill["max_angle_deg"].as_f64().unwrap();
     assert!(worst > 1.0 && worst < 3.0, "{worst}");
-    assert_eq!(r["tolerances"]["angle_deg"], 0.01);
+    let angle = r["tolerances"]["angle_deg"].as_f64().unwrap();
+    assert!((angle - 0.01).abs() < 1e-15, "{angle}");
     let s = String::from_utf8_lossy(&run(&lens, false).stdout).into_owned();
     assert!(!s.contains("beyond the tolerances"), "{s}");
     let r: serde_json::Value = serde_json::from_slice(&run(&lens, true).stdout).unwrap();
@@ -1622,7 +1624,7 @@ fn bad_fills_exit_2_and_write_nothing() {
     let e = run(&[broken.to_str().unwrap()]);
     assert!(
         e.contains("face 5: the face's geometry could not be evaluated: called `Option::unwrap()`")
-            && e.contains("(truck-geometry-"),
+            && e.contains("truck-geometry"),
         "{e}"
     );
     assert!(!e.contains("panicked"), "{e}");

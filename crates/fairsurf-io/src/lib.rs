@@ -57,8 +57,8 @@ pub use compare::comparison_json;
 pub use constraints::{TensorConstraintSpec, UvSpec};
 pub use error::{Error, Result};
 pub use fill::{
-    fill_json, fill_report_json, fill_surfaces, FaceKind, FaceSpec, FillInput, FillScene, FillSpec,
-    HoleChoice,
+    fill_json, fill_report_json, fill_surfaces, sides_beyond, FaceKind, FaceSpec, FillInput,
+    FillScene, FillSpec, HoleChoice,
 };
 pub use gltf::base64;
 pub use iges::{write_iges, write_iges_surfaces};

@@ -252,8 +252,16 @@ pub(super) fn patch_fill_json(hole: usize, fill: &Fill) -> Value {
 }
 
 /// The whole report of a fill job: the number of faces, every hole (as
-/// `--list` gives them) and each fill's report ([`fill_json`]).
-pub fn fill_report_json(faces: usize, choice: &HoleChoice, fills: &[HoleFill]) -> Value {
+/// `--list` gives them), each fill's report ([`fill_json`]) with the sides
+/// measured beyond `tolerance` ([`sides_beyond`],
+/// `sides_beyond_tolerances`), and the tolerances (`tolerances`: `gap`,
+/// `angle_deg`).
+pub fn fill_report_json(
+    faces: usize,
+    choice: &HoleChoice,
+    fills: &[HoleFill],
+    tolerance: FitTolerance,
+) -> Value {
     json!({
         "faces": faces,
         "holes": choice.list_json(),
@@ -261,10 +269,27 @@ pub fn fill_report_json(faces: usize, choice: &HoleChoice, fills: &[HoleFill]) -
             .chosen
             .iter()
             .zip(fills)
-            .map(|(&h, f)| fill_json(h, f))
+            .map(|(&h, f)| {
+                let mut out = fill_json(h, f);
+                out["sides_beyond_tolerances"] = json!(sides_beyond(f, tolerance));
+                out
+            })
             .collect::<Vec<_>>(),
+        "tolerances": {"gap": tolerance.position, "angle_deg": tolerance.angle.to_degrees()},
         "fairsurf_version": env!("CARGO_PKG_VERSION"),
     })
+}
+
+/// The sides (in the fill report's order: a fan's as cut into pieces)
+/// where the fill was measured farther from its neighbour than `tolerance`
+/// allows, in gap or in normal angle.
+pub fn sides_beyond(fill: &HoleFill, tolerance: FitTolerance) -> Vec<usize> {
+    fill.sides()
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| !(s.gap <= tolerance.position && s.angle <= tolerance.angle))
+        .map(|(k, _)| k)
+        .collect()
 }
 
 /// The input faces followed by the fills (a fan as its patches), for the

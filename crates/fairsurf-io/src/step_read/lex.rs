@@ -182,11 +182,17 @@ impl<'a> Lexer<'a> {
                 }
                 // An ANCHOR's or REFERENCE's `<URI>` (§9, §10): an
                 // apostrophe inside it does not start a string (a URI
-                // holds no `>`, RFC 3986).
-                Some(b'<') => match self.text[self.at..].iter().position(|&b| b == b'>') {
-                    Some(n) => self.at += n + 1,
-                    None => return Err(self.error("a <URI> that does not end")),
-                },
+                // holds no `>` and no white space, RFC 3986).
+                Some(b'<') => {
+                    let rest = &self.text[self.at..];
+                    match rest
+                        .iter()
+                        .position(|&b| b == b'>' || b.is_ascii_whitespace())
+                    {
+                        Some(n) if rest[n] == b'>' => self.at += n + 1,
+                        _ => return Err(self.error("a <URI> that does not end")),
+                    }
+                }
                 Some(b'A'..=b'Z' | b'_') => {
                     // A whole keyword: `ENDSEC` ends the section, not a
                     // keyword that holds it (`XENDSEC`).

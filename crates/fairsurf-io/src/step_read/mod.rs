@@ -178,7 +178,9 @@ fn guarded<T>(f: impl FnOnce() -> T) -> std::result::Result<T, String> {
     WRAP.call_once(|| {
         let previous = std::panic::take_hook();
         std::panic::set_hook(Box::new(move |info| {
-            let quiet = GUARD.with(|g| {
+            // `try_with`: a panic while this thread's locals are being
+            // destroyed must reach the previous hook, not panic in this one.
+            let quiet = GUARD.try_with(|g| {
                 let mut g = g.borrow_mut();
                 match g.as_mut() {
                     Some(said) => {
@@ -194,10 +196,21 @@ fn guarded<T>(f: impl FnOnce() -> T) -> std::result::Result<T, String> {
                             .location()
                             .map(|l| {
                                 let file = l.file();
-                                let short = file
-                                    .split_once("/registry/src/")
-                                    .and_then(|(_, rest)| rest.split_once('/'))
-                                    .map_or(file, |(_, krate)| krate);
+                                let short = match file.split_once("/registry/src/") {
+                                    Some((_, rest)) => rest.split_once('/').map_or(rest, |r| r.1),
+                                    // Elsewhere (vendored, git): its last
+                                    // two components, no local path.
+                                    None => {
+                                        let mut parts = file.rsplitn(3, '/');
+                                        let name = parts.next().unwrap_or(file);
+                                        match parts.next() {
+                                            Some(dir) => {
+                                                &file[file.len() - name.len() - dir.len() - 1..]
+                                            }
+                                            None => name,
+                                        }
+                                    }
+                                };
                                 format!(" ({short}:{})", l.line())
                             })
                             .unwrap_or_default();
@@ -207,11 +220,13 @@ fn guarded<T>(f: impl FnOnce() -> T) -> std::result::Result<T, String> {
                     None => false,
                 }
             });
-            if !quiet {
+            if !matches!(quiet, Ok(true)) {
                 previous(info);
             }
         }));
     });
+    // Guarded from here on, nothing said yet (`Option::replace` stores
+    // Some(None)); the outer state comes back after (guards nest).
     let outer = GUARD.with(|g| g.borrow_mut().replace(None));
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(f));
     let said = GUARD

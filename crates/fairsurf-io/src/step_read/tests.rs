@@ -259,3 +259,21 @@ fn a_rational_face_reads_back() {
     let e = read_step_faces(&text).unwrap_err().to_string();
     assert!(e.contains("a rational B-spline face"), "{e}");
 }
+
+/// `guarded` returns the value, or what a panic said and where (this
+/// file's name, not a local path), and guards nest: an inner panic is the
+/// inner guard's, and the outer one still reports its own after it.
+#[test]
+fn guarded_reports_a_panic_as_its_message_and_place() {
+    assert_eq!(super::guarded(|| 5), Ok(5));
+    let e = super::guarded(|| -> u8 { panic!("the axis is {}", "zero") }).unwrap_err();
+    assert!(e.starts_with("the axis is zero ("), "{e}");
+    assert!(e.contains("step_read/tests.rs:"), "{e}");
+    let e = super::guarded(|| {
+        let inner = super::guarded(|| -> u8 { panic!("inner") }).unwrap_err();
+        assert!(inner.starts_with("inner ("), "{inner}");
+        panic!("outer")
+    })
+    .unwrap_err();
+    assert!(e.starts_with("outer ("), "{e}");
+}

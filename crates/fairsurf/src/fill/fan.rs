@@ -215,8 +215,10 @@ fn decompose(w: Vec3, x: Vec3, y: Vec3) -> (f64, f64, f64) {
 /// corner, a fan cut at knots whose construction at the straight corners
 /// fails (no spoke into the hole, or seams opened beyond 0.01° with every
 /// G¹ condition held: the message names a corner where the neighbours'
-/// tangent planes disagree when there is one, else the boundary's too few
-/// real corners); and the solve's own refusals.
+/// tangent planes disagree when there is one, else the round hole's
+/// construction or the boundary's too few real corners), a round hole
+/// whose rows' α turns non-positive inside a side; and the solve's own
+/// refusals.
 pub fn fill_fan(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -> Result<FanFill> {
     Ok(fan_candidate(faces, hole, options)?.completed(faces, options))
 }
@@ -290,7 +292,8 @@ pub(super) fn fan_candidate(
                 );
                 let ends = end_coefficients(&s[k], [w0, w1], n, corners)
                     .map_err(|e| fold_error(e, k, hole.sides[k].face))?;
-                Ok(second_row(&s[k], row, ends, bend.map(|b| b[k]), n))
+                second_row(&s[k], row, ends, bend.map(|b| b[k]), n)
+                    .map_err(|e| fold_error(e, k, hole.sides[k].face))
             })
             .collect()
     };
@@ -411,12 +414,18 @@ pub(super) fn fan_candidate(
         // plane at a corner (faces sampled, not cut from one surface), and
         // a boundary with too few real corners for the construction.
         let (plane, at) = corner_planes(&s);
-        let why = if plane > CORNER_PLANES {
+        let why = if plane.is_nan() {
+            format!("a neighbour's normal is undefined at corner {at} (sides numbered as cut)")
+        } else if plane > CORNER_PLANES {
             format!(
                 "the neighbours' tangent planes disagree by {:.2e}° at corner {at} (sides \
                  numbered as cut): the fan's G¹ needs one tangent plane at each corner",
                 plane.to_degrees()
             )
+        } else if round {
+            "the round hole's construction (spokes towards the mean of its corners, the rows' \
+             slopes solved) fails on this boundary"
+                .to_string()
         } else {
             "the construction at the straight corners fails on this boundary: too few real \
              corners"
@@ -924,14 +933,15 @@ fn end_coefficients(
 /// corner order): row 0 plus W/n with W = α(t)·D + β(t)·P′, α and β taking
 /// the values `ends` ([`end_coefficients`]) at t = 0 and 1: linear, or
 /// with `bend` cubic, their slopes at the two ends the linear ones plus
-/// `bend` (then n ≥ p + 4).
+/// `bend` (then n ≥ p + 4). An error when α is not positive along the
+/// side (its Bézier coefficients).
 fn second_row(
     st: &Strip,
     row: &[Vec3],
     ends: [(f64, f64); 2],
     bend: Option<[(f64, f64); 2]>,
     n: usize,
-) -> Vec<Vec3> {
+) -> Result<Vec<Vec3>> {
     let p = st.degree();
     let nf = n as f64;
     let [(a0, b0), (a1, b1)] = ends;
@@ -947,6 +957,16 @@ fn second_row(
             )
         }
     };
+    // α > 0 all along keeps W pointing into the hole (positive Bézier
+    // coefficients: sufficient; linear α is positive at both ends already).
+    if alpha.iter().any(|a| a.is_nan() || *a <= 0.0) {
+        return Err(Error::Fill {
+            why: "the weight of its cross-boundary derivative in the row next to it turns \
+                  non-positive inside the side (the rows' slopes solved for a round hole \
+                  would fold the fill over the boundary)"
+                .into(),
+        });
+    }
     // P′ of degree p − 1 raised to p, then both products.
     let dp: Vec<Vec3> = st
         .pos
@@ -958,9 +978,9 @@ fn second_row(
     let wb = times(&beta, &dp);
     let wsum: Vec<Vec3> = wa.iter().zip(&wb).map(|(&x, &y)| add(x, y)).collect();
     let wn = elevate_points(&wsum, n - wsum.len());
-    (0..n)
+    Ok((0..n)
         .map(|m| add(row[m], scale(wn[m], 1.0 / nf)))
-        .collect()
+        .collect())
 }
 
 /// The problem of `surface` with the points `fixed` holds and the energy.
@@ -1263,7 +1283,7 @@ pub(super) fn triangle_candidate(
         );
         let ends = end_coefficients(&s[k], [w0, w1], n, &mut corners)
             .map_err(|e| fold_error(e, k, hole.sides[k].face))?;
-        let row1 = second_row(&s[k], row, ends, None, n);
+        let row1 = second_row(&s[k], row, ends, None, n)?;
         for m in 0..=n {
             fixed
                 .entry(global(k, n - m, m, 0))
@@ -1303,4 +1323,39 @@ fn patch_side_fit(
     let da: Vec<_> = ts.iter().map(|&t| patch.tangents(at(t).1)).collect();
     let db = neighbour_tangents(face, exact, side, &ts);
     compare(&da, &db, side, false, exact.is_none())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bspline::KnotVector;
+
+    /// A round hole's rows: with slopes that take α through zero inside a
+    /// side, row 1 is refused (the fill would fold over the boundary);
+    /// linear α positive at both ends, and gentle slopes, give rows whose
+    /// derivative rows W/n at the ends are α·D + β·P′ as asked.
+    #[test]
+    fn a_rows_weight_through_zero_is_refused() {
+        // A straight cubic side along x, D = (0, 1, 0) into the hole.
+        let st = Strip {
+            knots: KnotVector::bezier(3),
+            pos: (0..4).map(|i| [i as f64 / 3.0, 0.0, 0.0]).collect(),
+            der: vec![[0.0, 1.0, 0.0]; 4],
+        };
+        let n = 8;
+        let row = elevate_points(&st.pos, n - 3);
+        let ends = [(0.5, 0.0), (0.5, 0.0)];
+        let linear = second_row(&st, &row, ends, None, n).unwrap();
+        let gentle = second_row(&st, &row, ends, Some([(0.3, 0.0), (-0.3, 0.0)]), n).unwrap();
+        for r in [&linear, &gentle] {
+            // W(0)/n = α(0)·D/n = (0, 0.5/8, 0) at both ends.
+            assert!(dist(r[0], add(row[0], [0.0, 0.5 / 8.0, 0.0])) < 1e-15);
+            assert!(dist(r[n - 1], add(row[n - 1], [0.0, 0.5 / 8.0, 0.0])) < 1e-15);
+        }
+        // Slopes ±3: α's Bézier coefficients 0.5, 0.5 − 1, 0.5 − 1, 0.5.
+        let e = second_row(&st, &row, ends, Some([(-3.0, 0.0), (3.0, 0.0)]), n)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("turns non-positive inside the side"), "{e}");
+    }
 }

@@ -1087,10 +1087,12 @@ fn round_hole_of(pieces: usize, corners: usize, turn: f64) -> (Vec<BSplineSurfac
     (faces, holes[1].clone())
 }
 
-/// W = ∫∫ κ₁² + κ₂² dA of the graph of [`cubic`] over the unit disk
-/// turned by 0.2 (the round hole's region up to its arcs' 2.7e-4 from the
-/// circle): 4H² − 2K of a graph by the classical formulas, Gauss–Legendre
-/// in r (24 nodes) and the trapezoid rule in θ (128, periodic).
+/// W = ∫∫ κ₁² + κ₂² dA of the graph of [`cubic`] over the unit disk: the
+/// round holes' regions up to their arcs' distance from the circle (four
+/// cubic arcs 2.7e-4, six less, two half-circle arcs about 2e-2, which is
+/// most of that case's difference). 4H² − 2K of a graph by the classical
+/// formulas, Gauss–Legendre in r (24 nodes) and the trapezoid rule in θ
+/// (128, periodic).
 fn cubic_graph_w_on_disk() -> f64 {
     let h = 1e-4;
     let f = cubic;
