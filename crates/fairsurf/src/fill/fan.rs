@@ -61,9 +61,26 @@
 //! from linear that meet the condition next to each corner
 //! ([`round_slopes`]). Tested on round holes of 2, 3, 4 and 6 C¹ arcs in
 //! the graph of a cubic: G¹ to rounding inside and out, no condition
-//! dropped, W 0.8% below the graph's own over the disk (four arcs). A
-//! boundary with one to three real corners and straight ones between is
-//! still refused (the seams open with either construction).
+//! dropped, W 0.8% below the graph's own over the disk (four arcs).
+//!
+//! **Few real corners.** Where the rule at the straight corners fails (a
+//! boundary with one to three real corners and straight ones between:
+//! the seams opened by 0.01–150°), and first where a real corner turns by
+//! less than 30° (there §4.3's spoke (d_a + d_b)/(2cos(γ/2)) runs along
+//! the longer side: W 175–1276 before the descent), every spoke is
+//! natural: at the straight corners as for a round hole, at the real ones
+//! the corner's rule x·d_a + y·d_b − d = 0 takes the weights x, y > 0
+//! that the natural spoke d meets. A corner turning by less than 0.01 rad
+//! is then taken as straight (its fitted weights grew to 3000 at 1e-4
+//! rad, and W to 1900): the conditions its rule contradicts are dropped
+//! and reported, the seams next to it open by about 0.2% of its turn. A
+//! boundary of four pieces is cut into five at the middle of the longest:
+//! at a centre of four patches (rule d_{i−1} + d_{i+1} = 0) the straight
+//! and real corners' conditions left two opposite spokes without a first
+//! derivative, a singular point. Tested on round holes of three and four
+//! arcs with one to three corners turned by 1e-4 to 1 rad: G¹ to rounding
+//! to the neighbours, between the patches too unless a corner was taken
+//! as straight, W 1.08–1.30 against the graph's 1.3141 over the disk.
 //!
 //! A 3-sided hole can also be one triangular patch ([`fill_triangle`]):
 //! the same rows from all three sides, meeting at the corners. On a
@@ -207,7 +224,8 @@ fn decompose(w: Vec3, x: Vec3, y: Vec3) -> (f64, f64, f64) {
 /// module documentation); error messages then number the pieces.
 ///
 /// A hole without a real corner (a round hole) takes the construction of
-/// the module documentation's "Round holes".
+/// the module documentation's "Round holes"; one with few real corners
+/// or one turning by less than 30° that of "Few real corners".
 ///
 /// Errors ([`Error::Fill`]): a corner where two sides fold back or one
 /// that is concave, a
@@ -215,8 +233,8 @@ fn decompose(w: Vec3, x: Vec3, y: Vec3) -> (f64, f64, f64) {
 /// corner, a fan cut at knots whose construction at the straight corners
 /// fails (no spoke into the hole, or seams opened beyond 0.01° with every
 /// G¹ condition held: the message names a corner where the neighbours'
-/// tangent planes disagree when there is one, else the round hole's
-/// construction or the boundary's too few real corners), a round hole
+/// tangent planes disagree when there is one, else the construction that
+/// failed: the round hole's, or both at the straight corners), a round hole
 /// whose rows' α turns non-positive inside a side; and the solve's own
 /// refusals.
 pub fn fill_fan(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -> Result<FanFill> {
@@ -231,6 +249,46 @@ pub(super) fn fan_candidate(
     options: &FillOptions,
 ) -> Result<FanFill> {
     let t0 = Instant::now();
+    let rule = prepare(faces, hole, options, 5, true, false)?;
+    // Two constructions of the spokes. §4.3's rule at the real corners,
+    // the spokes at straight ones solved for (the networks' knots, the
+    // rounded box), is tried first; natural spokes everywhere (their rule
+    // weights fitted at real corners, the rows' slopes solved at straight
+    // ones) where it fails, and first where a real corner turns by less
+    // than 30°: there the rule's spoke d = (d_a + d_b)/(2cos(γ/2)) leans
+    // along the longer side by up to 1/cos(γ/2) of its length (a 174°
+    // corner: W 175–1276 before the descent, 0.8 s to mend).
+    let turns = |c: &(Vec3, Vec3, f64)| c.2 >= NEAR_STRAIGHT;
+    let other = !rule.round && rule.corner_sides.iter().any(turns);
+    let near = other && rule.corner_sides.iter().any(|c| turns(c) && c.2 < STRAIGHT);
+    let natural =
+        || prepare(faces, hole, options, 5, true, true).and_then(|p| fan_of(p, options, t0));
+    if near {
+        // The rule as a fallback; a refusal is natural spokes' (the more
+        // general construction).
+        return match natural() {
+            Err(e @ Error::Fill { .. }) => fan_of(rule, options, t0).map_err(|_| e),
+            r => r,
+        };
+    }
+    match fan_of(rule, options, t0) {
+        Err(Error::Fill { .. }) if other => natural(),
+        r => r,
+    }
+}
+
+/// The inside angle (radians) of a real corner above which a fan takes
+/// natural spokes first ([`fan_candidate`]): 150°, a boundary turning by
+/// less than 30°.
+const NEAR_STRAIGHT: f64 = 150.0 * std::f64::consts::PI / 180.0;
+
+/// With natural spokes, a corner turning by less than this (π − 1e-2 rad:
+/// 0.57°) is taken as straight.
+const ALMOST_STRAIGHT: f64 = std::f64::consts::PI - 1e-2;
+
+/// The fan of a prepared hole ([`fan_candidate`]): spokes, rows 1, the
+/// solve, the seams checked.
+fn fan_of(prepared: Prepared, options: &FillOptions, t0: Instant) -> Result<FanFill> {
     let Prepared {
         hole,
         strips: s,
@@ -239,7 +297,8 @@ pub(super) fn fan_candidate(
         corner_sides,
         mut corners,
         round,
-    } = prepare(faces, hole, options, 5, true)?;
+        natural,
+    } = prepared;
     let count = hole.sides.len();
     // The spoke's first difference d at each corner V_k (start of side k):
     // by §4.3's rule d_a + d_b − 2cos(γ/2)·d = 0 at a corner. Where the
@@ -256,7 +315,7 @@ pub(super) fn fan_candidate(
         .iter()
         .enumerate()
         .map(|(k, &(da, db, gamma))| {
-            if gamma < STRAIGHT {
+            if gamma < if natural { ALMOST_STRAIGHT } else { STRAIGHT } {
                 return scale(add(da, db), 1.0 / (2.0 * (gamma / 2.0).cos()));
             }
             let (la, lb) = (norm(da), norm(db));
@@ -298,11 +357,15 @@ pub(super) fn fan_candidate(
             .collect()
     };
     let mut bend: Option<Vec<Slopes>> = None;
-    if round {
-        // No real corner to anchor the spokes: each starts towards the
-        // mean of the corners, 1/n of the way, in the neighbour's tangent
-        // plane; the rows' slopes then make the G¹ condition next to each
-        // corner hold ([`round_slopes`]).
+    // Real corners whose spokes are natural too, with the weights of their
+    // rule x·d_a + y·d_b − d = 0.
+    let mut fitted: Vec<(usize, [f64; 2])> = Vec::new();
+    if natural {
+        // No real corner to anchor the spokes at the straight ones (a
+        // round hole, or too few real corners for the rule): each starts
+        // towards the mean of the corners, 1/n of the way, in the
+        // neighbour's tangent plane; the rows' slopes then make the G¹
+        // condition next to each corner hold ([`round_slopes`]).
         let centre = scale(
             rows0.iter().fold([0.0; 3], |a, r| add(a, r[0])),
             1.0 / count as f64,
@@ -312,13 +375,29 @@ pub(super) fn fan_candidate(
             let [a, b] = c.basis;
             spoke[c.k] = add(scale(a, dot(to, a)), scale(b, dot(to, b)));
         }
-        bend = Some(round_slopes(
-            &straight,
-            &spoke,
-            &rows0,
-            n,
-            |b: &[Slopes]| rows1(&spoke, Some(b), &mut CornerMismatch::default()),
-        )?);
+        for (k, &(da, db, gamma)) in corner_sides.iter().enumerate() {
+            if gamma >= ALMOST_STRAIGHT {
+                continue;
+            }
+            let to = scale(sub(centre, rows0[k][0]), 1.0 / nf);
+            let (aa, ab, bb) = (dot(da, da), dot(da, db), dot(db, db));
+            let (ta, tb) = (dot(to, da), dot(to, db));
+            let det = aa * bb - ab * ab;
+            let (x, y) = ((ta * bb - tb * ab) / det, (tb * aa - ta * ab) / det);
+            if x > 0.0 && y > 0.0 && x.is_finite() && y.is_finite() {
+                spoke[k] = add(scale(da, x), scale(db, y));
+                fitted.push((k, [x, y]));
+            }
+        }
+        if !straight.is_empty() {
+            bend = Some(round_slopes(
+                &straight,
+                &spoke,
+                &rows0,
+                n,
+                |b: &[Slopes]| rows1(&spoke, Some(b), &mut CornerMismatch::default()),
+            )?);
+        }
     } else if !straight.is_empty() {
         straight_spokes(&mut spoke, &straight, &rows0, n, |sp: &[Vec3]| {
             rows1(sp, None, &mut CornerMismatch::default())
@@ -326,14 +405,15 @@ pub(super) fn fan_candidate(
     }
     let rules: Vec<BoundaryRule> = straight
         .iter()
-        .map(|c| {
-            let k = c.k;
+        .map(|c| (c.k, c.w, 0.0))
+        .chain(fitted.iter().map(|&(k, w)| (k, w, -1.0)))
+        .map(|(k, w, centre)| {
             (
-                k + 1,
+                vertex(k),
                 [
-                    (vertex(k + count - 1), c.w[0]),
-                    (vertex(k + 1), c.w[1]),
-                    (0, 0.0),
+                    (vertex(k + count - 1), w[0]),
+                    (vertex(k + 1), w[1]),
+                    (0, centre),
                 ],
             )
         })
@@ -387,7 +467,8 @@ pub(super) fn fan_candidate(
     let cut = |why: String| Error::Fill {
         why: format!(
             "the fan of {count} patches (the hole's sides cut at {} straight corners: their \
-             knots, and a hole of one or two sides at their middles){why}",
+             knots, a hole of one or two sides at their middles, one of four pieces with \
+             straight corners at the longest's middle){why}",
             straight.len()
         ),
     };
@@ -400,8 +481,9 @@ pub(super) fn fan_candidate(
     })?;
     // Where the G¹ construction at straight corners does not hold (few
     // real corners, a boundary that bends back), the patches open their
-    // seams while every condition holds (a spoke's derivative passing
-    // through zero): refused, not returned.
+    // seams while every condition holds (found: spokes without a first
+    // derivative at the centre, a singular point whose normals are noise):
+    // refused, not returned. Natural spokes are checked the same way.
     let seam = fan
         .report
         .solve
@@ -409,7 +491,7 @@ pub(super) fn fan_candidate(
         .as_ref()
         .and_then(|f| f.max_edge_normal_angle)
         .map_or(0.0, |a| a.0);
-    if !straight.is_empty() && (seam > CUT_SEAM_LIMIT || seam.is_nan()) {
+    if (natural || !straight.is_empty()) && (seam > CUT_SEAM_LIMIT || seam.is_nan()) {
         // Two causes were met: neighbours that disagree on the tangent
         // plane at a corner (faces sampled, not cut from one surface), and
         // a boundary with too few real corners for the construction.
@@ -425,6 +507,10 @@ pub(super) fn fan_candidate(
         } else if round {
             "the round hole's construction (spokes towards the mean of its corners, the rows' \
              slopes solved) fails on this boundary"
+                .to_string()
+        } else if natural {
+            "the construction at the straight corners fails on this boundary, with their \
+             spokes solved for and with natural spokes and the rows' slopes solved"
                 .to_string()
         } else {
             "the construction at the straight corners fails on this boundary: too few real \
@@ -695,6 +781,12 @@ struct Prepared {
     /// No real corner: the boundary runs straight on through every corner
     /// (a round hole; fans only).
     round: bool,
+    /// Natural spokes: towards the mean of the corners, at real corners
+    /// with their rule's weights fitted, at straight ones with the rows'
+    /// slopes solved ([`round_slopes`]): a round hole, or asked for
+    /// (`prepare`'s `natural`) where a corner is straight or turns by less
+    /// than 30°.
+    natural: bool,
 }
 
 /// Whether the hole's boundary runs straight on through corner k (turns by
@@ -758,6 +850,7 @@ fn prepare(
     options: &FillOptions,
     min_degree: usize,
     fan: bool,
+    natural: bool,
 ) -> Result<Prepared> {
     let strips = |hole: &Hole| -> Result<Vec<Strip>> {
         (0..hole.sides.len())
@@ -864,7 +957,11 @@ fn prepare(
             }
             // The bisector of da and db points into the hole at a convex
             // corner; at a concave one (inside angle above 180°) out of it.
-            if dot(add(da, db), s[k].at(0.0).der) <= 0.0 {
+            // Of the unit tangents: da + db leans towards the longer one,
+            // and at a corner turning by 5.7° between a side and half a
+            // side it pointed out of the hole.
+            let bisector = add(scale(da, 1.0 / norm(da)), scale(db, 1.0 / norm(db)));
+            if dot(bisector, s[k].at(0.0).der) <= 0.0 {
                 return Err(Error::Fill {
                     why: format!(
                         "corner {k} of the hole is concave (its inside angle is above 180°): a \
@@ -880,7 +977,44 @@ fn prepare(
     // A round hole (no real corner; fans only): its rows 1 are cubic in α
     // and β along each piece ([`round_slopes`]), W of degree p + 3.
     let round = corner_sides.iter().all(|c| c.2 >= STRAIGHT);
-    if round && n < p_max + 4 {
+    let straight = corner_sides
+        .iter()
+        .any(|c| c.2 >= if natural { ALMOST_STRAIGHT } else { STRAIGHT });
+    let natural = fan && (round || (natural && corner_sides.iter().any(|c| c.2 >= NEAR_STRAIGHT)));
+    if natural && !round && count == 4 {
+        // Four patches meet at the centre with its rule d_{i−1} + d_{i+1}
+        // = 0 (2cos(2π/4) = 0); the straight corners' conditions and the
+        // real ones' differ between opposite spokes, and the only solution
+        // left two spokes without a first derivative at the centre (a
+        // singular point; the patches' normals there were noise, 0.05–73°
+        // apart). Three, five or six patches do not: the longest piece is
+        // halved, five patches.
+        let k = (0..count)
+            .max_by(|&a, &b| {
+                dist(rows0[a][0], rows0[a][n]).total_cmp(&dist(rows0[b][0], rows0[b][n]))
+            })
+            .expect("four pieces");
+        let side = hole.sides[k];
+        let [a, b] = side.range;
+        let mid = 0.5 * (a + b);
+        let mut halves = [
+            Side {
+                range: [a, mid],
+                ..side
+            },
+            Side {
+                range: [mid, b],
+                ..side
+            },
+        ];
+        if side.reversed {
+            halves.reverse();
+        }
+        let mut cut = hole.clone();
+        cut.sides.splice(k..=k, halves);
+        return prepare(faces, &cut, options, min_degree, fan, true);
+    }
+    if natural && straight && n < p_max + 4 {
         n = p_max + 4;
         (rows0, corner_sides, corners) = at_degree(n)?;
     }
@@ -892,6 +1026,7 @@ fn prepare(
         corner_sides,
         corners,
         round,
+        natural,
     })
 }
 
@@ -1260,7 +1395,7 @@ pub(super) fn triangle_candidate(
         n,
         mut corners,
         ..
-    } = prepare(faces, hole, options, 6, false)?;
+    } = prepare(faces, hole, options, 6, false, false)?;
     let nf = n as f64;
     let vertices: Vec<Vec3> = (0..3).map(|k| rows0[k][0]).collect();
     let surface = TriSurface::try_new(&vertices, &[[0, 1, 2]], n)?;
