@@ -651,12 +651,14 @@ def fill_pentagon():
     })
 
 
-def fill_round():
+def fill_round(turn=0.0):
     """A round hole (four C1 cubic quarter-circle arcs of radius 1, no corner)
     in the graph of a quadratic, ringed by four faces out to radius 2 that are
     exact pieces of it (degree 6 along the arcs, 2 across). `fairsurf fill`
     fills it with a fan of four triangular patches around a free centre, G1 to
-    the neighbours and between the patches."""
+    the neighbours and between the patches. With `turn` (radians) the first
+    arc's first handle is turned inwards by it: one real corner, three
+    straight ones (fill_notch.json)."""
     def f(x, y):
         return 0.15 * x * y + 0.1 * x * x - 0.08 * y * y
 
@@ -666,7 +668,11 @@ def fill_round():
         a0, a1 = q * math.pi / 2 + 0.2, (q + 1) * math.pi / 2 + 0.2
         p0 = (math.cos(a0), math.sin(a0))
         p3 = (math.cos(a1), math.sin(a1))
-        p1 = (p0[0] - k * p0[1], p0[1] + k * p0[0])
+        t = (-p0[1], p0[0])
+        if q == 0:
+            c, sn = math.cos(turn), math.sin(turn)
+            t = (t[0] * c - t[1] * sn, t[0] * sn + t[1] * c)
+        p1 = (p0[0] + k * t[0], p0[1] + k * t[1])
         p2 = (p3[0] + k * p3[1], p3[1] - k * p3[0])
         b = bern(3, s)
         return tuple(sum(b[i] * pt[c] for i, pt in enumerate((p0, p1, p2, p3))) for c in range(2))
@@ -691,6 +697,18 @@ def fill_round():
                 for j in range(dv + 1)] for ii in range(du + 1)]
         return {"type": "tensor", "degree": [du, dv], "control_points": net}
 
+    if turn:
+        write("cad/fill_notch.json", {
+            "name": "A hole with one corner in a ring of four faces",
+            "description": "Four faces of degree 6 x 2, exact pieces of one quadratic graph, "
+                           "around a hole bounded by four cubic arcs: three meet C1, the first "
+                           "starts turned by %.2f rad (one real corner). fairsurf fill cuts "
+                           "the longest arc at its middle and fills the hole with a fan of "
+                           "five triangular patches around a free centre, natural spokes, G1 "
+                           "to the neighbours and between the patches." % turn,
+            "faces": [piece(q) for q in range(4)],
+        })
+        return
     write("cad/fill_round.json", {
         "name": "A round hole in a ring of four faces",
         "description": "Four faces of degree 6 x 2, exact pieces of one quadratic graph, around "
@@ -908,6 +926,7 @@ if __name__ == "__main__":
     fill_pentagon()
     fill_lens()
     fill_round()
+    fill_round(0.3)
     blend_sheets()
     fill_network()
     bspline_hole()

@@ -437,24 +437,25 @@ def test_polygonal_holes_are_filled_by_sewn_g1_fans(cli: Path, tmp_path: Path):
         assert fill["solve"]["dropped_continuity"] == []
 
 
-def sewn_fan_of_four(cli: Path, tmp_path: Path, example: str, free: int):
-    """`fairsurf fill` on a bundled example whose hole takes a fan of four
-    patches: no condition dropped; Open CASCADE reads 8 faces, sews them with
-    `free` edges left (the rim's), and measures G1 across the hole's four
-    pieces and the four spokes as fairsurf reports."""
+def sewn_fan(cli: Path, tmp_path: Path, example: str, patches: int, free: int):
+    """`fairsurf fill` on a bundled example of four faces whose hole takes a
+    fan of `patches` patches: no condition dropped; Open CASCADE reads the
+    faces and the fan, sews them with `free` edges left (the rim's), and
+    measures G1 across the hole's pieces and the spokes as fairsurf
+    reports."""
     out = tmp_path / "fan.step"
     run = subprocess.run([str(cli), "fill", str(EXAMPLES / example), "-o", str(out),
                           "--json"], check=True, capture_output=True, text=True)
     fill = json.loads(run.stdout)["fills"][0]
-    assert fill["kind"] == "fan" and fill["patches"] == 4
+    assert fill["kind"] == "fan" and fill["patches"] == patches
     assert fill["solve"]["dropped_continuity"] == []
     shape = read_step(out)
-    assert count(shape, TopAbs_FACE) == 8
+    assert count(shape, TopAbs_FACE) == 4 + patches
     assert free_edges_after_sewing(shape) == free
     seam = seams(shape)
     sides = [s for s in seam if s[0][0] < 4 <= s[0][1]]
     inner = [s for s in seam if s[0][0] >= 4]
-    assert len(sides) == 4 and len(inner) == 4
+    assert len(sides) == patches and len(inner) == patches
     assert max(s[1] for s in sides) < 1e-9 and fill["max_angle_deg"] < 1e-9
     assert max(s[2] for s in sides) < 1e-12
     assert max(s[1] for s in inner) < 1e-8 and fill["inner_angle_deg"] < 1e-8
@@ -466,14 +467,24 @@ def test_a_hole_of_two_sides_is_cut_at_their_middles_and_filled_by_a_sewn_g1_fan
     """The lens of fill_lens.json (two parabolic sides, two corners) was
     refused ("at least 3 sides"); its sides are now cut at their middles:
     a fan of four patches, sewn with only the rim's 8 edges free."""
-    sewn_fan_of_four(cli, tmp_path, "fill_lens.json", 8)
+    sewn_fan(cli, tmp_path, "fill_lens.json", 4, 8)
 
 
 def test_a_round_hole_is_filled_by_a_sewn_g1_fan(cli: Path, tmp_path: Path):
     """The round hole of fill_round.json (four C1 quarter-circle arcs, no
     corner) was refused ("runs smoothly all round"): a fan of four patches,
     sewn with only the rim's 4 arcs free."""
-    sewn_fan_of_four(cli, tmp_path, "fill_round.json", 4)
+    sewn_fan(cli, tmp_path, "fill_round.json", 4, 4)
+
+
+def test_a_hole_with_one_real_corner_is_filled_by_a_sewn_g1_fan_of_five(
+        cli: Path, tmp_path: Path):
+    """The hole of fill_notch.json (four C1 arcs but one, which starts
+    turned by 0.3 rad: one real corner) was refused (the seams opened at the
+    fan's centre); its longest arc is now cut at its middle and the fan of
+    five patches takes natural spokes: sewn with only the rim's 4 arcs free,
+    G1 as reported."""
+    sewn_fan(cli, tmp_path, "fill_notch.json", 5, 4)
 
 
 def test_sides_with_knots_are_filled_by_sewn_g1_fans(cli: Path, tmp_path: Path):
