@@ -704,7 +704,8 @@ fn straight_condition(
 /// spokes of a quarter to a half of their natural length and opened its
 /// seams by 0.1–110°; with natural spokes and linear α, β the condition
 /// was 0.1 away and dropped, the seams opened by 0.17°. With the slopes
-/// free, a round hole of four arcs closed them to 6e-10°.
+/// free, a round hole of four arcs closed them to rounding (1.7e-10°
+/// between the patches of fill_round.json).
 fn round_slopes(
     straight: &[Straight],
     spoke: &[Vec3],
