@@ -703,7 +703,7 @@ def fill_round(turn=0.0):
             "description": "Four faces of degree 6 x 2, exact pieces of one quadratic graph, "
                            "around a hole bounded by four cubic arcs: three meet C1, the first "
                            "starts turned by %.2f rad (one real corner). fairsurf fill cuts "
-                           "the longest arc at its middle and fills the hole with a fan of "
+                           "the longest arc (by control polygon) at its middle and fills the hole with a fan of "
                            "five triangular patches around a free centre, natural spokes, G1 "
                            "to the neighbours and between the patches." % turn,
             "faces": [piece(q) for q in range(4)],

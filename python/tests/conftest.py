@@ -17,6 +17,7 @@ def cli() -> Path:
     ``FAIRSURF_CLI`` names: CI's, which ``cargo test`` built)."""
     given = os.environ.get("FAIRSURF_CLI")
     if given:
+        assert Path(given).is_file(), f"FAIRSURF_CLI={given}: no such file"
         return Path(given)
     subprocess.run(
         ["cargo", "build", "-q", "-p", "fairsurf-cli"], cwd=ROOT, check=True

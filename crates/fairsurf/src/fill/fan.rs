@@ -267,7 +267,7 @@ pub(super) fn fan_candidate(
         // The rule as a fallback; a refusal is natural spokes' (the more
         // general construction).
         return match natural() {
-            Err(e @ Error::Fill { .. }) => fan_of(rule, options, t0).map_err(|_| e),
+            Err(e) => fan_of(rule, options, t0).map_err(|_| e),
             r => r,
         };
     }
@@ -384,10 +384,18 @@ fn fan_of(prepared: Prepared, options: &FillOptions, t0: Instant) -> Result<FanF
             let (ta, tb) = (dot(to, da), dot(to, db));
             let det = aa * bb - ab * ab;
             let (x, y) = ((ta * bb - tb * ab) / det, (tb * aa - ta * ab) / det);
-            if x > 0.0 && y > 0.0 && x.is_finite() && y.is_finite() {
-                spoke[k] = add(scale(da, x), scale(db, y));
-                fitted.push((k, [x, y]));
+            if !(x > 0.0 && y > 0.0 && x.is_finite() && y.is_finite()) {
+                // The natural spoke leaves the corner's angle: no rule
+                // with positive weights along the boundary holds it.
+                return Err(Error::Fill {
+                    why: format!(
+                        "the fan's natural spoke at corner {k} (towards the mean of the \
+                         corners) lies outside the corner's angle (sides numbered as cut)"
+                    ),
+                });
             }
+            spoke[k] = add(scale(da, x), scale(db, y));
+            fitted.push((k, [x, y]));
         }
         if !straight.is_empty() {
             bend = Some(round_slopes(
@@ -465,15 +473,19 @@ fn fan_of(prepared: Prepared, options: &FillOptions, t0: Instant) -> Result<FanF
         ""
     };
     let cut = |why: String| Error::Fill {
-        why: format!(
-            "the fan of {count} patches (the hole's sides cut at {} straight corners: their \
-             knots, a hole of one or two sides at their middles, one of four pieces with \
-             straight corners at the longest's middle){why}",
-            straight.len()
-        ),
+        why: if straight.is_empty() {
+            format!("the fan of {count} patches (natural spokes){why}")
+        } else {
+            format!(
+                "the fan of {count} patches (the hole's sides cut at {} straight corners: their \
+                 knots, a hole of one or two sides at their middles, one of four pieces with \
+                 straight corners at the longest's middle){why}",
+                straight.len()
+            )
+        },
     };
     let fan = finish(problem, hole, corners, t0).map_err(|e| {
-        if straight.is_empty() {
+        if straight.is_empty() && !natural {
             e
         } else {
             cut(format!(" could not be solved{rational}: {e}"))
@@ -507,6 +519,10 @@ fn fan_of(prepared: Prepared, options: &FillOptions, t0: Instant) -> Result<FanF
         } else if round {
             "the round hole's construction (spokes towards the mean of its corners, the rows' \
              slopes solved) fails on this boundary"
+                .to_string()
+        } else if natural && straight.is_empty() {
+            "the construction with natural spokes (the corners' rule weights fitted to them) \
+             fails on this boundary, and §4.3's rule did too"
                 .to_string()
         } else if natural {
             "the construction at the straight corners fails on this boundary, with their \
@@ -932,7 +948,10 @@ fn prepare(
             corners.position = corners.position.max(dist(prev[n], v));
             let (da, db) = (sub(prev[n - 1], prev[n]), sub(rows0[k][1], v));
             let gamma = angle(da, db);
-            if gamma >= STRAIGHT {
+            // A fan's natural spokes take a corner turning by less than
+            // 0.01 rad as straight, whichever way it turns (CAD's G¹ joins
+            // bend either way by up to 1e-4 rad).
+            if gamma >= STRAIGHT || (fan && gamma >= ALMOST_STRAIGHT) {
                 if fan {
                     // The boundary runs on: the spoke's rule is the fan's own.
                     corner_sides.push((da, db, gamma));
@@ -989,12 +1008,16 @@ fn prepare(
         // left two spokes without a first derivative at the centre (a
         // singular point; the patches' normals there were noise, 0.05–73°
         // apart). Three, five or six patches do not: the longest piece is
-        // halved, five patches.
-        let k = (0..count)
-            .max_by(|&a, &b| {
-                dist(rows0[a][0], rows0[a][n]).total_cmp(&dist(rows0[b][0], rows0[b][n]))
-            })
-            .expect("four pieces");
+        // halved (by its control polygon's length; of equal ones the
+        // first), five patches.
+        let length = |r: &[Vec3]| r.windows(2).map(|w| dist(w[0], w[1])).sum::<f64>();
+        let k = (1..count).fold(0, |best, k| {
+            if length(&rows0[k]) > length(&rows0[best]) {
+                k
+            } else {
+                best
+            }
+        });
         let side = hole.sides[k];
         let [a, b] = side.range;
         let mid = 0.5 * (a + b);
