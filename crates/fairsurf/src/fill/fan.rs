@@ -286,6 +286,16 @@ const NEAR_STRAIGHT: f64 = 150.0 * std::f64::consts::PI / 180.0;
 /// 0.57°) is taken as straight.
 const ALMOST_STRAIGHT: f64 = std::f64::consts::PI - 1e-2;
 
+/// The inside angle from which a fan's corner is straight: [`STRAIGHT`],
+/// with natural spokes [`ALMOST_STRAIGHT`].
+fn straight_from(natural: bool) -> f64 {
+    if natural {
+        ALMOST_STRAIGHT
+    } else {
+        STRAIGHT
+    }
+}
+
 /// The fan of a prepared hole ([`fan_candidate`]): spokes, rows 1, the
 /// solve, the seams checked.
 fn fan_of(prepared: Prepared, options: &FillOptions, t0: Instant) -> Result<FanFill> {
@@ -315,7 +325,7 @@ fn fan_of(prepared: Prepared, options: &FillOptions, t0: Instant) -> Result<FanF
         .iter()
         .enumerate()
         .map(|(k, &(da, db, gamma))| {
-            if gamma < if natural { ALMOST_STRAIGHT } else { STRAIGHT } {
+            if gamma < straight_from(natural) {
                 return scale(add(da, db), 1.0 / (2.0 * (gamma / 2.0).cos()));
             }
             let (la, lb) = (norm(da), norm(db));
@@ -376,14 +386,10 @@ fn fan_of(prepared: Prepared, options: &FillOptions, t0: Instant) -> Result<FanF
             spoke[c.k] = add(scale(a, dot(to, a)), scale(b, dot(to, b)));
         }
         for (k, &(da, db, gamma)) in corner_sides.iter().enumerate() {
-            if gamma >= ALMOST_STRAIGHT {
+            if gamma >= straight_from(natural) {
                 continue;
             }
-            let to = scale(sub(centre, rows0[k][0]), 1.0 / nf);
-            let (aa, ab, bb) = (dot(da, da), dot(da, db), dot(db, db));
-            let (ta, tb) = (dot(to, da), dot(to, db));
-            let det = aa * bb - ab * ab;
-            let (x, y) = ((ta * bb - tb * ab) / det, (tb * aa - ta * ab) / det);
+            let (x, y, _) = decompose(scale(sub(centre, rows0[k][0]), 1.0 / nf), da, db);
             if !(x > 0.0 && y > 0.0 && x.is_finite() && y.is_finite()) {
                 // The natural spoke leaves the corner's angle: no rule
                 // with positive weights along the boundary holds it.
@@ -645,23 +651,13 @@ fn straight_spokes(
                     .max(f64::MIN_POSITIVE)
             })
             .collect();
-        let a: Vec<Vec<f64>> = (0..unknowns)
-            .map(|i| {
-                (0..unknowns)
-                    .map(|j| jac.iter().map(|r| r[i] * r[j]).sum::<f64>() / (norms[i] * norms[j]))
-                    .collect()
-            })
-            .collect();
-        let b: Vec<[f64; 1]> = (0..unknowns)
-            .map(|i| [-jac.iter().zip(&r0).map(|(r, e)| r[i] * e).sum::<f64>() / norms[i]])
-            .collect();
-        let Some(x) = crate::bspline::solve_dense(a, b) else {
+        let Some(x) = normal_step(&jac, &r0, &norms, 0.0) else {
             break; // degenerate: the spokes stand, the solve reports the rows
         };
         let start: Vec<f64> = straight.iter().map(|c| norm(spoke[c.k])).collect();
         for (i, c) in straight.iter().enumerate() {
             for (b, dir) in c.basis.iter().enumerate() {
-                spoke[c.k] = add(spoke[c.k], scale(*dir, x[2 * i + b][0] / norms[2 * i + b]));
+                spoke[c.k] = add(spoke[c.k], scale(*dir, x[2 * i + b] / norms[2 * i + b]));
             }
             // The condition's d must still point into the hole: between
             // straight corners only (a boundary with few real corners) it
@@ -705,6 +701,31 @@ fn straight_condition(
         add(scale(spoke[k], centre), add(da, db)),
         scale(add(scale(l, c.w[0]), scale(r, c.w[1])), (n - 1) as f64),
     )
+}
+
+/// One Gauss–Newton step for the least squares ‖J·x + r‖ (a few
+/// unknowns) by its normal equations: the columns of J divided by `norms`,
+/// `ridge` times the mean diagonal added (Tikhonov) when positive. The
+/// step in the scaled unknowns, None when the system is singular.
+fn normal_step(jac: &[Vec<f64>], r0: &[f64], norms: &[f64], ridge: f64) -> Option<Vec<f64>> {
+    let unknowns = norms.len();
+    let mut a: Vec<Vec<f64>> = (0..unknowns)
+        .map(|i| {
+            (0..unknowns)
+                .map(|j| jac.iter().map(|r| r[i] * r[j]).sum::<f64>() / (norms[i] * norms[j]))
+                .collect()
+        })
+        .collect();
+    if ridge > 0.0 {
+        let mean = (0..unknowns).map(|i| a[i][i]).sum::<f64>() / unknowns as f64;
+        for (i, row) in a.iter_mut().enumerate() {
+            row[i] += ridge * mean;
+        }
+    }
+    let b: Vec<[f64; 1]> = (0..unknowns)
+        .map(|i| [-jac.iter().zip(r0).map(|(r, e)| r[i] * e).sum::<f64>() / norms[i]])
+        .collect();
+    crate::bspline::solve_dense(a, b).map(|x| x.into_iter().map(|v| v[0]).collect())
 }
 
 /// A round hole's rows 1: the changes of α′ and β′ (in t) at both ends of
@@ -760,25 +781,11 @@ fn round_slopes(
                 row[u] = a - b;
             }
         }
-        let mut a: Vec<Vec<f64>> = (0..unknowns)
-            .map(|i| {
-                (0..unknowns)
-                    .map(|j| jac.iter().map(|r| r[i] * r[j]).sum::<f64>())
-                    .collect()
-            })
-            .collect();
-        let mean = (0..unknowns).map(|i| a[i][i]).sum::<f64>() / unknowns as f64;
-        for (i, row) in a.iter_mut().enumerate() {
-            row[i] += 1e-10 * mean;
-        }
-        let b: Vec<[f64; 1]> = (0..unknowns)
-            .map(|i| [-jac.iter().zip(&r0).map(|(r, e)| r[i] * e).sum::<f64>()])
-            .collect();
-        let Some(step) = crate::bspline::solve_dense(a, b) else {
+        let Some(step) = normal_step(&jac, &r0, &vec![1.0; unknowns], 1e-10) else {
             break; // degenerate: the solve reports the rows it drops
         };
         for (x, s) in x.iter_mut().zip(&step) {
-            *x += s[0];
+            *x += s;
         }
     }
     Ok(slopes(&x))
@@ -997,9 +1004,7 @@ fn prepare(
     // A round hole (no real corner; fans only): its rows 1 are cubic in α
     // and β along each piece ([`round_slopes`]), W of degree p + 3.
     let round = corner_sides.iter().all(|c| c.2 >= STRAIGHT);
-    let straight = corner_sides
-        .iter()
-        .any(|c| c.2 >= if natural { ALMOST_STRAIGHT } else { STRAIGHT });
+    let straight = corner_sides.iter().any(|c| c.2 >= straight_from(natural));
     let natural = fan && (round || (natural && corner_sides.iter().any(|c| c.2 >= NEAR_STRAIGHT)));
     if natural && !round && count == 4 {
         // Four patches meet at the centre with its rule d_{i−1} + d_{i+1}
