@@ -1265,3 +1265,34 @@ fn a_fan_with_only_near_straight_corners_takes_natural_spokes() {
         );
     }
 }
+
+/// A fill is chosen for its G¹ to the neighbours before its W: the lower
+/// W of a candidate beyond the angle tolerance does not win (the rounded
+/// box's corner: one triangle 0.19° off the cylinders, W 3.1259 after the
+/// descent, against the fan of three within 9e-4°, W 3.14158); within the
+/// tolerance the lowest W wins whatever the angles; when none is within,
+/// only those as close as the closest compete; a NaN angle is never
+/// within (every angle NaN: W decides); no candidate, no choice.
+#[test]
+fn the_fill_kept_is_within_the_angle_tolerance_before_it_is_fairer() {
+    let deg = f64::to_radians;
+    let triangle = (deg(0.19), 3.1259);
+    let fan = (deg(9e-4), 3.14158);
+    assert_eq!(preferred(&[triangle, fan]), Some(1));
+    assert_eq!(preferred(&[fan, triangle]), Some(0));
+    // Both within 0.01°: W decides, not the smaller angle.
+    let exact_fan = (deg(1e-10), 1.0314);
+    let exact_triangle = (deg(2e-10), 1.0310);
+    assert_eq!(preferred(&[exact_fan, exact_triangle]), Some(1));
+    assert_eq!(preferred(&[(deg(0.01), 2.0), (deg(0.0), 3.0)]), Some(0));
+    // None within: the closest, and whatever ties with it by W.
+    assert_eq!(preferred(&[(deg(0.5), 1.0), (deg(0.2), 2.0)]), Some(1));
+    assert_eq!(
+        preferred(&[(deg(0.5), 1.0), (deg(0.2), 2.0), (deg(0.2), 1.5)]),
+        Some(2)
+    );
+    // A NaN angle is never within.
+    assert_eq!(preferred(&[(f64::NAN, 0.5), fan]), Some(1));
+    assert_eq!(preferred(&[(f64::NAN, 2.0), (f64::NAN, 0.5)]), Some(1));
+    assert_eq!(preferred(&[]), None);
+}
