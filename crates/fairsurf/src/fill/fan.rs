@@ -235,8 +235,10 @@ fn decompose(w: Vec3, x: Vec3, y: Vec3) -> (f64, f64, f64) {
 /// G¹ condition held: the message names a corner where the neighbours'
 /// tangent planes disagree when there is one, else the construction that
 /// failed: the round hole's, or both at the straight corners), a round hole
-/// whose rows' α turns non-positive inside a side; and the solve's own
-/// refusals.
+/// whose rows' α turns non-positive inside a side, natural spokes whose
+/// centre lies outside the hole (not star-shaped around it), a fan that
+/// folds over (its normal turning by more than 90° between neighbouring
+/// samples); and the solve's own refusals.
 pub fn fill_fan(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -> Result<FanFill> {
     Ok(fan_candidate(faces, hole, options)?.completed(faces, options))
 }
@@ -383,6 +385,18 @@ fn fan_of(prepared: Prepared, options: &FillOptions, t0: Instant) -> Result<FanF
         for c in &straight {
             let to = scale(sub(centre, rows0[c.k][0]), 1.0 / nf);
             let [a, b] = c.basis;
+            if dot(to, a).is_nan() || dot(to, a) <= 0.0 {
+                // The centre behind the boundary's tangent line: a spoke to
+                // it would leave the hole.
+                return Err(Error::Fill {
+                    why: format!(
+                        "the hole is not star-shaped around the fan's centre (the mean of its \
+                         corners): at corner {k} the centre lies behind the boundary's tangent, \
+                         outside the hole (sides numbered as cut)",
+                        k = c.k
+                    ),
+                });
+            }
             spoke[c.k] = add(scale(a, dot(to, a)), scale(b, dot(to, b)));
         }
         for (k, &(da, db, gamma)) in corner_sides.iter().enumerate() {
@@ -396,7 +410,8 @@ fn fan_of(prepared: Prepared, options: &FillOptions, t0: Instant) -> Result<FanF
                 return Err(Error::Fill {
                     why: format!(
                         "the fan's natural spoke at corner {k} (towards the mean of the \
-                         corners) lies outside the corner's angle (sides numbered as cut)"
+                         corners) lies outside the corner's angle: the hole is not star-shaped \
+                         around that centre (sides numbered as cut)"
                     ),
                 });
             }
@@ -494,6 +509,11 @@ fn fan_of(prepared: Prepared, options: &FillOptions, t0: Instant) -> Result<FanF
         if straight.is_empty() && !natural {
             e
         } else {
+            // A fill error's own words, without the error's prefix again.
+            let e = match e {
+                Error::Fill { why } => why,
+                e => e.to_string(),
+            };
             cut(format!(" could not be solved{rational}: {e}"))
         }
     })?;
@@ -1006,15 +1026,17 @@ fn prepare(
     let round = corner_sides.iter().all(|c| c.2 >= STRAIGHT);
     let straight = corner_sides.iter().any(|c| c.2 >= straight_from(natural));
     let natural = fan && (round || (natural && corner_sides.iter().any(|c| c.2 >= NEAR_STRAIGHT)));
-    if natural && !round && count == 4 {
+    let real = corner_sides.iter().all(|c| c.2 < STRAIGHT);
+    if fan && !round && count == 4 && (natural || real) {
         // Four patches meet at the centre with its rule d_{i−1} + d_{i+1}
         // = 0 (2cos(2π/4) = 0); the straight corners' conditions and the
         // real ones' differ between opposite spokes, and the only solution
         // left two spokes without a first derivative at the centre (a
         // singular point; the patches' normals there were noise, 0.05–73°
-        // apart). Three, five or six patches do not: the longest piece is
-        // halved (by its control polygon's length; of equal ones the
-        // first), five patches.
+        // apart; with four real corners of different angles, §4.3's rule
+        // at each, too: the fan folded there). Three, five or six patches
+        // do not: the longest piece is halved (by its control polygon's
+        // length; of equal ones the first), five patches.
         let length = |r: &[Vec3]| r.windows(2).map(|w| dist(w[0], w[1])).sum::<f64>();
         let k = (1..count).fold(0, |best, k| {
             if length(&rows0[k]) > length(&rows0[best]) {
@@ -1041,7 +1063,7 @@ fn prepare(
         }
         let mut cut = hole.clone();
         cut.sides.splice(k..=k, halves);
-        return prepare(faces, &cut, options, min_degree, fan, true);
+        return prepare(faces, &cut, options, min_degree, fan, natural);
     }
     if natural && straight && n < p_max + 4 {
         n = p_max + 4;
@@ -1238,6 +1260,37 @@ fn finish(
     let t1 = Instant::now();
     let (solved, factor) = problem.solve_factored()?;
     let solve = t1.elapsed().as_secs_f64();
+    if let Some(turn) = solved
+        .report
+        .triangular
+        .as_ref()
+        .and_then(|t| t.normal_turn)
+        .filter(|t| t.is_fold())
+    {
+        let fan = solved.surface.patch_count() > 1;
+        return Err(Error::Fill {
+            why: format!(
+                "{} folds over: its normal turns by {:.1}° between neighbouring samples in \
+                 patch {} near barycentric ({:.3}, {:.3}, {:.3}){}",
+                if fan {
+                    "the fan"
+                } else {
+                    "the triangular patch"
+                },
+                turn.angle.to_degrees(),
+                turn.patch,
+                turn.at[0],
+                turn.at[1],
+                turn.at[2],
+                if fan {
+                    " (a fan folds where the hole is not star-shaped around its centre, the \
+                     mean of its corners)"
+                } else {
+                    ""
+                }
+            ),
+        });
+    }
     let mut fill = FanFill {
         surface: solved.surface,
         hole,
@@ -1323,17 +1376,26 @@ impl FanFill {
                 // may drift. Seams between the patches opened beyond twice
                 // the thin plate's (and 1e-9°) are not worth the W.
                 let after = max_edge_normal_angle(&surface, 65);
-                if angle(after) <= 2.0 * angle(thin_plate) + 1e-9f64.to_radians() {
+                let turn = largest_tri_normal_turn(&surface, 2 * surface.degree() + 2);
+                let folds = turn.is_some_and(|t| t.is_fold());
+                if angle(after) <= 2.0 * angle(thin_plate) + 1e-9f64.to_radians() && !folds {
                     // The solve's geometric figures, of the surface returned.
                     if let Some(tri) = self.report.solve.triangular.as_mut() {
                         tri.max_edge_normal_angle = after;
-                        tri.normal_turn =
-                            largest_tri_normal_turn(&surface, 2 * surface.degree() + 2);
+                        tri.normal_turn = turn;
                     }
                     self.surface = surface;
                     self.report.willmore = history;
                     self.report.seconds.measure += t.elapsed().as_secs_f64();
                     self.measure_w();
+                } else if folds {
+                    self.report.descent_note = Some(format!(
+                        "the thin plate is kept: the descent on W (to {:.6}) folded the fill \
+                         (its normal turned by {:.1}° between neighbouring samples)",
+                        history.last().copied().unwrap_or(f64::NAN),
+                        turn.map_or(f64::NAN, |t| t.angle.to_degrees())
+                    ));
+                    self.report.seconds.measure += t.elapsed().as_secs_f64();
                 } else {
                     self.report.descent_note = Some(format!(
                         "the thin plate is kept: the descent on W (to {:.6}) opened the seams \
@@ -1346,14 +1408,25 @@ impl FanFill {
                 }
             }
         }
-        let t = Instant::now();
-        let (surface, hole, r) = (&self.surface, &self.hole, &mut self.report);
+        let r = &mut self.report;
         r.inner_angle = angle(
             r.solve
                 .triangular
                 .as_ref()
                 .and_then(|f| f.max_edge_normal_angle),
         );
+        if r.sides.is_empty() {
+            self.measure_sides(faces, options);
+        }
+        self
+    }
+
+    /// Per side, gap and normal angle against the neighbour. The descent
+    /// on W keeps rows 0 and 1, so a candidate's sides, measured before
+    /// it, are the returned fill's.
+    pub(super) fn measure_sides(&mut self, faces: &[BSplineSurface], options: &FillOptions) {
+        let t = Instant::now();
+        let (surface, hole, r) = (&self.surface, &self.hole, &mut self.report);
         r.sides = (0..hole.sides.len())
             .map(|k| {
                 let side = hole.sides[k];
@@ -1367,7 +1440,6 @@ impl FanFill {
             })
             .collect();
         r.seconds.measure += t.elapsed().as_secs_f64();
-        self
     }
 }
 

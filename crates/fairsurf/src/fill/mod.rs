@@ -262,7 +262,9 @@ pub enum HoleFill {
 
 impl HoleFill {
     /// Fills `hole`: [`fill_hole`] for four sides (each one edge or several
-    /// that continue each other); otherwise [`fill_fan`] (and for three
+    /// that continue each other; a fan too where that patch misses the
+    /// neighbours beyond 0.01° or is refused, see `four_sided`); otherwise
+    /// [`fill_fan`] (and for three
     /// sides [`fill_triangle`]). With descent steps (the default) each at
     /// the asked degree, their thin plates compared by their normal angle
     /// to the neighbours, then by W (`preferred`), and the one kept has its
@@ -277,7 +279,7 @@ impl HoleFill {
     /// angle tolerance.
     pub fn new(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -> Result<Self> {
         if is_four_sided(faces, hole) {
-            return fill_hole(faces, hole, options).map(Self::Patch);
+            return Self::four_sided(faces, hole, options);
         }
         // Triangular patches: a fan, and for three sides one triangle; the
         // one with the lowest W is kept, the others' time reported.
@@ -314,7 +316,10 @@ impl HoleFill {
         let mut solved = Vec::new();
         for t in tried {
             match t {
-                Ok(f) => solved.push(f),
+                Ok(mut f) => {
+                    f.measure_sides(faces, options);
+                    solved.push(f)
+                }
                 Err(e) => {
                     first_error.get_or_insert(e);
                 }
@@ -334,6 +339,40 @@ impl HoleFill {
                 Ok(Self::Fan(f.completed(faces, options)))
             }
             None => Err(first_error.expect("a candidate")),
+        }
+    }
+
+    /// A 4-sided hole: one patch ([`fill_hole`]); where that patch misses
+    /// its neighbours beyond the angle tolerance (their cross directions
+    /// at a corner not along the adjacent sides, which one patch cannot
+    /// follow: its corner block takes one) or is refused, a fan too
+    /// ([`fill_fan`], cut into five patches), the one kept by
+    /// `preferred`. The patch's refusal is returned when both fail.
+    fn four_sided(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -> Result<Self> {
+        let worst = |sides: &[SideFit]| sides.iter().map(|s| s.angle).fold(0.0, f64::max);
+        let patch = fill_hole(faces, hole, options);
+        if let Ok(p) = &patch {
+            if worst(&p.report.sides) <= FitTolerance::default().angle {
+                return patch.map(Self::Patch);
+            }
+        }
+        let Ok(mut fan) = fan::fan_candidate(faces, hole, options) else {
+            return patch.map(Self::Patch);
+        };
+        fan.measure_sides(faces, options);
+        let fan_measures = (worst(&fan.report.sides), fan.report.curvature.value);
+        let total = |s: &FillSeconds| s.setup + s.solve + s.measure;
+        match patch {
+            Err(_) => Ok(Self::Fan(fan.completed(faces, options))),
+            Ok(p) => {
+                let patch_measures = (worst(&p.report.sides), p.report.curvature.value);
+                if preferred(&[patch_measures, fan_measures]) == Some(0) {
+                    Ok(Self::Patch(p))
+                } else {
+                    fan.report.other_seconds = total(&p.report.seconds);
+                    Ok(Self::Fan(fan.completed(faces, options)))
+                }
+            }
         }
     }
 
@@ -419,7 +458,9 @@ pub fn fill_param(k: usize, t: f64) -> (f64, f64) {
 /// Errors ([`Error::Fill`]) name what does not fit: a hole with other than
 /// four sides ([`fill_fan`] fills those), a side naming no face,
 /// neighbours whose cross derivatives fold over at a corner, opposite sides
-/// whose knots cannot be merged; and the solve's own refusals.
+/// whose knots cannot be merged, a fill that folds over (its normal turning
+/// by more than 90° between neighbouring samples, 2·degree + 2 intervals
+/// per span); and the solve's own refusals.
 pub fn fill_hole(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -> Result<Fill> {
     let t0 = Instant::now();
     let (mut hole, mut groups) = grouped(faces, hole)?;
@@ -446,6 +487,24 @@ pub fn fill_hole(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -
     let faired = fair(&s, [true; 4], options, t0)?;
     let t2 = Instant::now();
     let surface = faired.surface;
+    // Folds, on a grid of 2·degree + 2 intervals per span as a fan's
+    // patches are checked (a fold flips the normal between neighbours).
+    let (p, q) = surface.degree();
+    for piece in surface.bezier_pieces() {
+        let turn = crate::analysis::largest_normal_turn(&piece.patch, 2 * p.max(q) + 2);
+        if let Some(turn) = turn.filter(|t| t.is_fold()) {
+            let (a, b) = turn.at;
+            return Err(Error::Fill {
+                why: format!(
+                    "the patch folds over: its normal turns by {:.1}° between neighbouring \
+                     samples near (u, v) = ({:.3}, {:.3})",
+                    turn.angle.to_degrees(),
+                    piece.u.0 + a * (piece.u.1 - piece.u.0),
+                    piece.v.0 + b * (piece.v.1 - piece.v.0),
+                ),
+            });
+        }
+    }
     let mut sides: Vec<SideFit> = Vec::with_capacity(hole.sides.len());
     for (k, g) in groups.iter().enumerate() {
         for (j, e) in g.clone().enumerate() {

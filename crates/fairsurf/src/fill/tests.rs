@@ -1296,3 +1296,122 @@ fn the_fill_kept_is_within_the_angle_tolerance_before_it_is_fairer() {
     assert_eq!(preferred(&[(f64::NAN, 2.0), (f64::NAN, 0.5)]), Some(1));
     assert_eq!(preferred(&[]), None);
 }
+
+/// A kidney-shaped hole in the graph of [`cubic`]: `pieces` cubic Hermite
+/// arcs through points of c(θ) = (cos θ, sin θ + a·cos²θ) at θ = 2πq/pieces
+/// − 1 (for a > 1.42 not star-shaped around the mean of those points; the
+/// region between −√(1 − x²) + ax² and √(1 − x²) + ax²), each arc's end
+/// tangents turned into the hole by `turn` (a real corner of 180° − 2·turn
+/// at each joint; 0: a C¹ loop), ringed by faces 0.1 wide along the
+/// outward normals of c at the joints (blended linearly along each arc, so
+/// neighbouring faces share their radial edges).
+fn kidney_hole(a: f64, pieces: usize, turn: f64) -> (Vec<BSplineSurface>, Hole) {
+    let c = |th: f64| [th.cos(), th.sin() + a * th.cos() * th.cos()];
+    let dc = |th: f64| [-th.sin(), th.cos() - 2.0 * a * th.cos() * th.sin()];
+    let rot = |v: [f64; 2], r: f64| {
+        [
+            v[0] * r.cos() - v[1] * r.sin(),
+            v[0] * r.sin() + v[1] * r.cos(),
+        ]
+    };
+    let out = |th: f64| {
+        let d = dc(th);
+        let l = d[0].hypot(d[1]);
+        [d[1] / l, -d[0] / l]
+    };
+    let d = std::f64::consts::TAU / pieces as f64;
+    let faces: Vec<BSplineSurface> = (0..pieces)
+        .map(|q| {
+            let (t0, t1) = (q as f64 * d - 1.0, (q + 1) as f64 * d - 1.0);
+            let (p0, p1) = (c(t0), c(t1));
+            let (m0, m1) = (rot(dc(t0), turn), rot(dc(t1), -turn));
+            let (o0, o1) = (out(t0), out(t1));
+            let lift = |s: f64, t: f64| {
+                let h = [
+                    2.0 * s.powi(3) - 3.0 * s * s + 1.0,
+                    s.powi(3) - 2.0 * s * s + s,
+                    -2.0 * s.powi(3) + 3.0 * s * s,
+                    s.powi(3) - s * s,
+                ];
+                let xy: [f64; 2] = std::array::from_fn(|k| {
+                    let p = h[0] * p0[k] + h[1] * d * m0[k] + h[2] * p1[k] + h[3] * d * m1[k];
+                    p + 0.1 * t * ((1.0 - s) * o0[k] + s * o1[k])
+                });
+                [xy[0], xy[1], cubic(xy[0], xy[1])]
+            };
+            BSplineSurface::from_bezier(&interpolate(9, lift, 0.0, 1.0))
+        })
+        .collect();
+    let holes = find_holes(&faces).unwrap();
+    assert_eq!(holes.len(), 2, "the rim and the hole");
+    (faces, holes[1].clone())
+}
+
+/// A fill that folds over is refused, not returned (before, a round
+/// kidney's fan came back with its normal turning by 177° inside and a
+/// clean G¹ report): kidney-shaped holes ([`kidney_hole`]) far from convex
+/// are refused by name — a fan whose centre lies behind the boundary's
+/// tangent ("not star-shaped"), a fan or a 4-sided patch whose normal
+/// flips between neighbouring samples ("folds over"); milder ones are
+/// filled, G¹ to the neighbours, without a fold (with four real corners
+/// by a fan of five, where one patch misses the neighbours by degrees).
+#[test]
+fn fills_that_fold_over_are_refused() {
+    let refusal = |a: f64, pieces: usize, turn: f64| {
+        let (faces, hole) = kidney_hole(a, pieces, turn);
+        match HoleFill::new(&faces, &hole, &FillOptions::default()) {
+            Err(e) => e.to_string(),
+            Ok(_) => panic!("a {a}, {pieces} pieces, turn {turn}: filled"),
+        }
+    };
+    // Round holes (fans).
+    let e = refusal(1.4, 4, 0.0);
+    assert!(e.contains("the fan folds over: its normal turns by"), "{e}");
+    for a in [1.6, 2.0] {
+        let e = refusal(a, 6, 0.0);
+        assert!(e.contains("not star-shaped around the fan's centre"), "{e}");
+    }
+    // Four real corners (one patch).
+    for a in [1.4, 2.0] {
+        let e = refusal(a, 4, 0.5);
+        assert!(
+            e.contains("the patch folds over: its normal turns by"),
+            "{e}"
+        );
+    }
+    // Milder kidneys: filled, and neither folds.
+    for (a, turn) in [(1.0, 0.0), (0.5, 0.5), (1.0, 0.5)] {
+        let (faces, hole) = kidney_hole(a, 4, turn);
+        let fill = HoleFill::new(&faces, &hole, &FillOptions::default()).unwrap();
+        for s in fill.sides() {
+            assert!(s.gap < 1e-11 && s.angle < 1e-10, "{a}, {turn}: {s:?}");
+        }
+        let turned = match &fill {
+            HoleFill::Patch(f) => f.surface.largest_normal_turn().unwrap().angle,
+            HoleFill::Fan(f) => {
+                let tri = f.report.solve.triangular.as_ref().unwrap();
+                tri.normal_turn.unwrap().angle
+            }
+        };
+        assert!(turned < 0.1, "{a}, {turn}: {turned}");
+        // Four real corners: the neighbours' cross directions there run
+        // along their shared radial edges, not along the adjacent sides,
+        // and one patch, whose corner block takes one, misses them by
+        // degrees; a fan cut into five follows them.
+        let HoleFill::Fan(fan) = &fill else {
+            panic!("{a}, {turn}: a fan")
+        };
+        assert_eq!(fan.surface.patch_count(), if turn == 0.0 { 4 } else { 5 });
+        if turn > 0.0 {
+            let patch = fill_hole(&faces, &hole, &FillOptions::default()).unwrap();
+            let worst = patch
+                .report
+                .sides
+                .iter()
+                .map(|s| s.angle)
+                .fold(0.0, f64::max);
+            assert!(worst.to_degrees() > 1.0, "{a}, {turn}: {worst}");
+            assert!(patch.report.corners.tangent > 0.1, "{a}, {turn}");
+        }
+    }
+}
