@@ -651,14 +651,16 @@ def fill_pentagon():
     })
 
 
-def fill_round(turn=0.0):
+def fill_round(turn=0.0, every=False):
     """A round hole (four C1 cubic quarter-circle arcs of radius 1, no corner)
     in the graph of a quadratic, ringed by four faces out to radius 2 that are
     exact pieces of it (degree 6 along the arcs, 2 across). `fairsurf fill`
     fills it with a fan of four triangular patches around a free centre, G1 to
     the neighbours and between the patches. With `turn` (radians) the first
     arc's first handle is turned inwards by it: one real corner, three
-    straight ones (fill_notch.json)."""
+    straight ones (fill_notch.json); with `every`, both handles of every arc:
+    four real corners where the faces' radial edges do not continue the
+    hole's sides (fill_corners.json)."""
     def f(x, y):
         return 0.15 * x * y + 0.1 * x * x - 0.08 * y * y
 
@@ -669,11 +671,14 @@ def fill_round(turn=0.0):
         p0 = (math.cos(a0), math.sin(a0))
         p3 = (math.cos(a1), math.sin(a1))
         t = (-p0[1], p0[0])
-        if q == 0:
-            c, sn = math.cos(turn), math.sin(turn)
+        e = (-p3[1], p3[0])
+        c, sn = math.cos(turn), math.sin(turn)
+        if q == 0 or every:
             t = (t[0] * c - t[1] * sn, t[0] * sn + t[1] * c)
+        if every:
+            e = (e[0] * c + e[1] * sn, -e[0] * sn + e[1] * c)
         p1 = (p0[0] + k * t[0], p0[1] + k * t[1])
-        p2 = (p3[0] + k * p3[1], p3[1] - k * p3[0])
+        p2 = (p3[0] - k * e[0], p3[1] - k * e[1])
         b = bern(3, s)
         return tuple(sum(b[i] * pt[c] for i, pt in enumerate((p0, p1, p2, p3))) for c in range(2))
 
@@ -697,25 +702,31 @@ def fill_round(turn=0.0):
                 for j in range(dv + 1)] for ii in range(du + 1)]
         return {"type": "tensor", "degree": [du, dv], "control_points": net}
 
-    if turn:
-        write("cad/fill_notch.json", {
-            "name": "A hole with one corner in a ring of four faces",
-            "description": "Four faces of degree 6 x 2, exact pieces of one quadratic graph, "
-                           "around a hole bounded by four cubic arcs: three meet C1, the first "
-                           "starts turned by %.2f rad (one real corner). fairsurf fill cuts "
-                           "the longest arc (by control polygon) at its middle and fills the hole with a fan of "
-                           "five triangular patches around a free centre, natural spokes, G1 "
-                           "to the neighbours and between the patches." % turn,
-            "faces": [piece(q) for q in range(4)],
-        })
-        return
-    write("cad/fill_round.json", {
-        "name": "A round hole in a ring of four faces",
-        "description": "Four faces of degree 6 x 2, exact pieces of one quadratic graph, around "
-                       "a round hole bounded by four cubic quarter-circle arcs that meet C1 (no "
-                       "corner). fairsurf fill fills it with a fan of four triangular patches "
-                       "around a free centre, their rows next to the boundary cubic in their "
-                       "weights, G1 to the neighbours and between the patches.",
+    if every:
+        name, title, what = "fill_corners", \
+            "A 4-sided hole whose neighbours' edges do not continue its sides", \
+            ("around a hole bounded by four cubic arcs whose ends are turned inwards by %.2f "
+             "rad: four real corners, where the faces meet along radial edges that do not "
+             "continue the hole's sides. One tensor patch misses those faces by degrees (its "
+             "corners take the adjacent sides' directions); fairsurf fill cuts the longest arc "
+             "at its middle and fills the hole with a fan of five triangular patches, G1 to "
+             "the neighbours and between the patches." % turn)
+    elif turn:
+        name, title, what = "fill_notch", "A hole with one corner in a ring of four faces", \
+            ("around a hole bounded by four cubic arcs: three meet C1, the first starts turned "
+             "by %.2f rad (one real corner). fairsurf fill cuts the longest arc (by control "
+             "polygon) at its middle and fills the hole with a fan of five triangular patches "
+             "around a free centre, natural spokes, G1 to the neighbours and between the "
+             "patches." % turn)
+    else:
+        name, title, what = "fill_round", "A round hole in a ring of four faces", \
+            ("around a round hole bounded by four cubic quarter-circle arcs that meet C1 (no "
+             "corner). fairsurf fill fills it with a fan of four triangular patches around a "
+             "free centre, their rows next to the boundary cubic in their weights, G1 to the "
+             "neighbours and between the patches.")
+    write("cad/%s.json" % name, {
+        "name": title,
+        "description": "Four faces of degree 6 x 2, exact pieces of one quadratic graph, " + what,
         "faces": [piece(q) for q in range(4)],
     })
 
@@ -927,6 +938,7 @@ if __name__ == "__main__":
     fill_lens()
     fill_round()
     fill_round(0.3)
+    fill_round(0.4, every=True)
     blend_sheets()
     fill_network()
     bspline_hole()

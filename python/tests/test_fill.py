@@ -487,6 +487,16 @@ def test_a_hole_with_one_real_corner_is_filled_by_a_sewn_g1_fan_of_five(
     sewn_fan(cli, tmp_path, "fill_notch.json", 5, 4)
 
 
+def test_a_4_sided_hole_one_patch_cannot_follow_is_filled_by_a_sewn_g1_fan(
+        cli: Path, tmp_path: Path):
+    """The hole of fill_corners.json (four arcs turned inwards by 0.4 rad at
+    both ends: four real corners, where the faces' radial edges do not
+    continue the hole's sides). One tensor patch misses the faces by 3.2°;
+    the fill is a fan of five patches, sewn with only the rim's 4 arcs free,
+    G1 as reported."""
+    sewn_fan(cli, tmp_path, "fill_corners.json", 5, 4)
+
+
 def test_sides_with_knots_are_filled_by_sewn_g1_fans(cli: Path, tmp_path: Path):
     """The triangle of `polygon_network` with one neighbour a B-spline with a
     knot inside the hole's side (u = 0.4) and another cut by Open CASCADE

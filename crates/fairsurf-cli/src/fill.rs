@@ -213,11 +213,7 @@ fn summary(
     }
     for (&h, fill) in choice.chosen.iter().zip(fills) {
         let gap = fill.sides().iter().map(|s| s.gap).fold(0.0, f64::max);
-        let angle = fill
-            .sides()
-            .iter()
-            .map(|s| s.angle.to_degrees())
-            .fold(0.0, f64::max);
+        let angle = fairsurf::fill::largest_angle(fill.sides()).to_degrees();
         let w = fill.curvature();
         let fit = format!(
             "largest gap {gap:.1e}, largest normal angle {angle:.1e}° ({} samples per side); \

@@ -218,3 +218,36 @@ fn a_fan_on_corners_whose_tangent_planes_disagree_is_refused_naming_them() {
     // the 0.01° limit), 1.8° against the bent face near the corner, as
     // reported per side.
 }
+
+/// The bundled `fill_corners.json`: four real corners where the faces
+/// meet along radial edges that do not continue the hole's sides. One
+/// tensor patch takes the adjacent sides' directions at its corners and
+/// misses the faces by degrees (3.2°); the fill is then a fan of five
+/// patches, G1 to rounding to the neighbours and between the patches, and
+/// fairer than that patch too.
+#[test]
+fn a_4_sided_hole_one_patch_cannot_follow_is_filled_by_a_fan() {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cad/fill_corners.json");
+    let input = FillInput::read(&p).unwrap();
+    let choice = HoleChoice::of(&input, None).unwrap();
+    assert_eq!(choice.chosen, vec![1]);
+    let hole = &choice.holes[1];
+    assert!(fairsurf::fill::is_four_sided(&input.faces, hole));
+    let patch = fairsurf::fill::fill_hole(&input.faces, hole, &input.options).unwrap();
+    let missed = fairsurf::fill::largest_angle(&patch.report.sides);
+    assert!(missed.to_degrees() > 1.0, "{missed}");
+    let mut fills = choice.fill(&input.faces, &input.options).unwrap();
+    let Some(HoleFill::Fan(fan)) = fills.pop() else {
+        panic!("a fan")
+    };
+    assert_eq!(fan.surface.patch_count(), 5);
+    for s in &fan.report.sides {
+        assert!(s.gap < 1e-12 && s.angle.to_degrees() < 1e-9, "{s:?}");
+    }
+    assert!(fan.report.inner_angle.to_degrees() < 1e-9);
+    let solve = fan.report.solve.triangular.as_ref().unwrap();
+    assert!(solve.dropped.is_empty());
+    assert!(fan.report.curvature.value < patch.report.curvature.value);
+    // The patch tried first is counted among the candidates' time.
+    assert!(fan.report.other_seconds > 0.0);
+}

@@ -34,6 +34,11 @@ pub struct SideFit {
     pub exact: bool,
 }
 
+/// The largest normal angle (radians) of `sides` (0 for none).
+pub fn largest_angle(sides: &[SideFit]) -> f64 {
+    sides.iter().map(|s| s.angle).fold(0.0, f64::max)
+}
+
 /// A point with its two first derivatives: R, R_u, R_v.
 pub(crate) type Tangents = [Vec3; 3];
 

@@ -77,7 +77,9 @@ mod willmore;
 pub use blend::{blend, Blend, BlendOptions, BlendReport, Bulge, BulgeSearch};
 pub use fan::{fill_fan, fill_triangle, FanFill, FanReport, FAN_DESCENT_REL, RICH_DEGREE};
 pub use holes::{edge_point, find_holes, find_holes_within, surface_param, tolerance, Hole, Side};
-pub use measure::{side_fit, total_curvature, SideFit, TotalCurvature, SIDE_SAMPLES};
+pub use measure::{
+    largest_angle, side_fit, total_curvature, SideFit, TotalCurvature, SIDE_SAMPLES,
+};
 
 use crate::bspline::{BSplineProblem, BSplineSurface, FitTolerance, KnotVector, RationalSurface};
 use crate::energy::SampleGrid;
@@ -327,10 +329,7 @@ impl HoleFill {
         }
         let measures: Vec<(f64, f64)> = solved
             .iter()
-            .map(|f| {
-                let angle = f.report.sides.iter().map(|s| s.angle).fold(0.0, f64::max);
-                (angle, f.report.curvature.value)
-            })
+            .map(|f| (largest_angle(&f.report.sides), f.report.curvature.value))
             .collect();
         match preferred(&measures) {
             Some(k) => {
@@ -349,10 +348,9 @@ impl HoleFill {
     /// ([`fill_fan`], cut into five patches), the one kept by
     /// `preferred`. The patch's refusal is returned when both fail.
     fn four_sided(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -> Result<Self> {
-        let worst = |sides: &[SideFit]| sides.iter().map(|s| s.angle).fold(0.0, f64::max);
         let patch = fill_hole(faces, hole, options);
         if let Ok(p) = &patch {
-            if worst(&p.report.sides) <= FitTolerance::default().angle {
+            if largest_angle(&p.report.sides) <= FitTolerance::default().angle {
                 return patch.map(Self::Patch);
             }
         }
@@ -360,12 +358,12 @@ impl HoleFill {
             return patch.map(Self::Patch);
         };
         fan.measure_sides(faces, options);
-        let fan_measures = (worst(&fan.report.sides), fan.report.curvature.value);
+        let fan_measures = (largest_angle(&fan.report.sides), fan.report.curvature.value);
         let total = |s: &FillSeconds| s.setup + s.solve + s.measure;
         match patch {
             Err(_) => Ok(Self::Fan(fan.completed(faces, options))),
             Ok(p) => {
-                let patch_measures = (worst(&p.report.sides), p.report.curvature.value);
+                let patch_measures = (largest_angle(&p.report.sides), p.report.curvature.value);
                 if preferred(&[patch_measures, fan_measures]) == Some(0) {
                     Ok(Self::Patch(p))
                 } else {

@@ -1404,12 +1404,7 @@ fn fills_that_fold_over_are_refused() {
         assert_eq!(fan.surface.patch_count(), if turn == 0.0 { 4 } else { 5 });
         if turn > 0.0 {
             let patch = fill_hole(&faces, &hole, &FillOptions::default()).unwrap();
-            let worst = patch
-                .report
-                .sides
-                .iter()
-                .map(|s| s.angle)
-                .fold(0.0, f64::max);
+            let worst = largest_angle(&patch.report.sides);
             assert!(worst.to_degrees() > 1.0, "{a}, {turn}: {worst}");
             assert!(patch.report.corners.tangent > 0.1, "{a}, {turn}");
         }
