@@ -71,6 +71,8 @@ pub fn run(a: Args) -> Result<(), Failure> {
     if fit != FitTolerance::default() {
         input.refit(fit).map_err(with_file(&a.input))?;
     }
+    // The fill chosen is the one within this angle (HoleFill::new).
+    input.options.angle_tolerance = fit.angle;
     let asked = if a.holes.is_empty() {
         input.holes.clone()
     } else {
@@ -232,7 +234,7 @@ fn summary(
                     "  hole {h}: degree {p}×{q}, {cu}×{cv} control points; {fit}; thin-plate solve \
                      checked to {:.0e}, W-lowering steps kept: {steps}; {:.1} ms",
                     r.solve.check.map_or(f64::NAN, |c| c.energy_error),
-                    1e3 * (r.seconds.setup + r.seconds.solve + r.seconds.measure)
+                    1e3 * (r.seconds.total() + fairsurf::fill::other_seconds(&r.others))
                 ));
                 let c = &r.corners;
                 if c.position > 0.0 || c.tangent > 1e-12 || c.twist > 1e-12 {
@@ -244,13 +246,26 @@ fn summary(
             }
             HoleFill::Fan(f) => {
                 let r = &f.report;
-                let ms =
-                    1e3 * (r.seconds.setup + r.seconds.solve + r.seconds.measure + r.other_seconds);
+                let ms = 1e3 * (r.seconds.total() + fairsurf::fill::other_seconds(&r.others));
                 let (n, degree) = (f.surface.patch_count(), f.surface.degree());
                 let steps = crate::fill::steps_kept(&r.willmore);
+                // Why one triangle: the fan was refused, beyond the angle
+                // tolerance, or less fair.
+                let fan_was = r
+                    .others
+                    .iter()
+                    .find(|c| c.kind == "fan")
+                    .map(|c| &c.outcome);
+                let why = match fan_was {
+                    Some(Err(_)) => "a fan was refused".to_string(),
+                    Some(Ok((a, _))) if *a > tolerance.angle => {
+                        format!("a fan missed its neighbours by {}°", in_degrees(*a))
+                    }
+                    _ => "fairer than a fan".to_string(),
+                };
                 lines.push(if n == 1 {
                     format!(
-                        "  hole {h}: one triangular patch of degree {degree} (fairer than a fan); \
+                        "  hole {h}: one triangular patch of degree {degree} ({why}); \
                          {fit}; W-lowering steps kept: {steps}; {ms:.1} ms"
                     )
                 } else {
@@ -265,6 +280,16 @@ fn summary(
                 });
                 if let Some(note) = &r.descent_note {
                     lines.push(format!("    {note}"));
+                }
+                // A 4-sided hole: why not one patch.
+                if let Some(c) = r.others.iter().find(|c| c.kind == "patch") {
+                    lines.push(match &c.outcome {
+                        Ok((a, w)) => format!(
+                            "    one patch missed its neighbours by {}° (W {w:.6}): a fan instead",
+                            in_degrees(*a)
+                        ),
+                        Err(e) => format!("    one patch was refused ({e}): a fan instead"),
+                    });
                 }
                 let c = &r.corners;
                 if c.position > 1e-12 || c.tangent > 1e-10 || c.twist > 1e-10 {
@@ -453,4 +478,15 @@ fn picture(surfaces: &[&BSplineSurface], zebra: bool) -> Result<Vec<u8>, Failure
 /// "1 face", "2 faces".
 fn counted(n: usize, noun: &str) -> String {
     format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
+}
+
+/// An angle (radians) in degrees for the summary: two decimals from 0.01°,
+/// else in scientific notation.
+fn in_degrees(a: f64) -> String {
+    let d = a.to_degrees();
+    if d >= 0.01 {
+        format!("{d:.2}")
+    } else {
+        format!("{d:.1e}")
+    }
 }

@@ -1867,3 +1867,47 @@ fn the_summary_is_one_for_every_kind() {
         assert_eq!(format!("{total:.10e}"), format!("{json:.10e}"), "{scene}");
     }
 }
+
+/// A 4-sided hole that one patch cannot follow (the bundled
+/// `fill_corners.json`: the faces' edges do not continue the hole's sides
+/// at its corners) is filled by a fan, and the summary and the JSON say
+/// why: the patch tried first, its angle to the neighbours and W, its time
+/// in the fill's. With an angle tolerance of 5° that patch is within it
+/// and kept, no fan tried.
+#[test]
+fn fill_says_why_a_4_sided_hole_took_a_fan() {
+    let d = tmpdir("fill-corners");
+    let scene = examples().join("cad/fill_corners.json");
+    let out = d.join("corners.step");
+    let run = |extra: &[&str]| {
+        let mut args = vec!["fill", scene.to_str().unwrap(), "-o", out.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        let o = fairsurf(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        o
+    };
+    let s = String::from_utf8_lossy(&run(&[]).stdout).into_owned();
+    assert!(s.contains("hole 1: 5 triangular patches"), "{s}");
+    assert!(
+        s.contains("one patch missed its neighbours by 3.16° (W 0.351792): a fan instead"),
+        "{s}"
+    );
+    let r: serde_json::Value = serde_json::from_slice(&run(&["--json"]).stdout).unwrap();
+    let fill = &r["fills"][0];
+    assert_eq!(fill["kind"], "fan");
+    let others = fill["others"].as_array().unwrap();
+    assert_eq!(others.len(), 1);
+    assert_eq!(others[0]["kind"], "patch");
+    let angle = others[0]["max_angle_deg"].as_f64().unwrap();
+    assert!((angle - 3.16).abs() < 0.01, "{angle}");
+    let seconds = &fill["seconds"];
+    let other = seconds["other_candidates"].as_f64().unwrap();
+    assert_eq!(other, others[0]["seconds"].as_f64().unwrap());
+    assert!(other > 0.0 && seconds["total"].as_f64().unwrap() > other);
+    let r: serde_json::Value =
+        serde_json::from_slice(&run(&["--json", "--angle-tolerance", "5"]).stdout).unwrap();
+    let fill = &r["fills"][0];
+    assert_eq!(fill["kind"], "patch");
+    assert_eq!(fill["others"], serde_json::json!([]));
+    assert_eq!(fill["sides_beyond_tolerances"], serde_json::json!([]));
+}

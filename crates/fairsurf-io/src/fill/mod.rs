@@ -173,6 +173,7 @@ impl FillSpec {
             samples,
             willmore_steps,
             descent_steps,
+            angle_tolerance: d.angle_tolerance,
             rational_faces: Vec::new(),
         };
         if options.stretch == 0.0 && options.bend == 0.0 {

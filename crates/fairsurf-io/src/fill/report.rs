@@ -3,6 +3,7 @@
 //! surfaces written.
 
 use super::*;
+use fairsurf::fill::{largest_angle, other_seconds, Candidate};
 
 /// The holes of a set of faces and which of them to fill.
 #[derive(Clone, Debug)]
@@ -162,7 +163,7 @@ pub(crate) fn patch_json(
         "spans": [ku.spans().len(), kv.spans().len()],
         "sides": sides,
         "max_gap": fits.iter().map(|f| f.gap).fold(0.0, f64::max),
-        "max_angle_deg": fits.iter().map(|f| f.angle.to_degrees()).fold(0.0, f64::max),
+        "max_angle_deg": largest_angle(fits).to_degrees(),
         "corners": {
             "position": corners.position,
             "tangent": corners.tangent,
@@ -177,7 +178,7 @@ pub(crate) fn patch_json(
             "setup": seconds.setup,
             "solve": seconds.solve,
             "measure": seconds.measure,
-            "total": seconds.setup + seconds.solve + seconds.measure,
+            "total": seconds.total(),
         },
     })
 }
@@ -208,7 +209,7 @@ pub(super) fn fan_fill_json(hole: usize, fan: &FanFill) -> Value {
         "control_points": fan.surface.point_count(),
         "sides": sides,
         "max_gap": r.sides.iter().map(|f| f.gap).fold(0.0, f64::max),
-        "max_angle_deg": r.sides.iter().map(|f| f.angle.to_degrees()).fold(0.0, f64::max),
+        "max_angle_deg": largest_angle(&r.sides).to_degrees(),
         "inner_angle_deg": r.inner_angle.to_degrees(),
         "corners": {
             "position": r.corners.position,
@@ -224,10 +225,28 @@ pub(super) fn fan_fill_json(hole: usize, fan: &FanFill) -> Value {
             "setup": r.seconds.setup,
             "solve": r.seconds.solve,
             "measure": r.seconds.measure,
-            "other_candidate": r.other_seconds,
-            "total": r.seconds.setup + r.seconds.solve + r.seconds.measure + r.other_seconds,
+            "other_candidates": other_seconds(&r.others),
+            "total": r.seconds.total() + other_seconds(&r.others),
         },
+        "others": others_json(&r.others),
     })
+}
+
+/// The candidates tried and not kept: kind, and the largest normal angle
+/// to the neighbours (degrees) with W, or the refusal; seconds.
+fn others_json(others: &[Candidate]) -> Value {
+    others
+        .iter()
+        .map(|c| match &c.outcome {
+            Ok((angle, w)) => json!({
+                "kind": c.kind,
+                "max_angle_deg": angle.to_degrees(),
+                "curvature_w": w,
+                "seconds": c.seconds,
+            }),
+            Err(e) => json!({"kind": c.kind, "refused": e, "seconds": c.seconds}),
+        })
+        .collect()
 }
 
 /// A 4-sided fill's report.
@@ -248,6 +267,10 @@ pub(super) fn patch_fill_json(hole: usize, fill: &Fill) -> Value {
     out["hole"] = json!(hole);
     out["kind"] = json!("patch");
     out["alpha"] = json!(r.alpha);
+    out["others"] = others_json(&r.others);
+    let others = other_seconds(&r.others);
+    out["seconds"]["other_candidates"] = json!(others);
+    out["seconds"]["total"] = json!(r.seconds.total() + others);
     out
 }
 

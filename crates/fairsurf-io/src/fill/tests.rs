@@ -234,8 +234,10 @@ fn a_4_sided_hole_one_patch_cannot_follow_is_filled_by_a_fan() {
     let hole = &choice.holes[1];
     assert!(fairsurf::fill::is_four_sided(&input.faces, hole));
     let patch = fairsurf::fill::fill_hole(&input.faces, hole, &input.options).unwrap();
-    let missed = fairsurf::fill::largest_angle(&patch.report.sides);
-    assert!(missed.to_degrees() > 1.0, "{missed}");
+    let missed = fairsurf::fill::largest_angle(&patch.report.sides).to_degrees();
+    assert!((missed - 3.16).abs() < 0.01, "{missed}");
+    let w_patch = patch.report.curvature.value;
+    assert!((w_patch - 0.3518).abs() < 1e-4, "{w_patch}");
     let mut fills = choice.fill(&input.faces, &input.options).unwrap();
     let Some(HoleFill::Fan(fan)) = fills.pop() else {
         panic!("a fan")
@@ -247,7 +249,15 @@ fn a_4_sided_hole_one_patch_cannot_follow_is_filled_by_a_fan() {
     assert!(fan.report.inner_angle.to_degrees() < 1e-9);
     let solve = fan.report.solve.triangular.as_ref().unwrap();
     assert!(solve.dropped.is_empty());
-    assert!(fan.report.curvature.value < patch.report.curvature.value);
+    let w = fan.report.curvature.value;
+    assert!((w - 0.2755).abs() < 1e-4, "{w}");
+    // The patch is the candidate not kept, with its measures.
+    let [other] = &fan.report.others[..] else {
+        panic!("one other candidate")
+    };
+    assert_eq!(other.kind, "patch");
+    let (angle, w_other) = other.outcome.clone().unwrap();
+    assert_eq!((angle.to_degrees(), w_other), (missed, w_patch));
     // The patch tried first is counted among the candidates' time.
-    assert!(fan.report.other_seconds > 0.0);
+    assert!(fairsurf::fill::other_seconds(&fan.report.others) > 0.0);
 }

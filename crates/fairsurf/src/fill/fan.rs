@@ -143,10 +143,11 @@ pub struct FanReport {
     pub willmore: Vec<f64>,
     /// Seconds: rows, solve, measurements.
     pub seconds: FillSeconds,
-    /// Seconds spent on the candidates not kept ([`super::HoleFill::new`]
-    /// tries a fan, and for three sides one triangle too; without descent
-    /// steps each at two degrees).
-    pub other_seconds: f64,
+    /// The candidates tried and not kept ([`super::HoleFill::new`] tries a
+    /// fan, and for three sides one triangle too, without descent steps
+    /// each at two degrees; for four sides one patch first), with their
+    /// measures or refusals and time.
+    pub others: Vec<super::Candidate>,
     /// Why W was not lowered though descent steps were asked for (no kept
     /// factorization, or the descent opened the seams between the
     /// patches), None otherwise.
@@ -385,7 +386,17 @@ fn fan_of(prepared: Prepared, options: &FillOptions, t0: Instant) -> Result<FanF
         for c in &straight {
             let to = scale(sub(centre, rows0[c.k][0]), 1.0 / nf);
             let [a, b] = c.basis;
-            if dot(to, a).is_nan() || dot(to, a) <= 0.0 {
+            let inward = dot(to, a);
+            if inward.is_nan() {
+                return Err(Error::Fill {
+                    why: format!(
+                        "at corner {k} the neighbour's cross-boundary derivative runs along the \
+                         side or vanishes: no direction into the hole (sides numbered as cut)",
+                        k = c.k
+                    ),
+                });
+            }
+            if inward <= 0.0 {
                 // The centre behind the boundary's tangent line: a spoke to
                 // it would leave the hole.
                 return Err(Error::Fill {
@@ -499,8 +510,8 @@ fn fan_of(prepared: Prepared, options: &FillOptions, t0: Instant) -> Result<FanF
         } else {
             format!(
                 "the fan of {count} patches (the hole's sides cut at {} straight corners: their \
-                 knots, a hole of one or two sides at their middles, one of four pieces with \
-                 straight corners at the longest's middle){why}",
+                 knots, a hole of one or two sides at their middles, one of four pieces at the \
+                 longest's middle){why}",
                 straight.len()
             )
         },
@@ -517,6 +528,7 @@ fn fan_of(prepared: Prepared, options: &FillOptions, t0: Instant) -> Result<FanF
             cut(format!(" could not be solved{rational}: {e}"))
         }
     })?;
+    let fan = unfolded(fan)?;
     // Where the G¹ construction at straight corners does not hold (few
     // real corners, a boundary that bends back), the patches open their
     // seams while every condition holds (found: spokes without a first
@@ -1025,6 +1037,7 @@ fn prepare(
     // and β along each piece ([`round_slopes`]), W of degree p + 3.
     let round = corner_sides.iter().all(|c| c.2 >= STRAIGHT);
     let straight = corner_sides.iter().any(|c| c.2 >= straight_from(natural));
+    let asked = natural;
     let natural = fan && (round || (natural && corner_sides.iter().any(|c| c.2 >= NEAR_STRAIGHT)));
     let real = corner_sides.iter().all(|c| c.2 < STRAIGHT);
     if fan && !round && count == 4 && (natural || real) {
@@ -1063,7 +1076,8 @@ fn prepare(
         }
         let mut cut = hole.clone();
         cut.sides.splice(k..=k, halves);
-        return prepare(faces, &cut, options, min_degree, fan, natural);
+        // As asked: the cut's straight corner may make the spokes natural.
+        return prepare(faces, &cut, options, min_degree, fan, asked);
     }
     if natural && straight && n < p_max + 4 {
         n = p_max + 4;
@@ -1260,37 +1274,6 @@ fn finish(
     let t1 = Instant::now();
     let (solved, factor) = problem.solve_factored()?;
     let solve = t1.elapsed().as_secs_f64();
-    if let Some(turn) = solved
-        .report
-        .triangular
-        .as_ref()
-        .and_then(|t| t.normal_turn)
-        .filter(|t| t.is_fold())
-    {
-        let fan = solved.surface.patch_count() > 1;
-        return Err(Error::Fill {
-            why: format!(
-                "{} folds over: its normal turns by {:.1}° between neighbouring samples in \
-                 patch {} near barycentric ({:.3}, {:.3}, {:.3}){}",
-                if fan {
-                    "the fan"
-                } else {
-                    "the triangular patch"
-                },
-                turn.angle.to_degrees(),
-                turn.patch,
-                turn.at[0],
-                turn.at[1],
-                turn.at[2],
-                if fan {
-                    " (a fan folds where the hole is not star-shaped around its centre, the \
-                     mean of its corners)"
-                } else {
-                    ""
-                }
-            ),
-        });
-    }
     let mut fill = FanFill {
         surface: solved.surface,
         hole,
@@ -1309,7 +1292,7 @@ fn finish(
                 solve,
                 measure: 0.0,
             },
-            other_seconds: 0.0,
+            others: Vec::new(),
             descent_note: None,
         },
         factor: factor.map(Arc::from),
@@ -1541,7 +1524,41 @@ pub(super) fn triangle_candidate(
         &mut corners,
         true,
     );
-    finish(problem, hole, corners, t0)
+    unfolded(finish(problem, hole, corners, t0)?)
+}
+
+/// `fill`, or its refusal when it folds over: its normal turning by more
+/// than 90° between neighbouring samples (a fold flips it).
+fn unfolded(fill: FanFill) -> Result<FanFill> {
+    let solve = fill.report.solve.triangular.as_ref();
+    let Some(turn) = solve.and_then(|t| t.normal_turn).filter(|t| t.is_fold()) else {
+        return Ok(fill);
+    };
+    let count = fill.surface.patch_count();
+    Err(Error::Fill {
+        why: format!(
+            "{}: its normal turns by {:.1}° between neighbouring samples near barycentric \
+             ({:.3}, {:.3}, {:.3}){}",
+            if count > 1 {
+                format!(
+                    "the fan of {count} patches folds over in patch {} (over side {} as cut)",
+                    turn.patch, turn.patch
+                )
+            } else {
+                "the triangular patch folds over".to_string()
+            },
+            turn.angle.to_degrees(),
+            turn.at[0],
+            turn.at[1],
+            turn.at[2],
+            if count > 1 {
+                " (a fan can fold where the hole is far from convex, or not star-shaped around \
+                 its centre, the mean of its corners)"
+            } else {
+                ""
+            }
+        ),
+    })
 }
 
 /// A side of the surface (its patch and barycentric point at the side's

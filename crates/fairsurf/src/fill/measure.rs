@@ -34,8 +34,12 @@ pub struct SideFit {
     pub exact: bool,
 }
 
-/// The largest normal angle (radians) of `sides` (0 for none).
+/// The largest normal angle (radians) of `sides` (0 for none); NaN when a
+/// side had no sample with two normals (nothing measured there).
 pub fn largest_angle(sides: &[SideFit]) -> f64 {
+    if sides.iter().any(|s| s.singular >= s.samples) {
+        return f64::NAN;
+    }
     sides.iter().map(|s| s.angle).fold(0.0, f64::max)
 }
 

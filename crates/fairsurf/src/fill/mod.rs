@@ -143,6 +143,12 @@ pub struct FillOptions {
     /// thin plate's under the kept G¹ rows (the module `fan_willmore`),
     /// stopping at [`FAN_DESCENT_REL`] the same way. 0 for none.
     pub descent_steps: usize,
+    /// The normal angle to the neighbours (radians) within which a fill
+    /// counts as G¹ when [`HoleFill::new`] chooses between candidates
+    /// (0.01° by default, [`FitTolerance`]'s): one within it is kept before
+    /// a fairer one beyond it, and one 4-sided patch beyond it has a fan
+    /// tried too.
+    pub angle_tolerance: f64,
     /// Per face index, the rational surface that face is a polynomial
     /// stand-in for ([`RationalSurface::polynomial`]): the fill takes its
     /// boundary data from the stand-in and measures its sides against the
@@ -169,6 +175,7 @@ impl Default for FillOptions {
             samples: 3,
             willmore_steps: 0,
             descent_steps: DESCENT_STEPS,
+            angle_tolerance: FitTolerance::default().angle,
             rational_faces: Vec::new(),
         }
     }
@@ -211,6 +218,28 @@ pub struct FillReport {
     pub normal_weight: f64,
     /// Seconds: boundary data and rings, solve, measurements.
     pub seconds: FillSeconds,
+    /// The candidates tried and not kept ([`HoleFill::new`]: a fan, where
+    /// this patch missed its neighbours beyond the angle tolerance and the
+    /// fan did not come closer).
+    pub others: Vec<Candidate>,
+}
+
+/// A fill [`HoleFill::new`] tried for a hole and did not keep.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Candidate {
+    /// `"patch"` (one tensor patch), `"fan"` or `"triangle"` (one
+    /// triangular patch).
+    pub kind: &'static str,
+    /// Its largest normal angle to the neighbours (radians) and W (a fan's
+    /// or a triangle's before the descent on W), or its refusal.
+    pub outcome: std::result::Result<(f64, f64), String>,
+    /// Seconds it took.
+    pub seconds: f64,
+}
+
+/// The seconds the candidates not kept took.
+pub fn other_seconds(others: &[Candidate]) -> f64 {
+    others.iter().map(|c| c.seconds).sum()
 }
 
 /// Where a fill's time goes.
@@ -222,6 +251,13 @@ pub struct FillSeconds {
     pub solve: f64,
     /// W, the Willmore steps and the side fits.
     pub measure: f64,
+}
+
+impl FillSeconds {
+    /// Setup, solve and measurements together.
+    pub fn total(&self) -> f64 {
+        self.setup + self.solve + self.measure
+    }
 }
 
 /// A filled hole.
@@ -292,16 +328,26 @@ impl HoleFill {
                 ..options.clone()
             });
         }
-        let mut tried: Vec<Result<FanFill>> = Vec::new();
+        let mut tried: Vec<(&'static str, Result<FanFill>, f64)> = Vec::new();
         let mut k = 0;
         while k < degrees.len() {
             let o = &degrees[k];
-            tried.push(fan::fan_candidate(faces, hole, o));
+            let timed = |kind, f: &dyn Fn() -> Result<FanFill>| {
+                let t = Instant::now();
+                let r = f().map(|mut c| {
+                    c.measure_sides(faces, options);
+                    c
+                });
+                (kind, r, t.elapsed().as_secs_f64())
+            };
+            tried.push(timed("fan", &|| fan::fan_candidate(faces, hole, o)));
             if hole.sides.len() == 3 {
-                tried.push(fan::triangle_candidate(faces, hole, o));
+                tried.push(timed("triangle", &|| {
+                    fan::triangle_candidate(faces, hole, o)
+                }));
             }
             // With descent steps the least degree is a fallback only.
-            if k == 0 && degrees.len() == 1 && o.elevate > 0 && tried.iter().all(Result::is_err) {
+            if k == 0 && degrees.len() == 1 && o.elevate > 0 && tried.iter().all(|t| t.1.is_err()) {
                 degrees.push(FillOptions {
                     elevate: 0,
                     ..options.clone()
@@ -309,36 +355,32 @@ impl HoleFill {
             }
             k += 1;
         }
-        let total = |f: &FanFill| {
-            let s = f.report.seconds;
-            s.setup + s.solve + s.measure
-        };
-        let spent: f64 = tried.iter().flatten().map(total).sum();
-        let mut first_error = None;
-        let mut solved = Vec::new();
-        for t in tried {
-            match t {
-                Ok(mut f) => {
-                    f.measure_sides(faces, options);
-                    solved.push(f)
-                }
-                Err(e) => {
-                    first_error.get_or_insert(e);
-                }
-            }
-        }
-        let measures: Vec<(f64, f64)> = solved
+        let measured = |f: &FanFill| (largest_angle(&f.report.sides), f.report.curvature.value);
+        let solved: Vec<(usize, (f64, f64))> = tried
             .iter()
-            .map(|f| (largest_angle(&f.report.sides), f.report.curvature.value))
+            .enumerate()
+            .filter_map(|(k, t)| t.1.as_ref().ok().map(|f| (k, measured(f))))
             .collect();
-        match preferred(&measures) {
-            Some(k) => {
-                let mut f = solved.swap_remove(k);
-                f.report.other_seconds = spent - total(&f);
-                Ok(Self::Fan(f.completed(faces, options)))
+        let measures: Vec<(f64, f64)> = solved.iter().map(|s| s.1).collect();
+        let Some(kept) = preferred(&measures, options.angle_tolerance).map(|k| solved[k].0) else {
+            let first = tried.into_iter().find_map(|t| t.1.err());
+            return Err(first.expect("a candidate"));
+        };
+        let mut others = Vec::new();
+        let mut fill = None;
+        for (k, (kind, r, seconds)) in tried.into_iter().enumerate() {
+            match r {
+                Ok(f) if k == kept => fill = Some(f),
+                r => others.push(Candidate {
+                    kind,
+                    outcome: r.map(|f| measured(&f)).map_err(|e| e.to_string()),
+                    seconds,
+                }),
             }
-            None => Err(first_error.expect("a candidate")),
         }
+        let mut f = fill.expect("the kept candidate");
+        f.report.others = others;
+        Ok(Self::Fan(f.completed(faces, options)))
     }
 
     /// A 4-sided hole: one patch ([`fill_hole`]); where that patch misses
@@ -348,29 +390,52 @@ impl HoleFill {
     /// ([`fill_fan`], cut into five patches), the one kept by
     /// `preferred`. The patch's refusal is returned when both fail.
     fn four_sided(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -> Result<Self> {
+        let t = Instant::now();
         let patch = fill_hole(faces, hole, options);
+        let patch_seconds = t.elapsed().as_secs_f64();
         if let Ok(p) = &patch {
-            if largest_angle(&p.report.sides) <= FitTolerance::default().angle {
+            if largest_angle(&p.report.sides) <= options.angle_tolerance {
                 return patch.map(Self::Patch);
             }
         }
-        let Ok(mut fan) = fan::fan_candidate(faces, hole, options) else {
-            return patch.map(Self::Patch);
-        };
-        fan.measure_sides(faces, options);
-        let fan_measures = (largest_angle(&fan.report.sides), fan.report.curvature.value);
-        let total = |s: &FillSeconds| s.setup + s.solve + s.measure;
-        match patch {
-            Err(_) => Ok(Self::Fan(fan.completed(faces, options))),
-            Ok(p) => {
-                let patch_measures = (largest_angle(&p.report.sides), p.report.curvature.value);
-                if preferred(&[patch_measures, fan_measures]) == Some(0) {
-                    Ok(Self::Patch(p))
-                } else {
-                    fan.report.other_seconds = total(&p.report.seconds);
-                    Ok(Self::Fan(fan.completed(faces, options)))
-                }
+        if let Err(e) = &patch {
+            if !matches!(e, Error::Fill { .. }) {
+                // Options or arithmetic, not the hole's shape.
+                return patch.map(Self::Patch);
             }
+        }
+        let t = Instant::now();
+        let fan = fan::fan_candidate(faces, hole, options).map(|mut f| {
+            f.measure_sides(faces, options);
+            f
+        });
+        let fan_seconds = t.elapsed().as_secs_f64();
+        let measured = |sides: &[SideFit], w: &TotalCurvature| (largest_angle(sides), w.value);
+        let patch_measures = patch
+            .as_ref()
+            .map(|p| measured(&p.report.sides, &p.report.curvature));
+        let fan_measures = fan
+            .as_ref()
+            .map(|f| measured(&f.report.sides, &f.report.curvature));
+        let candidate =
+            |kind, outcome: &std::result::Result<(f64, f64), &Error>, seconds| Candidate {
+                kind,
+                outcome: outcome.map_err(|e| e.to_string()),
+                seconds,
+            };
+        let fan_kept = match (&patch_measures, &fan_measures) {
+            (_, Err(_)) => false,
+            (Err(_), Ok(_)) => true,
+            (Ok(p), Ok(f)) => preferred(&[*p, *f], options.angle_tolerance) == Some(1),
+        };
+        if fan_kept {
+            let mut fan = fan.expect("a fan");
+            fan.report.others = vec![candidate("patch", &patch_measures, patch_seconds)];
+            Ok(Self::Fan(fan.completed(faces, options)))
+        } else {
+            let mut p = patch?;
+            p.report.others = vec![candidate("fan", &fan_measures, fan_seconds)];
+            Ok(Self::Patch(p))
         }
     }
 
@@ -418,23 +483,26 @@ impl HoleFill {
 
 /// Which candidate fill [`HoleFill::new`] keeps, given each one's largest
 /// normal angle to the neighbours (radians) and its W: the lowest W among
-/// those within the angle tolerance (0.01°, [`FitTolerance`]'s default),
-/// or, when none is, among those as close as the closest. G¹ to the
-/// neighbours comes first: at the rounded box's corners one triangular
-/// patch (its corner twists incompatible, conditions dropped) misses the
-/// cylinders by 0.19° where the fan of three is within 9e-4°, and after
-/// the descent its W is 0.5% lower (3.1259 against 3.1416): lower because
-/// it is not tangent to them. A NaN angle is never within; when every
-/// angle is NaN, W alone decides. None when there is no candidate.
-fn preferred(candidates: &[(f64, f64)]) -> Option<usize> {
+/// those within `tolerance` ([`FillOptions::angle_tolerance`]), or, when
+/// none is, among those as close as the closest. G¹ to the neighbours
+/// comes first: at the rounded box's corners one triangular patch (its
+/// corner twists incompatible, conditions dropped) misses the cylinders by
+/// 0.19° where the fan of three is within 9e-4°, and after the descent on
+/// W (which a candidate has not had yet) its W is 0.5% lower (3.1259
+/// against 3.14158): lower because it is not tangent to them. A NaN angle
+/// (no side measured) is never within; when every angle is NaN, W alone
+/// decides; a W that is not finite counts as +∞. None when there is no
+/// candidate.
+fn preferred(candidates: &[(f64, f64)], tolerance: f64) -> Option<usize> {
     let closest = candidates.iter().map(|c| c.0).fold(f64::INFINITY, f64::min);
-    let within = closest.max(FitTolerance::default().angle);
+    let within = closest.max(tolerance);
+    let w = |c: &(f64, f64)| if c.1.is_finite() { c.1 } else { f64::INFINITY };
     let lowest = |eligible: &dyn Fn(f64) -> bool| {
         candidates
             .iter()
             .enumerate()
             .filter(|(_, c)| eligible(c.0))
-            .min_by(|a, b| a.1 .1.total_cmp(&b.1 .1))
+            .min_by(|a, b| w(a.1).total_cmp(&w(b.1)))
             .map(|(k, _)| k)
     };
     lowest(&|angle| angle <= within).or_else(|| lowest(&|_| true))
@@ -537,6 +605,7 @@ pub fn fill_hole(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -
                 solve: faired.solve_seconds,
                 measure: faired.improve_seconds + measure,
             },
+            others: Vec::new(),
         },
     })
 }
