@@ -531,7 +531,12 @@ impl BSplineSurface {
     /// parameters (see [`crate::analysis::largest_normal_turn`]).
     pub fn largest_normal_turn(&self) -> Option<crate::analysis::NormalTurn> {
         let spans = self.u.spans().len().max(self.v.spans().len()).max(1);
-        let k = (crate::analysis::CURVATURE_GRID / spans).max(4);
+        self.largest_normal_turn_by((crate::analysis::CURVATURE_GRID / spans).max(4))
+    }
+
+    /// [`Self::largest_normal_turn`] on a (k + 1) × (k + 1) grid on every
+    /// Bézier piece.
+    pub fn largest_normal_turn_by(&self, k: usize) -> Option<crate::analysis::NormalTurn> {
         self.bezier_pieces()
             .iter()
             .filter_map(|p| {

@@ -556,20 +556,17 @@ pub fn fill_hole(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -
     // Folds, on a grid of 2·degree + 2 intervals per span as a fan's
     // patches are checked (a fold flips the normal between neighbours).
     let (p, q) = surface.degree();
-    for piece in surface.bezier_pieces() {
-        let turn = crate::analysis::largest_normal_turn(&piece.patch, 2 * p.max(q) + 2);
-        if let Some(turn) = turn.filter(|t| t.is_fold()) {
-            let (a, b) = turn.at;
-            return Err(Error::Fill {
-                why: format!(
-                    "the patch folds over: its normal turns by {:.1}° between neighbouring \
-                     samples near (u, v) = ({:.3}, {:.3})",
-                    turn.angle.to_degrees(),
-                    piece.u.0 + a * (piece.u.1 - piece.u.0),
-                    piece.v.0 + b * (piece.v.1 - piece.v.0),
-                ),
-            });
-        }
+    let turn = surface.largest_normal_turn_by(2 * p.max(q) + 2);
+    if let Some(turn) = turn.filter(|t| t.is_fold()) {
+        return Err(Error::Fill {
+            why: format!(
+                "the patch folds over: its normal turns by {:.1}° between neighbouring samples \
+                 near (u, v) = ({:.3}, {:.3})",
+                turn.angle.to_degrees(),
+                turn.at.0,
+                turn.at.1,
+            ),
+        });
     }
     let mut sides: Vec<SideFit> = Vec::with_capacity(hole.sides.len());
     for (k, g) in groups.iter().enumerate() {
