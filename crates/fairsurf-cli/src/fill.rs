@@ -71,8 +71,6 @@ pub fn run(a: Args) -> Result<(), Failure> {
     if fit != FitTolerance::default() {
         input.refit(fit).map_err(with_file(&a.input))?;
     }
-    // The fill chosen is the one within this angle (HoleFill::new).
-    input.options.angle_tolerance = fit.angle;
     let asked = if a.holes.is_empty() {
         input.holes.clone()
     } else {

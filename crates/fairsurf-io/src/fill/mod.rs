@@ -347,9 +347,12 @@ impl FillInput {
     }
 
     /// Fits the rational faces' stand-ins anew within `fit` (those made
-    /// one span by [`Self::one_span_sides`] stay so).
+    /// one span by [`Self::one_span_sides`] stay so); the fill's choice
+    /// between candidates takes `fit.angle` too
+    /// ([`FillOptions::angle_tolerance`]).
     pub fn refit(&mut self, fit: FitTolerance) -> Result<()> {
         self.fit = fit;
+        self.options.angle_tolerance = fit.angle;
         for (k, r) in self.options.rational_faces.iter().enumerate() {
             if let Some(r) = r {
                 let s = stand_in(r, fit, self.one_span[k], k, self.kinds[k])?;
