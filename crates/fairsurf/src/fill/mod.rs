@@ -301,7 +301,8 @@ pub enum HoleFill {
 impl HoleFill {
     /// Fills `hole`: [`fill_hole`] for four sides (each one edge or several
     /// that continue each other; a fan too where that patch misses the
-    /// neighbours beyond 0.01° or is refused, see `four_sided`); otherwise
+    /// neighbours beyond the angle tolerance or is refused, see
+    /// `four_sided`); otherwise
     /// [`fill_fan`] (and for three
     /// sides [`fill_triangle`]). With descent steps (the default) each at
     /// the asked degree, their thin plates compared by their normal angle
@@ -320,7 +321,7 @@ impl HoleFill {
             return Self::four_sided(faces, hole, options);
         }
         // Triangular patches: a fan, and for three sides one triangle; the
-        // one with the lowest W is kept, the others' time reported.
+        // one `preferred` keeps, the others reported.
         let mut degrees = vec![options.clone()];
         if options.elevate > 0 && options.descent_steps == 0 {
             degrees.push(FillOptions {
