@@ -1429,3 +1429,69 @@ fn fills_that_fold_over_are_refused() {
         }
     }
 }
+
+/// A teardrop-shaped hole: one face, a ring around the closed Bézier curve
+/// c(u) of degree 6 whose ends meet at a corner of 90° (control points
+/// (0, −1), (0.8, −0.2), (1.2, 0.9), (0, 1.4), (−1.2, 0.9), (−0.8, −0.2),
+/// (0, −1)), out to c + 0.3·(c − m) about m = (0, 0.3), lifted onto the
+/// graph of [`quadratic`] (degree 12 × 2: exact by interpolation at
+/// degree 12). Its inner boundary is a
+/// loop of one edge, its seam u = 0 ≡ u = 1 shared with itself. The faces
+/// and the hole (the shorter loop; the other is the rim).
+fn teardrop_hole() -> (Vec<BSplineSurface>, Hole) {
+    let q = [
+        [0.0, -1.0],
+        [0.8, -0.2],
+        [1.2, 0.9],
+        [0.0, 1.4],
+        [-1.2, 0.9],
+        [-0.8, -0.2],
+        [0.0, -1.0],
+    ];
+    let m = [0.0, 0.3];
+    let lift = |s: f64, t: f64| {
+        let b = crate::basis::bernstein_all(6, s);
+        let c: [f64; 2] = std::array::from_fn(|d| (0..7).map(|i| b[i] * q[i][d]).sum());
+        let (x, y) = (
+            c[0] + 0.3 * t * (c[0] - m[0]),
+            c[1] + 0.3 * t * (c[1] - m[1]),
+        );
+        [x, y, quadratic(x, y)]
+    };
+    let faces = vec![BSplineSurface::from_bezier(&interpolate(
+        12, lift, 0.0, 1.0,
+    ))];
+    let holes = find_holes(&faces).unwrap();
+    assert_eq!(holes.len(), 2, "the rim and the hole");
+    let hole = holes
+        .into_iter()
+        .min_by(|a, b| a.length.total_cmp(&b.length))
+        .unwrap();
+    (faces, hole)
+}
+
+/// A hole of one side (a teardrop: one face's edge closing on itself at a
+/// corner) is cut in three at its parameter's thirds and filled by a fan
+/// of three patches, G¹ to the face to rounding along the three pieces
+/// and between the patches, no condition dropped, no fold.
+#[test]
+fn a_teardrop_hole_of_one_side_is_filled_by_a_fan_of_three() {
+    let (faces, hole) = teardrop_hole();
+    assert_eq!(hole.sides.len(), 1);
+    let fill = HoleFill::new(&faces, &hole, &FillOptions::default()).unwrap();
+    let HoleFill::Fan(fan) = &fill else {
+        panic!("a fan")
+    };
+    assert_eq!(fan.surface.patch_count(), 3);
+    assert_eq!(fan.report.sides.len(), 3);
+    for s in &fan.report.sides {
+        assert_eq!(s.side.face, 0);
+        assert!(s.gap < 1e-12 && s.angle.to_degrees() < 1e-9, "{s:?}");
+    }
+    assert!(fan.report.inner_angle.to_degrees() < 1e-9);
+    let solve = fan.report.solve.triangular.as_ref().unwrap();
+    assert!(solve.dropped.is_empty(), "{:?}", solve.dropped);
+    assert!(solve.normal_turn.unwrap().angle < 0.5);
+    let w = fan.report.curvature.value;
+    assert!(w > 0.0 && w.is_finite(), "{w}");
+}
