@@ -77,7 +77,9 @@
 //! boundary of four pieces is cut into five at the middle of the longest:
 //! at a centre of four patches (rule d_{i−1} + d_{i+1} = 0) the straight
 //! and real corners' conditions left two opposite spokes without a first
-//! derivative, a singular point. Tested on round holes of three and four
+//! derivative, a singular point (so did four real corners of different
+//! angles under §4.3's rule: a 4-sided hole's fan, tried where one tensor
+//! patch misses its neighbours, is cut into five too). Tested on round holes of three and four
 //! arcs with one to three corners turned by 1e-4 to 1 rad: G¹ to rounding
 //! to the neighbours, between the patches too unless a corner was taken
 //! as straight, W 1.08–1.30 against the graph's 1.3141 over the disk.
