@@ -31,8 +31,7 @@ fn holes_are_chosen_once() {
 /// quarter cylinder; a tighter tolerance brings it closer.
 #[test]
 fn a_hole_between_planes_and_cylinders_is_filled_within_tolerance() {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cad/fillet_hole.step");
-    let mut input = FillInput::read(&p).unwrap();
+    let mut input = bundled("fillet_hole.step");
     let mut kinds = input.kinds.clone();
     kinds.sort_unstable();
     assert_eq!(
@@ -103,8 +102,7 @@ fn a_hole_between_planes_and_cylinders_is_filled_within_tolerance() {
 /// 2e-5 of it.
 #[test]
 fn the_corners_of_a_rounded_box_are_filled_within_tolerance() {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cad/rounded_box.step");
-    let mut input = FillInput::read(&p).unwrap();
+    let mut input = bundled("rounded_box.step");
     assert_eq!(input.kinds.iter().filter(|k| **k == "cylinder").count(), 12);
     let choice = HoleChoice::of(&input, None).unwrap();
     assert_eq!(choice.rim, None);
@@ -167,8 +165,7 @@ fn the_corners_of_a_rounded_box_are_filled_within_tolerance() {
 /// neighbours to rounding and between the patches, no condition dropped.
 #[test]
 fn a_hole_of_two_sides_is_filled_by_a_fan_of_four() {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cad/fill_lens.json");
-    let input = FillInput::read(&p).unwrap();
+    let input = bundled("fill_lens.json");
     let choice = HoleChoice::of(&input, None).unwrap();
     assert_eq!(choice.chosen, vec![1]);
     assert_eq!(choice.holes[1].sides.len(), 2);
@@ -196,8 +193,7 @@ fn a_hole_of_two_sides_is_filled_by_a_fan_of_four() {
 /// the construction.
 #[test]
 fn a_fan_on_corners_whose_tangent_planes_disagree_is_refused_naming_them() {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cad/fill_lens.json");
-    let mut input = FillInput::read(&p).unwrap();
+    let mut input = bundled("fill_lens.json");
     // Face 0 lies below the lens, its v = 1 row the lens's lower side.
     let face = &input.faces[0];
     let (u, v) = face.knots();
@@ -227,8 +223,7 @@ fn a_fan_on_corners_whose_tangent_planes_disagree_is_refused_naming_them() {
 /// fairer than that patch too.
 #[test]
 fn a_4_sided_hole_one_patch_cannot_follow_is_filled_by_a_fan() {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cad/fill_corners.json");
-    let input = FillInput::read(&p).unwrap();
+    let input = bundled("fill_corners.json");
     let choice = HoleChoice::of(&input, None).unwrap();
     assert_eq!(choice.chosen, vec![1]);
     let hole = &choice.holes[1];
@@ -260,4 +255,12 @@ fn a_4_sided_hole_one_patch_cannot_follow_is_filled_by_a_fan() {
     assert_eq!((angle.to_degrees(), w_other), (missed, w_patch));
     // The patch tried first is counted among the candidates' time.
     assert!(fairsurf::fill::other_seconds(&fan.report.others) > 0.0);
+}
+
+/// A bundled fill example (`examples/cad/NAME`), read.
+fn bundled(name: &str) -> FillInput {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/cad")
+        .join(name);
+    FillInput::read(&p).unwrap()
 }

@@ -356,7 +356,7 @@ impl HoleFill {
             }
             k += 1;
         }
-        let measured = |f: &FanFill| (largest_angle(&f.report.sides), f.report.curvature.value);
+        let measured = |f: &FanFill| measures(&f.report.sides, &f.report.curvature);
         let solved: Vec<(usize, (f64, f64))> = tried
             .iter()
             .enumerate()
@@ -411,13 +411,12 @@ impl HoleFill {
             f
         });
         let fan_seconds = t.elapsed().as_secs_f64();
-        let measured = |sides: &[SideFit], w: &TotalCurvature| (largest_angle(sides), w.value);
         let patch_measures = patch
             .as_ref()
-            .map(|p| measured(&p.report.sides, &p.report.curvature));
+            .map(|p| measures(&p.report.sides, &p.report.curvature));
         let fan_measures = fan
             .as_ref()
-            .map(|f| measured(&f.report.sides, &f.report.curvature));
+            .map(|f| measures(&f.report.sides, &f.report.curvature));
         let candidate =
             |kind, outcome: &std::result::Result<(f64, f64), &Error>, seconds| Candidate {
                 kind,
@@ -480,6 +479,12 @@ impl HoleFill {
             Self::Fan(f) => f.report.curvature,
         }
     }
+}
+
+/// What [`preferred`] compares a candidate by: its largest normal angle
+/// to the neighbours and its W.
+fn measures(sides: &[SideFit], w: &TotalCurvature) -> (f64, f64) {
+    (largest_angle(sides), w.value)
 }
 
 /// Which candidate fill [`HoleFill::new`] keeps, given each one's largest
