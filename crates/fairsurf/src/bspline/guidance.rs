@@ -63,29 +63,43 @@ pub(crate) struct SpanGrid {
 }
 
 impl SpanGrid {
+    /// The span's whole local Hessian ([`SpanGrid::local_on`] of every
+    /// basis function).
+    #[cfg(test)]
+    pub fn local(&self) -> [Vec<f64>; 6] {
+        let (pu, pv) = (self.bu[0][0].len(), self.bv[0][0].len());
+        let (ius, ivs): (Vec<usize>, Vec<usize>) = ((0..pu).collect(), (0..pv).collect());
+        self.local_on(&ius, &ivs)
+    }
+
     /// The span's local Hessian Σ_nodes w (Y Yᵀ + Z Zᵀ), Y = ∂_u B ⊗ N,
-    /// Z = ∂_v B ⊗ N, as its six coordinate blocks: `blocks[pair(c, d)]`
-    /// (c ≤ d) is the s × s matrix (s = (p+1)(q+1), row-major, basis
-    /// function a = i(q+1) + j) of the (c, d) entries — symmetric, and the
-    /// (d, c) block is the same matrix. By sum factorization over the grid
-    /// in two stages: per pair and term,
+    /// Z = ∂_v B ⊗ N, for the basis functions a = (ius[i], ivs[j]) only
+    /// (numbered i·|ivs| + j), as its six coordinate blocks:
+    /// `blocks[pair(c, d)]` (c ≤ d) is the s × s matrix (s = |ius|·|ivs|,
+    /// row-major) of the (c, d) entries — symmetric, and the (d, c) block
+    /// is the same matrix. By sum factorization over the grid in two
+    /// stages: per pair and term,
     /// T_s[j, j′] = Σ_t w_st n_c n_d N_j(v_t) N_j′(v_t) (N′ for the
     /// v-derivative term), then for all pairs at once
     /// H[(i, i′), (j, j′)] = Σ_s N′_i(u_s) N′_i′(u_s) T_s[j, j′] (N for the
-    /// v-derivative term) with the two terms stacked along s.
-    pub fn local(&self) -> [Vec<f64>; 6] {
+    /// v-derivative term) with the two terms stacked along s. Each entry
+    /// is the same sum whichever indices are asked (so the same bits). The
+    /// assembly asks for the free points' rows and columns; the fixed
+    /// points' columns enter the right-hand side through
+    /// [`SpanGrid::apply`].
+    pub fn local_on(&self, ius: &[usize], ivs: &[usize]) -> [Vec<f64>; 6] {
         // The same arithmetic either way (no fused products): AVX2 where
         // the machine has it, for the wider registers.
         crate::solve::compensated::with_fma(
             #[inline(always)]
-            || self.local_with(),
-            || self.local_with(),
+            || self.local_with(ius, ivs),
+            || self.local_with(ius, ivs),
         )
     }
 
     #[inline(always)]
-    fn local_with(&self) -> [Vec<f64>; 6] {
-        let (pu, pv) = (self.bu[0][0].len(), self.bv[0][0].len());
+    fn local_with(&self, ius: &[usize], ivs: &[usize]) -> [Vec<f64>; 6] {
+        let (pu, pv) = (ius.len(), ivs.len());
         let (nu, nv) = (self.bu.len(), self.bv.len());
         let (uu, size) = (pu * pu, pu * pv);
         // The v factors are symmetric in (j, j′): only j ≤ j′ is formed,
@@ -110,13 +124,14 @@ impl SpanGrid {
         let mut um = vec![0.0f64; 2 * nu * uu];
         let mut r = vec![0.0f64; 2 * nu * 6 * vv];
         let mut vm = vec![0.0f64; nv * vv];
+        let mut picked = vec![0.0f64; pu.max(pv)];
         for (term, &(ku, kv)) in terms.iter().enumerate() {
             for (s, b) in self.bu.iter().enumerate() {
                 let row = &mut um[(term * nu + s) * uu..][..uu];
-                outer(&b[ku], row);
+                outer(gathered(&b[ku], ius, &mut picked), row);
             }
             for (t, b) in self.bv.iter().enumerate() {
-                outer_upper(&b[kv], &mut vm[t * vv..][..vv]);
+                outer_upper(gathered(&b[kv], ivs, &mut picked), &mut vm[t * vv..][..vv]);
             }
             for s in 0..nu {
                 let row = &mut r[(term * nu + s) * 6 * vv..][..6 * vv];
@@ -156,6 +171,69 @@ impl SpanGrid {
             block
         })
     }
+
+    /// The span's term's gradient at the local net `net` ((p + 1)(q + 1)
+    /// points, row-major as in [`SpanGrid::local`]): H·x, that is
+    /// g_a = Σ_nodes w ((R_u·N) ∂_u B_a + (R_v·N) ∂_v B_a) N with R the
+    /// net's surface. By sum factorization: the net's partial sums along
+    /// v, the derivatives at the nodes, then back along v and u.
+    pub fn apply(&self, net: &[Vec3]) -> Vec<Vec3> {
+        let (pu, pv) = (self.bu[0][0].len(), self.bv[0][0].len());
+        let nv = self.bv.len();
+        // c[(r, i, t)] = Σ_j P_ij ∂ʳN_j(v_t), r = 0, 1.
+        let mut c = vec![[0.0f64; 3]; 2 * pu * nv];
+        for r in 0..2 {
+            for i in 0..pu {
+                let row = &net[i * pv..][..pv];
+                for (t, b) in self.bv.iter().enumerate() {
+                    let mut x = [0.0; 3];
+                    for (p, &f) in row.iter().zip(&b[r]) {
+                        for k in 0..3 {
+                            x[k] += f * p[k];
+                        }
+                    }
+                    c[(r * pu + i) * nv + t] = x;
+                }
+            }
+        }
+        let mut g = vec![[0.0f64; 3]; pu * pv];
+        let mut e = vec![[0.0f64; 3]; 2 * pv];
+        for (s, bu) in self.bu.iter().enumerate() {
+            e.iter_mut().for_each(|x| *x = [0.0; 3]);
+            for (t, bv) in self.bv.iter().enumerate() {
+                let k = s * nv + t;
+                let (w, n) = (self.weight[k], self.n[k]);
+                if w == 0.0 {
+                    continue;
+                }
+                // R_u = Σ_i ∂N_i(u_s) c[0, i, t], R_v = Σ_i N_i(u_s) c[1, i, t].
+                let (mut ru, mut rv) = ([0.0; 3], [0.0; 3]);
+                for i in 0..pu {
+                    let (a, b) = (c[i * nv + t], c[(pu + i) * nv + t]);
+                    for k in 0..3 {
+                        ru[k] += bu[1][i] * a[k];
+                        rv[k] += bu[0][i] * b[k];
+                    }
+                }
+                let (y, z) = (w * dot(ru, n), w * dot(rv, n));
+                for j in 0..pv {
+                    let (fu, fv) = (y * bv[0][j], z * bv[1][j]);
+                    for k in 0..3 {
+                        e[j][k] += fu * n[k];
+                        e[pv + j][k] += fv * n[k];
+                    }
+                }
+            }
+            for i in 0..pu {
+                for j in 0..pv {
+                    for k in 0..3 {
+                        g[i * pv + j][k] += bu[1][i] * e[j][k] + bu[0][i] * e[pv + j][k];
+                    }
+                }
+            }
+        }
+        g
+    }
 }
 
 /// h[(i·pu + i′)·width + k] = Σ_rows um[row, (i, i′)] r[row, k] for i ≤ i′
@@ -177,6 +255,15 @@ fn sum_rows(um: &[f64], r: &[f64], pu: usize, width: usize) -> Vec<f64> {
         }
     }
     h
+}
+
+/// b[idx[k]] for every k, in the front of `buf`.
+#[inline(always)]
+fn gathered<'a>(b: &[f64], idx: &[usize], buf: &'a mut [f64]) -> &'a [f64] {
+    for (x, &i) in buf.iter_mut().zip(idx) {
+        *x = b[i];
+    }
+    &buf[..idx.len()]
 }
 
 /// b_i b_i′ for i ≤ i′, row by row (i = 0: i′ = 0 … n − 1, then i = 1 …).
@@ -567,16 +654,20 @@ mod tests {
     /// The blocks are the definition Σ_nodes w (Y Yᵀ + Z Zᵀ), Y = ∂_u B ⊗ N,
     /// Z = ∂_v B ⊗ N, summed node by node, on an uneven grid with
     /// different degrees and node counts each way.
-    #[test]
-    fn local_blocks_are_the_node_sum() {
+    fn f(k: usize, x: f64) -> f64 {
+        ((k as f64 + 1.0) * 0.37 + x).sin()
+    }
+
+    /// A span grid of made-up numbers: degrees 3 and 2 (pu = 4, pv = 3
+    /// basis functions), 5 × 7 nodes.
+    fn uneven_grid() -> SpanGrid {
         let (pu, pv, nu, nv) = (4, 3, 5, 7);
-        let f = |k: usize, x: f64| ((k as f64 + 1.0) * 0.37 + x).sin();
         let basis = |n: usize, p: usize, o: f64| -> Vec<[Vec<f64>; 2]> {
             (0..n)
                 .map(|s| [0, 1].map(|r| (0..p).map(|i| f(s * 11 + i * 3 + r, o)).collect()))
                 .collect()
         };
-        let grid = SpanGrid {
+        SpanGrid {
             span: (0, 0),
             bu: basis(nu, pu, 0.1),
             bv: basis(nv, pv, 0.7),
@@ -584,7 +675,52 @@ mod tests {
             n: (0..nu * nv)
                 .map(|k| [f(k, 0.5), f(k, 1.5), f(k, 2.5)])
                 .collect(),
-        };
+        }
+    }
+
+    /// The blocks of some rows and columns are those entries of the whole
+    /// blocks, bit for bit; `apply` is the whole blocks times the net.
+    #[test]
+    fn some_rows_of_the_blocks_and_their_product_with_a_net() {
+        let grid = uneven_grid();
+        let (pu, pv) = (4, 3);
+        let (size, whole) = (pu * pv, grid.local());
+        let (ius, ivs) = ([1, 3], [0, 2]);
+        let some = grid.local_on(&ius, &ivs);
+        for pair_index in 0..6 {
+            for a in 0..4 {
+                for b in 0..4 {
+                    let at = |a: usize| ius[a / 2] * pv + ivs[a % 2];
+                    assert_eq!(
+                        some[pair_index][a * 4 + b].to_bits(),
+                        whole[pair_index][at(a) * size + at(b)].to_bits()
+                    );
+                }
+            }
+        }
+        let net: Vec<Vec3> = (0..size)
+            .map(|a| [f(a, 4.0), f(a, 5.0), f(a, 6.0)])
+            .collect();
+        let got = grid.apply(&net);
+        for a in 0..size {
+            for c in 0..3 {
+                let want: f64 = (0..size)
+                    .flat_map(|b| (0..3).map(move |d| (b, d)))
+                    .map(|(b, d)| whole[pair(c, d)][a * size + b] * net[b][d])
+                    .sum();
+                assert!(
+                    (got[a][c] - want).abs() <= 1e-13 * (1.0 + want.abs()),
+                    "({a}, {c}): {} vs {want}",
+                    got[a][c]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn local_blocks_are_the_node_sum() {
+        let (pu, pv, nu, nv) = (4, 3, 5, 7);
+        let grid = uneven_grid();
         let blocks = grid.local();
         let size = pu * pv;
         for pair_index in 0..6 {

@@ -195,8 +195,32 @@ impl KnotVector {
     /// (`out[r·(p+1) + j]`, at least (order + 1)(p + 1) long) without
     /// allocating for degrees below 8: the evaluation loops of meshes,
     /// Gram matrices and quadrature call it per node.
+    ///
+    /// On a span whose ends both have multiplicity p (a Bézier piece, as a
+    /// fill's patch and most of its neighbours are) the basis functions are
+    /// the Bernstein polynomials of (t − a)/(b − a): N_{k−p+i}(t) =
+    /// B_i^p((t − a)/(b − a)), derivatives by (b − a)⁻ʳ. Those take no
+    /// division; A2.3 takes about (p + 1)(p + 2) of them.
     pub(crate) fn basis_derivatives_into(&self, k: usize, t: f64, order: usize, out: &mut [f64]) {
-        let w = self.degree + 1;
+        let (p, u) = (self.degree, &self.knots);
+        let w = p + 1;
+        let (a, b) = (u[k], u[k + 1]);
+        if p >= 1
+            && b > a
+            && u[k + 1 - p..k].iter().all(|&x| x == a)
+            && u[k + 2..=k + p].iter().all(|&x| x == b)
+        {
+            let h = b - a;
+            let out = &mut out[..(order + 1) * w];
+            crate::basis::bernstein_derivatives_into(p, (t - a) / h, out);
+            if h != 1.0 {
+                for (r, row) in out.chunks_exact_mut(w).enumerate().skip(1) {
+                    let f = h.powi(r as i32);
+                    row.iter_mut().for_each(|x| *x /= f);
+                }
+            }
+            return;
+        }
         if w <= SMALL {
             let mut ndu = [0.0; SMALL * SMALL];
             let mut work = [0.0; 4 * SMALL];
@@ -378,6 +402,15 @@ impl KnotVector {
                     rhs[((p + 1) * s + i, d)] = w * lo + (1.0 - w) * hi;
                 }
             }
+        }
+        if spans == 1 && self.knots.len() == 2 * (p + 1) {
+            // One Bézier piece (no interior knot): its elevated
+            // coefficients are the raised spline's.
+            let out = (0..pieces)
+                .flat_map(|k| (0..dim).map(move |d| (k, d)))
+                .map(|(k, d)| rhs[(k, d)])
+                .collect();
+            return Ok((raised, out));
         }
         let (_, e2) = raised.extraction();
         debug_assert_eq!(e2.len(), pieces);

@@ -365,15 +365,16 @@ impl BSplineProblem {
             h_inf: 0.0,
             h_diag: 0.0,
         };
+        // ‖H‖∞ of the free block (the matrix factored), row by row.
         let mut row_sums = vec![0.0f64; dim];
         // (global row, coordinate) → the system's row and column.
         let at = |s: usize, c: usize| if coupled { (3 * s + c, 0) } else { (s, c) };
         let mut add = |sys: &mut System, k: usize, c: usize, l: usize, d: usize, h: f64| {
             let (row, rc) = at(slot[k], c);
-            row_sums[row] += h.abs();
             match slot[l] {
                 usize::MAX => sys.b[(row, rc)] -= h * x0[l][d],
                 sl => {
+                    row_sums[row] += h.abs();
                     let (col, _) = at(sl, d);
                     if col <= row {
                         sys.lower.push(Triplet::new(row, col, h));
@@ -417,33 +418,82 @@ impl BSplineProblem {
             }
         }
         if coupled {
-            // The field's and the operators' 3 × 3 blocks, summed into a
-            // band store (one per free point and neighbour offset) and then
-            // emitted once: adding every span's blocks as triplets made 5 M
-            // of them at 50 × 50 (and an operator's every node's).
+            // The field's and the operators' 3 × 3 blocks between free
+            // points, summed into a store (per free point and free
+            // neighbour when the block is small enough to factor dense,
+            // else per free point and neighbour offset) and then emitted
+            // once: adding every span's blocks as triplets made 5 M of them
+            // at 50 × 50 (and an operator's every node's). The fixed
+            // neighbours' columns go to the right-hand side directly.
             let (p, q) = self.surface.degree();
             let (wu, wv) = (2 * p + 1, 2 * q + 1);
-            let mut band = vec![0.0f64; nf * wu * wv * 9];
-            let size = (p + 1) * (q + 1);
+            let dense = dim <= super::system::DENSE_UNKNOWNS;
+            let width = if dense { nf } else { wu * wv };
+            let cell = |sk: usize, k: usize, l: usize| -> usize {
+                let off = if dense {
+                    slot[l]
+                } else {
+                    (l / cv + p - k / cv) * wv + (l % cv + q - k % cv)
+                };
+                (sk * width + off) * 9
+            };
+            let mut store = vec![0.0f64; nf * width * 9];
             for grid in normal.iter().flat_map(|n| n.spans(&self.surface)) {
-                // Local Σ_nodes w (Y Yᵀ + Z Zᵀ), Y = ∂_u B ⊗ N, Z = ∂_v B ⊗ N.
-                let local = grid.local();
                 let (su, sv) = grid.span;
                 let (i0, j0) = (su - p, sv - q);
+                let global = |i: usize, j: usize| (i0 + i) * cv + j0 + j;
+                let is_free = |i: usize, j: usize| slot[global(i, j)] != usize::MAX;
+                // The rows and columns of the span's free points: the
+                // local u and v indices that have one.
+                let fu: Vec<usize> = (0..=p)
+                    .filter(|&i| (0..=q).any(|j| is_free(i, j)))
+                    .collect();
+                let fv: Vec<usize> = (0..=q)
+                    .filter(|&j| (0..=p).any(|i| is_free(i, j)))
+                    .collect();
+                if fu.is_empty() {
+                    continue;
+                }
+                // Local Σ_nodes w (Y Yᵀ + Z Zᵀ), Y = ∂_u B ⊗ N, Z = ∂_v B ⊗ N.
+                let local = grid.local_on(&fu, &fv);
+                let (n, size) = (fv.len(), fu.len() * fv.len());
                 for a in 0..size {
-                    let (ia, ja) = (i0 + a / (q + 1), j0 + a % (q + 1));
-                    let sk = slot[ia * cv + ja];
+                    let ka = global(fu[a / n], fv[a % n]);
+                    let sk = slot[ka];
                     if sk == usize::MAX {
                         continue;
                     }
                     for b in 0..size {
-                        let (ib, jb) = (i0 + b / (q + 1), j0 + b % (q + 1));
-                        let off = (ib + p - ia) * wv + (jb + q - ja);
-                        let blk = &mut band[(sk * wu * wv + off) * 9..][..9];
+                        let l = global(fu[b / n], fv[b % n]);
+                        if slot[l] == usize::MAX {
+                            continue;
+                        }
+                        let blk = &mut store[cell(sk, ka, l)..][..9];
                         for c in 0..3 {
                             for d in 0..3 {
                                 blk[3 * c + d] += local[pair(c, d)][a * size + b];
                             }
+                        }
+                    }
+                }
+                // The fixed points' part: b −= H_free,fixed x_fixed, as the
+                // span's gradient at its net with the free points at 0.
+                let all = (0..=p).flat_map(|i| (0..=q).map(move |j| (i, j)));
+                if all.clone().all(|(i, j)| is_free(i, j)) {
+                    continue;
+                }
+                let net: Vec<Vec3> = all
+                    .clone()
+                    .map(|(i, j)| match is_free(i, j) {
+                        true => [0.0; 3],
+                        false => x0[global(i, j)],
+                    })
+                    .collect();
+                for ((i, j), g) in all.zip(grid.apply(&net)) {
+                    let sk = slot[global(i, j)];
+                    if sk != usize::MAX {
+                        for (c, g) in g.iter().enumerate() {
+                            sys.b[(3 * sk + c, 0)] -= g;
                         }
                     }
                 }
@@ -459,11 +509,12 @@ impl BSplineProblem {
                     }
                     let (row, rc) = at(sk, c);
                     sys.b[(row, rc)] += w * r.target * a;
-                    let (ia, ja) = (k / cv, k % cv);
                     for &(j, b) in &r.terms {
                         let (l, d) = (j / 3, j % 3);
-                        let off = (l / cv + p - ia) * wv + (l % cv + q - ja);
-                        band[(sk * wu * wv + off) * 9 + 3 * c + d] += w * a * b;
+                        match slot[l] {
+                            usize::MAX => sys.b[(row, rc)] -= w * a * b * x0[l][d],
+                            _ => store[cell(sk, k, l) + 3 * c + d] += w * a * b,
+                        }
                     }
                 }
             }
@@ -476,12 +527,16 @@ impl BSplineProblem {
                         else {
                             continue;
                         };
-                        let blk = &band[(sk * wu * wv + di * wv + dj) * 9..][..9];
+                        let l = i2 * cv + j2;
+                        if j2 >= cv || l >= slot.len() || slot[l] == usize::MAX {
+                            continue;
+                        }
+                        let blk = &store[cell(sk, k, l)..][..9];
                         for c in 0..3 {
                             for d in 0..3 {
                                 let h = blk[3 * c + d];
                                 if h != 0.0 {
-                                    add(&mut sys, k, c, i2 * cv + j2, d, h);
+                                    add(&mut sys, k, c, l, d, h);
                                 }
                             }
                         }
