@@ -1909,5 +1909,7 @@ fn fill_says_why_a_4_sided_hole_took_a_fan() {
     let fill = &r["fills"][0];
     assert_eq!(fill["kind"], "patch");
     assert_eq!(fill["others"], serde_json::json!([]));
+    // No candidate: 0 seconds, not "-0.0" (an empty f64 sum is −0).
+    assert_eq!(fill["seconds"]["other_candidates"].to_string(), "0.0");
     assert_eq!(fill["sides_beyond_tolerances"], serde_json::json!([]));
 }

@@ -239,7 +239,8 @@ pub struct Candidate {
 
 /// The seconds the candidates not kept took.
 pub fn other_seconds(others: &[Candidate]) -> f64 {
-    others.iter().map(|c| c.seconds).sum()
+    // From +0 (an empty `sum` of f64 is −0, printed "-0.0").
+    others.iter().fold(0.0, |s, c| s + c.seconds)
 }
 
 /// Where a fill's time goes.
