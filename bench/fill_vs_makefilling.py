@@ -25,11 +25,18 @@ figures are printed beside Open CASCADE's measurement of them.
 Times (medians of --repeats runs): MakeFilling's Build(); fairsurf's
 in-library time (its report: boundary data, solve with its check, Willmore
 steps, measurements) and the whole `fairsurf fill` process (read STEP, fill,
-write STEP).
+write STEP). The command's library time is a fresh process's (cold caches);
+when this Python has the fairsurf package (python/test.sh builds it into
+target/py-venv, which has Open CASCADE too) the same fill is also timed in
+this process, as MakeFilling is: `fairsurf.fill` (read STEP, find the holes,
+fill, measure) and the fill's own report of that call.
 
     python3 -m venv target/bench-venv && target/bench-venv/bin/pip install numpy cadquery-ocp
     cargo build --release -p fairsurf-cli
     target/bench-venv/bin/python bench/fill_vs_makefilling.py [--repeats 5] [--cli target/release/fairsurf] [--keep DIR]
+    # with the in-process columns:
+    FAIRSURF_PY_PROFILE=release bash python/test.sh
+    target/py-venv/bin/python bench/fill_vs_makefilling.py
 """
 
 from __future__ import annotations
@@ -74,6 +81,11 @@ from occ_check import foot  # noqa: E402
 from occ_check import unit_normal as normal_at  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
+
+try:
+    import fairsurf  # the Python package, if this Python has it
+except ImportError:
+    fairsurf = None
 
 
 def array1(values, kind):
@@ -325,6 +337,16 @@ def run(args):
                 ptimes.append(time.perf_counter() - t)
                 report = json.loads(out.stdout)["fills"][0]
                 ltimes.append(report["seconds"]["total"])
+            # In this process, as MakeFilling: the call (read, holes, fill,
+            # measure; no writing) and the fill's own report of it.
+            calls, fills = [], []
+            for _ in range(args.repeats if fairsurf else 0):
+                time.sleep(0.3)  # Open CASCADE's spinning threads, as above
+                t = time.perf_counter()
+                filled = fairsurf.fill(step_in)
+                calls.append(time.perf_counter() - t)
+                fills.append(filled.report["fills"][0]["seconds"]["total"])
+            inproc = (statistics.median(fills), statistics.median(calls)) if fills else None
             ours = faces_of(read_step(step_out))[-1]
             fs_angle, fs_gap = seam(ours, edges)
             fs_w, fs_h, fs_k, fs_rect = total_curvature(ours)
@@ -332,7 +354,7 @@ def run(args):
             rows.append((name, statistics.median(times), occ_angle, occ_gap, occ_w,
                          statistics.median(ltimes), statistics.median(ptimes), fs_angle,
                          fs_gap, fs_w, report["max_angle_deg"], report["curvature_w"],
-                         occ_h, occ_k, fs_h, fs_k))
+                         occ_h, occ_k, fs_h, fs_k, inproc))
     print(f"{'hole':8} {'MakeFilling':>34} | {'fairsurf fill (measured by Open CASCADE)':>52} | "
           f"{'fairsurf reports':>20}")
     print(f"{'':8} {'ms':>7} {'angle°':>9} {'gap':>8} {'W':>9} | {'lib ms':>7} {'proc ms':>8} "
@@ -342,12 +364,20 @@ def run(args):
               f"{1e3 * pt:8.1f} {fa:9.1e} {fg:8.1e} {fw:9.6f} {fw / mw:7.4f} | {ra:9.1e} {rw:9.6f}")
     print("W = integral 4H^2 dA - 2 integral K dA (integral K dA is fixed by the boundary and its "
           "tangent planes, Gauss-Bonnet):")
-    for (name, *_r, occ_h, occ_k, fs_h, fs_k) in rows:
+    for (name, *_r, occ_h, occ_k, fs_h, fs_k, _inproc) in rows:
         print(f"  {name}: MakeFilling 4H^2 {occ_h:.6f} K {occ_k:.6f} | fairsurf 4H^2 {fs_h:.6f} "
               f"K {fs_k:.6f}")
     print("time ratio MakeFilling / fairsurf (> 1: fairsurf faster):")
-    for (name, mt, _, _, _, lt, pt, *_rest) in rows:
+    for (name, mt, _, _, _, lt, pt, *_rest, inproc) in rows:
         print(f"  {name}: the library's fill {mt / lt:.2f}, the whole fairsurf fill process {mt / pt:.2f}")
+    if fairsurf is None:
+        print("(no fairsurf package in this Python: no in-process times)")
+    else:
+        print("in this process, as MakeFilling (ms; ratio MakeFilling / fairsurf):")
+        for (name, mt, *_rest, inproc) in rows:
+            fill, call = inproc
+            print(f"  {name}: the fill {1e3 * fill:.2f} ({mt / fill:.2f}), fairsurf.fill reading STEP "
+                  f"and finding the holes too {1e3 * call:.2f} ({mt / call:.2f})")
 
 
 if __name__ == "__main__":
