@@ -73,7 +73,7 @@ impl SpanGrid {
     }
 
     /// The span's local Hessian Σ_nodes w (Y Yᵀ + Z Zᵀ), Y = ∂_u B ⊗ N,
-    /// Z = ∂_v B ⊗ N, for the basis functions a = (ius[i], ivs[j]) only
+    /// Z = ∂_v B ⊗ N, for the basis functions a = (`ius[i]`, `ivs[j]`) only
     /// (numbered i·|ivs| + j), as its six coordinate blocks:
     /// `blocks[pair(c, d)]` (c ≤ d) is the s × s matrix (s = |ius|·|ivs|,
     /// row-major) of the (c, d) entries — symmetric, and the (d, c) block
@@ -173,7 +173,7 @@ impl SpanGrid {
     }
 
     /// The span's term's gradient at the local net `net` ((p + 1)(q + 1)
-    /// points, row-major as in [`SpanGrid::local`]): H·x, that is
+    /// points, row-major as in [`SpanGrid::local_on`]): H·x, that is
     /// g_a = Σ_nodes w ((R_u·N) ∂_u B_a + (R_v·N) ∂_v B_a) N with R the
     /// net's surface. By sum factorization: the net's partial sums along
     /// v, the derivatives at the nodes, then back along v and u.
@@ -286,7 +286,7 @@ fn outer(b: &[f64], out: &mut [f64]) {
     }
 }
 
-/// The coordinate pairs (c, d), c ≤ d, of [`SpanGrid::local`]'s blocks.
+/// The coordinate pairs (c, d), c ≤ d, of [`SpanGrid::local_on`]'s blocks.
 pub(crate) const PAIRS: [(usize, usize); 6] = [(0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2)];
 
 /// The index in [`PAIRS`] of (c, d) or (d, c).
@@ -651,9 +651,7 @@ fn scale(a: Vec3, s: f64) -> Vec3 {
 mod tests {
     use super::*;
 
-    /// The blocks are the definition Σ_nodes w (Y Yᵀ + Z Zᵀ), Y = ∂_u B ⊗ N,
-    /// Z = ∂_v B ⊗ N, summed node by node, on an uneven grid with
-    /// different degrees and node counts each way.
+    /// A made-up smooth number.
     fn f(k: usize, x: f64) -> f64 {
         ((k as f64 + 1.0) * 0.37 + x).sin()
     }
@@ -717,6 +715,9 @@ mod tests {
         }
     }
 
+    /// The blocks are the definition Σ_nodes w (Y Yᵀ + Z Zᵀ), Y = ∂_u B ⊗ N,
+    /// Z = ∂_v B ⊗ N, summed node by node, on an uneven grid with
+    /// different degrees and node counts each way.
     #[test]
     fn local_blocks_are_the_node_sum() {
         let (pu, pv, nu, nv) = (4, 3, 5, 7);

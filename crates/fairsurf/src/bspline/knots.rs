@@ -199,8 +199,9 @@ impl KnotVector {
     /// On a span whose ends both have multiplicity p (a Bézier piece, as a
     /// fill's patch and most of its neighbours are) the basis functions are
     /// the Bernstein polynomials of (t − a)/(b − a): N_{k−p+i}(t) =
-    /// B_i^p((t − a)/(b − a)), derivatives by (b − a)⁻ʳ. Those take no
-    /// division; A2.3 takes about (p + 1)(p + 2) of them.
+    /// B_i^p((t − a)/(b − a)), derivatives by (b − a)⁻ʳ: one division for
+    /// the parameter (and the scaling's where b − a ≠ 1) where A2.3 takes
+    /// about (p + 1)(p + 2).
     pub(crate) fn basis_derivatives_into(&self, k: usize, t: f64, order: usize, out: &mut [f64]) {
         let (p, u) = (self.degree, &self.knots);
         let w = p + 1;
@@ -357,7 +358,8 @@ impl KnotVector {
     /// B-spline coefficients are the solution of the consistent system
     /// Ē Q = (elevated pieces) with Ē the elevated knot vector's extraction
     /// (least squares by refined QR; the continuity at each knot is kept, so
-    /// the system has an exact solution).
+    /// the system has an exact solution). One piece (no interior knot) is
+    /// its own elevated coefficients.
     pub fn elevate(&self, coefficients: &[f64], dim: usize) -> Result<(KnotVector, Vec<f64>)> {
         let p = self.degree;
         let c = self.count();

@@ -169,9 +169,11 @@ pub(super) struct System {
     pub(super) lower: Vec<Triplet<usize, usize, f64>>,
     /// Right-hand side, one column per coordinate or one.
     pub(super) b: Mat<f64>,
-    /// ‖H‖∞ over the free rows, the columns of fixed points included (as the
-    /// Bézier solve's relative gradient takes it; an upper bound of the free
-    /// block's norm in the condition estimate).
+    /// ‖H‖∞ of the free block, the matrix solved (row sums of the entries'
+    /// magnitudes as assembled: an upper bound when an entry arrives in
+    /// parts). The fixed points' columns are in `b`, so ‖H‖∞‖x‖∞ + ‖b‖∞
+    /// is the relative gradient's scale of this system; a Bézier solve,
+    /// whose right-hand side is the linear term alone, takes its whole rows.
     pub(super) h_inf: f64,
     /// max H_ii of the free block.
     pub(super) h_diag: f64,

@@ -599,6 +599,62 @@ fn the_guided_thin_plate_is_minimal_under_perturbation() {
     }
 }
 
+/// The normal field's Hessian is assembled between free points only, the
+/// fixed points entering the right-hand side through each span's gradient
+/// (`SpanGrid::apply`): with free points that are not a rectangle of
+/// indices (an L, and a lone fixed point inside it; spans holding free and
+/// fixed points in any pattern) the answer is still the minimum — every
+/// free coordinate moved either way raises the energy — and both energy
+/// roads agree. One Bézier span (factored dense, Bernstein basis) and 6 × 6
+/// cubic spans (sparse, A2.3's basis).
+#[test]
+fn guided_solves_with_irregular_free_points_are_minimal() {
+    use crate::energy::SampleGrid;
+    for (u, v) in [
+        (KnotVector::bezier(5), KnotVector::bezier(5)),
+        (KnotVector::uniform(3, 6), KnotVector::uniform(3, 6)),
+    ] {
+        let s = wavy(u, v);
+        let (cu, cv) = s.counts();
+        // Free: inside the second ring, but not the upper right quarter,
+        // and not one point in the middle of what is left.
+        let free: Vec<bool> = (0..cu * cv)
+            .map(|k| {
+                let (i, j) = (k / cv, k % cv);
+                let inside = (2..cu - 2).contains(&i) && (2..cv - 2).contains(&j);
+                inside && !(i >= cu / 2 && j >= cv / 2) && (i, j) != (3, 2)
+            })
+            .collect();
+        let grid = SampleGrid::new(3 * cu, 3 * cv);
+        let normals: Vec<Vec3> = (0..grid.len())
+            .map(|k| {
+                let (x, y) = grid.param(k);
+                [0.4 * x - 0.2, 0.3 * y * y, 1.0]
+            })
+            .collect();
+        let problem = BSplineProblem::from_surface(s)
+            .with_free(free.clone())
+            .unwrap()
+            .with_term(Bend::new(1.0))
+            .with_term(NormalField::sampled(40.0, grid, normals, None));
+        let sol = problem.solve().unwrap();
+        let r = &sol.report;
+        assert!(
+            r.check.unwrap().energy_error < 1e-12 && r.relative_gradient < 1e-13,
+            "{cu} × {cv}: {r:?}"
+        );
+        let e0 = r.energy;
+        for k in (0..cu * cv).filter(|&k| free[k]) {
+            for c in 0..3 {
+                for step in [1e-4, -1e-4] {
+                    let e = energy_of(&problem, &sol.surface, k, c, step);
+                    assert!(e > e0, "{cu} × {cv}: ({k}, {c}) by {step}: {e0} to {e}");
+                }
+            }
+        }
+    }
+}
+
 /// The energy of the problem's terms at the solution with one coordinate moved.
 fn energy_of(problem: &BSplineProblem, at: &BSplineSurface, k: usize, c: usize, step: f64) -> f64 {
     let mut pts = at.points().to_vec();
