@@ -232,7 +232,7 @@ fn summary(
                     "  hole {h}: degree {p}×{q}, {cu}×{cv} control points; {fit}; thin-plate solve \
                      checked to {:.0e}, W-lowering steps kept: {steps}; {:.1} ms",
                     r.solve.check.map_or(f64::NAN, |c| c.energy_error),
-                    1e3 * (r.seconds.total() + fairsurf::fill::other_seconds(&r.others))
+                    1e3 * r.seconds.total_with(&r.others)
                 ));
                 let c = &r.corners;
                 if c.position > 0.0 || c.tangent > 1e-12 || c.twist > 1e-12 {
@@ -244,7 +244,7 @@ fn summary(
             }
             HoleFill::Fan(f) => {
                 let r = &f.report;
-                let ms = 1e3 * (r.seconds.total() + fairsurf::fill::other_seconds(&r.others));
+                let ms = 1e3 * r.seconds.total_with(&r.others);
                 let (n, degree) = (f.surface.patch_count(), f.surface.degree());
                 let steps = crate::fill::steps_kept(&r.willmore);
                 // Why one triangle: the fan was refused, beyond the angle

@@ -226,7 +226,7 @@ pub(super) fn fan_fill_json(hole: usize, fan: &FanFill) -> Value {
             "solve": r.seconds.solve,
             "measure": r.seconds.measure,
             "other_candidates": other_seconds(&r.others),
-            "total": r.seconds.total() + other_seconds(&r.others),
+            "total": r.seconds.total_with(&r.others),
         },
         "others": others_json(&r.others),
     })
@@ -268,9 +268,8 @@ pub(super) fn patch_fill_json(hole: usize, fill: &Fill) -> Value {
     out["kind"] = json!("patch");
     out["alpha"] = json!(r.alpha);
     out["others"] = others_json(&r.others);
-    let others = other_seconds(&r.others);
-    out["seconds"]["other_candidates"] = json!(others);
-    out["seconds"]["total"] = json!(r.seconds.total() + others);
+    out["seconds"]["other_candidates"] = json!(other_seconds(&r.others));
+    out["seconds"]["total"] = json!(r.seconds.total_with(&r.others));
     out
 }
 

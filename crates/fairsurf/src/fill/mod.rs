@@ -237,6 +237,22 @@ pub struct Candidate {
     pub seconds: f64,
 }
 
+impl Candidate {
+    /// A candidate of `kind` with its measures ([`preferred`]'s) or its
+    /// refusal, and the seconds it took.
+    fn new(
+        kind: &'static str,
+        outcome: std::result::Result<(f64, f64), impl ToString>,
+        seconds: f64,
+    ) -> Self {
+        Candidate {
+            kind,
+            outcome: outcome.map_err(|e| e.to_string()),
+            seconds,
+        }
+    }
+}
+
 /// The seconds the candidates not kept took.
 pub fn other_seconds(others: &[Candidate]) -> f64 {
     // From +0 (an empty `sum` of f64 is −0, printed "-0.0").
@@ -258,6 +274,12 @@ impl FillSeconds {
     /// Setup, solve and measurements together.
     pub fn total(&self) -> f64 {
         self.setup + self.solve + self.measure
+    }
+
+    /// [`Self::total`] and the candidates not kept ([`other_seconds`]):
+    /// the time the hole took.
+    pub fn total_with(&self, others: &[Candidate]) -> f64 {
+        self.total() + other_seconds(others)
     }
 }
 
@@ -373,11 +395,7 @@ impl HoleFill {
         for (k, (kind, r, seconds)) in tried.into_iter().enumerate() {
             match r {
                 Ok(f) if k == kept => fill = Some(f),
-                r => others.push(Candidate {
-                    kind,
-                    outcome: r.map(|f| measured(&f)).map_err(|e| e.to_string()),
-                    seconds,
-                }),
+                r => others.push(Candidate::new(kind, r.map(|f| measured(&f)), seconds)),
             }
         }
         let mut f = fill.expect("the kept candidate");
@@ -418,12 +436,6 @@ impl HoleFill {
         let fan_measures = fan
             .as_ref()
             .map(|f| measures(&f.report.sides, &f.report.curvature));
-        let candidate =
-            |kind, outcome: &std::result::Result<(f64, f64), &Error>, seconds| Candidate {
-                kind,
-                outcome: outcome.map_err(|e| e.to_string()),
-                seconds,
-            };
         let fan_kept = match (&patch_measures, &fan_measures) {
             (_, Err(_)) => false,
             (Err(_), Ok(_)) => true,
@@ -431,11 +443,11 @@ impl HoleFill {
         };
         if fan_kept {
             let mut fan = fan.expect("a fan");
-            fan.report.others = vec![candidate("patch", &patch_measures, patch_seconds)];
+            fan.report.others = vec![Candidate::new("patch", patch_measures, patch_seconds)];
             Ok(Self::Fan(fan.completed(faces, options)))
         } else {
             let mut p = patch?;
-            p.report.others = vec![candidate("fan", &fan_measures, fan_seconds)];
+            p.report.others = vec![Candidate::new("fan", fan_measures, fan_seconds)];
             Ok(Self::Patch(p))
         }
     }
