@@ -179,6 +179,70 @@ pub(super) fn foot(
     (at, best)
 }
 
+/// Whether the edge is, to `tol`, the whole of one side of `p`, checked
+/// on the control points alone: its curve a B-spline of the side's degree
+/// on the side's knots (up to a change of parameter t ↦ αt + β, either way
+/// round), each control point within `tol` of the side's, and the edge
+/// running over the curve's whole range. Then every point of the edge is
+/// within `tol` of the side's point at the same parameter (the difference
+/// of the two curves is a B-spline whose control points are the
+/// differences, and its basis functions are ≥ 0 and sum to 1). A
+/// sufficient test, not a necessary one: the side written as another
+/// curve (split, elevated, a line) is left to [`restricted`]'s foot
+/// points. Open CASCADE and fairsurf write the boundary edges of a face
+/// that is not trimmed as its surface's sides, so most faces are settled
+/// here without a Newton step.
+pub(super) fn is_side(p: &BSplineSurface, e: &LoopEdge, tol: f64) -> bool {
+    let Curve3D::BSplineCurve(c) = &e.curve else {
+        return false;
+    };
+    let Some((r0, r1)) = c.try_range_tuple() else {
+        return false;
+    };
+    let near = |x: f64, y: f64| (x - y).abs() <= 1e-12 * (r1 - r0).abs().max(f64::MIN_POSITIVE);
+    let (a, b) = e.range;
+    if e.seam.is_some() || !((near(a, r0) && near(b, r1)) || (near(a, r1) && near(b, r0))) {
+        return false;
+    }
+    let (ku, kv) = p.knots();
+    let (nu, nv) = p.counts();
+    let points = c.control_points();
+    let knots: &[f64] = c.knot_vec();
+    // (knots, the side's control points) of v = c, v = d, u = a, u = b.
+    let sides: [(&KnotVector, Vec<Vec3>); 4] = [
+        (ku, (0..nu).map(|i| p.point(i, 0)).collect()),
+        (ku, (0..nu).map(|i| p.point(i, nv - 1)).collect()),
+        (kv, (0..nv).map(|j| p.point(0, j)).collect()),
+        (kv, (0..nv).map(|j| p.point(nu - 1, j)).collect()),
+    ];
+    let unit = |k: &[f64]| -> Vec<f64> {
+        let (lo, hi) = (k[0], k[k.len() - 1]);
+        k.iter().map(|t| (t - lo) / (hi - lo)).collect()
+    };
+    let (Some(&k0), Some(&k1)) = (knots.first(), knots.last()) else {
+        return false;
+    };
+    if k1.partial_cmp(&k0) != Some(std::cmp::Ordering::Greater) {
+        return false;
+    }
+    let mine = unit(knots);
+    sides.iter().any(|(k, row)| {
+        if k.knots().len() != knots.len() || row.len() != points.len() {
+            return false;
+        }
+        let theirs = unit(k.knots());
+        let m = theirs.len();
+        let forward = (0..m).all(|i| (mine[i] - theirs[i]).abs() <= 1e-12)
+            && points.iter().zip(row).all(|(q, r)| dist(v3(*q), *r) <= tol);
+        forward
+            || ((0..m).all(|i| (mine[i] - (1.0 - theirs[m - 1 - i])).abs() <= 1e-12)
+                && points
+                    .iter()
+                    .zip(row.iter().rev())
+                    .all(|(q, r)| dist(v3(*q), *r) <= tol))
+    })
+}
+
 /// The face's surface cut to the parameter rectangle its loop bounds: the
 /// whole surface when the loop runs around its four sides, else (Open
 /// CASCADE's `MakeFace(surface, u0, u1, v0, v1)`) the surface cut to the
@@ -192,6 +256,11 @@ pub(super) fn restricted(
     edges: &[LoopEdge],
 ) -> std::result::Result<FaceSurface, String> {
     let tol = edge_tolerance(edges);
+    if let FaceSurface::Polynomial(p) = &s {
+        if edges.iter().all(|e| is_side(p, e, tol)) {
+            return Ok(s);
+        }
+    }
     let trimmed = |why: &str| {
         format!(
             "the face is trimmed ({why}): only faces bounded by the four sides of a parameter \

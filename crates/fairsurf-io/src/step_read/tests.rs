@@ -101,6 +101,130 @@ fn collapsed_and_split_sides_read_back_and_a_notch_does_not() {
     }
 }
 
+/// An edge written as its face's own side (the side's degree, knots up to
+/// t ↦ αt + β, control points) is recognised from the control points
+/// (`is_side`), either way round; a point moved past the tolerance, the
+/// points reversed on uneven knots, part of the curve, or the side written
+/// one degree higher are not — and `restricted` still reads the elevated
+/// side as the whole surface's (Newton's foot points) and refuses the
+/// moved one, so the quick test changes no decision.
+#[test]
+fn edges_that_are_their_surfaces_sides_are_recognised_on_their_points() {
+    use truck_stepio::r#in::alias::{BSplineCurve, KnotVec};
+    let uk = vec![0., 0., 0., 0.3, 1., 1., 1.];
+    let s = BSplineSurface::new(
+        KnotVector::new(2, uk.clone()).unwrap(),
+        KnotVector::bezier(2),
+        (0..12)
+            .map(|k| {
+                let (i, j) = ((k / 3) as f64, (k % 3) as f64);
+                [i, j + 0.2 * i, 0.3 * (i * j).sin()]
+            })
+            .collect(),
+    )
+    .unwrap();
+    let tol = EDGE_TOLERANCE;
+    let edge = |knots: Vec<f64>, pts: &[Vec3], range: (f64, f64)| {
+        let pts = pts.iter().map(|p| Point3::new(p[0], p[1], p[2])).collect();
+        let mut e = LoopEdge {
+            curve: Curve3D::BSplineCurve(BSplineCurve::new(KnotVec::from(knots), pts)),
+            range,
+            seam: None,
+            start: [0.0; 3],
+            end: [0.0; 3],
+        };
+        (e.start, e.end) = (e.point(range.0), e.point(range.1));
+        e
+    };
+    let bottom: Vec<Vec3> = (0..4).map(|i| s.point(i, 0)).collect();
+    let reversed: Vec<Vec3> = bottom.iter().rev().copied().collect();
+    let scaled: Vec<f64> = uk.iter().map(|t| 2.0 + 2.0 * t).collect();
+    let flipped: Vec<f64> = uk.iter().rev().map(|t| 1.0 - t).collect();
+    let moved = |by: f64| {
+        let mut p = bottom.clone();
+        p[1][2] += by;
+        p
+    };
+    let bezier = vec![0., 0., 0., 1., 1., 1.];
+    let right: Vec<Vec3> = (0..3).map(|j| s.point(3, j)).collect();
+    for (what, e, expected) in [
+        (
+            "v = 0 on scaled knots",
+            edge(scaled, &bottom, (2.0, 4.0)),
+            true,
+        ),
+        (
+            "v = 0 reversed",
+            edge(flipped.clone(), &reversed, (1.0, 0.0)),
+            true,
+        ),
+        ("u = 1", edge(bezier, &right, (0.0, 1.0)), true),
+        (
+            "a point moved 0.5 tol",
+            edge(uk.clone(), &moved(0.5 * tol), (0.0, 1.0)),
+            true,
+        ),
+        (
+            "a point moved 2 tol",
+            edge(uk.clone(), &moved(2.0 * tol), (0.0, 1.0)),
+            false,
+        ),
+        (
+            "reversed points, knots not",
+            edge(uk.clone(), &reversed, (0.0, 1.0)),
+            false,
+        ),
+        (
+            "part of the curve",
+            edge(uk.clone(), &bottom, (0.0, 0.5)),
+            false,
+        ),
+    ] {
+        assert_eq!(is_side(&s, &e, tol), expected, "{what}");
+    }
+    // The loop around the four sides, its first side as given.
+    let ring = |first: LoopEdge| -> Vec<LoopEdge> {
+        let row = |f: &dyn Fn(usize) -> Vec3, n: usize| (0..n).map(f).collect::<Vec<_>>();
+        vec![
+            first,
+            edge(vec![0., 0., 0., 1., 1., 1.], &right, (0.0, 1.0)),
+            edge(flipped.clone(), &row(&|i| s.point(3 - i, 2), 4), (0.0, 1.0)),
+            edge(
+                vec![0., 0., 0., 1., 1., 1.],
+                &row(&|j| s.point(0, 2 - j), 3),
+                (0.0, 1.0),
+            ),
+        ]
+    };
+    let flat: Vec<f64> = bottom.iter().flatten().copied().collect();
+    let (k3, c3) = KnotVector::new(2, uk.clone())
+        .unwrap()
+        .elevate(&flat, 3)
+        .unwrap();
+    let elevated: Vec<Vec3> = c3.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let elevated = edge(k3.knots().to_vec(), &elevated, (0.0, 1.0));
+    assert!(!is_side(&s, &elevated, tol));
+    for (what, first, whole) in [
+        ("exact sides", edge(uk.clone(), &bottom, (0.0, 1.0)), true),
+        ("the first side elevated", elevated, true),
+        (
+            "a point moved 1e-2",
+            edge(uk.clone(), &moved(1e-2), (0.0, 1.0)),
+            false,
+        ),
+    ] {
+        let edges = ring(first);
+        for w in edges.windows(2) {
+            assert!(dist(w[0].end, w[1].start) < 1e-12, "{what}: a closed loop");
+        }
+        match restricted(FaceSurface::Polynomial(s.clone()), &edges) {
+            Ok(FaceSurface::Polynomial(got)) => assert!(whole && got == s, "{what}"),
+            Err(e) => assert!(!whole && e.contains("trimmed"), "{what}: {e}"),
+            Ok(other) => panic!("{what}: {other:?}"),
+        }
+    }
+}
+
 #[test]
 fn what_is_not_read_is_said() {
     let e = read_step_faces("not a step file").unwrap_err().to_string();
