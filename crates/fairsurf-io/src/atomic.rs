@@ -6,6 +6,12 @@
 //! solve leaves the old pair or the new one, never one of each. Temporaries
 //! in flight are registered, so that a signal handler can remove them
 //! ([`remove_temporaries`]).
+//!
+//! Files are not `fsync`ed: the rename is what keeps a reader, a failed
+//! run or an interrupted one from seeing part of a file; surviving a power
+//! cut right after the write is left to the file system, as Open CASCADE's
+//! and gmsh's writers, `cp` and git's object writes leave it. An fsync cost
+//! 0.6–0.8 ms of a 10 ms `fairsurf fill` (session 34, ext4).
 
 use crate::{Error, Result};
 use std::cell::RefCell;
@@ -120,8 +126,7 @@ pub fn write_atomic(
         let file = std::fs::File::create(&tmp)?;
         let mut w = std::io::BufWriter::new(file);
         fill(&mut w)?;
-        let file = w.into_inner().map_err(|e| e.into_error())?;
-        file.sync_all()?;
+        w.into_inner().map_err(|e| e.into_error())?;
         if staged {
             return Ok(());
         }
