@@ -181,14 +181,13 @@ impl KnotVector {
 
     /// At each parameter its span k ([`Self::span`]) and the basis
     /// functions there with their first two derivatives
-    /// ([`Self::basis_derivatives`]).
-    pub(crate) fn basis_at(&self, ts: &[f64]) -> Vec<(usize, Vec<Vec<f64>>)> {
-        ts.iter()
-            .map(|&t| {
-                let k = self.span(t);
-                (k, self.basis_derivatives(k, t, 2))
-            })
-            .collect()
+    /// ([`Self::basis_derivatives`]), in one buffer.
+    pub(crate) fn basis_at(&self, ts: &[f64]) -> Bases {
+        let mut b = Bases::new(self.degree + 1, ts.len());
+        for &t in ts {
+            b.push(self, self.span(t), t);
+        }
+        b
     }
 
     /// [`Self::basis_derivatives`] written row by row into `out`
@@ -454,5 +453,91 @@ impl KnotVector {
         }
         let rows = coeffs.chunks(c).map(<[f64]>::to_vec).collect();
         (kv, rows)
+    }
+}
+
+/// Spans and basis functions with their first two derivatives at a list of
+/// parameters, in one buffer ((p + 1) values per derivative, three
+/// derivatives per parameter): what [`KnotVector::basis_at`] computes
+/// once for an evaluation grid or a quadrature rule.
+#[derive(Clone, Debug)]
+pub(crate) struct Bases {
+    width: usize,
+    spans: Vec<usize>,
+    values: Vec<f64>,
+}
+
+impl Bases {
+    /// Room for `count` parameters of `width` = p + 1 basis functions.
+    pub(crate) fn new(width: usize, count: usize) -> Self {
+        Self {
+            width,
+            spans: Vec::with_capacity(count),
+            values: Vec::with_capacity(3 * width * count),
+        }
+    }
+
+    /// Appends the span `k` and the basis functions of `knots` at t.
+    pub(crate) fn push(&mut self, knots: &KnotVector, k: usize, t: f64) {
+        let start = self.values.len();
+        self.values.resize(start + 3 * self.width, 0.0);
+        knots.basis_derivatives_into(k, t, 2, &mut self.values[start..]);
+        self.spans.push(k);
+    }
+
+    /// All of them.
+    pub(crate) fn view(&self) -> BasesView<'_> {
+        BasesView {
+            width: self.width,
+            spans: &self.spans,
+            values: &self.values,
+        }
+    }
+
+    /// The number of parameters.
+    pub(crate) fn len(&self) -> usize {
+        self.spans.len()
+    }
+
+    /// The span and the rows N, N′, N″ at parameter `i`.
+    pub(crate) fn at(&self, i: usize) -> (usize, [&[f64]; 3]) {
+        self.view().at(i)
+    }
+}
+
+/// Some consecutive parameters of a [`Bases`].
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BasesView<'a> {
+    width: usize,
+    spans: &'a [usize],
+    values: &'a [f64],
+}
+
+impl<'a> BasesView<'a> {
+    /// The number of parameters.
+    pub(crate) fn len(&self) -> usize {
+        self.spans.len()
+    }
+
+    /// The spans.
+    pub(crate) fn spans(&self) -> &'a [usize] {
+        self.spans
+    }
+
+    /// Parameters `start .. start + len`.
+    pub(crate) fn sub(&self, start: usize, len: usize) -> Self {
+        let w3 = 3 * self.width;
+        Self {
+            width: self.width,
+            spans: &self.spans[start..start + len],
+            values: &self.values[start * w3..(start + len) * w3],
+        }
+    }
+
+    /// The span and the rows N, N′, N″ at parameter `i`.
+    pub(crate) fn at(&self, i: usize) -> (usize, [&'a [f64]; 3]) {
+        let w = self.width;
+        let v = &self.values[3 * w * i..3 * w * (i + 1)];
+        (self.spans[i], [&v[..w], &v[w..2 * w], &v[2 * w..]])
     }
 }

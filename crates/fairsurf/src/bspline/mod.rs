@@ -39,7 +39,7 @@
 mod constraint;
 mod energy;
 mod guidance;
-mod knots;
+pub(crate) mod knots;
 mod problem;
 mod project;
 mod rational;

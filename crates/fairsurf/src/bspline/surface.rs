@@ -2,6 +2,7 @@
 //! evaluation and derivatives (de Boor), knot insertion, and the Bézier
 //! patches they consist of.
 
+use super::knots::BasesView;
 use super::KnotVector;
 use crate::vec3::{is_finite, Vec3};
 use crate::{Error, Result, SurfaceDerivatives, TensorPatch};
@@ -134,34 +135,31 @@ impl BSplineSurface {
     /// (u-major: entry i·|vs| + j at (`us[i]`, `vs[j]`)): each direction's
     /// basis functions computed once per parameter, no allocation per point.
     pub fn derivatives_on(&self, us: &[f64], vs: &[f64]) -> Vec<SurfaceDerivatives> {
-        self.derivatives_from(&self.u.basis_at(us), &self.v.basis_at(vs))
+        self.derivatives_from(self.u.basis_at(us).view(), self.v.basis_at(vs).view())
     }
 
     /// [`derivatives_on`](Self::derivatives_on) from each direction's
     /// spans and basis functions at the parameters
     /// ([`KnotVector::basis_at`]): computed once, they serve every surface
     /// on these knots (a descent's candidates).
-    pub(crate) fn derivatives_from(
-        &self,
-        bu: &[(usize, Vec<Vec<f64>>)],
-        bv: &[(usize, Vec<Vec<f64>>)],
-    ) -> Vec<SurfaceDerivatives> {
+    pub(crate) fn derivatives_from(&self, bu: BasesView, bv: BasesView) -> Vec<SurfaceDerivatives> {
         let (p, q) = self.degree();
         let cv = self.v.count();
         // Two stages: per u, the columns' partial sums
         // T_r[c] = Σ_i N_i^(r)(u) P_{ku−p+i, c} over the columns the v's
         // need; per (u, v), Σ_j N_j^(s)(v) T_r[kv−q+j] — (q+1)·6 products
         // per point instead of (p+1)(q+1)·6.
-        let Some(first) = (!bv.is_empty()).then(|| bv[0].0 - q) else {
+        let Some(first) = bv.spans().first().map(|k| k - q) else {
             return Vec::new();
         };
         let (c0, c1) = bv
+            .spans()
             .iter()
-            .fold((first, 0), |(a, b), (kv, _)| (a.min(kv - q), b.max(*kv)));
+            .fold((first, 0), |(a, b), kv| (a.min(kv - q), b.max(*kv)));
         let width = c1 + 1 - c0;
         let mut t = vec![[0.0f64; 3]; 3 * width];
         let mut out = Vec::with_capacity(bu.len() * bv.len());
-        for (ku, nu) in bu {
+        for (ku, nu) in (0..bu.len()).map(|i| bu.at(i)) {
             t.fill([0.0; 3]);
             for i in 0..=p {
                 let row = &self.points[(ku - p + i) * cv + c0..][..width];
@@ -176,7 +174,7 @@ impl BSplineSurface {
             }
             let (t0, rest) = t.split_at(width);
             let (t1, t2) = rest.split_at(width);
-            for (kv, nv) in bv {
+            for (kv, nv) in (0..bv.len()).map(|j| bv.at(j)) {
                 let off = kv - q - c0;
                 let mut d = [[0.0f64; 3]; 6];
                 for j in 0..=q {

@@ -79,16 +79,17 @@ fn slots(free: &[bool]) -> Vec<Option<usize>> {
 /// functions with their first two derivatives (computed once per node).
 struct Axis {
     spans: Vec<(usize, f64, f64)>,
-    basis: Vec<(usize, Vec<Vec<f64>>)>,
+    basis: crate::bspline::knots::Bases,
 }
 
 impl Axis {
     fn new(knots: &crate::bspline::KnotVector, rule: &GaussLegendre) -> Self {
         let spans = knots.spans();
-        let mut basis = Vec::with_capacity(spans.len() * rule.nodes.len());
+        let mut basis =
+            crate::bspline::knots::Bases::new(knots.degree() + 1, spans.len() * rule.nodes.len());
         for &(k, a, b) in &spans {
             for &x in &rule.nodes {
-                basis.push((k, knots.basis_derivatives(k, a + (b - a) * x, 2)));
+                basis.push(knots, k, a + (b - a) * x);
             }
         }
         Self { spans, basis }
@@ -127,7 +128,7 @@ impl Rule {
     /// node.
     fn row(&self, s: &BSplineSurface, a: usize) -> Vec<crate::SurfaceDerivatives> {
         let n = self.rule.nodes.len();
-        s.derivatives_from(&self.u.basis[a * n..][..n], &self.v.basis)
+        s.derivatives_from(self.u.basis.view().sub(a * n, n), self.v.basis.view())
     }
 
     /// W = ∫∫ (4H² − 2K) |R_u × R_v| du dv of `s` (on the rule's knots) by
@@ -255,9 +256,9 @@ fn system(
             }
             let mut lm = Mat::<f64>::zeros(n * m, cols.len());
             for (x, &wx) in gu.weights.iter().enumerate() {
-                let nu = &au.basis[a * n + x].1;
+                let nu = au.basis.at(a * n + x).1;
                 for (y, &wy) in gv.weights.iter().enumerate() {
-                    let nv = &av.basis[bs * m + y].1;
+                    let nv = av.basis.at(bs * m + y).1;
                     let d = &grid[x * av.basis.len() + bs * m + y];
                     let (e, f, g) = (dot(d.du, d.du), dot(d.du, d.dv), dot(d.dv, d.dv));
                     let det = e * g - f * f;
@@ -547,9 +548,9 @@ pub(crate) fn w_and_gradient(
                     let w = wx * wy * area;
                     sum += w * at.value();
                     let df = integrand_gradient(d, &at).map(|x| w * x);
-                    add_v_sums(&mut acc, &df, &av.basis[bs * n + y].1);
+                    add_v_sums(&mut acc, &df, av.basis.at(bs * n + y).1);
                 }
-                add_u_sums(&mut local, &acc, &au.basis[a * n + x].1);
+                add_u_sums(&mut local, &acc, au.basis.at(a * n + x).1);
             }
             for (k, l) in local.iter().enumerate() {
                 let point = (su - p + k / wv) * cv + sv - q + k % wv;
@@ -566,7 +567,7 @@ pub(crate) fn w_and_gradient(
 
 /// acc_r[j] += Σ_s N_j^(s) ∂f/∂R_(r,s) at one node (`nv` the v basis
 /// functions and their derivatives, `df` the weighted integrand gradient).
-fn add_v_sums(acc: &mut [[f64; 3]], df: &[f64; 15], nv: &[Vec<f64>]) {
+fn add_v_sums(acc: &mut [[f64; 3]], df: &[f64; 15], nv: [&[f64]; 3]) {
     let wv = acc.len() / 3;
     let part = |k: usize| [df[3 * k], df[3 * k + 1], df[3 * k + 2]];
     let (ru, rv, ruu, ruv, rvv) = (part(0), part(1), part(2), part(3), part(4));
@@ -583,7 +584,7 @@ fn add_v_sums(acc: &mut [[f64; 3]], df: &[f64; 15], nv: &[Vec<f64>]) {
 }
 
 /// The span's points' sums += Σ_r N_i^(r)(u) acc_r[j] at one u node.
-fn add_u_sums(local: &mut [[f64; 3]], acc: &[[f64; 3]], nu: &[Vec<f64>]) {
+fn add_u_sums(local: &mut [[f64; 3]], acc: &[[f64; 3]], nu: [&[f64]; 3]) {
     let wv = acc.len() / 3;
     for (k, l) in local.iter_mut().enumerate() {
         let (i, j) = (k / wv, k % wv);
