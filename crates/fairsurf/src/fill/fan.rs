@@ -241,7 +241,8 @@ fn decompose(w: Vec3, x: Vec3, y: Vec3) -> (f64, f64, f64) {
 /// whose rows' α turns non-positive inside a side, natural spokes whose
 /// centre lies outside the hole (not star-shaped around it), a fan that
 /// folds over (its normal turning by more than 90° between neighbouring
-/// samples); and the solve's own refusals.
+/// samples, or against a neighbour's along a side); and the solve's own
+/// refusals.
 pub fn fill_fan(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -> Result<FanFill> {
     Ok(fan_candidate(faces, hole, options)?.completed(faces, options))
 }
@@ -267,16 +268,16 @@ pub(super) fn fan_candidate(
     let other = !rule.round && rule.corner_sides.iter().any(turns);
     let near = other && rule.corner_sides.iter().any(|c| turns(c) && c.2 < STRAIGHT);
     let natural =
-        || prepare(faces, hole, options, 5, true, true).and_then(|p| fan_of(p, options, t0));
+        || prepare(faces, hole, options, 5, true, true).and_then(|p| fan_of(p, faces, options, t0));
     if near {
         // The rule as a fallback; a refusal is natural spokes' (the more
         // general construction).
         return match natural() {
-            Err(e) => fan_of(rule, options, t0).map_err(|_| e),
+            Err(e) => fan_of(rule, faces, options, t0).map_err(|_| e),
             r => r,
         };
     }
-    match fan_of(rule, options, t0) {
+    match fan_of(rule, faces, options, t0) {
         Err(Error::Fill { .. }) if other => natural(),
         r => r,
     }
@@ -303,7 +304,12 @@ fn straight_from(natural: bool) -> f64 {
 
 /// The fan of a prepared hole ([`fan_candidate`]): spokes, rows 1, the
 /// solve, the seams checked.
-fn fan_of(prepared: Prepared, options: &FillOptions, t0: Instant) -> Result<FanFill> {
+fn fan_of(
+    prepared: Prepared,
+    faces: &[BSplineSurface],
+    options: &FillOptions,
+    t0: Instant,
+) -> Result<FanFill> {
     let Prepared {
         hole,
         strips: s,
@@ -530,7 +536,7 @@ fn fan_of(prepared: Prepared, options: &FillOptions, t0: Instant) -> Result<FanF
             cut(format!(" could not be solved{rational}: {e}"))
         }
     })?;
-    let fan = unfolded(fan)?;
+    let fan = unfolded(fan, faces, options)?;
     // Where the G¹ construction at straight corners does not hold (few
     // real corners, a boundary that bends back), the patches open their
     // seams while every condition holds (found: spokes without a first
@@ -1526,41 +1532,56 @@ pub(super) fn triangle_candidate(
         &mut corners,
         true,
     );
-    unfolded(finish(problem, hole, corners, t0)?)
+    unfolded(finish(problem, hole, corners, t0)?, faces, options)
 }
 
-/// `fill`, or its refusal when it folds over: its normal turning by more
-/// than 90° between neighbouring samples (a fold flips it).
-fn unfolded(fill: FanFill) -> Result<FanFill> {
-    let solve = fill.report.solve.triangular.as_ref();
-    let Some(turn) = solve.and_then(|t| t.normal_turn).filter(|t| t.is_fold()) else {
-        return Ok(fill);
-    };
+/// `fill` with its sides measured ([`FanFill::measure_sides`]), or its
+/// refusal when it folds over: its normal turning by more than 90° between
+/// neighbouring samples (a fold flips it), or against a neighbour's along
+/// a side ([`super::seam_fold`]).
+fn unfolded(mut fill: FanFill, faces: &[BSplineSurface], options: &FillOptions) -> Result<FanFill> {
     let count = fill.surface.patch_count();
-    Err(Error::Fill {
-        why: format!(
-            "{}: its normal turns by {:.1}° between neighbouring samples near barycentric \
-             ({:.3}, {:.3}, {:.3}){}",
-            if count > 1 {
-                format!(
-                    "the fan of {count} patches folds over in patch {} (over side {} as cut)",
-                    turn.patch, turn.patch
-                )
-            } else {
-                "the triangular patch folds over".to_string()
-            },
-            turn.angle.to_degrees(),
-            turn.at[0],
-            turn.at[1],
-            turn.at[2],
-            if count > 1 {
-                " (a fan can fold where the hole is far from convex, or not star-shaped around \
-                 its centre, the mean of its corners)"
-            } else {
-                ""
-            }
-        ),
-    })
+    let what = if count > 1 {
+        format!("the fan of {count} patches")
+    } else {
+        "the triangular patch".to_string()
+    };
+    let solve = fill.report.solve.triangular.as_ref();
+    if let Some(turn) = solve.and_then(|t| t.normal_turn).filter(|t| t.is_fold()) {
+        return Err(Error::Fill {
+            why: format!(
+                "{what} folds over{}: its normal turns by {:.1}° between neighbouring samples \
+                 near barycentric ({:.3}, {:.3}, {:.3}){}",
+                if count > 1 {
+                    format!(" in patch {} (over side {} as cut)", turn.patch, turn.patch)
+                } else {
+                    String::new()
+                },
+                turn.angle.to_degrees(),
+                turn.at[0],
+                turn.at[1],
+                turn.at[2],
+                if count > 1 {
+                    " (a fan can fold where the hole is far from convex, or not star-shaped \
+                     around its centre, the mean of its corners)"
+                } else {
+                    ""
+                }
+            ),
+        });
+    }
+    fill.measure_sides(faces, options);
+    if let Some(side) = super::seam_fold(&fill.report.sides) {
+        return Err(Error::Fill {
+            why: format!(
+                "{what} folds over along its side on face {}: its normal turns by {:.1}° \
+                 against the neighbour's",
+                side.side.face,
+                side.angle.to_degrees()
+            ),
+        });
+    }
+    Ok(fill)
 }
 
 /// A side of the surface (its patch and barycentric point at the side's

@@ -358,10 +358,7 @@ impl HoleFill {
             let o = &degrees[k];
             let timed = |kind, f: &dyn Fn() -> Result<FanFill>| {
                 let t = Instant::now();
-                let r = f().map(|mut c| {
-                    c.measure_sides(faces, options);
-                    c
-                });
+                let r = f();
                 (kind, r, t.elapsed().as_secs_f64())
             };
             tried.push(timed("fan", &|| fan::fan_candidate(faces, hole, o)));
@@ -425,10 +422,7 @@ impl HoleFill {
             }
         }
         let t = Instant::now();
-        let fan = fan::fan_candidate(faces, hole, options).map(|mut f| {
-            f.measure_sides(faces, options);
-            f
-        });
+        let fan = fan::fan_candidate(faces, hole, options);
         let fan_seconds = t.elapsed().as_secs_f64();
         let patch_measures = patch
             .as_ref()
@@ -538,6 +532,17 @@ pub fn fill_param(k: usize, t: f64) -> (f64, f64) {
     }
 }
 
+/// The side along which a fill's normal turns by more than 90° against
+/// the neighbour's (the fill folds over at the seam: across the shared
+/// edge the two surfaces fold onto each other), the worst if several.
+/// Samples where either normal does not exist are not in the angle.
+fn seam_fold(sides: &[SideFit]) -> Option<&SideFit> {
+    sides
+        .iter()
+        .filter(|s| s.angle > std::f64::consts::FRAC_PI_2)
+        .max_by(|a, b| a.angle.total_cmp(&b.angle))
+}
+
 /// Fills the 4-sided `hole` of `faces` (see the module documentation).
 ///
 /// Errors ([`Error::Fill`]) name what does not fit: a hole with other than
@@ -545,7 +550,8 @@ pub fn fill_param(k: usize, t: f64) -> (f64, f64) {
 /// neighbours whose cross derivatives fold over at a corner, opposite sides
 /// whose knots cannot be merged, a fill that folds over (its normal turning
 /// by more than 90° between neighbouring samples, 2·degree + 2 intervals
-/// per span); and the solve's own refusals.
+/// per span, or against a neighbour's along a side); and the solve's own
+/// refusals.
 pub fn fill_hole(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -> Result<Fill> {
     let t0 = Instant::now();
     let (mut hole, mut groups) = grouped(faces, hole)?;
@@ -602,6 +608,16 @@ pub fn fill_hole(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -
                 false,
             ));
         }
+    }
+    if let Some(side) = seam_fold(&sides) {
+        return Err(Error::Fill {
+            why: format!(
+                "the patch folds over along its side on face {}: its normal turns by {:.1}° \
+                 against the neighbour's",
+                side.side.face,
+                side.angle.to_degrees()
+            ),
+        });
     }
     let measure = t2.elapsed().as_secs_f64();
     Ok(Fill {

@@ -1495,3 +1495,53 @@ fn a_teardrop_hole_of_one_side_is_filled_by_a_fan_of_three() {
     let w = fan.report.curvature.value;
     assert!(w > 0.0 && w.is_finite(), "{w}");
 }
+
+/// One triangular patch that folds over is refused by name, as a fan is
+/// (kidney-shaped 3-sided holes, [`kidney_hole`] in three pieces with real
+/// corners): inside ("the triangular patch folds over", without the fan's
+/// hint), or along a side, where its normal turns against the
+/// neighbour's (before, a triangle whose normal turned by 173.7° against
+/// face 0's, 7° between its own samples, was returned as the hole's fill
+/// with that angle in its report).
+#[test]
+fn a_triangle_that_folds_over_is_refused() {
+    for (a, turn) in [(1.4, 0.3), (1.8, 0.5), (1.0, 0.9)] {
+        let (faces, hole) = kidney_hole(a, 3, turn);
+        let e = fill_triangle(&faces, &hole, &FillOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("the triangular patch folds over: its normal turns by"),
+            "{a}, {turn}: {e}"
+        );
+        assert!(!e.contains("a fan can fold"), "{e}");
+    }
+    let (faces, hole) = kidney_hole(1.0, 3, 0.7);
+    let e = fill_triangle(&faces, &hole, &FillOptions::default()).unwrap_err();
+    assert!(
+        e.to_string().contains(
+            "the triangular patch folds over along its side on face 0: its normal turns by 173.7° \
+             against the neighbour's"
+        ),
+        "{e}"
+    );
+    let e = HoleFill::new(&faces, &hole, &FillOptions::default()).unwrap_err();
+    assert!(
+        e.to_string().contains("the fan of 3 patches folds over"),
+        "{e}"
+    );
+    // Milder: filled by the triangle, which does not fold.
+    let (faces, hole) = kidney_hole(1.0, 3, 0.3);
+    let t = fill_triangle(&faces, &hole, &FillOptions::default()).unwrap();
+    assert!(
+        t.report.sides.iter().all(|s| s.angle < 0.1),
+        "{:?}",
+        t.report.sides
+    );
+    let tri = t.report.solve.triangular.as_ref().unwrap();
+    assert!(
+        tri.normal_turn.unwrap().angle < 0.2,
+        "{:?}",
+        tri.normal_turn
+    );
+}
