@@ -88,9 +88,7 @@ pub(super) fn fill(
     }
     py.detach(|| {
         let mut input = fairsurf_io::FillInput::from_text(&text, step)?;
-        let asked = holes.or(input.holes.clone());
-        let choice = fairsurf_io::HoleChoice::of(&input, asked.as_deref())?;
-        input.one_span_sides(&choice)?;
+        let choice = input.choose(holes.as_deref())?;
         let mut options = input.options.clone();
         if let Some(w) = normal_weight {
             options.normal_weight = w;

@@ -4,7 +4,7 @@
 //!
 //!     cargo bench -p fairsurf-io --bench fill
 
-use fairsurf_io::{FillInput, HoleChoice};
+use fairsurf_io::FillInput;
 use std::path::Path;
 
 fn main() {
@@ -22,8 +22,8 @@ fn input(name: &str) -> FillInput {
 /// options (the defaults: a normal-guided, Willmore-lowered fill).
 #[divan::bench(args = ["fill_network.json", "fill_pentagon.json", "fillet_hole.step"], sample_count = 20)]
 fn fill(bencher: divan::Bencher, name: &str) {
-    let input = input(name);
-    let choice = HoleChoice::of(&input, input.holes.as_deref()).unwrap();
+    let mut input = input(name);
+    let choice = input.choose(None).unwrap();
     bencher.bench(|| choice.fill(&input.faces, &input.options).unwrap());
 }
 

@@ -363,6 +363,17 @@ impl FillInput {
         Ok(())
     }
 
+    /// The holes to fill ([`HoleChoice::of`]: `asked`, else the input's
+    /// own choice, else every hole but an open sheet's rim), with the
+    /// stand-ins along the sides of those that fans fill made one span
+    /// each ([`Self::one_span_sides`]): what [`HoleChoice::fill`] takes.
+    pub fn choose(&mut self, asked: Option<&[usize]>) -> Result<HoleChoice> {
+        let asked = asked.map(<[usize]>::to_vec).or_else(|| self.holes.clone());
+        let choice = HoleChoice::of(self, asked.as_deref())?;
+        self.one_span_sides(&choice)?;
+        Ok(choice)
+    }
+
     /// Refits, as one polynomial span along the side, the stand-in of each
     /// rational face that is a side of a chosen hole filled by triangular
     /// patches (other than four sides: each side must be one polynomial

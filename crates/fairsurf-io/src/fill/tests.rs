@@ -95,7 +95,8 @@ fn a_hole_between_planes_and_cylinders_is_filled_within_tolerance() {
 /// and all eight are chosen. Each is 3-sided between cylinder fillets whose
 /// stand-ins are several spans along the hole: the fan cut at their knots
 /// is 24 thin patches, within tolerance but less fair (and 20× slower);
-/// refitted as one span along the holes, every corner is
+/// refitted as one span along the holes ([`FillInput::one_span_sides`],
+/// as [`FillInput::choose`] does), every corner is
 /// filled by triangular patches within the stand-ins' tolerance (measured
 /// against the cylinders themselves), G1 between its patches within the
 /// angle tolerance, and W that of the sphere octant it replaces (π) to
@@ -135,6 +136,10 @@ fn the_corners_of_a_rounded_box_are_filled_within_tolerance() {
     }
     // Refitting again changes nothing: the sides are one span already.
     assert!(input.one_span_sides(&choice).unwrap().is_empty());
+    // FillInput::choose is both steps (the way the CLI and Python take).
+    let mut fresh = bundled("rounded_box.step");
+    assert_eq!(fresh.choose(None).unwrap().chosen, choice.chosen);
+    assert_eq!(fresh.faces, input.faces);
     let fills = choice.fill(&input.faces, &input.options).unwrap();
     for (h, f) in fills.iter().enumerate() {
         let HoleFill::Fan(fan) = f else {
