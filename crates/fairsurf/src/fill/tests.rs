@@ -1363,7 +1363,8 @@ fn kidney_hole(a: f64, pieces: usize, turn: f64) -> (Vec<BSplineSurface>, Hole) 
 /// clean G¹ report): kidney-shaped holes ([`kidney_hole`]) far from convex
 /// are refused by name — a fan whose centre lies behind the boundary's
 /// tangent ("not star-shaped"), a fan or a 4-sided patch whose normal
-/// flips between neighbouring samples ("folds over"); milder ones are
+/// flips between neighbouring samples ("folds over") or against a
+/// neighbour's along a side ("folds over along its side"); milder ones are
 /// filled, G¹ to the neighbours, without a fold (with four real corners
 /// by a fan of five, where one patch misses the neighbours by 6.7° and
 /// 9.7°).
@@ -1397,6 +1398,16 @@ fn fills_that_fold_over_are_refused() {
         let (faces, hole) = kidney_hole(a, 4, 0.5);
         let e = fill_fan(&faces, &hole, &FillOptions::default()).unwrap_err();
         assert!(e.to_string().contains("not star-shaped around"), "{e}");
+    }
+    // Along a side, the patch's normal against the neighbour's (before,
+    // these patches were returned with 175–177° in their reports; the fan
+    // fails too, and the patch's refusal is said).
+    for (a, turn) in [(1.2, 0.2), (1.2, 0.3), (1.0, 0.7)] {
+        let e = refusal(a, 4, turn);
+        assert!(
+            e.contains("the patch folds over along its side on face 0: its normal turns by 17"),
+            "{a}, {turn}: {e}"
+        );
     }
     // Milder kidneys: filled, and neither folds.
     for (a, turn, missed) in [(1.0, 0.0, 0.0), (0.5, 0.5, 6.70), (1.0, 0.5, 9.67)] {
