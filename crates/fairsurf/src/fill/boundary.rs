@@ -9,10 +9,28 @@ use super::*;
 /// D into the hole) faces the way side 0's neighbour does.
 pub(super) fn faces_like_side_0(faces: &[BSplineSurface], hole: &Hole, s0: &Strip) -> bool {
     let side0 = hole.sides[0];
-    let (u, v) = surface_param(&faces[side0.face], side0.edge, side0.boundary_t(0.5));
-    let nb = faces[side0.face].derivatives(u, v);
-    let mid = s0.at(0.5);
+    facing(&faces[side0.face], side0, s0)
+}
+
+/// Whether `face` faces along `side` the way a fill whose normal there is
+/// P′ × D (the side's strip `s`, D into the hole) does.
+fn facing(face: &BSplineSurface, side: Side, s: &Strip) -> bool {
+    let (u, v) = surface_param(face, side.edge, side.boundary_t(0.5));
+    let nb = face.derivatives(u, v);
+    let mid = s.at(0.5);
     dot(cross(mid.dpos, mid.der), cross(nb.du, nb.dv)) >= 0.0
+}
+
+/// Whether the neighbour `face` of `side` faces the way the fill does: a
+/// fill's normal along each of its sides is P′ × D of that side's strip
+/// (a patch's R_u × R_v, a fan's patches' likewise), and the fill faces
+/// like side 0's neighbour ([`faces_like_side_0`]); the other neighbours
+/// of a JSON scene or a Python caller may face either way (a STEP shell's
+/// are oriented alike when read). A side's normal angle is measured
+/// against its neighbour's normal turned the fill's way, so that a G¹
+/// fill measures 0 and a fill that folds onto its neighbour 180°.
+pub(super) fn faces_like(face: &BSplineSurface, side: Side) -> bool {
+    Strip::of_side(face, side).map_or(true, |s| facing(face, side, &s))
 }
 
 /// The face of the hole's side k, or an error naming it.

@@ -1598,7 +1598,13 @@ fn patch_side_fit(
     let ts = side_parameters();
     let da: Vec<_> = ts.iter().map(|&t| patch.tangents(at(t).1)).collect();
     let db = neighbour_tangents(face, exact, side, &ts);
-    compare(&da, &db, side, false, exact.is_none())
+    compare(
+        &da,
+        &db,
+        side,
+        !super::faces_like(face, side),
+        exact.is_none(),
+    )
 }
 
 #[cfg(test)]

@@ -605,7 +605,7 @@ pub fn fill_hole(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -
                 &faces[side.face],
                 options.rational(side.face),
                 side,
-                false,
+                !faces_like(&faces[side.face], side),
             ));
         }
     }

@@ -1556,3 +1556,49 @@ fn a_triangle_that_folds_over_is_refused() {
         tri.normal_turn
     );
 }
+
+/// Neighbours may face either way (a JSON scene's or a Python caller's
+/// faces; a STEP shell's are oriented alike when read): with a side
+/// neighbour of the bi-quintic network's centre hole transposed (its
+/// normal reversed), the patch and the fan are G¹ to every neighbour as
+/// measured — each side against its neighbour's normal turned the fill's
+/// way — with the same W (before, the patch was refused as folding over
+/// along that side, 180°, and earlier returned with 180° in its report).
+#[test]
+fn neighbours_facing_either_way_are_measured_the_fills_way() {
+    let fill_of = |flip: Option<usize>| {
+        let (mut faces, _) = quintic_network();
+        if let Some(k) = flip {
+            faces[k] = faces[k].transposed();
+        }
+        let holes = find_holes(&faces).unwrap();
+        let hole = holes
+            .iter()
+            .find(|h| h.bounds_from_outside(&faces) == Some(false))
+            .unwrap()
+            .clone();
+        let patch = HoleFill::new(&faces, &hole, &FillOptions::default()).unwrap();
+        let fan = fill_fan(&faces, &hole, &FillOptions::default()).unwrap();
+        (patch, fan)
+    };
+    let (patch, fan) = fill_of(None);
+    let w = (patch.curvature().value, fan.report.curvature.value);
+    for k in [1, 3, 4, 6] {
+        let (patch, fan) = fill_of(Some(k));
+        assert!(matches!(patch, HoleFill::Patch(_)), "face {k}");
+        for s in patch.sides().iter().chain(&fan.report.sides) {
+            assert!(s.gap < 1e-12 && s.angle < 1e-9, "face {k}: {s:?}");
+        }
+        let (wp, wf) = (patch.curvature().value, fan.report.curvature.value);
+        assert!(
+            (wp - w.0).abs() <= 1e-9 * w.0,
+            "face {k}: {wp} against {}",
+            w.0
+        );
+        assert!(
+            (wf - w.1).abs() <= 1e-6 * w.1,
+            "face {k}: {wf} against {}",
+            w.1
+        );
+    }
+}
