@@ -179,20 +179,57 @@ pub(super) fn foot(
     (at, best)
 }
 
-/// Whether the edge is, to `tol`, the whole of one side of `p`, checked
-/// on the control points alone: its curve a B-spline of the side's degree
-/// on the side's knots (up to a change of parameter t ↦ αt + β, either way
-/// round), each control point within `tol` of the side's, and the edge
-/// running over the curve's whole range. Then every point of the edge is
-/// within `tol` of the side's point at the same parameter (the difference
-/// of the two curves is a B-spline whose control points are the
-/// differences, and its basis functions are ≥ 0 and sum to 1). A
-/// sufficient test, not a necessary one: the side written as another
-/// curve (split, elevated, a line) is left to [`restricted`]'s foot
-/// points. Open CASCADE and fairsurf write the boundary edges of a face
-/// that is not trimmed as its surface's sides, so most faces are settled
-/// here without a Newton step.
-pub(super) fn is_side(p: &BSplineSurface, e: &LoopEdge, tol: f64) -> bool {
+/// A surface's four sides as written: per side (v = c, v = d, u = a,
+/// u = b) its knots mapped onto [0, 1] and its row of control points, and
+/// the rounding under which two control points are one (1e-12 of the
+/// net's largest coordinate, at least 1e-12).
+pub(super) struct SideRows {
+    rows: [(Vec<f64>, Vec<Vec3>); 4],
+    rounding: f64,
+}
+
+impl SideRows {
+    pub(super) fn of(p: &BSplineSurface) -> Self {
+        let (ku, kv) = p.knots();
+        let (nu, nv) = p.counts();
+        let (u, v) = (unit(ku.knots()), unit(kv.knots()));
+        let size = p
+            .points()
+            .iter()
+            .flatten()
+            .fold(1.0f64, |m, x| m.max(x.abs()));
+        Self {
+            rows: [
+                (u.clone(), (0..nu).map(|i| p.point(i, 0)).collect()),
+                (u, (0..nu).map(|i| p.point(i, nv - 1)).collect()),
+                (v.clone(), (0..nv).map(|j| p.point(0, j)).collect()),
+                (v, (0..nv).map(|j| p.point(nu - 1, j)).collect()),
+            ],
+            rounding: 1e-12 * size,
+        }
+    }
+}
+
+/// Knots mapped onto [0, 1] (empty when they do not rise).
+fn unit(k: &[f64]) -> Vec<f64> {
+    match (k.first(), k.last()) {
+        (Some(&lo), Some(&hi)) if hi > lo => k.iter().map(|t| (t - lo) / (hi - lo)).collect(),
+        _ => Vec::new(),
+    }
+}
+
+/// Whether the edge is one of the surface's sides as its surface writes
+/// it ([`SideRows`]), checked on the control points alone: its curve a
+/// B-spline on the side's knots (up to t ↦ αt + β, either way round), its
+/// control points the side's to rounding, and the edge running over the
+/// curve's whole range. Then the edge is the side (the two curves'
+/// difference is a B-spline whose control points are the differences). A
+/// sufficient test, not a necessary one: a side written as another curve
+/// (split, elevated, a line, moved within the tolerance) is left to
+/// [`restricted`]'s foot points, which decide as before. Open CASCADE and
+/// fairsurf write the boundary edges of a face that is not trimmed as its
+/// surface's sides, so most faces are settled here without a Newton step.
+pub(super) fn is_side(sides: &SideRows, e: &LoopEdge) -> bool {
     let Curve3D::BSplineCurve(c) = &e.curve else {
         return false;
     };
@@ -204,42 +241,19 @@ pub(super) fn is_side(p: &BSplineSurface, e: &LoopEdge, tol: f64) -> bool {
     if e.seam.is_some() || !((near(a, r0) && near(b, r1)) || (near(a, r1) && near(b, r0))) {
         return false;
     }
-    let (ku, kv) = p.knots();
-    let (nu, nv) = p.counts();
     let points = c.control_points();
-    let knots: &[f64] = c.knot_vec();
-    // (knots, the side's control points) of v = c, v = d, u = a, u = b.
-    let sides: [(&KnotVector, Vec<Vec3>); 4] = [
-        (ku, (0..nu).map(|i| p.point(i, 0)).collect()),
-        (ku, (0..nu).map(|i| p.point(i, nv - 1)).collect()),
-        (kv, (0..nv).map(|j| p.point(0, j)).collect()),
-        (kv, (0..nv).map(|j| p.point(nu - 1, j)).collect()),
-    ];
-    let unit = |k: &[f64]| -> Vec<f64> {
-        let (lo, hi) = (k[0], k[k.len() - 1]);
-        k.iter().map(|t| (t - lo) / (hi - lo)).collect()
-    };
-    let (Some(&k0), Some(&k1)) = (knots.first(), knots.last()) else {
-        return false;
-    };
-    if k1.partial_cmp(&k0) != Some(std::cmp::Ordering::Greater) {
-        return false;
-    }
-    let mine = unit(knots);
-    sides.iter().any(|(k, row)| {
-        if k.knots().len() != knots.len() || row.len() != points.len() {
+    let mine = unit(c.knot_vec());
+    let one = |q: &Point3, r: &Vec3| dist(v3(*q), *r) <= sides.rounding;
+    sides.rows.iter().any(|(theirs, row)| {
+        let m = theirs.len();
+        if m == 0 || mine.len() != m || row.len() != points.len() {
             return false;
         }
-        let theirs = unit(k.knots());
-        let m = theirs.len();
         let forward = (0..m).all(|i| (mine[i] - theirs[i]).abs() <= 1e-12)
-            && points.iter().zip(row).all(|(q, r)| dist(v3(*q), *r) <= tol);
+            && points.iter().zip(row).all(|(q, r)| one(q, r));
         forward
             || ((0..m).all(|i| (mine[i] - (1.0 - theirs[m - 1 - i])).abs() <= 1e-12)
-                && points
-                    .iter()
-                    .zip(row.iter().rev())
-                    .all(|(q, r)| dist(v3(*q), *r) <= tol))
+                && points.iter().zip(row.iter().rev()).all(|(q, r)| one(q, r)))
     })
 }
 
@@ -249,15 +263,17 @@ pub(super) fn is_side(p: &BSplineSurface, e: &LoopEdge, tol: f64) -> bool {
 /// rectangle exactly (knot insertion). A side may be made of several
 /// edges (a writer splits a side where another face's corner lies on it).
 /// Checked: every vertex and edge lies on the rectangle's sides, each of
-/// its corners is a vertex, and its sides lie on the edges. Other trimmed
-/// faces are refused.
+/// its corners is a vertex, and its sides lie on the edges (by Newton foot
+/// points, unless every edge is a side as written: [`is_side`]). Other
+/// trimmed faces are refused.
 pub(super) fn restricted(
     s: FaceSurface,
     edges: &[LoopEdge],
 ) -> std::result::Result<FaceSurface, String> {
     let tol = edge_tolerance(edges);
     if let FaceSurface::Polynomial(p) = &s {
-        if edges.iter().all(|e| is_side(p, e, tol)) {
+        let sides = SideRows::of(p);
+        if edges.iter().all(|e| is_side(&sides, e)) {
             return Ok(s);
         }
     }
