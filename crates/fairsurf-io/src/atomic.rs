@@ -10,8 +10,11 @@
 //! Files are not `fsync`ed: the rename is what keeps a reader, a failed
 //! run or an interrupted one from seeing part of a file; surviving a power
 //! cut right after the write is left to the file system, as Open CASCADE's
-//! and gmsh's writers, `cp` and git's object writes leave it. An fsync cost
-//! 0.6–0.8 ms of a 10 ms `fairsurf fill` (session 34, ext4).
+//! and gmsh's writers and `cp` leave it. An fsync cost 0.6–0.8 ms of a
+//! 10 ms `fairsurf fill` (session 34, ext4). What that gives up: a write
+//! error the file system reports only at fsync or close (NFS, some quota
+//! and full-disk cases) goes unnoticed, and the rename then puts the
+//! short file in place.
 
 use crate::{Error, Result};
 use std::cell::RefCell;

@@ -140,6 +140,11 @@ fn the_corners_of_a_rounded_box_are_filled_within_tolerance() {
     let mut fresh = bundled("rounded_box.step");
     assert_eq!(fresh.choose(None).unwrap().chosen, choice.chosen);
     assert_eq!(fresh.faces, input.faces);
+    // The input's own choice when none is asked; an asked one first.
+    let mut own = bundled("rounded_box.step");
+    own.holes = Some(vec![2, 5]);
+    assert_eq!(own.choose(None).unwrap().chosen, vec![2, 5]);
+    assert_eq!(own.choose(Some(&[1])).unwrap().chosen, vec![1]);
     let fills = choice.fill(&input.faces, &input.options).unwrap();
     for (h, f) in fills.iter().enumerate() {
         let HoleFill::Fan(fan) = f else {

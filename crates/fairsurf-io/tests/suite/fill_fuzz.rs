@@ -9,7 +9,7 @@
 
 use crate::mutate::{mutate, Rng};
 use fairsurf::fill::HoleFill;
-use fairsurf_io::{BlendInput, FillInput, HoleChoice};
+use fairsurf_io::{BlendInput, FillInput};
 use serde_json::Value;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
@@ -25,12 +25,9 @@ fn fill(text: &str, step: bool, shown: &str) -> bool {
     let Ok(mut input) = FillInput::from_text(text, step) else {
         return false;
     };
-    let Ok(choice) = HoleChoice::of(&input, input.holes.clone().as_deref()) else {
+    let Ok(choice) = input.choose(None) else {
         return false;
     };
-    if input.one_span_sides(&choice).is_err() {
-        return false;
-    }
     let Ok(fills) = choice.fill(&input.faces, &input.options) else {
         return false;
     };

@@ -39,7 +39,7 @@
 mod constraint;
 mod energy;
 mod guidance;
-pub(crate) mod knots;
+mod knots;
 mod problem;
 mod project;
 mod rational;
@@ -48,6 +48,7 @@ mod surface;
 mod system;
 
 pub use knots::KnotVector;
+pub(crate) use knots::{Bases, BasesView};
 pub use problem::BSplineProblem;
 pub use rational::{FitTolerance, RationalSurface, StandIn, ONE_SPAN_DEGREE};
 pub use solve::{BSplineSolution, ENERGY_TOLERANCE};

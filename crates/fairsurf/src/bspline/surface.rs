@@ -2,8 +2,7 @@
 //! evaluation and derivatives (de Boor), knot insertion, and the Bézier
 //! patches they consist of.
 
-use super::knots::BasesView;
-use super::KnotVector;
+use super::{BasesView, KnotVector};
 use crate::vec3::{is_finite, Vec3};
 use crate::{Error, Result, SurfaceDerivatives, TensorPatch};
 

@@ -244,11 +244,11 @@ fn decompose(w: Vec3, x: Vec3, y: Vec3) -> (f64, f64, f64) {
 /// samples, or against a neighbour's along a side); and the solve's own
 /// refusals.
 pub fn fill_fan(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -> Result<FanFill> {
-    Ok(fan_candidate(faces, hole, options)?.completed(faces, options))
+    Ok(fan_candidate(faces, hole, options)?.completed(options))
 }
 
-/// [`fill_fan`]'s fan solved, only its W measured ([`FanFill::completed`]
-/// lowers W and measures the rest).
+/// [`fill_fan`]'s fan solved, its W and its sides measured
+/// ([`FanFill::completed`] lowers W and measures the rest).
 pub(super) fn fan_candidate(
     faces: &[BSplineSurface],
     hole: &Hole,
@@ -1333,9 +1333,10 @@ impl FanFill {
     /// [`FAN_DESCENT_REL`] of W, or one when the next step's model promises
     /// less too (without the solve's factorization — a
     /// solve that had to loosen its row tolerance keeps none — no steps);
-    /// then measured: per side gap and normal angle against the
-    /// neighbour, the largest normal angle between the patches.
-    pub(super) fn completed(mut self, faces: &[BSplineSurface], options: &FillOptions) -> Self {
+    /// then measured: the largest normal angle between the patches (the
+    /// sides, measured by the candidate, stay: the descent keeps rows 0
+    /// and 1).
+    pub(super) fn completed(mut self, options: &FillOptions) -> Self {
         let t = Instant::now();
         // The factorization is used here or dropped (it may be large).
         let factor = self.factor.take();
@@ -1406,9 +1407,7 @@ impl FanFill {
                 .as_ref()
                 .and_then(|f| f.max_edge_normal_angle),
         );
-        if r.sides.is_empty() {
-            self.measure_sides(faces, options);
-        }
+        debug_assert!(!r.sides.is_empty(), "the candidate measured its sides");
         self
     }
 
@@ -1462,10 +1461,10 @@ pub fn fill_triangle(
     hole: &Hole,
     options: &FillOptions,
 ) -> Result<FanFill> {
-    Ok(triangle_candidate(faces, hole, options)?.completed(faces, options))
+    Ok(triangle_candidate(faces, hole, options)?.completed(options))
 }
 
-/// [`fill_triangle`]'s patch solved, only its W measured.
+/// [`fill_triangle`]'s patch solved, its W and its sides measured.
 pub(super) fn triangle_candidate(
     faces: &[BSplineSurface],
     hole: &Hole,
@@ -1571,15 +1570,8 @@ fn unfolded(mut fill: FanFill, faces: &[BSplineSurface], options: &FillOptions) 
         });
     }
     fill.measure_sides(faces, options);
-    if let Some(side) = super::seam_fold(&fill.report.sides) {
-        return Err(Error::Fill {
-            why: format!(
-                "{what} folds over along its side on face {}: its normal turns by {:.1}° \
-                 against the neighbour's",
-                side.side.face,
-                side.angle.to_degrees()
-            ),
-        });
+    if let Some(e) = super::seam_fold(&what, &fill.report.sides) {
+        return Err(e);
     }
     Ok(fill)
 }

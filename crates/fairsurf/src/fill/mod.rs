@@ -397,7 +397,7 @@ impl HoleFill {
         }
         let mut f = fill.expect("the kept candidate");
         f.report.others = others;
-        Ok(Self::Fan(f.completed(faces, options)))
+        Ok(Self::Fan(f.completed(options)))
     }
 
     /// A 4-sided hole: one patch ([`fill_hole`]); where that patch misses
@@ -438,7 +438,7 @@ impl HoleFill {
         if fan_kept {
             let mut fan = fan.expect("a fan");
             fan.report.others = vec![Candidate::new("patch", patch_measures, patch_seconds)];
-            Ok(Self::Fan(fan.completed(faces, options)))
+            Ok(Self::Fan(fan.completed(options)))
         } else {
             let mut p = patch?;
             p.report.others = vec![Candidate::new("fan", fan_measures, fan_seconds)];
@@ -532,15 +532,25 @@ pub fn fill_param(k: usize, t: f64) -> (f64, f64) {
     }
 }
 
-/// The side along which a fill's normal turns by more than 90° against
-/// the neighbour's (the fill folds over at the seam: across the shared
-/// edge the two surfaces fold onto each other), the worst if several.
-/// Samples where either normal does not exist are not in the angle.
-fn seam_fold(sides: &[SideFit]) -> Option<&SideFit> {
-    sides
+/// The refusal of a fill (`what`: "the patch", "the fan of 5 patches")
+/// whose normal turns by more than 90° against a neighbour's along a side
+/// (it folds onto the neighbour at the seam), naming the worst such side
+/// by its face (the fill's own numbering of the sides starts where the
+/// hole's turned); None when there is none. Samples where either normal
+/// does not exist are not in the angle.
+fn seam_fold(what: &str, sides: &[SideFit]) -> Option<Error> {
+    let s = sides
         .iter()
         .filter(|s| s.angle > std::f64::consts::FRAC_PI_2)
-        .max_by(|a, b| a.angle.total_cmp(&b.angle))
+        .max_by(|a, b| a.angle.total_cmp(&b.angle))?;
+    Some(Error::Fill {
+        why: format!(
+            "{what} folds over along its side on face {}: its normal turns by {:.1}° against \
+             the neighbour's",
+            s.side.face,
+            s.angle.to_degrees()
+        ),
+    })
 }
 
 /// Fills the 4-sided `hole` of `faces` (see the module documentation).
@@ -609,15 +619,8 @@ pub fn fill_hole(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -
             ));
         }
     }
-    if let Some(side) = seam_fold(&sides) {
-        return Err(Error::Fill {
-            why: format!(
-                "the patch folds over along its side on face {}: its normal turns by {:.1}° \
-                 against the neighbour's",
-                side.side.face,
-                side.angle.to_degrees()
-            ),
-        });
+    if let Some(e) = seam_fold("the patch", &sides) {
+        return Err(e);
     }
     let measure = t2.elapsed().as_secs_f64();
     Ok(Fill {

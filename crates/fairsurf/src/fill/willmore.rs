@@ -79,14 +79,14 @@ fn slots(free: &[bool]) -> Vec<Option<usize>> {
 /// functions with their first two derivatives (computed once per node).
 struct Axis {
     spans: Vec<(usize, f64, f64)>,
-    basis: crate::bspline::knots::Bases,
+    basis: crate::bspline::Bases,
 }
 
 impl Axis {
     fn new(knots: &crate::bspline::KnotVector, rule: &GaussLegendre) -> Self {
         let spans = knots.spans();
         let mut basis =
-            crate::bspline::knots::Bases::new(knots.degree() + 1, spans.len() * rule.nodes.len());
+            crate::bspline::Bases::new(knots.degree() + 1, spans.len() * rule.nodes.len());
         for &(k, a, b) in &spans {
             for &x in &rule.nodes {
                 basis.push(knots, k, a + (b - a) * x);
