@@ -175,6 +175,7 @@ impl FillSpec {
             descent_steps,
             angle_tolerance: d.angle_tolerance,
             rational_faces: Vec::new(),
+            edge_faces: Vec::new(),
         };
         if options.stretch == 0.0 && options.bend == 0.0 {
             return Err(Error::scene(

@@ -366,7 +366,7 @@ impl RationalSurface {
 
 /// Chebyshev–Lobatto parameters on every span of `k`: at least 9 per
 /// span, about [`SIDE_SAMPLES`] in all (a span's ends once).
-fn side_parameters(k: &KnotVector) -> Vec<f64> {
+pub(super) fn side_parameters(k: &KnotVector) -> Vec<f64> {
     let spans = k.spans();
     let n = ((SIDE_SAMPLES - 1) / spans.len()).max(8);
     let mut xs = vec![k.domain().0];

@@ -95,13 +95,13 @@ use super::fan_willmore;
 use super::holes::Hole;
 use super::holes::Side;
 use super::measure::{
-    compare, neighbour_tangents, side_parameters, total_curvature, SideFit, TotalCurvature,
+    compare, neighbour_tangents, side_parameters, Exact, total_curvature, SideFit, TotalCurvature,
 };
 use super::strip::{Strip, KNOT_SNAP};
 use super::{faces_like_side_0, side_face, CornerMismatch, FillOptions, FillSeconds};
 use crate::analysis::largest_tri_normal_turn;
 use crate::basis::binomial;
-use crate::bspline::{BSplineSurface, RationalSurface};
+use crate::bspline::BSplineSurface;
 use crate::constraint::Constraint;
 use crate::curve::elevate_points;
 use crate::solve::SolveReport;
@@ -1424,7 +1424,7 @@ impl FanFill {
                     surface,
                     &|t| side_point(surface, k, t),
                     &faces[side.face],
-                    options.rational(side.face),
+                    options.exact(side.face),
                     side,
                 )
             })
@@ -1583,7 +1583,7 @@ fn patch_side_fit(
     surface: &TriSurface,
     at: &dyn Fn(f64) -> (usize, [f64; 3]),
     face: &BSplineSurface,
-    exact: Option<&RationalSurface>,
+    exact: Option<Exact>,
     side: super::Side,
 ) -> SideFit {
     let patch = surface.patch(at(0.5).0);

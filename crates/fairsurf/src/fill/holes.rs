@@ -201,9 +201,24 @@ pub fn find_holes(faces: &[BSplineSurface]) -> Result<Vec<Hole>> {
 /// [`find_holes`] with points closer than `tol` taken as one (faces that
 /// stand in for rational ones meet only within their fit).
 pub fn find_holes_within(faces: &[BSplineSurface], tol: f64) -> Result<Vec<Hole>> {
+    find_holes_where(faces, tol, |_, _| true)
+}
+
+/// [`find_holes_within`] over the boundaries `is_boundary(face, edge)`
+/// says are edges of the model: a strip stand-in along a trimmed face's
+/// edge ([`crate::bspline::strip_stand_in`]) has one, its side V0 — its
+/// other sides are inside the trimmed face.
+pub fn find_holes_where(
+    faces: &[BSplineSurface],
+    tol: f64,
+    is_boundary: impl Fn(usize, Edge) -> bool,
+) -> Result<Vec<Hole>> {
     let mut whole = Vec::new();
     for (f, face) in faces.iter().enumerate() {
         for edge in [Edge::V0, Edge::U1, Edge::V1, Edge::U0] {
+            if !is_boundary(f, edge) {
+                continue;
+            }
             let e = BoundaryEdge::new(face, f, edge, [0.0, 1.0]);
             let length: f64 = e.samples.windows(2).map(|w| dist(w[0], w[1])).sum();
             if length > tol {

@@ -2,7 +2,7 @@
 //! (gap and normal angle along the side) and its fairness W = ∫∫ κ₁² + κ₂² dA.
 
 use super::holes::{surface_param, Side};
-use crate::bspline::{BSplineSurface, RationalSurface};
+use crate::bspline::{BSplineSurface, RationalSurface, TrueEdge};
 use crate::tensor::regular_normal;
 use crate::vec3::{angle, dist};
 use crate::Vec3;
@@ -28,10 +28,23 @@ pub struct SideFit {
     pub singular: usize,
     /// Whether the fill's boundary data came from the neighbour exactly (a
     /// polynomial neighbour: G¹ to rounding), or from a polynomial stand-in
-    /// of a rational one ([`RationalSurface::polynomial`]): then the gap
-    /// and angle above are measured against the rational surface itself
-    /// and are as small as the stand-in's tolerance, not zero.
+    /// of a rational one ([`RationalSurface::polynomial`]) or of a trimmed
+    /// face along its edge ([`crate::bspline::strip_stand_in`]): then the
+    /// gap and angle above are measured against the rational surface or
+    /// the edge itself and are as small as the stand-in's tolerance, not
+    /// zero.
     pub exact: bool,
+}
+
+/// What a neighbour face stands in for: its sides are measured against
+/// that ([`super::FillOptions::exact`]).
+#[derive(Clone, Copy, Debug)]
+pub enum Exact<'a> {
+    /// A rational surface, at the same parameter.
+    Rational(&'a RationalSurface),
+    /// A trimmed face's edge along the face's side V0, at the same
+    /// parameter: the edge's point and the face's normal there.
+    Edge(&'a TrueEdge),
 }
 
 /// The largest normal angle (radians) of `sides` (0 for none); NaN when a
@@ -75,7 +88,7 @@ pub(crate) fn side_fit_facing(
     fill: &BSplineSurface,
     k: usize,
     face: &BSplineSurface,
-    exact: Option<&RationalSurface>,
+    exact: Option<Exact>,
     side: Side,
     flipped: bool,
 ) -> SideFit {
@@ -91,7 +104,7 @@ pub(crate) fn piece_fit(
     k: usize,
     span: [f64; 2],
     face: &BSplineSurface,
-    exact: Option<&RationalSurface>,
+    exact: Option<Exact>,
     side: Side,
     flipped: bool,
 ) -> SideFit {
@@ -106,17 +119,22 @@ pub(crate) fn piece_fit(
 }
 
 /// The neighbour's [`Tangents`] at parameters `ts` of the hole's side: of
-/// the rational surface `exact` when the face stands in for one.
+/// what the face stands in for (`exact`) when it does.
 pub(crate) fn neighbour_tangents(
     face: &BSplineSurface,
-    exact: Option<&RationalSurface>,
+    exact: Option<Exact>,
     side: Side,
     ts: &[f64],
 ) -> Vec<Tangents> {
     let on = |t| neighbour_param(face, side, t);
     match exact {
-        Some(r) => line(&|u, v| r.tangents_on(u, v), &on, ts),
-        None => line(&|u, v| face.tangents_on(u, v), &on, ts),
+        Some(Exact::Rational(r)) => line(&|u, v| r.tangents_on(u, v), &on, ts),
+        // A strip's side V0 at u = the edge's parameter (its domain is
+        // [0, 1]²; its other sides are no face's boundary).
+        Some(Exact::Edge(e)) if side.edge == crate::analysis::Edge::V0 => {
+            ts.iter().map(|&t| e.tangents(on(t).0)).collect()
+        }
+        _ => line(&|u, v| face.tangents_on(u, v), &on, ts),
     }
 }
 

@@ -76,12 +76,19 @@ mod willmore;
 
 pub use blend::{blend, Blend, BlendOptions, BlendReport, Bulge, BulgeSearch};
 pub use fan::{fill_fan, fill_triangle, FanFill, FanReport, FAN_DESCENT_REL, RICH_DEGREE};
-pub use holes::{edge_point, find_holes, find_holes_within, surface_param, tolerance, Hole, Side};
+pub use holes::{
+    edge_point, find_holes, find_holes_where, find_holes_within, surface_param, tolerance, Hole,
+    Side,
+};
 pub use measure::{
-    largest_angle, side_fit, total_curvature, SideFit, TotalCurvature, SIDE_SAMPLES,
+    largest_angle, side_fit, total_curvature, Exact, SideFit, TotalCurvature, SIDE_SAMPLES,
 };
 
-use crate::bspline::{BSplineProblem, BSplineSurface, FitTolerance, KnotVector, RationalSurface};
+use crate::bspline::{
+    BSplineProblem, BSplineSurface, FitTolerance, KnotVector, RationalSurface, TrueEdge,
+};
+#[cfg(doc)]
+use crate::bspline::strip_stand_in;
 use crate::energy::SampleGrid;
 use crate::vec3::{add, cross, dist, dot, scale};
 use crate::SolveReport;
@@ -155,12 +162,31 @@ pub struct FillOptions {
     /// rational surface (reported as not exact). Empty, or `None` for a
     /// face: the face is exact.
     pub rational_faces: Vec<Option<Arc<RationalSurface>>>,
+    /// Per face index, the edge of a trimmed face that face is a strip
+    /// stand-in along ([`strip_stand_in`]; the edge is the strip's side
+    /// V0, its only boundary): the fill takes its boundary data from the
+    /// strip and measures its sides against the edge (reported as not
+    /// exact). Empty, or `None` for a face: not a strip.
+    pub edge_faces: Vec<Option<TrueEdge>>,
 }
 
 impl FillOptions {
     /// The rational surface face `face` stands in for, if any.
     pub fn rational(&self, face: usize) -> Option<&RationalSurface> {
         self.rational_faces.get(face).and_then(|r| r.as_deref())
+    }
+
+    /// The trimmed face's edge face `face` is a strip along, if any.
+    pub fn edge(&self, face: usize) -> Option<&TrueEdge> {
+        self.edge_faces.get(face).and_then(Option::as_ref)
+    }
+
+    /// What face `face` stands in for, if anything: its sides are measured
+    /// against that.
+    pub fn exact(&self, face: usize) -> Option<Exact<'_>> {
+        self.rational(face)
+            .map(Exact::Rational)
+            .or_else(|| self.edge(face).map(Exact::Edge))
     }
 }
 
@@ -177,6 +203,7 @@ impl Default for FillOptions {
             descent_steps: DESCENT_STEPS,
             angle_tolerance: FitTolerance::default().angle,
             rational_faces: Vec::new(),
+            edge_faces: Vec::new(),
         }
     }
 }
@@ -613,7 +640,7 @@ pub fn fill_hole(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -
                 k,
                 span,
                 &faces[side.face],
-                options.rational(side.face),
+                options.exact(side.face),
                 side,
                 !faces_like(&faces[side.face], side),
             ));

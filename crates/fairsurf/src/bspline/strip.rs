@@ -1,0 +1,365 @@
+//! Strip stand-ins: a face known only along an edge — a trimmed face,
+//! whose boundary is not four sides of its surface, or a face with holes —
+//! enters a fill through a polynomial strip along the edge,
+//!
+//! S(u, v) = C(u) + v·w·T(u),  u, v ∈ [0, 1],
+//!
+//! C a B-spline through the edge's points and T one through unit vectors
+//! in the face's tangent plane across the edge, pointing into the face (a
+//! loop runs with its face on the left): n × c′/|c′| (n the face's unit
+//! normal, c′ the edge's tangent as the face's loop runs), or turned from
+//! it towards given directions at the ends ([`strip_stand_in_towards`]):
+//! a fill's corner takes the cross derivative of one side along the next
+//! side, so a strip whose end is a hole's corner is made to leave it along
+//! the face's edge there, as a four-sided neighbour's cross derivative
+//! runs along its own side.
+//! The strip's side v = 0 is the edge and its normal there
+//! S_u × S_v = w·C′ × T is the face's: a fill G¹ to the strip exactly is G¹
+//! to the face within the strip's fit, which is measured against the edge
+//! at the same parameter as [`RationalSurface::polynomial`]'s stand-ins
+//! are against their rational surfaces.
+
+use super::rational::{side_parameters, FitTolerance, StandIn};
+use super::{solve_dense_wide, BSplineSurface, KnotVector, ONE_SPAN_DEGREE};
+use crate::vec3::{angle, cross, dist, dot, norm, scale};
+use crate::{Error, Result, Vec3};
+use std::sync::Arc;
+
+/// A point of a face's edge, the edge's tangent there (as the face's loop
+/// runs) and the face's unit normal.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EdgeFrame {
+    /// The point.
+    pub point: Vec3,
+    /// dc/dt: the edge's derivative along its parameter t ∈ [0, 1], the
+    /// way the face's loop runs (the face on its left seen from the
+    /// normal's side).
+    pub tangent: Vec3,
+    /// The face's unit normal.
+    pub normal: Vec3,
+}
+
+/// A face's edge as it is: t ∈ [0, 1] ↦ [`EdgeFrame`] (for a STEP face,
+/// the edge's curve and the normal of the face's surface at its foot
+/// point). Compared by identity.
+#[derive(Clone)]
+pub struct TrueEdge(Arc<dyn Fn(f64) -> EdgeFrame + Send + Sync>);
+
+impl TrueEdge {
+    /// The edge given by `frame`.
+    pub fn new(frame: impl Fn(f64) -> EdgeFrame + Send + Sync + 'static) -> Self {
+        Self(Arc::new(frame))
+    }
+
+    /// The edge's frame at t ∈ [0, 1].
+    pub fn frame(&self, t: f64) -> EdgeFrame {
+        (self.0)(t)
+    }
+
+    /// The tangents at t of a surface with the edge's point and normal
+    /// there (R, R_u, R_v with R_u × R_v along the normal): what a side
+    /// measurement compares a fill with.
+    pub(crate) fn tangents(&self, t: f64) -> [Vec3; 3] {
+        let f = self.frame(t);
+        [f.point, f.tangent, cross(f.normal, f.tangent)]
+    }
+}
+
+impl std::fmt::Debug for TrueEdge {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("TrueEdge(..)")
+    }
+}
+
+impl PartialEq for TrueEdge {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.0, &other.0)
+    }
+}
+
+/// The most pieces a strip cuts its edge into.
+const MAX_PIECES: usize = 512;
+/// The first degree of a strip along its edge.
+const FIRST_DEGREE: usize = 5;
+
+/// The strip stand-in of `edge` (module doc): degree (d, 1) on [0, 1]²,
+/// its side V0 the edge; `width` the length of T's multiple w. One
+/// Bézier span along the edge when a degree from 5 to [`ONE_SPAN_DEGREE`]
+/// meets `tolerance` (a fan of triangular patches needs each side one
+/// polynomial piece), else degree 5 on equal pieces, their number doubled
+/// until it does — interpolating the edge's points and inward directions
+/// at the Greville abscissae, measured at Chebyshev–Lobatto parameters on
+/// every span (at least 9 each, about 129 in all): the largest distance
+/// to the edge's point at the same parameter and the largest angle
+/// between the strip's normal and the face's. Errors when 512 pieces are
+/// not enough, or the edge has no tangent or normal somewhere.
+pub fn strip_stand_in(edge: &TrueEdge, width: f64, tolerance: FitTolerance) -> Result<StandIn> {
+    fit(edge, None, width, tolerance)
+}
+
+/// [`strip_stand_in`] with T leaving the edge's ends along `ends` (at
+/// t = 0 and t = 1; projected into the face's tangent plane there, each
+/// pointing into the face): along the edge T is turned from the edge's
+/// tangent by an angle that runs linearly from one end's to the other's.
+/// Errors when an end's direction does not point into the face (within
+/// 0.1° of the edge's tangent line, or across to the other side).
+pub fn strip_stand_in_towards(
+    edge: &TrueEdge,
+    ends: [Vec3; 2],
+    width: f64,
+    tolerance: FitTolerance,
+) -> Result<StandIn> {
+    let mut turn = [0.0; 2];
+    for (k, (e, t)) in ends.iter().zip([0.0, 1.0]).enumerate() {
+        let f = edge.frame(t);
+        let (along, across) = axes(&f).ok_or_else(|| no_frame(t))?;
+        let (x, y) = (dot(*e, along), dot(*e, across));
+        let b = y.atan2(x);
+        let least = 0.1f64.to_radians();
+        if !(b.is_finite() && b >= least && b <= std::f64::consts::PI - least) {
+            return Err(Error::Fill {
+                why: format!(
+                    "a trimmed face's edge would leave its {} end along {e:?}, which does not                      point into the face (at {:.3}° from the edge's tangent)",
+                    ["first", "last"][k],
+                    b.to_degrees()
+                ),
+            });
+        }
+        turn[k] = b;
+    }
+    fit(edge, Some(turn), width, tolerance)
+}
+
+/// The strip, T turned by angles running linearly from `turn[0]` to
+/// `turn[1]` from the edge's tangent, or n × c′ without them.
+fn fit(
+    edge: &TrueEdge,
+    turn: Option<[f64; 2]>,
+    width: f64,
+    tolerance: FitTolerance,
+) -> Result<StandIn> {
+    if !(width.is_finite() && width > 0.0) {
+        return Err(Error::Fill {
+            why: format!("a strip stand-in needs a positive width, not {width}"),
+        });
+    }
+    let mut best: Option<(f64, f64, String)> = None;
+    let one_span = (FIRST_DEGREE..=ONE_SPAN_DEGREE).map(KnotVector::bezier);
+    let pieces = std::iter::successors(Some(2usize), |n| (*n < MAX_PIECES).then_some(n * 2))
+        .map(|n| KnotVector::uniform(FIRST_DEGREE, n));
+    for (knots, what) in one_span
+        .map(|k| {
+            let d = k.degree();
+            (k, format!("one span of degree {d}"))
+        })
+        .chain(pieces.map(|k| {
+            let n = k.spans().len();
+            (k, format!("{n} pieces of degree {FIRST_DEGREE}"))
+        }))
+    {
+        let surface = interpolate(edge, turn, width, knots)?;
+        let (position, angle) = deviation(edge, &surface)?;
+        if position <= tolerance.position && angle <= tolerance.angle {
+            return Ok(StandIn {
+                surface,
+                position,
+                angle,
+            });
+        }
+        best = Some((position, angle, what));
+    }
+    let (position, angle, what) = best.expect("at least one fit");
+    Err(Error::Fill {
+        why: format!(
+            "a trimmed face's edge could not be approximated by a polynomial strip within {:e} \
+             in position and {:e}° in angle (reached {position:e} and {:e}° with {what})",
+            tolerance.position,
+            tolerance.angle.to_degrees(),
+            angle.to_degrees(),
+        ),
+    })
+}
+
+/// The unit tangent and the unit inward direction n × c′/|c′| of a
+/// frame (orthonormal, in the tangent plane), or None where the edge has
+/// no tangent across the normal.
+fn axes(f: &EdgeFrame) -> Option<(Vec3, Vec3)> {
+    let across = cross(f.normal, f.tangent);
+    let n = norm(across);
+    let across = scale(across, 1.0 / n);
+    let along = cross(across, f.normal);
+    let m = norm(along);
+    (n > 1e-300 && n.is_finite() && m > 0.5).then(|| (scale(along, 1.0 / m), across))
+}
+
+/// The strip on `knots` × Bézier(1) through the edge's points and
+/// `width` times its inward directions at the Greville abscissae.
+fn interpolate(
+    edge: &TrueEdge,
+    turn: Option<[f64; 2]>,
+    width: f64,
+    knots: KnotVector,
+) -> Result<BSplineSurface> {
+    let g = knots.greville();
+    let n = g.len();
+    let mut data = Vec::with_capacity(6 * n);
+    for &t in &g {
+        let f = edge.frame(t);
+        let (along, across) = axes(&f).ok_or_else(|| no_frame(t))?;
+        let d = match turn {
+            None => across,
+            Some([a, b]) => {
+                let (s, c) = (a + (b - a) * t).sin_cos();
+                std::array::from_fn(|k| c * along[k] + s * across[k])
+            }
+        };
+        data.extend(f.point);
+        data.extend(d);
+    }
+    let x = solve_dense_wide(knots.collocation(&g), data, 6).ok_or_else(|| Error::Fill {
+        why: "the collocation system of a strip stand-in is singular".into(),
+    })?;
+    let mut points = Vec::with_capacity(2 * n);
+    for i in 0..n {
+        let c = [x[6 * i], x[6 * i + 1], x[6 * i + 2]];
+        let d = [x[6 * i + 3], x[6 * i + 4], x[6 * i + 5]];
+        points.push(c);
+        points.push(std::array::from_fn(|k| c[k] + width * d[k]));
+    }
+    BSplineSurface::new(knots, KnotVector::bezier(1), points)
+}
+
+fn no_frame(t: f64) -> Error {
+    Error::Fill {
+        why: format!(
+            "a trimmed face's edge has no tangent across the face's normal at t = {t}: no strip \
+             stand-in"
+        ),
+    }
+}
+
+/// Largest distance and normal angle between the strip's side V0 and the
+/// edge at the same parameters (Chebyshev–Lobatto on every span).
+fn deviation(edge: &TrueEdge, s: &BSplineSurface) -> Result<(f64, f64)> {
+    let ts = side_parameters(s.knots().0);
+    let (mut gap, mut ang) = (0.0f64, 0.0f64);
+    for (t, d) in ts.iter().zip(s.derivatives_on(&ts, &[0.0])) {
+        let f = edge.frame(*t);
+        axes(&f).ok_or_else(|| no_frame(*t))?;
+        gap = gap.max(dist(f.point, d.point));
+        // No normal on the strip counts as the worst.
+        ang = ang.max(
+            d.regular_normal()
+                .map_or(std::f64::consts::PI, |m| angle(f.normal, m)),
+        );
+    }
+    Ok((gap, ang))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The ellipse where the plane z = k·x cuts the cylinder x² + y² = 1,
+    /// run counter-clockwise seen from outside (+x at t = 0… a whole turn
+    /// when `turn` = 1), with the cylinder's outward normal: a trimmed
+    /// cylinder's edge.
+    fn cylinder_cut(k: f64, turn: f64) -> TrueEdge {
+        TrueEdge::new(move |t| {
+            let a = 2.0 * std::f64::consts::PI * turn * t;
+            let w = 2.0 * std::f64::consts::PI * turn;
+            let (s, c) = a.sin_cos();
+            // Seen from outside the cylinder (normal (c, s, 0)) with the
+            // face below the cut on the left: the loop runs clockwise
+            // about +z along the top edge.
+            EdgeFrame {
+                point: [c, -s, k * c],
+                tangent: [-s * w, -c * w, -k * s * w],
+                normal: [c, -s, 0.0],
+            }
+        })
+    }
+
+    #[test]
+    fn a_strip_meets_its_tolerance_along_the_edge_and_points_into_the_face() {
+        let edge = cylinder_cut(0.5, 0.25);
+        let tol = FitTolerance::default();
+        let s = strip_stand_in(&edge, 0.3, tol).unwrap();
+        assert!(s.position <= tol.position && s.angle <= tol.angle, "{s:?}");
+        // A quarter of the ellipse is one span (a fan can take it).
+        assert_eq!(s.surface.knots().0.spans().len(), 1);
+        // Independently of the fit's own measure: at 1000 parameters the
+        // strip's V0 is on the cylinder, its normal the cylinder's.
+        for i in 0..=1000 {
+            let t = i as f64 / 1000.0;
+            let d = s.surface.derivatives(t, 0.0);
+            let f = edge.frame(t);
+            assert!(dist(d.point, f.point) <= 1.0001 * tol.position, "{t}");
+            let r = (d.point[0].powi(2) + d.point[1].powi(2)).sqrt();
+            assert!((r - 1.0).abs() <= 1.0001 * tol.position, "{t}: r = {r}");
+            let n = d.regular_normal().unwrap();
+            assert!(angle(n, f.normal) <= 1.0001 * tol.angle, "{t}");
+            // S_v points into the face: below the cut (z < k·x at the
+            // same x, y), along the cylinder.
+            assert!(d.dv[2] < 0.0, "{t}: {:?}", d.dv);
+            assert!(dot(d.dv, f.normal).abs() <= 1e-4 * norm(d.dv), "{t}");
+            assert!((norm(d.dv) - 0.3).abs() <= 1e-4, "{t}: width");
+        }
+    }
+
+    #[test]
+    fn a_tighter_tolerance_or_a_longer_edge_takes_more() {
+        let tol = FitTolerance::default();
+        let degree = |s: &StandIn| s.surface.knots().0.degree();
+        let quarter = strip_stand_in(&cylinder_cut(0.5, 0.25), 0.3, tol).unwrap();
+        let tight = FitTolerance {
+            position: 1e-10,
+            angle: 1e-8,
+        };
+        let fine = strip_stand_in(&cylinder_cut(0.5, 0.25), 0.3, tight).unwrap();
+        assert!(fine.position <= 1e-10 && fine.angle <= 1e-8, "{fine:?}");
+        assert!(degree(&fine) > degree(&quarter) || fine.surface.knots().0.spans().len() > 1);
+        // A whole turn is more than one span of degree 15 can hold.
+        let whole = strip_stand_in(&cylinder_cut(0.5, 1.0), 0.3, tol).unwrap();
+        assert!(whole.surface.knots().0.spans().len() > 1, "{whole:?}");
+        assert!(whole.position <= tol.position && whole.angle <= tol.angle);
+    }
+
+    #[test]
+    fn a_straight_edge_on_a_plane_is_exact() {
+        // The plane z = 0, the face on the left of the x axis (y > 0).
+        let edge = TrueEdge::new(|t| EdgeFrame {
+            point: [2.0 * t, 0.0, 0.0],
+            tangent: [2.0, 0.0, 0.0],
+            normal: [0.0, 0.0, 1.0],
+        });
+        let s = strip_stand_in(&edge, 1.0, FitTolerance::default()).unwrap();
+        assert!(s.position <= 1e-15 && s.angle <= 1e-15, "{s:?}");
+        assert_eq!(s.surface.knots().0.degree(), FIRST_DEGREE);
+        let p = s.surface.eval(0.5, 1.0);
+        assert!(dist(p, [1.0, 1.0, 0.0]) <= 1e-14, "{p:?}");
+    }
+
+    #[test]
+    fn edges_it_cannot_follow_are_refused_by_name() {
+        // The normal along the tangent: no direction across.
+        let edge = TrueEdge::new(|t| EdgeFrame {
+            point: [t, 0.0, 0.0],
+            tangent: [1.0, 0.0, 0.0],
+            normal: [1.0, 0.0, 0.0],
+        });
+        let e = strip_stand_in(&edge, 1.0, FitTolerance::default()).unwrap_err();
+        assert!(e.to_string().contains("no tangent across"), "{e}");
+        // A kink: a polygon's corner inside the edge is no polynomial.
+        let kink = TrueEdge::new(|t| EdgeFrame {
+            point: [t, (t - 0.3).abs(), 0.0],
+            tangent: [1.0, (t - 0.3).signum(), 0.0],
+            normal: [0.0, 0.0, 1.0],
+        });
+        let e = strip_stand_in(&kink, 1.0, FitTolerance::default()).unwrap_err();
+        assert!(e.to_string().contains("could not be approximated"), "{e}");
+        assert!(e.to_string().contains("512 pieces"), "{e}");
+        assert!(strip_stand_in(&kink, 0.0, FitTolerance::default()).is_err());
+        assert!(strip_stand_in(&kink, f64::NAN, FitTolerance::default()).is_err());
+    }
+}
