@@ -95,7 +95,7 @@ use super::fan_willmore;
 use super::holes::Hole;
 use super::holes::Side;
 use super::measure::{
-    compare, neighbour_tangents, side_parameters, Exact, total_curvature, SideFit, TotalCurvature,
+    compare, neighbour_tangents, side_parameters, total_curvature, Exact, SideFit, TotalCurvature,
 };
 use super::strip::{Strip, KNOT_SNAP};
 use super::{faces_like_side_0, side_face, CornerMismatch, FillOptions, FillSeconds};

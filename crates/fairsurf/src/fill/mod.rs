@@ -55,7 +55,11 @@
 //! polynomial stand-in within a tolerance ([`RationalSurface::polynomial`],
 //! [`FillOptions::rational_faces`]): the fill is G¹ to the stand-in
 //! exactly and its sides there are measured against the rational surface
-//! itself and reported as not exact ([`SideFit::exact`]).
+//! itself and reported as not exact ([`SideFit::exact`]). A face known
+//! only along an edge (a trimmed face) enters the same way through a strip
+//! along the edge ([`strip_stand_in`], [`FillOptions::edge_faces`]; its
+//! side V0 the only boundary, [`find_holes_where`]), measured against the
+//! edge and the face's normal there.
 //!
 //! The same rings and fairing make a transition surface between two
 //! surfaces along one edge of each ([`blend`], Wu & Yang Fig. 5): two sides
@@ -84,11 +88,11 @@ pub use measure::{
     largest_angle, side_fit, total_curvature, Exact, SideFit, TotalCurvature, SIDE_SAMPLES,
 };
 
+#[cfg(doc)]
+use crate::bspline::strip_stand_in;
 use crate::bspline::{
     BSplineProblem, BSplineSurface, FitTolerance, KnotVector, RationalSurface, TrueEdge,
 };
-#[cfg(doc)]
-use crate::bspline::strip_stand_in;
 use crate::energy::SampleGrid;
 use crate::vec3::{add, cross, dist, dot, scale};
 use crate::SolveReport;
@@ -367,6 +371,21 @@ impl HoleFill {
     /// raise W), keeping the one with the lowest W among those within the
     /// angle tolerance.
     pub fn new(faces: &[BSplineSurface], hole: &Hole, options: &FillOptions) -> Result<Self> {
+        // A strip's sides other than V0 lie inside its trimmed face.
+        if let Some((k, s)) =
+            hole.sides.iter().enumerate().find(|(_, s)| {
+                options.edge(s.face).is_some() && s.edge != crate::analysis::Edge::V0
+            })
+        {
+            return Err(Error::Fill {
+                why: format!(
+                    "side {k} runs along side {:?} of face {}, a strip stand-in along a trimmed \
+                     face's edge whose only boundary is its side V0 (find the holes with \
+                     find_holes_where)",
+                    s.edge, s.face
+                ),
+            });
+        }
         if is_four_sided(faces, hole) {
             return Self::four_sided(faces, hole, options);
         }

@@ -1666,12 +1666,23 @@ fn a_hole_among_trimmed_faces_is_filled_through_their_strips_and_measured_on_the
         let holes = find_holes_where(&faces, tol, |_, e| e == Edge::V0).unwrap();
         assert_eq!(holes.len(), 1, "{holes:?}");
         assert_eq!(holes[0].sides.len(), n);
-        // Every boundary taken: the strips' own outlines are loops too.
-        assert!(find_holes_within(&faces, tol).unwrap().len() > 1);
         let options = FillOptions {
             edge_faces: edges,
             ..FillOptions::default()
         };
+        // Every boundary taken, the strips' own outlines are loops too: a
+        // fill along a strip's other sides is refused by name.
+        let all = find_holes_within(&faces, tol).unwrap();
+        assert!(all.len() > 1);
+        let outline = all
+            .iter()
+            .find(|h| h.sides.iter().any(|s| s.edge != Edge::V0))
+            .unwrap();
+        let e = HoleFill::new(&faces, outline, &options).unwrap_err();
+        assert!(
+            e.to_string().contains("whose only boundary is its side V0"),
+            "{e}"
+        );
         let fill = HoleFill::new(&faces, &holes[0], &options).unwrap();
         // Measured against the sphere along the edges, not the strips: not
         // exact, within the strips' fit (1e-6, 0.01°) and the fill's own
@@ -1702,7 +1713,11 @@ fn a_hole_among_trimmed_faces_is_filled_through_their_strips_and_measured_on_the
         // the polygon: W within 1% of that.
         let w = fill.curvature().value;
         let area = polygon_cap_area(n, 0.6);
-        assert!((w - 2.0 * area).abs() <= 0.01 * 2.0 * area, "{n}: W {w}, 2A {}", 2.0 * area);
+        assert!(
+            (w - 2.0 * area).abs() <= 0.01 * 2.0 * area,
+            "{n}: W {w}, 2A {}",
+            2.0 * area
+        );
     }
 }
 
