@@ -7,8 +7,7 @@ use fairsurf::bspline::{BSplineSurface, FitTolerance};
 use fairsurf::fill::{FillOptions, HoleFill};
 use fairsurf::triangle::TriSurface;
 use fairsurf_io::{
-    fill_report_json, fill_surfaces, sides_beyond, write_atomic, Batch, CadSurface, FillInput,
-    HoleChoice, SurfaceMesh,
+    sides_beyond, write_atomic, Batch, CadSurface, FillInput, HoleChoice, SurfaceMesh,
 };
 use fairsurf_render::{render, ColourBy, Panel, Range, RenderOptions};
 use serde_json::json;
@@ -83,14 +82,14 @@ pub fn run(a: Args) -> Result<(), Failure> {
         e => with_file(&a.input)(e),
     })?;
     if a.list {
-        let list = choice.list_json();
+        let list = input.list_json(&choice);
         if a.json {
             crate::say!("{}", serde_json::to_string_pretty(&list).expect("JSON"));
         } else {
             crate::say!(
                 "{}: {}, {}",
                 a.input.display(),
-                counted(input.faces.len(), "face"),
+                counted(input.file_faces(), "face"),
                 counted(choice.holes.len(), "hole")
             );
             for h in list.as_array().expect("a list") {
@@ -122,12 +121,13 @@ pub fn run(a: Args) -> Result<(), Failure> {
         .output
         .as_deref()
         .expect("clap requires -o without --list");
-    let surfaces = fill_surfaces(&input.faces, &input.options.rational_faces, &fills);
+    let surfaces = input.surfaces(&fills);
     // The picture takes every patch; the mesh the four-sided fills as
     // B-splines and the fans as triangular surfaces (no collapsed corners).
     let patches: Vec<BSplineSurface> = fills.iter().flat_map(HoleFill::patches).collect();
-    let pictured: Vec<&BSplineSurface> = input.faces.iter().chain(&patches).collect();
-    let mut meshed: Vec<&BSplineSurface> = input.faces.iter().collect();
+    let pictured: Vec<&BSplineSurface> =
+        input.pictured_faces().into_iter().chain(&patches).collect();
+    let mut meshed: Vec<&BSplineSurface> = input.pictured_faces();
     let mut fans: Vec<&TriSurface> = Vec::new();
     for f in &fills {
         match f {
@@ -144,7 +144,7 @@ pub fn run(a: Args) -> Result<(), Failure> {
         &fans,
     )?;
     if a.json {
-        let mut out = fill_report_json(input.faces.len(), &choice, &fills, fit);
+        let mut out = input.report_json(&choice, &fills, fit);
         out["stand_ins"] = input.stand_ins_json();
         out["input"] = json!(a.input.display().to_string());
         out["output"] = json!(output.display().to_string());
@@ -177,7 +177,7 @@ fn summary(
         position: gap_tolerance,
         angle: degrees.to_radians(),
     };
-    let faces = input.faces.len();
+    let faces = input.file_faces();
     let mut lines = vec![format!(
         "{}: {}, {}; filled {:?}{}",
         path.display(),
@@ -194,6 +194,7 @@ fn summary(
         .stand_ins
         .iter()
         .enumerate()
+        .take(faces)
         .filter_map(|(k, s)| {
             s.map(|(gap, angle)| {
                 format!(
@@ -209,6 +210,32 @@ fn summary(
             "  rational faces, met through polynomial stand-ins (G1 there to the stand-in's \
              tolerance, not exact): {}",
             rational.join(", ")
+        ));
+    }
+    // Per trimmed face, its strips' largest distances from its edges.
+    let mut trimmed: Vec<(usize, usize, f64, f64)> = Vec::new();
+    for (s, strip) in input.strips().iter().enumerate() {
+        let (gap, angle) = input.stand_ins[faces + s].unwrap_or((0.0, 0.0));
+        match trimmed.iter_mut().find(|t| t.0 == strip.face) {
+            Some(t) => *t = (t.0, t.1 + 1, t.2.max(gap), t.3.max(angle)),
+            None => trimmed.push((strip.face, 1, gap, angle)),
+        }
+    }
+    if !trimmed.is_empty() {
+        let list: Vec<String> = trimmed
+            .iter()
+            .map(|&(k, n, gap, angle)| {
+                format!(
+                    "{k} ({}: {n} strips within {gap:.1e}, {:.1e}°)",
+                    input.kinds[k],
+                    angle.to_degrees()
+                )
+            })
+            .collect();
+        lines.push(format!(
+            "  trimmed faces, met through strip stand-ins along their edges (G1 there to the \
+             strips' tolerance, not exact): {}",
+            list.join(", ")
         ));
     }
     for (&h, fill) in choice.chosen.iter().zip(fills) {

@@ -220,6 +220,18 @@ impl BlendInput {
                                 })?;
                             let (first, count) = (faces.len(), read.len());
                             for (j, f) in read.into_iter().enumerate() {
+                                if !f.loops.is_empty() {
+                                    return Err(Error::scene(
+                                        format!("{path}.step"),
+                                        format!(
+                                            "{}: face {j} is a {} face: a blend takes files whose \
+                                             faces are bounded by four sides of their surfaces \
+                                             (`fairsurf fill` takes trimmed ones)",
+                                            file.display(),
+                                            f.kind
+                                        ),
+                                    ));
+                                }
                                 kinds.push(f.kind);
                                 match f.surface {
                                     FaceSurface::Polynomial(s) => {

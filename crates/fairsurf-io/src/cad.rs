@@ -23,6 +23,22 @@ pub struct CadSurface {
     /// A rational surface's weights, row-major as the points (`None`: a
     /// polynomial one).
     pub weights: Option<Vec<f64>>,
+    /// A trimmed face's loops (the outer one first), each a chain of
+    /// curves that runs with the face on its left seen from the surface's
+    /// normal R_u × R_v; empty: the face is bounded by the surface's four
+    /// sides.
+    pub loops: Vec<Vec<CadCurve>>,
+}
+
+/// A polynomial B-spline curve as the CAD writers hold it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CadCurve {
+    /// The degree.
+    pub degree: usize,
+    /// The full (clamped) knot vector.
+    pub knots: Vec<f64>,
+    /// The control points.
+    pub points: Vec<Vec3>,
 }
 
 impl From<&TensorPatch> for CadSurface {
@@ -39,6 +55,7 @@ impl From<&TensorPatch> for CadSurface {
             counts: (n + 1, m + 1),
             points: p.points().to_vec(),
             weights: None,
+            loops: Vec::new(),
         }
     }
 }
@@ -52,6 +69,7 @@ impl From<&BSplineSurface> for CadSurface {
             counts: s.counts(),
             points: s.points().to_vec(),
             weights: None,
+            loops: Vec::new(),
         }
     }
 }

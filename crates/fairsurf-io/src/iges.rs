@@ -47,6 +47,15 @@ pub fn write_iges(path: &Path, patches: &[TensorPatch]) -> Result<()> {
 /// with K1 = rows − 1, K2 = columns − 1, its degrees, its full knot vectors
 /// and its parameter domain; a rational one with PROP3 = 0 and its weights.
 pub fn write_iges_surfaces(path: &Path, surfaces: &[CadSurface]) -> Result<()> {
+    if let Some(k) = surfaces.iter().position(|s| !s.loops.is_empty()) {
+        return Err(crate::Error::Export {
+            path: path.to_path_buf(),
+            message: format!(
+                "surface {k} is a trimmed face: IGES is written with untrimmed surfaces only \
+                 (entity 128); write STEP"
+            ),
+        });
+    }
     write_cad_text(path, surfaces, iges_text)
 }
 

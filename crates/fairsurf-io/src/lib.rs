@@ -52,13 +52,13 @@ pub use bspline_scene::{
     BSplineEnergySpec, BSplineGuideSpec, BSplineKind, BSplineNormalFieldSpec, BSplineScene,
     BSplineSpec, SolvedBSplineScene,
 };
-pub use cad::CadSurface;
+pub use cad::{CadCurve, CadSurface};
 pub use compare::comparison_json;
 pub use constraints::{TensorConstraintSpec, UvSpec};
 pub use error::{Error, Result};
 pub use fill::{
     fill_json, fill_report_json, fill_surfaces, sides_beyond, FaceKind, FaceSpec, FillInput,
-    FillScene, FillSpec, HoleChoice,
+    FillScene, FillSpec, HoleChoice, StripOf,
 };
 pub use gltf::base64;
 pub use iges::{write_iges, write_iges_surfaces};
@@ -67,7 +67,7 @@ pub use operators::{EdgeSpec, OperatorKind, TensorOperatorSpec, TensorPatchSpec}
 pub use result::{construction_report_json, report_json, Outcome, SolvedTensorScene};
 pub use scene::{Scene, SolvedScene, SurfaceType};
 pub use step::{write_step, write_step_sewn, write_step_surfaces};
-pub use step_read::{read_step, read_step_faces, FaceSurface, StepFace};
+pub use step_read::{read_step, read_step_faces, FaceSurface, StepFace, TrimEdge};
 pub use surface::{Exported, Surface, OCC_MAX_DEGREE};
 pub use surface_mesh::SurfaceMesh;
 pub use tensor_scene::{

@@ -5,14 +5,17 @@
 //!
 //! Field docs here become the descriptions in `fairsurf schema --type fill`.
 
-use crate::step_read::FaceSurface;
+use crate::step_read::{FaceSurface, TrimEdge};
 use crate::tensor_scene::Net;
 use crate::validate::parse_net;
-use crate::{CadSurface, Error, Result};
+use crate::{CadCurve, CadSurface, Error, Result};
 use fairsurf::analysis::Edge;
-use fairsurf::bspline::{BSplineSurface, FitTolerance, KnotVector, RationalSurface};
+use fairsurf::bspline::{
+    strip_stand_in, strip_stand_in_towards, BSplineSurface, FitTolerance, KnotVector,
+    RationalSurface,
+};
 use fairsurf::fill::{
-    find_holes_within, tolerance, CornerMismatch, FanFill, Fill, FillOptions, FillSeconds, Hole,
+    find_holes_where, tolerance, CornerMismatch, FanFill, Fill, FillOptions, FillSeconds, Hole,
     HoleFill, SideFit, TotalCurvature,
 };
 use fairsurf::Vec3;
@@ -261,10 +264,18 @@ impl FaceSpec {
 
 /// The faces to fill between, from a file: a JSON fill scene, or a STEP
 /// file (`.step`, `.stp`).
+///
+/// A trimmed face of a STEP file (bounded otherwise than by four sides of
+/// its surface, or with holes) is met through strip stand-ins along its
+/// loops' edges ([`fairsurf::bspline::strip_stand_in`]): they follow the
+/// file's faces in `faces` ([`Self::strips`]), and only their sides V0
+/// are edges of the model ([`Self::is_boundary`]).
 #[derive(Clone, Debug)]
 pub struct FillInput {
     /// The faces as polynomial B-splines: a rational face (a cylinder, …)
-    /// by its polynomial stand-in (see `stand_ins`).
+    /// by its polynomial stand-in (see `stand_ins`), a trimmed one by its
+    /// surface (no boundary of it is an edge of the model); then the
+    /// strips along the trimmed faces' edges ([`Self::strips`]).
     pub faces: Vec<BSplineSurface>,
     /// What each face is in the file ("B-spline", "plane", "cylinder", …).
     pub kinds: Vec<&'static str>,
@@ -281,6 +292,24 @@ pub struct FillInput {
     /// Per face, the directions its stand-in is one span in
     /// ([`Self::one_span_sides`]); a refit keeps them.
     one_span: Vec<[bool; 2]>,
+    /// Per face of the file, a trimmed one's surface and loops.
+    trimmed: Vec<Option<(FaceSurface, Vec<Vec<TrimEdge>>)>>,
+    /// The strips, in the order they follow the file's faces in `faces`.
+    strips: Vec<StripOf>,
+    /// Per strip, whether it is one span along its edge
+    /// ([`Self::one_span_sides`]); a refit keeps them.
+    strip_one_span: Vec<bool>,
+}
+
+/// A strip stand-in along an edge of a trimmed face.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StripOf {
+    /// The trimmed face (its index in the file's faces).
+    pub face: usize,
+    /// Its loop (0: the first the file lists).
+    pub loop_index: usize,
+    /// The edge in the loop.
+    pub edge: usize,
 }
 
 impl FillInput {
@@ -311,8 +340,19 @@ impl FillInput {
                 options: FillOptions::default(),
                 fit: FitTolerance::default(),
                 one_span: vec![[false; 2]; read.len()],
+                trimmed: Vec::with_capacity(read.len()),
+                strips: Vec::new(),
+                strip_one_span: Vec::new(),
             };
             for f in read {
+                if !f.loops.is_empty() {
+                    // Only its strips meet fills (built below).
+                    input.faces.push(f.surface.net().clone());
+                    input.options.rational_faces.push(None);
+                    input.trimmed.push(Some((f.surface, f.loops)));
+                    continue;
+                }
+                input.trimmed.push(None);
                 match f.surface {
                     FaceSurface::Polynomial(s) => {
                         input.faces.push(s);
@@ -339,6 +379,9 @@ impl FillInput {
             options: scene.fill.options()?,
             fit: FitTolerance::default(),
             one_span: vec![[false; 2]; count],
+            trimmed: vec![None; count],
+            strips: Vec::new(),
+            strip_one_span: Vec::new(),
         })
     }
 
@@ -361,7 +404,146 @@ impl FillInput {
                 self.faces[k] = s.surface;
             }
         }
+        self.build_strips()
+    }
+
+    /// The number of the file's faces (the strips follow them in
+    /// `faces`).
+    pub fn file_faces(&self) -> usize {
+        self.trimmed.len()
+    }
+
+    /// The strips along the trimmed faces' edges, in the order they follow
+    /// the file's faces in `faces`.
+    pub fn strips(&self) -> &[StripOf] {
+        &self.strips
+    }
+
+    /// The file's face that face `k` of `faces` is (a strip's: its
+    /// trimmed face).
+    pub fn face_of(&self, k: usize) -> usize {
+        match k.checked_sub(self.file_faces()) {
+            Some(s) => self.strips[s].face,
+            None => k,
+        }
+    }
+
+    /// Whether boundary `edge` of face `k` is an edge of the model: every
+    /// side of a four-sided face, none of a trimmed face's surface, a
+    /// strip's side V0.
+    pub fn is_boundary(&self, k: usize, edge: Edge) -> bool {
+        match k.checked_sub(self.file_faces()) {
+            Some(_) => edge == Edge::V0,
+            None => self.trimmed.get(k).is_none_or(Option::is_none),
+        }
+    }
+
+    /// (Re)builds the strips along every trimmed face's edges within
+    /// [`Self::fit`]: each `strip_stand_in_towards` its edge's ends where
+    /// the reader found them (else, or where they do not point into the
+    /// face, across the edge at right angles, a quarter of the edge's
+    /// length wide), one span along a fan's side
+    /// ([`Self::one_span_sides`]). Errors name the face, loop and edge.
+    fn build_strips(&mut self) -> Result<()> {
+        let n = self.file_faces();
+        self.faces.truncate(n);
+        self.kinds.truncate(n);
+        self.stand_ins.truncate(n);
+        self.one_span.truncate(n);
+        self.options.rational_faces.truncate(n);
+        self.strips.clear();
+        let mut edges: Vec<Option<fairsurf::bspline::TrueEdge>> = vec![None; n];
+        for (k, t) in self.trimmed.iter().enumerate() {
+            let Some((_, loops)) = t else { continue };
+            for (l, edges_) in loops.iter().enumerate() {
+                for (j, e) in edges_.iter().enumerate() {
+                    let one_span = self.strip_one_span.get(self.strips.len()) == Some(&true);
+                    let towards = e.ends.and_then(|ends| {
+                        strip_stand_in_towards(&e.edge, ends, self.fit, one_span).ok()
+                    });
+                    let s = match towards {
+                        Some(s) => s,
+                        None => strip_stand_in(&e.edge, 0.25 * e.length, self.fit, one_span)
+                            .map_err(|err| {
+                                let fan = if one_span {
+                                    " (the edge is a side of a hole a fan of triangular patches \
+                                     fills, whose sides must each be one polynomial piece; a \
+                                     looser tolerance may let one span do)"
+                                } else {
+                                    ""
+                                };
+                                Error::scene(
+                                    format!("face {k}"),
+                                    format!("a {}: loop {l}, edge {j}: {err}{fan}", self.kinds[k]),
+                                )
+                            })?,
+                    };
+                    self.faces.push(s.surface);
+                    self.kinds.push("strip");
+                    self.stand_ins.push(Some((s.position, s.angle)));
+                    self.one_span.push([false; 2]);
+                    self.options.rational_faces.push(None);
+                    edges.push(Some(e.edge.clone()));
+                    self.strips.push(StripOf {
+                        face: k,
+                        loop_index: l,
+                        edge: j,
+                    });
+                }
+            }
+        }
+        self.options.edge_faces = if self.strips.is_empty() {
+            Vec::new()
+        } else {
+            edges
+        };
         Ok(())
+    }
+
+    /// The file's faces followed by the fills (a fan as its patches), for
+    /// the STEP writer: a rational face as that, a trimmed one as its
+    /// surface bounded by its loops, each edge the side V0 of its strip
+    /// (within [`Self::fit`] of the edge; the fills along it share it).
+    pub fn surfaces(&self, fills: &[HoleFill]) -> Vec<CadSurface> {
+        let n = self.file_faces();
+        let mut out = fill_surfaces(&self.faces[..n], &self.options.rational_faces[..n], fills);
+        for (k, t) in self.trimmed.iter().enumerate() {
+            let Some((surface, loops)) = t else { continue };
+            let mut cad = match surface {
+                FaceSurface::Polynomial(p) => CadSurface::from(p),
+                FaceSurface::Rational(r) => CadSurface::from(r),
+            };
+            cad.loops = loops
+                .iter()
+                .enumerate()
+                .map(|(l, edges)| {
+                    (0..edges.len())
+                        .map(|j| {
+                            let s = self
+                                .strips
+                                .iter()
+                                .position(|s| {
+                                    *s == StripOf {
+                                        face: k,
+                                        loop_index: l,
+                                        edge: j,
+                                    }
+                                })
+                                .expect("a strip per edge");
+                            let strip = &self.faces[n + s];
+                            let (cu, _) = strip.counts();
+                            CadCurve {
+                                degree: strip.degree().0,
+                                knots: strip.knots().0.knots().to_vec(),
+                                points: (0..cu).map(|i| strip.point(i, 0)).collect(),
+                            }
+                        })
+                        .collect()
+                })
+                .collect();
+            out[k] = cad;
+        }
+        out
     }
 
     /// The holes to fill ([`HoleChoice::of`]: `asked`, else the input's
@@ -387,6 +569,7 @@ impl FillInput {
     /// it is exact, and not refitted). Errors name the face.
     pub fn one_span_sides(&mut self, choice: &HoleChoice) -> Result<Vec<usize>> {
         let mut one_span: Vec<[bool; 2]> = vec![[false; 2]; self.faces.len()];
+        let mut strips: Vec<usize> = Vec::new();
         for &h in &choice.chosen {
             let hole = &choice.holes[h];
             if fairsurf::fill::is_four_sided(&self.faces, hole) {
@@ -394,6 +577,10 @@ impl FillInput {
             }
             for side in &hole.sides {
                 let k = side.face;
+                if let Some(s) = k.checked_sub(self.file_faces()) {
+                    strips.push(s);
+                    continue;
+                }
                 if self.options.rational(k).is_none() {
                     continue;
                 }
@@ -407,7 +594,28 @@ impl FillInput {
             }
         }
         let mut refitted = Vec::new();
-        for (k, flags) in one_span.into_iter().enumerate() {
+        // Strips along fans' sides, one span each (their indices in
+        // `faces` stay).
+        let n = self.file_faces();
+        self.strip_one_span.resize(self.strips.len(), false);
+        let more: Vec<usize> = strips
+            .into_iter()
+            .filter(|&s| !self.strip_one_span[s])
+            .collect();
+        if !more.is_empty() {
+            for &s in &more {
+                self.strip_one_span[s] = true;
+            }
+            let before: Vec<BSplineSurface> =
+                more.iter().map(|&s| self.faces[n + s].clone()).collect();
+            self.build_strips()?;
+            for (s, b) in more.into_iter().zip(before) {
+                if self.faces[n + s] != b {
+                    refitted.push(n + s);
+                }
+            }
+        }
+        for (k, flags) in one_span.into_iter().enumerate().take(n) {
             let flags = [
                 flags[0] || self.one_span[k][0],
                 flags[1] || self.one_span[k][1],
@@ -435,10 +643,74 @@ impl FillInput {
         sew_tolerance(&self.faces, &self.stand_ins)
     }
 
+    /// The faces to picture and mesh: the file's, but trimmed ones (their
+    /// surfaces run beyond their loops).
+    pub fn pictured_faces(&self) -> Vec<&BSplineSurface> {
+        (0..self.file_faces())
+            .filter(|&k| self.trimmed[k].is_none())
+            .map(|k| &self.faces[k])
+            .collect()
+    }
+
     /// The rational faces and their stand-ins, as JSON: face, kind, and the
     /// stand-in's largest gap and angle along the face's sides.
+    /// A strip's entry also names its trimmed face, loop and edge
+    /// (`"of_face"`, `"loop"`, `"edge"`).
     pub fn stand_ins_json(&self) -> Value {
-        stand_ins_json(&self.kinds, &self.stand_ins)
+        let mut out = stand_ins_json(&self.kinds, &self.stand_ins);
+        let n = self.file_faces();
+        for entry in out.as_array_mut().into_iter().flatten() {
+            let k = entry["face"].as_u64().unwrap_or(0) as usize;
+            if let Some(s) = k.checked_sub(n).and_then(|s| self.strips.get(s)) {
+                entry["of_face"] = json!(s.face);
+                entry["loop"] = json!(s.loop_index);
+                entry["edge"] = json!(s.edge);
+            }
+        }
+        out
+    }
+
+    /// The `--list` table ([`HoleChoice::list_json`]) with each hole's
+    /// faces the file's (a strip's: its trimmed face).
+    pub fn list_json(&self, choice: &HoleChoice) -> Value {
+        let mut out = choice.list_json();
+        for hole in out.as_array_mut().into_iter().flatten() {
+            let mut faces: Vec<usize> = Vec::new();
+            for f in hole["faces"].as_array().into_iter().flatten() {
+                let k = self.face_of(f.as_u64().unwrap_or(0) as usize);
+                if !faces.contains(&k) {
+                    faces.push(k);
+                }
+            }
+            hole["faces"] = json!(faces);
+        }
+        out
+    }
+
+    /// [`fill_report_json`] of fills of this input (`faces`: the file's),
+    /// a side along a strip naming the trimmed face (`"face"`), and the
+    /// strip (`"strip"`: index in `faces`, loop, edge); a hole's faces
+    /// are the file's.
+    pub fn report_json(
+        &self,
+        choice: &HoleChoice,
+        fills: &[HoleFill],
+        tolerance: FitTolerance,
+    ) -> Value {
+        let mut out = fill_report_json(self.file_faces(), choice, fills, tolerance);
+        let n = self.file_faces();
+        out["holes"] = self.list_json(choice);
+        for fill in out["fills"].as_array_mut().into_iter().flatten() {
+            for side in fill["sides"].as_array_mut().into_iter().flatten() {
+                let k = side["face"].as_u64().unwrap_or(0) as usize;
+                if let Some(s) = k.checked_sub(n).and_then(|s| self.strips.get(s)) {
+                    side["face"] = json!(s.face);
+                    side["edge"] = json!(format!("loop {} edge {}", s.loop_index, s.edge));
+                    side["strip"] = json!(k);
+                }
+            }
+        }
+        out
     }
 }
 

@@ -34,7 +34,9 @@ impl HoleChoice {
     /// `examples/cad/rounded_box.step`: fans of twelve patches, 1.2 s a
     /// corner against 35 ms).
     pub fn of(input: &FillInput, asked: Option<&[usize]>) -> Result<HoleChoice> {
-        Self::within(&input.faces, asked, input.hole_tolerance())
+        Self::where_(&input.faces, asked, input.hole_tolerance(), |k, e| {
+            input.is_boundary(k, e)
+        })
     }
 
     /// [`new`](Self::new) with boundary points within `tol` taken as one.
@@ -43,7 +45,18 @@ impl HoleChoice {
         asked: Option<&[usize]>,
         tol: f64,
     ) -> Result<HoleChoice> {
-        let holes = find_holes_within(faces, tol)?;
+        Self::where_(faces, asked, tol, |_, _| true)
+    }
+
+    /// [`within`](Self::within) over the boundaries that are edges of the
+    /// model ([`fairsurf::fill::find_holes_where`]).
+    fn where_(
+        faces: &[BSplineSurface],
+        asked: Option<&[usize]>,
+        tol: f64,
+        is_boundary: impl Fn(usize, Edge) -> bool,
+    ) -> Result<HoleChoice> {
+        let holes = find_holes_where(faces, tol, is_boundary)?;
         if holes.is_empty() {
             return Err(Error::Solve(fairsurf::Error::Fill {
                 why: "there is no hole: every face boundary is shared by two faces".into(),

@@ -94,6 +94,9 @@ impl Data {
                 ))
             }
         };
+        if !s.loops.is_empty() {
+            return self.trimmed_face(s, surface);
+        }
         // Counter-clockwise in (u, v): v = 0 and u = 1 along their parameter,
         // v = 1 and u = 0 against it. Each side: (i, j) in parameter order,
         // with the knots of its direction.
@@ -142,6 +145,46 @@ impl Data {
         };
         let outer = self.add(format!("FACE_OUTER_BOUND('',#{bound},.T.)"));
         self.add(format!("ADVANCED_FACE('',(#{outer}),#{surface},.T.)"))
+    }
+
+    /// The ADVANCED_FACE of a trimmed surface (its SURFACE entity
+    /// `surface` written): its loops' curves as edges, shared as sides
+    /// are ([`Self::edges_along`]), the first loop the outer bound.
+    fn trimmed_face(&mut self, s: &CadSurface, surface: usize) -> usize {
+        let mut bounds = Vec::with_capacity(s.loops.len());
+        for (k, l) in s.loops.iter().enumerate() {
+            let mut oriented = Vec::new();
+            for c in l {
+                let ids: Vec<usize> = c
+                    .points
+                    .iter()
+                    .map(|&p| self.add(format!("CARTESIAN_POINT('',{})", coords(p))))
+                    .collect();
+                let (knots, mults) = crate::cad::distinct(&c.knots);
+                let curve = SideCurve {
+                    d: c.degree,
+                    knots: &knots,
+                    mults: &mults,
+                    full: &c.knots,
+                    weights: None,
+                };
+                for (edge, same) in self.edges_along(&c.points, &ids, &curve) {
+                    let sense = if same { ".T." } else { ".F." };
+                    oriented.push(self.add(format!("ORIENTED_EDGE('',*,*,#{edge},{sense})")));
+                }
+            }
+            let edges = self.add(format!("EDGE_LOOP('',({}))", refs(&oriented)));
+            let bound = if k == 0 {
+                "FACE_OUTER_BOUND"
+            } else {
+                "FACE_BOUND"
+            };
+            bounds.push(self.add(format!("{bound}('',#{edges},.T.)")));
+        }
+        self.add(format!(
+            "ADVANCED_FACE('',({}),#{surface},.T.)",
+            refs(&bounds)
+        ))
     }
 
     /// The EDGE_CURVEs along one side (in its parameter order, each with

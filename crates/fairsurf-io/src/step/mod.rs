@@ -102,10 +102,22 @@ fn step_text_within(file_name: &str, patches: &[CadSurface], tol: f64) -> String
     let mut seen = std::collections::HashSet::new();
     for p in patches {
         let (cu, cv) = p.counts;
-        for (i, j) in [(0, 0), (cu - 1, 0), (0, cv - 1), (cu - 1, cv - 1)] {
-            let c = p.point(i, j);
-            if seen.insert(bits(c)) {
-                d.corners.push(c);
+        // A trimmed face's corners are its loops' curves' ends.
+        let ends: Vec<Vec3> = p
+            .loops
+            .iter()
+            .flatten()
+            .flat_map(|c| [c.points[0], c.points[c.points.len() - 1]])
+            .collect();
+        let corners =
+            [(0, 0), (cu - 1, 0), (0, cv - 1), (cu - 1, cv - 1)].map(|(i, j)| p.point(i, j));
+        for c in if p.loops.is_empty() {
+            &corners[..]
+        } else {
+            &ends[..]
+        } {
+            if seen.insert(bits(*c)) {
+                d.corners.push(*c);
             }
         }
     }

@@ -4,6 +4,7 @@
 use super::*;
 
 /// An edge of a face's loop, as the loop runs.
+#[derive(Clone)]
 pub(super) struct LoopEdge {
     pub(super) curve: Curve3D,
     /// The curve's parameters at the loop's start and end of the edge; on

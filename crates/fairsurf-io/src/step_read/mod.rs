@@ -24,9 +24,12 @@ mod analytic;
 mod edges;
 mod lex;
 mod spline;
+mod trimmed;
 use analytic::*;
 use edges::*;
 use spline::*;
+pub use trimmed::TrimEdge;
+use trimmed::*;
 #[cfg(test)]
 mod tests;
 
@@ -47,14 +50,30 @@ pub enum FaceSurface {
     Rational(RationalSurface),
 }
 
-/// A face of a STEP file bounded by four sides of its surface.
+impl FaceSurface {
+    /// The control net: the polynomial surface, or the rational one's
+    /// points without their weights.
+    pub fn net(&self) -> &BSplineSurface {
+        net(self)
+    }
+}
+
+/// A face of a STEP file: bounded by four sides of its surface, or a
+/// trimmed one (`loops`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct StepFace {
     /// What the file's surface is: "B-spline", "rational B-spline",
-    /// "plane", "cylinder", "cone", "sphere" or "torus".
+    /// "plane", "cylinder", "cone", "sphere" or "torus"; "trimmed
+    /// B-spline", "trimmed rational B-spline" or "trimmed plane".
     pub kind: &'static str,
-    /// The surface, whose four sides are the face's boundary.
+    /// The surface, whose four sides are the face's boundary; of a trimmed
+    /// face the file's surface (a plane: a bilinear patch around the
+    /// loops).
     pub surface: FaceSurface,
+    /// A trimmed face's loops (the outer one first as the file lists
+    /// them), each edge as it runs; empty for a face bounded by four
+    /// sides of its surface.
+    pub loops: Vec<Vec<TrimEdge>>,
 }
 
 impl StepFace {
@@ -151,15 +170,104 @@ pub fn read_step(text: &str) -> Result<Vec<StepFace>> {
                 ),
             ));
         }
+        let mut read = Vec::with_capacity(compressed.faces.len());
         for (k, face) in compressed.faces.iter().enumerate() {
             let path = format!("#{id} face {k}");
             let f = guarded(|| step_face(face, &compressed))
                 .unwrap_or_else(|e| Err(format!("the face's geometry could not be evaluated: {e}")))
                 .map_err(|m| bad(&path, m))?;
-            faces.push(f);
+            read.push(f);
         }
+        faces.extend(with_free_edges(&compressed, read));
     }
     Ok(faces)
+}
+
+/// A face read ([`step_face`]), a trimmed one with its edges' frames.
+struct Read {
+    face: StepFace,
+    frames: Vec<Vec<Frames>>,
+}
+
+/// The faces of a shell with their trimmed loops' edges: free where no
+/// other face of the shell uses the edge, with the directions their strips
+/// leave their ends by where one other free edge meets each end.
+fn with_free_edges(shell: &Shell, read: Vec<Read>) -> Vec<StepFace> {
+    let mut uses = vec![0usize; shell.edges.len()];
+    for f in &shell.faces {
+        for e in f.boundaries.iter().flatten() {
+            if let Some(u) = uses.get_mut(e.index) {
+                *u += 1;
+            }
+        }
+    }
+    let free = |e: &CompressedEdgeIndex| uses.get(e.index) == Some(&1);
+    // Every free edge's end vertices and the directions it leaves them by
+    // (trimmed faces' edges only: a four-sided face's free side is a
+    // neighbour's side, its own direction there as its loop runs).
+    let mut leaving: Vec<(Vec3, usize, Vec3)> = Vec::new();
+    for (f, r) in shell.faces.iter().zip(&read) {
+        for (k, l) in f.boundaries.iter().enumerate() {
+            for (j, e) in l.iter().enumerate() {
+                if !free(e) {
+                    continue;
+                }
+                let edge = match r.frames.get(k).and_then(|l| l.get(j)) {
+                    Some(fr) => (fr.start(), fr.end(), fr.leaving(true), fr.leaving(false)),
+                    None => match LoopEdge::new(shell, *e) {
+                        Ok(le) => {
+                            let (d0, d1) = (le.at(0.0).1, le.at(1.0).1);
+                            (le.start, le.end, d0, [-d1[0], -d1[1], -d1[2]])
+                        }
+                        Err(_) => continue,
+                    },
+                };
+                leaving.push((edge.0, e.index, edge.2));
+                leaving.push((edge.1, e.index, edge.3));
+            }
+        }
+    }
+    let size =
+        fairsurf::vector::bounding_diagonal(&leaving.iter().map(|l| l.0).collect::<Vec<_>>());
+    let tol = (1e-8 * size).max(EDGE_TOLERANCE);
+    // The one other free edge at p, continued through it.
+    let beyond = |p: Vec3, index: usize| {
+        let mut others = leaving
+            .iter()
+            .filter(|l| l.1 != index && dist(l.0, p) <= tol);
+        match (others.next(), others.next()) {
+            (Some(l), None) => Some([-l.2[0], -l.2[1], -l.2[2]]),
+            _ => None,
+        }
+    };
+    shell
+        .faces
+        .iter()
+        .zip(read)
+        .map(|(f, r)| {
+            let mut face = r.face;
+            face.loops = r
+                .frames
+                .into_iter()
+                .zip(&f.boundaries)
+                .map(|(l, b)| {
+                    l.into_iter()
+                        .zip(b)
+                        .map(|(fr, e)| {
+                            let is_free = free(e);
+                            let ends = if is_free {
+                                beyond(fr.start(), e.index).zip(beyond(fr.end(), e.index))
+                            } else {
+                                None
+                            };
+                            fr.into_edge(is_free, ends.map(|(a, b)| [a, b]))
+                        })
+                        .collect()
+                })
+                .collect();
+            face
+        })
+        .collect()
 }
 
 thread_local! {
@@ -323,29 +431,67 @@ fn dist(a: Vec3, b: Vec3) -> f64 {
 }
 
 /// One face as a polynomial or rational B-spline bounded by its four
-/// sides, or why not.
-fn step_face(face: &Face, shell: &Shell) -> std::result::Result<StepFace, String> {
-    if face.boundaries.len() != 1 {
-        return Err(format!(
-            "the face has {} boundary loops: faces with holes in them are not filled around yet",
-            face.boundaries.len()
+/// sides, or a trimmed B-spline or plane face (with its edges' frames), or
+/// why not.
+fn step_face(face: &Face, shell: &Shell) -> std::result::Result<Read, String> {
+    let loops: Vec<Vec<LoopEdge>> = face
+        .boundaries
+        .iter()
+        .map(|b| {
+            b.iter()
+                .map(|e| LoopEdge::new(shell, *e))
+                .collect::<std::result::Result<Vec<_>, String>>()
+        })
+        .collect::<std::result::Result<_, String>>()?;
+    let trimmable = match &face.surface {
+        StepSurface::BSplineSurface(_) | StepSurface::NurbsSurface(_) => true,
+        StepSurface::ElementarySurface(e) => matches!(e.as_ref(), ElementarySurface::Plane(_)),
+        _ => false,
+    };
+    let as_trimmed = |four: String| -> std::result::Result<Read, String> {
+        if !trimmable {
+            return Err(four);
+        }
+        let (kind, surface, frames) = trimmed(face, &loops)?;
+        Ok(Read {
+            face: StepFace {
+                kind,
+                surface,
+                loops: Vec::new(),
+            },
+            frames,
+        })
+    };
+    if loops.len() != 1 {
+        return as_trimmed(format!(
+            "the face has {} boundary loops: faces with holes in them are filled around only \
+             when B-spline or plane faces",
+            loops.len()
         ));
     }
-    let edges: Vec<LoopEdge> = face.boundaries[0]
-        .iter()
-        .map(|e| LoopEdge::new(shell, *e))
-        .collect::<std::result::Result<_, String>>()?;
+    match four_sided(face, &loops[0]) {
+        Ok(f) => Ok(Read {
+            face: f,
+            frames: Vec::new(),
+        }),
+        Err(why) => as_trimmed(why),
+    }
+}
+
+/// One face bounded by the four sides of its surface as a polynomial or
+/// rational B-spline, or why not.
+fn four_sided(face: &Face, edges: &[LoopEdge]) -> std::result::Result<StepFace, String> {
     let (kind, surface) = match &face.surface {
         StepSurface::BSplineSurface(_) | StepSurface::NurbsSurface(_) => {
             let (kind, surface) = spline(&face.surface)?;
-            (kind, restricted(surface, &edges)?)
+            (kind, restricted(surface, edges)?)
         }
         StepSurface::ElementarySurface(e) => match e.as_ref() {
-            ElementarySurface::Plane(_) => ("plane", plane(&edges)?),
-            ElementarySurface::CylindricalSurface(_) => ("cylinder", ruled(&edges)?),
-            ElementarySurface::ConicalSurface(_) => ("cone", ruled(&edges)?),
-            ElementarySurface::Sphere(_) => ("sphere", revolved(&edges, "sphere")?),
-            ElementarySurface::ToroidalSurface(_) => ("torus", revolved(&edges, "torus")?),
+            ElementarySurface::Plane(_) => ("plane", plane(edges)?),
+            ElementarySurface::CylindricalSurface(_) => ("cylinder", ruled(edges)?),
+            ElementarySurface::ConicalSurface(_) => ("cone", ruled(edges)?),
+            ElementarySurface::Sphere(_) => ("sphere", revolved(edges, "sphere")?),
+            ElementarySurface::ToroidalSurface(_) => ("torus", revolved(edges, "torus")?),
         },
         StepSurface::SweptCurve(_) => {
             return Err("a swept surface (extrusion or revolution): not filled around yet".into())
@@ -354,6 +500,10 @@ fn step_face(face: &Face, shell: &Shell) -> std::result::Result<StepFace, String
     // A B-spline face is the file's surface itself; a converted one is
     // checked against it.
     let converted = !matches!(kind, "B-spline" | "rational B-spline");
-    let surface = oriented_like(surface, face, &edges, converted)?;
-    Ok(StepFace { kind, surface })
+    let surface = oriented_like(surface, face, edges, converted)?;
+    Ok(StepFace {
+        kind,
+        surface,
+        loops: Vec::new(),
+    })
 }

@@ -465,42 +465,7 @@ pub(super) fn oriented_like(
     };
     let ours = fairsurf::vector::cross(der.du, der.dv);
     let file = &face.surface;
-    // The file's nearest point: its own search, then Newton steps on
-    // (S − p)·S_u = (S − p)·S_v = 0 to rounding.
-    let on = |p: Vec3| -> Option<((f64, f64), f64)> {
-        let q = Point3::new(p[0], p[1], p[2]);
-        let found = SearchNearestParameter::<D2>::search_nearest_parameter(file, q, None, 100)
-            .filter(|uv| uv.0.is_finite() && uv.1.is_finite());
-        // Where truck's own search fails (its sphere's at the seam: NaN),
-        // the nearest of a 33 × 33 grid of a bounded parameter range.
-        let uv = match (found, file.try_range_tuple()) {
-            (Some(uv), _) => uv,
-            (None, (Some((u0, u1)), Some((v0, v1)))) => (0..=32)
-                .flat_map(|i| (0..=32).map(move |j| (i, j)))
-                .map(|(i, j)| {
-                    (
-                        u0 + (u1 - u0) * i as f64 / 32.0,
-                        v0 + (v1 - v0) * j as f64 / 32.0,
-                    )
-                })
-                .min_by(|x, y| {
-                    dist(v3(file.subs(x.0, x.1)), p).total_cmp(&dist(v3(file.subs(y.0, y.1)), p))
-                })?,
-            (None, _) => return None,
-        };
-        let w = |x: Vector3| [x.x, x.y, x.z];
-        let derivatives = |u: f64, v: f64| fairsurf::SurfaceDerivatives {
-            point: v3(file.subs(u, v)),
-            du: w(file.uder(u, v)),
-            dv: w(file.vder(u, v)),
-            duu: w(file.uuder(u, v)),
-            duv: w(file.uvder(u, v)),
-            dvv: w(file.vvder(u, v)),
-        };
-        let unbounded = ((f64::MIN, f64::MAX), (f64::MIN, f64::MAX));
-        let start = dist(v3(file.subs(uv.0, uv.1)), p);
-        Some(foot(&derivatives, p, uv, start, unbounded))
-    };
+    let on = |p: Vec3| file_foot(file, p, None);
     // Points of the converted surface lie on the file's.
     for i in 0..=4 {
         for j in 0..=4 {

@@ -83,33 +83,49 @@ const MAX_PIECES: usize = 512;
 const FIRST_DEGREE: usize = 5;
 
 /// The strip stand-in of `edge` (module doc): degree (d, 1) on [0, 1]²,
-/// its side V0 the edge; `width` the length of T's multiple w. One
-/// Bézier span along the edge when a degree from 5 to [`ONE_SPAN_DEGREE`]
-/// meets `tolerance` (a fan of triangular patches needs each side one
-/// polynomial piece), else degree 5 on equal pieces, their number doubled
-/// until it does — interpolating the edge's points and inward directions
-/// at the Greville abscissae, measured at Chebyshev–Lobatto parameters on
-/// every span (at least 9 each, about 129 in all): the largest distance
-/// to the edge's point at the same parameter and the largest angle
-/// between the strip's normal and the face's. Errors when 512 pieces are
-/// not enough, or the edge has no tangent or normal somewhere.
-pub fn strip_stand_in(edge: &TrueEdge, width: f64, tolerance: FitTolerance) -> Result<StandIn> {
-    fit(edge, None, width, tolerance)
+/// its side V0 the edge, T across it at right angles, `width` long.
+/// Degree 5 on equal pieces, their number doubled from one until the
+/// strip is within `tolerance`; with `one_span` (a fan of triangular
+/// patches needs each side one polynomial piece) one Bézier span of
+/// degree 5 to [`ONE_SPAN_DEGREE`] instead. Interpolates the edge's points and
+/// inward directions at Chebyshev–Lobatto nodes (one span) or the
+/// Greville abscissae; measured at Chebyshev–Lobatto parameters on every
+/// span (at least 9 each, about 129 in all) and at the 129 a fill's side
+/// is measured at ([`crate::fill::SIDE_SAMPLES`]): the largest distance to
+/// the edge's point at the same parameter and the largest angle between
+/// the strip's normal and the face's. Errors when 512 pieces (one span of
+/// degree 15) are not enough, or the edge has no tangent or normal
+/// somewhere.
+pub fn strip_stand_in(
+    edge: &TrueEdge,
+    width: f64,
+    tolerance: FitTolerance,
+    one_span: bool,
+) -> Result<StandIn> {
+    if !(width.is_finite() && width > 0.0) {
+        return Err(Error::Fill {
+            why: format!("a strip stand-in needs a positive width, not {width}"),
+        });
+    }
+    fit(edge, Across::Right(width), tolerance, one_span)
 }
 
-/// [`strip_stand_in`] with T leaving the edge's ends along `ends` (at
-/// t = 0 and t = 1; projected into the face's tangent plane there, each
-/// pointing into the face): along the edge T is turned from the edge's
-/// tangent by an angle that runs linearly from one end's to the other's.
-/// Errors when an end's direction does not point into the face (within
-/// 0.1° of the edge's tangent line, or across to the other side).
+/// [`strip_stand_in`] with S_v leaving the edge's ends as `ends` (at t = 0
+/// and t = 1; projected into the face's tangent plane there, each pointing
+/// into the face): along the edge T is turned from the edge's tangent by
+/// an angle, and is as long as a length, that run linearly from one end's
+/// to the other's. A fill's corner takes the cross derivative of one side
+/// as the derivative of the next: a strip whose ends leave as the next
+/// sides of its hole do lets a patch's corners agree. Errors when an end
+/// does not point into the face (within 0.1° of the edge's tangent line,
+/// or across to the other side).
 pub fn strip_stand_in_towards(
     edge: &TrueEdge,
     ends: [Vec3; 2],
-    width: f64,
     tolerance: FitTolerance,
+    one_span: bool,
 ) -> Result<StandIn> {
-    let mut turn = [0.0; 2];
+    let mut turn = [(0.0, 0.0); 2];
     for (k, (e, t)) in ends.iter().zip([0.0, 1.0]).enumerate() {
         let f = edge.frame(t);
         let (along, across) = axes(&f).ok_or_else(|| no_frame(t))?;
@@ -119,45 +135,47 @@ pub fn strip_stand_in_towards(
         if !(b.is_finite() && b >= least && b <= std::f64::consts::PI - least) {
             return Err(Error::Fill {
                 why: format!(
-                    "a trimmed face's edge would leave its {} end along {e:?}, which does not                      point into the face (at {:.3}° from the edge's tangent)",
+                    "a trimmed face's edge would leave its {} end along {e:?}, which does not \
+                     point into the face (at {:.3}° from the edge's tangent)",
                     ["first", "last"][k],
                     b.to_degrees()
                 ),
             });
         }
-        turn[k] = b;
+        turn[k] = (b, x.hypot(y));
     }
-    fit(edge, Some(turn), width, tolerance)
+    fit(edge, Across::Towards(turn), tolerance, one_span)
 }
 
-/// The strip, T turned by angles running linearly from `turn[0]` to
-/// `turn[1]` from the edge's tangent, or n × c′ without them.
+/// How a strip's T runs: across the edge at right angles, this long; or
+/// turned from the edge's tangent by an angle and as long as a length
+/// that run linearly from the first end's (angle, length) to the last's.
+#[derive(Clone, Copy)]
+enum Across {
+    Right(f64),
+    Towards([(f64, f64); 2]),
+}
+
+/// The strip (see [`strip_stand_in`]).
 fn fit(
     edge: &TrueEdge,
-    turn: Option<[f64; 2]>,
-    width: f64,
+    across: Across,
     tolerance: FitTolerance,
+    one_span: bool,
 ) -> Result<StandIn> {
-    if !(width.is_finite() && width > 0.0) {
-        return Err(Error::Fill {
-            why: format!("a strip stand-in needs a positive width, not {width}"),
-        });
-    }
     let mut best: Option<(f64, f64, String)> = None;
-    let one_span = (FIRST_DEGREE..=ONE_SPAN_DEGREE).map(KnotVector::bezier);
-    let pieces = std::iter::successors(Some(2usize), |n| (*n < MAX_PIECES).then_some(n * 2))
+    let one = (FIRST_DEGREE..=ONE_SPAN_DEGREE)
+        .filter(|_| one_span)
+        .map(KnotVector::bezier);
+    let pieces = std::iter::successors(Some(1usize), |n| (*n < MAX_PIECES).then_some(n * 2))
+        .filter(|_| !one_span)
         .map(|n| KnotVector::uniform(FIRST_DEGREE, n));
-    for (knots, what) in one_span
-        .map(|k| {
-            let d = k.degree();
-            (k, format!("one span of degree {d}"))
-        })
-        .chain(pieces.map(|k| {
-            let n = k.spans().len();
-            (k, format!("{n} pieces of degree {FIRST_DEGREE}"))
-        }))
-    {
-        let surface = interpolate(edge, turn, width, knots)?;
+    for knots in one.chain(pieces) {
+        let what = match knots.spans().len() {
+            1 => format!("one span of degree {}", knots.degree()),
+            n => format!("{n} pieces of degree {FIRST_DEGREE}"),
+        };
+        let surface = interpolate(edge, across, knots)?;
         let (position, angle) = deviation(edge, &surface)?;
         if position <= tolerance.position && angle <= tolerance.angle {
             return Ok(StandIn {
@@ -192,25 +210,32 @@ fn axes(f: &EdgeFrame) -> Option<(Vec3, Vec3)> {
     (n > 1e-300 && n.is_finite() && m > 0.5).then(|| (scale(along, 1.0 / m), across))
 }
 
-/// The strip on `knots` × Bézier(1) through the edge's points and
-/// `width` times its inward directions at the Greville abscissae.
-fn interpolate(
-    edge: &TrueEdge,
-    turn: Option<[f64; 2]>,
-    width: f64,
-    knots: KnotVector,
-) -> Result<BSplineSurface> {
-    let g = knots.greville();
+/// The strip on `knots` × Bézier(1) through the edge's points and its
+/// T (`across`) at the interpolation nodes.
+fn interpolate(edge: &TrueEdge, across: Across, knots: KnotVector) -> Result<BSplineSurface> {
+    // One span: Chebyshev–Lobatto nodes (near-best polynomial
+    // interpolation; equally spaced Greville abscissae of a high degree
+    // amplify the edge's own approximation error, Runge); several spans:
+    // the Greville abscissae.
+    let g = if knots.spans().len() == 1 {
+        let d = knots.degree();
+        (0..=d)
+            .map(|i| 0.5 - 0.5 * (std::f64::consts::PI * i as f64 / d as f64).cos())
+            .collect()
+    } else {
+        knots.greville()
+    };
     let n = g.len();
     let mut data = Vec::with_capacity(6 * n);
     for &t in &g {
         let f = edge.frame(t);
-        let (along, across) = axes(&f).ok_or_else(|| no_frame(t))?;
-        let d = match turn {
-            None => across,
-            Some([a, b]) => {
+        let (along, right) = axes(&f).ok_or_else(|| no_frame(t))?;
+        let d = match across {
+            Across::Right(width) => scale(right, width),
+            Across::Towards([(a, la), (b, lb)]) => {
                 let (s, c) = (a + (b - a) * t).sin_cos();
-                std::array::from_fn(|k| c * along[k] + s * across[k])
+                let l = la + (lb - la) * t;
+                std::array::from_fn(|k| l * (c * along[k] + s * right[k]))
             }
         };
         data.extend(f.point);
@@ -224,7 +249,7 @@ fn interpolate(
         let c = [x[6 * i], x[6 * i + 1], x[6 * i + 2]];
         let d = [x[6 * i + 3], x[6 * i + 4], x[6 * i + 5]];
         points.push(c);
-        points.push(std::array::from_fn(|k| c[k] + width * d[k]));
+        points.push(std::array::from_fn(|k| c[k] + d[k]));
     }
     BSplineSurface::new(knots, KnotVector::bezier(1), points)
 }
@@ -239,9 +264,11 @@ fn no_frame(t: f64) -> Error {
 }
 
 /// Largest distance and normal angle between the strip's side V0 and the
-/// edge at the same parameters (Chebyshev–Lobatto on every span).
+/// edge at the same parameters (Chebyshev–Lobatto on every span, and
+/// where a fill's side is measured).
 fn deviation(edge: &TrueEdge, s: &BSplineSurface) -> Result<(f64, f64)> {
-    let ts = side_parameters(s.knots().0);
+    let mut ts = side_parameters(s.knots().0);
+    ts.extend(crate::fill::measure_side_parameters());
     let (mut gap, mut ang) = (0.0f64, 0.0f64);
     for (t, d) in ts.iter().zip(s.derivatives_on(&ts, &[0.0])) {
         let f = edge.frame(*t);
@@ -284,7 +311,7 @@ mod tests {
     fn a_strip_meets_its_tolerance_along_the_edge_and_points_into_the_face() {
         let edge = cylinder_cut(0.5, 0.25);
         let tol = FitTolerance::default();
-        let s = strip_stand_in(&edge, 0.3, tol).unwrap();
+        let s = strip_stand_in(&edge, 0.3, tol, true).unwrap();
         assert!(s.position <= tol.position && s.angle <= tol.angle, "{s:?}");
         // A quarter of the ellipse is one span (a fan can take it).
         assert_eq!(s.surface.knots().0.spans().len(), 1);
@@ -311,18 +338,55 @@ mod tests {
     fn a_tighter_tolerance_or_a_longer_edge_takes_more() {
         let tol = FitTolerance::default();
         let degree = |s: &StandIn| s.surface.knots().0.degree();
-        let quarter = strip_stand_in(&cylinder_cut(0.5, 0.25), 0.3, tol).unwrap();
+        let quarter = strip_stand_in(&cylinder_cut(0.5, 0.25), 0.3, tol, true).unwrap();
         let tight = FitTolerance {
             position: 1e-10,
             angle: 1e-8,
         };
-        let fine = strip_stand_in(&cylinder_cut(0.5, 0.25), 0.3, tight).unwrap();
+        let fine = strip_stand_in(&cylinder_cut(0.5, 0.25), 0.3, tight, false).unwrap();
         assert!(fine.position <= 1e-10 && fine.angle <= 1e-8, "{fine:?}");
-        assert!(degree(&fine) > degree(&quarter) || fine.surface.knots().0.spans().len() > 1);
-        // A whole turn is more than one span of degree 15 can hold.
-        let whole = strip_stand_in(&cylinder_cut(0.5, 1.0), 0.3, tol).unwrap();
+        assert!(degree(&fine) < degree(&quarter) && fine.surface.knots().0.spans().len() > 1);
+        // A whole turn is more than one span of degree 15 can hold: in one
+        // span it is refused, in pieces it is not.
+        let e = strip_stand_in(&cylinder_cut(0.5, 1.0), 0.3, tol, true).unwrap_err();
+        assert!(e.to_string().contains("with one span of degree 15"), "{e}");
+        let whole = strip_stand_in(&cylinder_cut(0.5, 1.0), 0.3, tol, false).unwrap();
         assert!(whole.surface.knots().0.spans().len() > 1, "{whole:?}");
         assert!(whole.position <= tol.position && whole.angle <= tol.angle);
+    }
+
+    #[test]
+    fn a_strip_towards_given_ends_leaves_them_as_given_and_without_one_span_takes_pieces() {
+        let edge = cylinder_cut(0.5, 0.25);
+        let tol = FitTolerance::default();
+        // In the cylinder's tangent planes at the ends, into the face
+        // (down), of different lengths, not at right angles to the edge.
+        let (f0, f1) = (edge.frame(0.0), edge.frame(1.0));
+        let (a0, r0) = axes(&f0).unwrap();
+        let (a1, r1) = axes(&f1).unwrap();
+        let e0: Vec3 = std::array::from_fn(|k| 0.4 * (0.5 * a0[k] + r0[k]));
+        let e1: Vec3 = std::array::from_fn(|k| 0.9 * (-0.3 * a1[k] + r1[k]));
+        for one_span in [true, false] {
+            let s = strip_stand_in_towards(&edge, [e0, e1], tol, one_span).unwrap();
+            assert!(s.position <= tol.position && s.angle <= tol.angle, "{s:?}");
+            let spans = s.surface.knots().0.spans().len();
+            assert_eq!(
+                spans == 1 && s.surface.degree().0 > FIRST_DEGREE,
+                one_span,
+                "{spans}"
+            );
+            for (t, e) in [(0.0, e0), (1.0, e1)] {
+                let dv = s.surface.derivatives(t, 0.0).dv;
+                assert!(dist(dv, e) <= 1e-12, "{one_span} {t}: {dv:?} {e:?}");
+            }
+        }
+        // An end pointing out of the face is refused by name.
+        let out: Vec3 = std::array::from_fn(|k| -r1[k]);
+        let e = strip_stand_in_towards(&edge, [e0, out], tol, true).unwrap_err();
+        assert!(
+            e.to_string().contains("does not point into the face"),
+            "{e}"
+        );
     }
 
     #[test]
@@ -333,7 +397,7 @@ mod tests {
             tangent: [2.0, 0.0, 0.0],
             normal: [0.0, 0.0, 1.0],
         });
-        let s = strip_stand_in(&edge, 1.0, FitTolerance::default()).unwrap();
+        let s = strip_stand_in(&edge, 1.0, FitTolerance::default(), true).unwrap();
         assert!(s.position <= 1e-15 && s.angle <= 1e-15, "{s:?}");
         assert_eq!(s.surface.knots().0.degree(), FIRST_DEGREE);
         let p = s.surface.eval(0.5, 1.0);
@@ -348,7 +412,7 @@ mod tests {
             tangent: [1.0, 0.0, 0.0],
             normal: [1.0, 0.0, 0.0],
         });
-        let e = strip_stand_in(&edge, 1.0, FitTolerance::default()).unwrap_err();
+        let e = strip_stand_in(&edge, 1.0, FitTolerance::default(), true).unwrap_err();
         assert!(e.to_string().contains("no tangent across"), "{e}");
         // A kink: a polygon's corner inside the edge is no polynomial.
         let kink = TrueEdge::new(|t| EdgeFrame {
@@ -356,10 +420,10 @@ mod tests {
             tangent: [1.0, (t - 0.3).signum(), 0.0],
             normal: [0.0, 0.0, 1.0],
         });
-        let e = strip_stand_in(&kink, 1.0, FitTolerance::default()).unwrap_err();
+        let e = strip_stand_in(&kink, 1.0, FitTolerance::default(), false).unwrap_err();
         assert!(e.to_string().contains("could not be approximated"), "{e}");
         assert!(e.to_string().contains("512 pieces"), "{e}");
-        assert!(strip_stand_in(&kink, 0.0, FitTolerance::default()).is_err());
-        assert!(strip_stand_in(&kink, f64::NAN, FitTolerance::default()).is_err());
+        assert!(strip_stand_in(&kink, 0.0, FitTolerance::default(), true).is_err());
+        assert!(strip_stand_in(&kink, f64::NAN, FitTolerance::default(), true).is_err());
     }
 }

@@ -84,6 +84,7 @@ pub use holes::{
     edge_point, find_holes, find_holes_where, find_holes_within, surface_param, tolerance, Hole,
     Side,
 };
+pub(crate) use measure::side_parameters as measure_side_parameters;
 pub use measure::{
     largest_angle, side_fit, total_curvature, Exact, SideFit, TotalCurvature, SIDE_SAMPLES,
 };

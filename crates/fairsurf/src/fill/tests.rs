@@ -1647,9 +1647,9 @@ fn sphere_polygon_strips(
         };
         let ends = [beyond(a, vertex(k + 2)), beyond(b, vertex(k + n - 1))];
         let s = if towards {
-            strip_stand_in_towards(&edge, ends, 0.3, FitTolerance::default()).unwrap()
+            strip_stand_in_towards(&edge, ends, FitTolerance::default(), true).unwrap()
         } else {
-            strip_stand_in(&edge, 0.3, FitTolerance::default()).unwrap()
+            strip_stand_in(&edge, 0.3, FitTolerance::default(), true).unwrap()
         };
         faces.push(s.surface);
         edges.push(Some(edge));

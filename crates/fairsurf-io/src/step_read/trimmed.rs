@@ -1,0 +1,252 @@
+//! Trimmed faces: a B-spline or plane face bounded otherwise than by four
+//! sides of its surface, or with holes. Kept as its surface and its loops,
+//! each edge as it is ([`TrimEdge`]: the edge's curve and the face's normal
+//! at its foot points), for fills to meet through strip stand-ins
+//! ([`fairsurf::bspline::strip_stand_in`]).
+
+use super::*;
+use fairsurf::bspline::{EdgeFrame, TrueEdge};
+
+/// An edge of a trimmed face's loop as the loop runs (the face on its left
+/// seen from its normal's side).
+#[derive(Clone, Debug, PartialEq)]
+pub struct TrimEdge {
+    /// The edge's point and tangent and the face's unit normal at
+    /// t ∈ [0, 1] along it.
+    pub edge: TrueEdge,
+    /// Whether the edge is no other face's in the shell: a side of a hole
+    /// (or of an open sheet's rim).
+    pub free: bool,
+    /// For a free edge whose ends each meet one other free edge: the
+    /// directions a strip along it leaves its ends by — the other free
+    /// edge there continued through the vertex, as a four-sided
+    /// neighbour's cross derivative runs along the side it shares with the
+    /// next neighbour ([`fairsurf::bspline::strip_stand_in_towards`]).
+    pub ends: Option<[Vec3; 2]>,
+    /// The length of a polygon through 33 points of the edge.
+    pub length: f64,
+}
+
+/// A trimmed face's surface (the file's B-spline, or a bilinear patch of
+/// the plane around the loops) and its loops, or why not. `loops` are the
+/// face's edges with their shell indices.
+pub(super) fn trimmed(
+    face: &Face,
+    loops: &[Vec<LoopEdge>],
+) -> std::result::Result<(&'static str, FaceSurface, Vec<Vec<Frames>>), String> {
+    let (kind, surface) = match &face.surface {
+        StepSurface::BSplineSurface(_) | StepSurface::NurbsSurface(_) => {
+            let (kind, s) = spline(&face.surface)?;
+            let kind = if kind == "B-spline" {
+                "trimmed B-spline"
+            } else {
+                "trimmed rational B-spline"
+            };
+            (kind, s)
+        }
+        StepSurface::ElementarySurface(e) if matches!(e.as_ref(), ElementarySurface::Plane(_)) => {
+            ("trimmed plane", plane_around(&face.surface, loops)?)
+        }
+        _ => {
+            return Err(
+                "a trimmed face of this kind of surface: only B-spline and plane faces are \
+                 filled around when trimmed so far"
+                    .into(),
+            )
+        }
+    };
+    let all: Vec<LoopEdge> = loops.iter().flatten().cloned().collect();
+    let tol = edge_tolerance(&all);
+    let frames = loops
+        .iter()
+        .map(|l| {
+            l.iter()
+                .map(|e| Frames::new(&face.surface, e, tol))
+                .collect::<std::result::Result<Vec<_>, String>>()
+        })
+        .collect::<std::result::Result<Vec<_>, String>>()?;
+    Ok((kind, surface, frames))
+}
+
+/// A bilinear patch of a plane face's surface around its loops (their
+/// points' bounding rectangle in the plane, 2% wider each way), its normal
+/// the file's.
+fn plane_around(
+    file: &StepSurface,
+    loops: &[Vec<LoopEdge>],
+) -> std::result::Result<FaceSurface, String> {
+    use fairsurf::vector::{add, cross, dot, norm, scale, sub};
+    let points: Vec<Vec3> = loops
+        .iter()
+        .flatten()
+        .flat_map(|e| (0..32).map(move |k| e.at(k as f64 / 32.0).0))
+        .collect();
+    let origin = points[0];
+    let n = file.normal(0.0, 0.0);
+    let n = [n.x, n.y, n.z];
+    // An axis in the plane: the farthest point's direction.
+    let far = points
+        .iter()
+        .map(|p| sub(*p, origin))
+        .map(|d| sub(d, scale(n, dot(d, n))))
+        .max_by(|a, b| norm(*a).total_cmp(&norm(*b)))
+        .filter(|d| norm(*d) > 0.0)
+        .ok_or("a plane face whose loop is one point")?;
+    let e1 = scale(far, 1.0 / norm(far));
+    let e2 = cross(n, e1);
+    let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+    for p in &points {
+        let d = sub(*p, origin);
+        let x = [dot(d, e1), dot(d, e2)];
+        for c in 0..2 {
+            lo[c] = lo[c].min(x[c]);
+            hi[c] = hi[c].max(x[c]);
+        }
+    }
+    let margin = 0.02 * (hi[0] - lo[0]).max(hi[1] - lo[1]);
+    let at = |a: f64, b: f64| add(origin, add(scale(e1, a), scale(e2, b)));
+    let (a0, a1, b0, b1) = (
+        lo[0] - margin,
+        hi[0] + margin,
+        lo[1] - margin,
+        hi[1] + margin,
+    );
+    let net = BSplineSurface::new(
+        KnotVector::bezier(1),
+        KnotVector::bezier(1),
+        vec![at(a0, b0), at(a0, b1), at(a1, b0), at(a1, b1)],
+    )
+    .map_err(|e| e.to_string())?;
+    Ok(FaceSurface::Polynomial(net))
+}
+
+/// Foot points on a file's surface along one edge (33 parameters), where
+/// the edge's frames start their Newton steps.
+#[derive(Clone)]
+pub(super) struct Frames {
+    edge: LoopEdge,
+    surface: StepSurface,
+    hints: Vec<(f64, f64)>,
+}
+
+/// Parameters at which [`Frames`] keeps foot points.
+const HINTS: usize = 32;
+
+impl Frames {
+    fn new(surface: &StepSurface, edge: &LoopEdge, tol: f64) -> std::result::Result<Self, String> {
+        let mut hints = Vec::with_capacity(HINTS + 1);
+        for k in 0..=HINTS {
+            let p = edge.at(k as f64 / HINTS as f64).0;
+            let ((u, v), off) = file_foot(surface, p, hints.last().copied())
+                .ok_or("the file's surface could not be evaluated near an edge of the face")?;
+            if off > tol {
+                return Err(format!(
+                    "an edge of the face is {off:e} off its surface at ({}, {}, {})",
+                    p[0], p[1], p[2]
+                ));
+            }
+            hints.push((u, v));
+        }
+        Ok(Self {
+            edge: edge.clone(),
+            surface: surface.clone(),
+            hints,
+        })
+    }
+
+    /// The edge's point and tangent at s ∈ [0, 1] and the surface's unit
+    /// normal at its foot point.
+    fn frame(&self, s: f64) -> EdgeFrame {
+        let (point, tangent) = self.edge.at(s);
+        let hint = self.hints[((s.clamp(0.0, 1.0) * HINTS as f64).round()) as usize];
+        let (u, v) = file_foot(&self.surface, point, Some(hint)).map_or(hint, |f| f.0);
+        let n = self.surface.normal(u, v);
+        EdgeFrame {
+            point,
+            tangent,
+            normal: [n.x, n.y, n.z],
+        }
+    }
+
+    pub(super) fn start(&self) -> Vec3 {
+        self.edge.start
+    }
+
+    pub(super) fn end(&self) -> Vec3 {
+        self.edge.end
+    }
+
+    /// The direction the edge leaves its start (`at_start`) or end by.
+    pub(super) fn leaving(&self, at_start: bool) -> Vec3 {
+        if at_start {
+            self.edge.at(0.0).1
+        } else {
+            let d = self.edge.at(1.0).1;
+            [-d[0], -d[1], -d[2]]
+        }
+    }
+
+    /// The edge as a [`TrimEdge`] (`free`, `ends` as the shell says).
+    pub(super) fn into_edge(self, free: bool, ends: Option<[Vec3; 2]>) -> TrimEdge {
+        let pts: Vec<Vec3> = (0..=32).map(|k| self.edge.at(k as f64 / 32.0).0).collect();
+        let length = pts.windows(2).map(|w| dist(w[0], w[1])).sum();
+        TrimEdge {
+            edge: TrueEdge::new(move |t| self.frame(t)),
+            free,
+            ends,
+            length,
+        }
+    }
+}
+
+/// The parameters of the point of a file's surface nearest to p, and the
+/// distance: Newton steps on (S − p)·S_u = (S − p)·S_v = 0 from `hint`, or
+/// from the surface's own search (a 33 × 33 grid of a bounded parameter
+/// range where that fails: its sphere's at the seam gives NaN).
+pub(super) fn file_foot(
+    file: &StepSurface,
+    p: Vec3,
+    hint: Option<(f64, f64)>,
+) -> Option<((f64, f64), f64)> {
+    let q = Point3::new(p[0], p[1], p[2]);
+    let uv = match hint {
+        Some(uv) => uv,
+        None => {
+            let found = SearchNearestParameter::<D2>::search_nearest_parameter(file, q, None, 100)
+                .filter(|uv| uv.0.is_finite() && uv.1.is_finite());
+            match (found, file.try_range_tuple()) {
+                (Some(uv), _) => uv,
+                (None, (Some((u0, u1)), Some((v0, v1)))) => (0..=32)
+                    .flat_map(|i| (0..=32).map(move |j| (i, j)))
+                    .map(|(i, j)| {
+                        (
+                            u0 + (u1 - u0) * i as f64 / 32.0,
+                            v0 + (v1 - v0) * j as f64 / 32.0,
+                        )
+                    })
+                    .min_by(|x, y| {
+                        dist(v3(file.subs(x.0, x.1)), p)
+                            .total_cmp(&dist(v3(file.subs(y.0, y.1)), p))
+                    })?,
+                (None, _) => return None,
+            }
+        }
+    };
+    let w = |x: Vector3| [x.x, x.y, x.z];
+    let derivatives = |u: f64, v: f64| fairsurf::SurfaceDerivatives {
+        point: v3(file.subs(u, v)),
+        du: w(file.uder(u, v)),
+        dv: w(file.vder(u, v)),
+        duu: w(file.uuder(u, v)),
+        duv: w(file.uvder(u, v)),
+        dvv: w(file.vvder(u, v)),
+    };
+    let domain = match file.try_range_tuple() {
+        (Some(u), Some(v)) => (u, v),
+        (Some(u), None) => (u, (f64::MIN, f64::MAX)),
+        (None, Some(v)) => ((f64::MIN, f64::MAX), v),
+        (None, None) => ((f64::MIN, f64::MAX), (f64::MIN, f64::MAX)),
+    };
+    let start = dist(v3(file.subs(uv.0, uv.1)), p);
+    Some(foot(&derivatives, p, uv, start, domain))
+}
