@@ -7,8 +7,9 @@ use super::*;
 #[pyclass(module = "fairsurf._fairsurf", frozen, name = "Filled")]
 pub(super) struct PyFilled {
     pub(super) faces: Vec<fairsurf::bspline::BSplineSurface>,
-    /// Per face, the rational surface it stands in for (written as that).
-    pub(super) rational: Vec<Option<std::sync::Arc<fairsurf::bspline::RationalSurface>>>,
+    /// The faces and fills as written (a rational face as that, a trimmed
+    /// one bounded by its loops).
+    pub(super) surfaces: Vec<fairsurf_io::CadSurface>,
     /// Vertices and edges closer than this are shared in the STEP file.
     pub(super) sew_within: f64,
     pub(super) fills: Vec<fairsurf::fill::HoleFill>,
@@ -18,7 +19,9 @@ pub(super) struct PyFilled {
 #[pymethods]
 impl PyFilled {
     /// The input faces (B-spline surfaces; a rational face such as a
-    /// cylinder as its polynomial stand-in, see the report's `stand_ins`).
+    /// cylinder as its polynomial stand-in, see the report's `stand_ins`;
+    /// a trimmed face as its whole surface, which runs beyond its loops —
+    /// `write_step` writes it bounded by them).
     fn faces(&self) -> Vec<PySurface> {
         self.faces
             .iter()
@@ -50,8 +53,7 @@ impl PyFilled {
 
     /// Writes the faces and the fills as one sewn STEP shell.
     fn write_step(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
-        let surfaces = fairsurf_io::fill_surfaces(&self.faces, &self.rational, &self.fills);
-        py.detach(|| fairsurf_io::write_step_sewn(&path, &surfaces, self.sew_within))
+        py.detach(|| fairsurf_io::write_step_sewn(&path, &self.surfaces, self.sew_within))
             .map_err(|e| to_py(py, e))
     }
 }
@@ -103,13 +105,16 @@ pub(super) fn fill(
             options.descent_steps = s;
         }
         let fills = choice.fill(&input.faces, &options)?;
-        let mut report =
-            fairsurf_io::fill_report_json(input.faces.len(), &choice, &fills, input.fit());
+        let mut report = input.report_json(&choice, &fills, input.fit());
         report["stand_ins"] = input.stand_ins_json();
+        let surfaces = input.surfaces(&fills);
+        let (sew_within, n) = (input.hole_tolerance(), input.file_faces());
+        let mut faces = input.faces;
+        faces.truncate(n);
         Ok(PyFilled {
-            sew_within: input.hole_tolerance(),
-            rational: options.rational_faces,
-            faces: input.faces,
+            sew_within,
+            surfaces,
+            faces,
             fills,
             report: report.to_string(),
         })

@@ -18,8 +18,9 @@ pub struct Args {
     /// The faces: a STEP file (.step/.stp, as Open CASCADE, CadQuery or
     /// FreeCAD write them: B-spline and Bézier faces, rational or not,
     /// planes bounded by four straight edges, cylinders and cones bounded
-    /// by two arcs and two rulings) or a JSON fill scene (`fairsurf schema
-    /// --type fill`).
+    /// by two arcs and two rulings; B-spline and plane faces trimmed
+    /// otherwise or with holes, met through strips along their edges) or
+    /// a JSON fill scene (`fairsurf schema --type fill`).
     input: PathBuf,
     /// The STEP file to write: the input faces and the fills, sewn.
     #[arg(short, long, required_unless_present = "list")]

@@ -46,6 +46,8 @@ pub fn write_iges(path: &Path, patches: &[TensorPatch]) -> Result<()> {
 /// Writes B-spline surfaces as [`write_iges`] does: each one entity 128
 /// with K1 = rows − 1, K2 = columns − 1, its degrees, its full knot vectors
 /// and its parameter domain; a rational one with PROP3 = 0 and its weights.
+/// A trimmed face ([`CadSurface::loops`]) is an [`Error::Export`](crate::Error::Export):
+/// only STEP writes it.
 pub fn write_iges_surfaces(path: &Path, surfaces: &[CadSurface]) -> Result<()> {
     if let Some(k) = surfaces.iter().position(|s| !s.loops.is_empty()) {
         return Err(crate::Error::Export {

@@ -67,7 +67,7 @@ pub use operators::{EdgeSpec, OperatorKind, TensorOperatorSpec, TensorPatchSpec}
 pub use result::{construction_report_json, report_json, Outcome, SolvedTensorScene};
 pub use scene::{Scene, SolvedScene, SurfaceType};
 pub use step::{write_step, write_step_sewn, write_step_surfaces};
-pub use step_read::{read_step, read_step_faces, FaceSurface, StepFace, TrimEdge};
+pub use step_read::{read_step, read_step_faces, FaceSurface, StepFace, TrimEdge, TRIM_TOLERANCE};
 pub use surface::{Exported, Surface, OCC_MAX_DEGREE};
 pub use surface_mesh::SurfaceMesh;
 pub use tensor_scene::{

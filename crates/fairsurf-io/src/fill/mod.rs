@@ -506,7 +506,7 @@ impl FillInput {
     /// (within [`Self::fit`] of the edge; the fills along it share it).
     pub fn surfaces(&self, fills: &[HoleFill]) -> Vec<CadSurface> {
         let n = self.file_faces();
-        let mut out = fill_surfaces(&self.faces[..n], &self.options.rational_faces[..n], fills);
+        let mut out = fill_surfaces(&self.faces[..n], &self.options.rational_faces, fills);
         for (k, t) in self.trimmed.iter().enumerate() {
             let Some((surface, loops)) = t else { continue };
             let mut cad = match surface {
@@ -655,7 +655,9 @@ impl FillInput {
     /// The rational faces and their stand-ins, as JSON: face, kind, and the
     /// stand-in's largest gap and angle along the face's sides.
     /// A strip's entry also names its trimmed face, loop and edge
-    /// (`"of_face"`, `"loop"`, `"edge"`).
+    /// (`"of_face"`, `"loop"`, `"edge"`) and how far the file's edge is
+    /// from the face's surface (`"edge_off_surface"`: the strip follows
+    /// the edge).
     pub fn stand_ins_json(&self) -> Value {
         let mut out = stand_ins_json(&self.kinds, &self.stand_ins);
         let n = self.file_faces();
@@ -665,6 +667,9 @@ impl FillInput {
                 entry["of_face"] = json!(s.face);
                 entry["loop"] = json!(s.loop_index);
                 entry["edge"] = json!(s.edge);
+                if let Some((_, loops)) = &self.trimmed[s.face] {
+                    entry["edge_off_surface"] = json!(loops[s.loop_index][s.edge].off_surface);
+                }
             }
         }
         out

@@ -334,7 +334,8 @@ pub fn sides_beyond(fill: &HoleFill, tolerance: FitTolerance) -> Vec<usize> {
 
 /// The input faces followed by the fills (a fan as its patches), for the
 /// CAD writers; a face that stands in for a rational one (`rational`, per
-/// face, as [`FillOptions::rational_faces`]) is written as that.
+/// face, as [`FillOptions::rational_faces`]) is written as that. (A read
+/// input with trimmed faces: [`FillInput::surfaces`].)
 pub fn fill_surfaces(
     faces: &[BSplineSurface],
     rational: &[Option<Arc<RationalSurface>>],

@@ -7,8 +7,10 @@
 //! ([`read_step`]): B-spline and Bézier faces (rational or not), planes
 //! bounded by four straight edges, cylinders and cones bounded by two arcs
 //! and two rulings, spheres and tori bounded by two parallels and two
-//! meridians. Every other face is refused by name, nothing is dropped
-//! silently.
+//! meridians; or a trimmed B-spline or plane face (bounded otherwise, or
+//! with holes) as its surface and its loops' edges ([`TrimEdge`], the
+//! module `trimmed`). Every other face is refused by name, nothing is
+//! dropped silently.
 
 use crate::{Error, Result};
 use fairsurf::bspline::{BSplineSurface, KnotVector, RationalSurface};
@@ -28,8 +30,8 @@ mod trimmed;
 use analytic::*;
 use edges::*;
 use spline::*;
-pub use trimmed::TrimEdge;
 use trimmed::*;
+pub use trimmed::{TrimEdge, TRIM_TOLERANCE};
 #[cfg(test)]
 mod tests;
 
@@ -115,13 +117,18 @@ pub fn read_step_faces(text: &str) -> Result<Vec<BSplineSurface>> {
 /// two rulings (rational quadratic in the arcs' direction, The NURBS Book
 /// §7.5); spheres and tori bounded by two parallels and two meridians (the
 /// rational biquadratic surface of revolution, §8.5) — each conversion
-/// checked against the file's own surface and edges.
+/// checked against the file's own surface and edges. A B-spline or plane
+/// face bounded otherwise, or with holes, is a trimmed face
+/// ([`StepFace::loops`]): its surface (a plane's as a bilinear patch
+/// around its loops) and its loops' edges, each within
+/// [`TRIM_TOLERANCE`] (or 1e-7 of the loops' size) of the surface, free
+/// when no other face of its shell uses it.
 ///
 /// Errors name what is wrong: not STEP (with the parser's message), no
 /// shell, a face of another kind (a swept surface; a sphere or torus
-/// face bounded otherwise), a face
-/// with holes or with a boundary that is not four sides of its surface
-/// (trimmed), a face the reader could not convert.
+/// face bounded otherwise; a trimmed cylinder, cone, sphere or torus), an
+/// edge of a trimmed face off its surface, a face the reader could not
+/// convert.
 pub fn read_step(text: &str) -> Result<Vec<StepFace>> {
     let mut data = lex::first_data_section(text)
         .map_err(|e| {

@@ -286,7 +286,10 @@ fn what_is_not_read_is_said() {
         .collect();
     // (Not four sides of it, so not a trimmed face of it either.)
     let e = read_step(&tilted).unwrap_err().to_string();
-    assert!(e.contains("an edge of the face is") && e.contains("off its surface"), "{e}");
+    assert!(
+        e.contains("an edge of the face is") && e.contains("off its surface"),
+        "{e}"
+    );
 }
 
 /// An edge on a closed curve whose vertices lie on either side of the

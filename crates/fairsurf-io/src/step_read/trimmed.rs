@@ -25,7 +25,15 @@ pub struct TrimEdge {
     pub ends: Option<[Vec3; 2]>,
     /// The length of a polygon through 33 points of the edge.
     pub length: f64,
+    /// The largest distance of 33 points of the edge from the face's
+    /// surface (CAD systems write a trimmed face's edges as curves that
+    /// approximate its boundary: Open CASCADE's BuildCurves3d to 1e-5 by
+    /// default); at most [`TRIM_TOLERANCE`] or 1e-7 of the loops' size.
+    pub off_surface: f64,
 }
+
+/// How far a trimmed face's edges may lie from its surface (at least).
+pub const TRIM_TOLERANCE: f64 = 1e-5;
 
 /// A trimmed face's surface (the file's B-spline, or a bilinear patch of
 /// the plane around the loops) and its loops, or why not. `loops` are the
@@ -55,8 +63,8 @@ pub(super) fn trimmed(
             )
         }
     };
-    let all: Vec<LoopEdge> = loops.iter().flatten().cloned().collect();
-    let tol = edge_tolerance(&all);
+    let all: Vec<Vec3> = loops.iter().flatten().map(|e| e.start).collect();
+    let tol = (1e-7 * fairsurf::vector::bounding_diagonal(&all)).max(TRIM_TOLERANCE);
     let frames = loops
         .iter()
         .map(|l| {
@@ -127,6 +135,8 @@ pub(super) struct Frames {
     edge: LoopEdge,
     surface: StepSurface,
     hints: Vec<(f64, f64)>,
+    /// The largest distance of the points from the surface.
+    off: f64,
 }
 
 /// Parameters at which [`Frames`] keeps foot points.
@@ -135,22 +145,26 @@ const HINTS: usize = 32;
 impl Frames {
     fn new(surface: &StepSurface, edge: &LoopEdge, tol: f64) -> std::result::Result<Self, String> {
         let mut hints = Vec::with_capacity(HINTS + 1);
+        let mut largest = 0.0f64;
         for k in 0..=HINTS {
             let p = edge.at(k as f64 / HINTS as f64).0;
             let ((u, v), off) = file_foot(surface, p, hints.last().copied())
                 .ok_or("the file's surface could not be evaluated near an edge of the face")?;
             if off > tol {
                 return Err(format!(
-                    "an edge of the face is {off:e} off its surface at ({}, {}, {})",
+                    "an edge of the face is {off:e} off its surface at ({}, {}, {}) (a trimmed \
+                     face's edges are taken within {tol:e})",
                     p[0], p[1], p[2]
                 ));
             }
             hints.push((u, v));
+            largest = largest.max(off);
         }
         Ok(Self {
             edge: edge.clone(),
             surface: surface.clone(),
             hints,
+            off: largest,
         })
     }
 
@@ -190,11 +204,13 @@ impl Frames {
     pub(super) fn into_edge(self, free: bool, ends: Option<[Vec3; 2]>) -> TrimEdge {
         let pts: Vec<Vec3> = (0..=32).map(|k| self.edge.at(k as f64 / 32.0).0).collect();
         let length = pts.windows(2).map(|w| dist(w[0], w[1])).sum();
+        let off_surface = self.off;
         TrimEdge {
             edge: TrueEdge::new(move |t| self.frame(t)),
             free,
             ends,
             length,
+            off_surface,
         }
     }
 }
@@ -241,11 +257,15 @@ pub(super) fn file_foot(
         duv: w(file.uvder(u, v)),
         dvv: w(file.vvder(u, v)),
     };
-    let domain = match file.try_range_tuple() {
-        (Some(u), Some(v)) => (u, v),
-        (Some(u), None) => (u, (f64::MIN, f64::MAX)),
-        (None, Some(v)) => ((f64::MIN, f64::MAX), v),
-        (None, None) => ((f64::MIN, f64::MAX), (f64::MIN, f64::MAX)),
+    // A B-spline's parameters stay in its knot domain; an elementary
+    // surface's run on (truck gives a plane the range [0, 1]² "as a
+    // square").
+    let all = (f64::MIN, f64::MAX);
+    let domain = match (file, file.try_range_tuple()) {
+        (StepSurface::BSplineSurface(_) | StepSurface::NurbsSurface(_), (Some(u), Some(v))) => {
+            (u, v)
+        }
+        _ => (all, all),
     };
     let start = dist(v3(file.subs(uv.0, uv.1)), p);
     Some(foot(&derivatives, p, uv, start, domain))
