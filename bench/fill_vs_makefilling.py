@@ -7,7 +7,10 @@ smooth surface, the centre face left out, sewn and written as STEP:
 - bezier: the wavy bi-quintic network of examples/cad/fill_network.json;
 - bspline: a bicubic B-spline sheet with uneven knots (neighbours of several
   spans and different knot vectors);
-- dome: a bi-quintic Bezier patch through a spherical cap (radius 1.5).
+- dome: a bi-quintic Bezier patch through a spherical cap (radius 1.5);
+- fillet: examples/cad/fillet_hole.py (planes and cylinders);
+- trimmed: examples/cad/trimmed_hole.py, the bspline sheet as ONE face with
+  a 4-sided hole whose edges are not isolines (a trimmed face).
 
 MakeFilling (degree 3, 15 points per curve, 2 iterations: its defaults) gets the
 hole's four edges with G1 constraints to their faces, in this process;
@@ -148,6 +151,13 @@ def bezier_holes():
     fillet = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(fillet)
     yield "fillet", fillet.faces()
+    # A trimmed neighbour: examples/cad/trimmed_hole.py's sheet as one face
+    # with a 4-sided hole whose edges are not isolines (fairsurf meets it
+    # through strips along the edges).
+    spec = importlib.util.spec_from_file_location("trimmed", ROOT / "examples/cad/trimmed_hole.py")
+    trimmed = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(trimmed)
+    yield "trimmed", [trimmed.face()]
 
 
 def sew(faces):

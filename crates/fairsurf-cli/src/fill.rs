@@ -39,8 +39,9 @@ pub struct Args {
     json: bool,
     /// Rational faces (cylinders, cones, rational B-splines) are met
     /// through a polynomial stand-in within this distance along their
-    /// sides (at the same parameter); a fill whose measured gap to a
-    /// neighbour is larger is flagged.
+    /// sides (at the same parameter), trimmed faces through strips along
+    /// their edges likewise; a fill whose measured gap to a neighbour is
+    /// larger is flagged.
     #[arg(long, value_name = "DISTANCE", default_value_t = 1e-6)]
     tolerance: f64,
     /// … and within this normal angle, degrees (likewise flagged).

@@ -23,9 +23,9 @@ pub struct CadSurface {
     /// A rational surface's weights, row-major as the points (`None`: a
     /// polynomial one).
     pub weights: Option<Vec<f64>>,
-    /// A trimmed face's loops (the outer one first), each a chain of
-    /// curves that runs with the face on its left seen from the surface's
-    /// normal R_u × R_v; empty: the face is bounded by the surface's four
+    /// A trimmed face's loops, each a chain of curves that runs with the
+    /// face on its left seen from the surface's normal R_u × R_v (written
+    /// as FACE_BOUNDs); empty: the face is bounded by the surface's four
     /// sides.
     pub loops: Vec<Vec<CadCurve>>,
 }

@@ -440,11 +440,27 @@ impl FillInput {
 
     /// (Re)builds the strips along every trimmed face's edges within
     /// [`Self::fit`]: each `strip_stand_in_towards` its edge's ends where
-    /// the reader found them (else, or where they do not point into the
-    /// face, across the edge at right angles, a quarter of the edge's
-    /// length wide), one span along a fan's side
-    /// ([`Self::one_span_sides`]). Errors name the face, loop and edge.
+    /// the reader found them (else, or where that fails, across the edge
+    /// at right angles, a quarter of the edge's length wide), one span
+    /// along a fan's side ([`Self::one_span_sides`]). Errors name the
+    /// face, loop and edge; the input then has no strips (its trimmed
+    /// faces no model edges), consistently.
     fn build_strips(&mut self) -> Result<()> {
+        let built = self.try_build_strips();
+        if built.is_err() {
+            let n = self.file_faces();
+            self.faces.truncate(n);
+            self.kinds.truncate(n);
+            self.stand_ins.truncate(n);
+            self.one_span.truncate(n);
+            self.options.rational_faces.truncate(n);
+            self.options.edge_faces.clear();
+            self.strips.clear();
+        }
+        built
+    }
+
+    fn try_build_strips(&mut self) -> Result<()> {
         let n = self.file_faces();
         self.faces.truncate(n);
         self.kinds.truncate(n);
@@ -610,7 +626,7 @@ impl FillInput {
                 more.iter().map(|&s| self.faces[n + s].clone()).collect();
             self.build_strips()?;
             for (s, b) in more.into_iter().zip(before) {
-                if self.faces[n + s] != b {
+                if self.faces[n + s] != b && !refitted.contains(&(n + s)) {
                     refitted.push(n + s);
                 }
             }
@@ -693,9 +709,10 @@ impl FillInput {
     }
 
     /// [`fill_report_json`] of fills of this input (`faces`: the file's),
-    /// a side along a strip naming the trimmed face (`"face"`), and the
-    /// strip (`"strip"`: index in `faces`, loop, edge); a hole's faces
-    /// are the file's.
+    /// a side along a strip naming the trimmed face (`"face"`), its loop
+    /// and edge (`"edge"`: "loop L edge E") and the strip (`"strip"`: its
+    /// index in [`Self::faces`](FillInput::faces), as `stand_ins` lists
+    /// it); a hole's faces are the file's.
     pub fn report_json(
         &self,
         choice: &HoleChoice,

@@ -149,10 +149,11 @@ impl Data {
 
     /// The ADVANCED_FACE of a trimmed surface (its SURFACE entity
     /// `surface` written): its loops' curves as edges, shared as sides
-    /// are ([`Self::edges_along`]), the first loop the outer bound.
+    /// are ([`Self::edges_along`]), each loop a FACE_BOUND (which one is
+    /// outer is not known: readers tell by the loops' sense).
     fn trimmed_face(&mut self, s: &CadSurface, surface: usize) -> usize {
         let mut bounds = Vec::with_capacity(s.loops.len());
-        for (k, l) in s.loops.iter().enumerate() {
+        for l in &s.loops {
             let mut oriented = Vec::new();
             for c in l {
                 let ids: Vec<usize> = c
@@ -174,12 +175,7 @@ impl Data {
                 }
             }
             let edges = self.add(format!("EDGE_LOOP('',({}))", refs(&oriented)));
-            let bound = if k == 0 {
-                "FACE_OUTER_BOUND"
-            } else {
-                "FACE_BOUND"
-            };
-            bounds.push(self.add(format!("{bound}('',#{edges},.T.)")));
+            bounds.push(self.add(format!("FACE_BOUND('',#{edges},.T.)")));
         }
         self.add(format!(
             "ADVANCED_FACE('',({}),#{surface},.T.)",

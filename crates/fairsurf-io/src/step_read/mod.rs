@@ -72,9 +72,11 @@ pub struct StepFace {
     /// face the file's surface (a plane: a bilinear patch around the
     /// loops).
     pub surface: FaceSurface,
-    /// A trimmed face's loops (the outer one first as the file lists
-    /// them), each edge as it runs; empty for a face bounded by four
-    /// sides of its surface.
+    /// A trimmed face's loops in the order the file lists them (which is
+    /// the outer one is not recorded), each edge as it runs with the face
+    /// on its left seen from the surface's normal; empty for a face
+    /// bounded by four sides of its surface. (A face the shell uses
+    /// reversed, ORIENTED_FACE .F., keeps its surface's sense here.)
     pub loops: Vec<Vec<TrimEdge>>,
 }
 
@@ -89,13 +91,21 @@ impl StepFace {
 }
 
 /// The polynomial faces of every shell in a STEP file's text ([`read_step`]
-/// with every face polynomial); a rational face (a cylinder, …) is an
-/// error naming it.
+/// with every face polynomial and bounded by its four sides); a rational
+/// face (a cylinder, …) or a trimmed one is an error naming it.
 pub fn read_step_faces(text: &str) -> Result<Vec<BSplineSurface>> {
     read_step(text)?
         .into_iter()
         .enumerate()
         .map(|(k, f)| match f.surface {
+            _ if !f.loops.is_empty() => Err(bad(
+                format!("face {k}"),
+                format!(
+                    "a {} face: only faces bounded by the four sides of their surfaces are \
+                     taken here",
+                    f.kind
+                ),
+            )),
             FaceSurface::Polynomial(s) => Ok(s),
             FaceSurface::Rational(_) => Err(bad(
                 format!("face {k}"),
