@@ -137,6 +137,9 @@ pub(super) struct Frames {
     hints: Vec<(f64, f64)>,
     /// The largest distance of the points from the surface.
     off: f64,
+    /// Where along the edge (s ∈ (0, 1)) its curve has a knot or its foot
+    /// points cross a knot line of the surface.
+    breaks: Vec<f64>,
 }
 
 /// Parameters at which [`Frames`] keeps foot points.
@@ -160,12 +163,76 @@ impl Frames {
             hints.push((u, v));
             largest = largest.max(off);
         }
-        Ok(Self {
+        let mut frames = Self {
             edge: edge.clone(),
             surface: surface.clone(),
             hints,
             off: largest,
-        })
+            breaks: Vec::new(),
+        };
+        frames.breaks = frames.find_breaks();
+        Ok(frames)
+    }
+
+    /// Where the edge is less smooth: its curve's interior knots (a
+    /// B-spline curve's, mapped onto s ∈ (0, 1); none through a seam),
+    /// and where its foot points cross an interior knot line of a
+    /// B-spline surface (bisection between the samples that straddle it).
+    fn find_breaks(&self) -> Vec<f64> {
+        let mut out = Vec::new();
+        let (a, b) = self.edge.range;
+        let knots: Option<Vec<f64>> = match &self.edge.curve {
+            Curve3D::BSplineCurve(c) => Some(c.knot_vec().to_vec()),
+            Curve3D::NurbsCurve(c) => Some(c.knot_vec().to_vec()),
+            _ => None,
+        };
+        if let (Some(k), None) = (knots, self.edge.seam) {
+            out.extend(k.iter().map(|t| (t - a) / (b - a)));
+        }
+        let lines: [Vec<f64>; 2] = match &self.surface {
+            StepSurface::BSplineSurface(s) => [s.uknot_vec().to_vec(), s.vknot_vec().to_vec()],
+            StepSurface::NurbsSurface(s) => {
+                let s = s.non_rationalized();
+                [s.uknot_vec().to_vec(), s.vknot_vec().to_vec()]
+            }
+            _ => return out,
+        };
+        let foot = |s: f64, hint: (f64, f64)| {
+            let p = self.edge.at(s).0;
+            file_foot(&self.surface, p, Some(hint)).map_or(hint, |f| f.0)
+        };
+        for (c, knots) in lines.iter().enumerate() {
+            let (lo, hi) = (knots[0], knots[knots.len() - 1]);
+            let inner: Vec<f64> = knots
+                .iter()
+                .copied()
+                .filter(|&k| k > lo && k < hi)
+                .collect();
+            let at = |uv: (f64, f64)| if c == 0 { uv.0 } else { uv.1 };
+            for k in 0..HINTS {
+                let (h0, h1) = (self.hints[k], self.hints[k + 1]);
+                let (x0, x1) = (at(h0), at(h1));
+                for &kn in &inner {
+                    if (x0 - kn) * (x1 - kn) >= 0.0 {
+                        continue;
+                    }
+                    let (mut s0, mut s1) = (k as f64 / HINTS as f64, (k + 1) as f64 / HINTS as f64);
+                    let mut hint = h0;
+                    for _ in 0..40 {
+                        let m = 0.5 * (s0 + s1);
+                        let uv = foot(m, hint);
+                        if (at(uv) - kn) * (x0 - kn) > 0.0 {
+                            s0 = m;
+                            hint = uv;
+                        } else {
+                            s1 = m;
+                        }
+                    }
+                    out.push(0.5 * (s0 + s1));
+                }
+            }
+        }
+        out
     }
 
     /// The edge's point and tangent at s ∈ [0, 1] and the surface's unit
@@ -205,8 +272,9 @@ impl Frames {
         let pts: Vec<Vec3> = (0..=32).map(|k| self.edge.at(k as f64 / 32.0).0).collect();
         let length = pts.windows(2).map(|w| dist(w[0], w[1])).sum();
         let off_surface = self.off;
+        let breaks = self.breaks.clone();
         TrimEdge {
-            edge: TrueEdge::new(move |t| self.frame(t)),
+            edge: TrueEdge::new(move |t| self.frame(t)).with_breaks(breaks),
             free,
             ends,
             length,

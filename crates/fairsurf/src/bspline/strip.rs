@@ -41,14 +41,31 @@ pub struct EdgeFrame {
 
 /// A face's edge as it is: t ∈ [0, 1] ↦ [`EdgeFrame`] (for a STEP face,
 /// the edge's curve and the normal of the face's surface at its foot
-/// point). Compared by identity.
+/// point), with the parameters where it is less smooth (its breaks).
+/// Compared by identity.
 #[derive(Clone)]
-pub struct TrueEdge(Arc<dyn Fn(f64) -> EdgeFrame + Send + Sync>);
+pub struct TrueEdge(Arc<dyn Fn(f64) -> EdgeFrame + Send + Sync>, Arc<[f64]>);
 
 impl TrueEdge {
     /// The edge given by `frame`.
     pub fn new(frame: impl Fn(f64) -> EdgeFrame + Send + Sync + 'static) -> Self {
-        Self(Arc::new(frame))
+        Self(Arc::new(frame), Arc::new([]))
+    }
+
+    /// The same edge with its breaks: parameters in (0, 1) where the edge
+    /// or the face's normal along it is only C² (a knot of the edge's
+    /// curve, a knot line of the face's surface crossed). A strip of
+    /// several pieces puts knots there ([`strip_stand_in`]).
+    pub fn with_breaks(self, mut breaks: Vec<f64>) -> Self {
+        breaks.retain(|t| t.is_finite() && *t > 1e-9 && *t < 1.0 - 1e-9);
+        breaks.sort_by(f64::total_cmp);
+        breaks.dedup_by(|a, b| (*a - *b).abs() <= 1e-9);
+        Self(self.0, breaks.into())
+    }
+
+    /// The breaks ([`Self::with_breaks`]).
+    pub fn breaks(&self) -> &[f64] {
+        &self.1
     }
 
     /// The edge's frame at t ∈ [0, 1].
@@ -87,7 +104,9 @@ const FIRST_DEGREE: usize = 5;
 /// Degree 5 on equal pieces, their number doubled from one until the
 /// strip is within `tolerance`; with `one_span` (a fan of triangular
 /// patches needs each side one polynomial piece) one Bézier span of
-/// degree 5 to [`ONE_SPAN_DEGREE`] instead. Interpolates the edge's points and
+/// degree 5 to [`ONE_SPAN_DEGREE`] instead. The pieces: the edge's breaks
+/// ([`TrueEdge::breaks`], knots of multiplicity 3: C² there) cut in equal
+/// parts. Interpolates the edge's points and
 /// inward directions at Chebyshev–Lobatto nodes (one span) or the
 /// Greville abscissae; measured at Chebyshev–Lobatto parameters on every
 /// span (at least 9 each, about 129 in all) and at the 129 a fill's side
@@ -169,7 +188,8 @@ fn fit(
         .map(KnotVector::bezier);
     let pieces = std::iter::successors(Some(1usize), |n| (*n < MAX_PIECES).then_some(n * 2))
         .filter(|_| !one_span)
-        .map(|n| KnotVector::uniform(FIRST_DEGREE, n));
+        .map(|n| pieces(edge.breaks(), n))
+        .collect::<Result<Vec<_>>>()?;
     for knots in one.chain(pieces) {
         let what = match knots.spans().len() {
             1 => format!("one span of degree {}", knots.degree()),
@@ -196,6 +216,24 @@ fn fit(
             angle.to_degrees(),
         ),
     })
+}
+
+/// Degree-5 knots on [0, 1]: the intervals between `breaks` (knots of
+/// multiplicity 3 there) each cut in `n` equal pieces.
+fn pieces(breaks: &[f64], n: usize) -> Result<KnotVector> {
+    let d = FIRST_DEGREE;
+    let mut t = vec![0.0; d + 1];
+    let ends: Vec<f64> = breaks.iter().copied().chain([1.0]).collect();
+    let mut a = 0.0;
+    for (k, &b) in ends.iter().enumerate() {
+        t.extend((1..n).map(|i| a + (b - a) * i as f64 / n as f64));
+        if k + 1 < ends.len() {
+            t.extend([b; 3]);
+        }
+        a = b;
+    }
+    t.extend([1.0; FIRST_DEGREE + 1]);
+    KnotVector::new(d, t)
 }
 
 /// The unit tangent and the unit inward direction n × c′/|c′| of a
@@ -387,6 +425,39 @@ mod tests {
             e.to_string().contains("does not point into the face"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn knots_at_the_edges_breaks_follow_it_in_few_pieces() {
+        // y = (t − 0.3)₊³ in the plane z = 0: C² at t = 0.3, a cubic on
+        // either side.
+        let frame = |t: f64| {
+            let x = (t - 0.3).max(0.0);
+            EdgeFrame {
+                point: [t, x.powi(3), 0.0],
+                tangent: [1.0, 3.0 * x * x, 0.0],
+                normal: [0.0, 0.0, 1.0],
+            }
+        };
+        let tol = FitTolerance {
+            position: 1e-9,
+            angle: 1e-7,
+        };
+        let plain = strip_stand_in(&TrueEdge::new(frame), 0.5, tol, false).unwrap();
+        let broken = TrueEdge::new(frame).with_breaks(vec![0.3, 1.0, -0.2, f64::NAN, 0.3]);
+        assert_eq!(broken.breaks(), &[0.3]);
+        let s = strip_stand_in(&broken, 0.5, tol, false).unwrap();
+        // Quintic pieces joined C² at the break hold the cubics: C is
+        // exact (T = n × c′/|c′| is no polynomial: within the tolerance);
+        // equal pieces across the break only converge.
+        let (ours, theirs) = (
+            s.surface.knots().0.spans().len(),
+            plain.surface.knots().0.spans().len(),
+        );
+        assert!(s.position <= 1e-14 && plain.position > 1e-12, "{s:?} {plain:?}");
+        assert!(4 * ours <= theirs, "{ours} {theirs}");
+        let knots = s.surface.knots().0;
+        assert_eq!(knots.multiplicity(0.3), 3);
     }
 
     #[test]
