@@ -2,22 +2,25 @@
 //! whose boundary is not four sides of its surface, or a face with holes —
 //! enters a fill through a polynomial strip along the edge,
 //!
-//! S(u, v) = C(u) + v·w·T(u),  u, v ∈ [0, 1],
+//! S(u, v) = C(u) + v·T(u),  u, v ∈ [0, 1],
 //!
-//! C a B-spline through the edge's points and T one through unit vectors
-//! in the face's tangent plane across the edge, pointing into the face (a
-//! loop runs with its face on the left): n × c′/|c′| (n the face's unit
-//! normal, c′ the edge's tangent as the face's loop runs), or turned from
-//! it towards given directions at the ends ([`strip_stand_in_towards`]):
-//! a fill's corner takes the cross derivative of one side along the next
-//! side, so a strip whose end is a hole's corner is made to leave it along
-//! the face's edge there, as a four-sided neighbour's cross derivative
-//! runs along its own side.
-//! The strip's side v = 0 is the edge and its normal there
-//! S_u × S_v = w·C′ × T is the face's: a fill G¹ to the strip exactly is G¹
-//! to the face within the strip's fit, which is measured against the edge
-//! at the same parameter as [`RationalSurface::polynomial`]'s stand-ins
-//! are against their rational surfaces.
+//! C a B-spline through the edge's points and T one through vectors in the
+//! face's tangent plane across the edge, pointing into the face (a loop
+//! runs with its face on the left): w·n × c′/|c′| (n the face's unit
+//! normal, c′ the edge's tangent as the face's loop runs, w a width), or
+//! turned from c′ by an angle, and as long as a length, that run linearly
+//! between given vectors at the ends ([`strip_stand_in_towards`]). A
+//! fill's corner takes the cross derivative of one side as the derivative
+//! of the next side, so a strip that ends at a hole's corner is made to
+//! leave it as the hole's next side continued through the corner — as a
+//! four-sided neighbour's cross derivative runs along the side it shares
+//! with the next neighbour. The strip's side v = 0 is the edge and its
+//! normal there, S_u × S_v = C′ × T, is the face's: a fill G¹ to the strip
+//! exactly is G¹ to the face within the strip's fit, which is measured
+//! against the edge at the same parameter as
+//! [`RationalSurface::polynomial`]'s stand-ins are against their rational
+//! surfaces. Pieces put their knots at the edge's breaks
+//! ([`TrueEdge::with_breaks`]).
 
 use super::rational::{side_parameters, FitTolerance, StandIn};
 use super::{solve_dense_wide, BSplineSurface, KnotVector, ONE_SPAN_DEGREE};
@@ -454,7 +457,10 @@ mod tests {
             s.surface.knots().0.spans().len(),
             plain.surface.knots().0.spans().len(),
         );
-        assert!(s.position <= 1e-14 && plain.position > 1e-12, "{s:?} {plain:?}");
+        assert!(
+            s.position <= 1e-14 && plain.position > 1e-12,
+            "{s:?} {plain:?}"
+        );
         assert!(4 * ours <= theirs, "{ours} {theirs}");
         let knots = s.surface.knots().0;
         assert_eq!(knots.multiplicity(0.3), 3);
