@@ -104,7 +104,9 @@ pub(super) fn fill(
         if let Some(s) = descent_steps {
             options.descent_steps = s;
         }
-        let fills = choice.fill(&input.faces, &options)?;
+        let fills = choice
+            .fill(&input.faces, &options)
+            .map_err(|e| input.name_faces(e))?;
         let mut report = input.report_json(&choice, &fills, input.fit());
         report["stand_ins"] = input.stand_ins_json();
         let surfaces = input.surfaces(&fills);

@@ -118,7 +118,7 @@ pub fn run(a: Args) -> Result<(), Failure> {
     a.energy.apply(&mut options)?;
     let fills = choice
         .fill(&input.faces, &options)
-        .map_err(with_file(&a.input))?;
+        .map_err(|e| with_file(&a.input)(input.name_faces(e)))?;
     let output = a
         .output
         .as_deref()

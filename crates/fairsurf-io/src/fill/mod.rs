@@ -691,6 +691,46 @@ impl FillInput {
         out
     }
 
+    /// `e` with every "face K" of a strip (K ≥ [`Self::file_faces`]) in a
+    /// fill's refusal named as the file's: "face F (loop L, edge E)" — the
+    /// library numbers faces as [`Self::faces`](FillInput::faces) does.
+    pub fn name_faces(&self, e: Error) -> Error {
+        match e {
+            Error::Solve(fairsurf::Error::Fill { why }) if !self.strips.is_empty() => {
+                Error::Solve(fairsurf::Error::Fill {
+                    why: self.named(&why),
+                })
+            }
+            e => e,
+        }
+    }
+
+    /// `text` with "face K" of a strip named as the file's face.
+    fn named(&self, text: &str) -> String {
+        let mut out = String::with_capacity(text.len());
+        let mut rest = text;
+        while let Some(i) = rest.find("face ") {
+            let (head, tail) = rest.split_at(i + 5);
+            out.push_str(head);
+            let digits = tail.bytes().take_while(u8::is_ascii_digit).count();
+            let strip = tail[..digits]
+                .parse::<usize>()
+                .ok()
+                .and_then(|k| k.checked_sub(self.file_faces()))
+                .and_then(|s| self.strips.get(s));
+            match strip {
+                Some(s) => out.push_str(&format!(
+                    "{} (loop {}, edge {})",
+                    s.face, s.loop_index, s.edge
+                )),
+                None => out.push_str(&tail[..digits]),
+            }
+            rest = &tail[digits..];
+        }
+        out.push_str(rest);
+        out
+    }
+
     /// The `--list` table ([`HoleChoice::list_json`]) with each hole's
     /// faces the file's (a strip's: its trimmed face).
     pub fn list_json(&self, choice: &HoleChoice) -> Value {

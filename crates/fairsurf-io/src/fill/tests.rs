@@ -345,6 +345,20 @@ fn a_hole_in_a_trimmed_face_is_filled_and_sewn() {
     std::fs::remove_dir_all(&dir).unwrap();
     assert_eq!(back.file_faces(), 2);
     assert_eq!(back.kinds[..2], ["trimmed B-spline", "B-spline"]);
+    // Refusals name a strip's face as the file's.
+    let k = input.file_faces() + 5;
+    let s = input.strips()[5];
+    let e = input.name_faces(Error::Solve(fairsurf::Error::Fill {
+        why: format!("hole 1: folds over along its side on face {k}; face 0 and face 12x"),
+    }));
+    assert_eq!(
+        e.to_string(),
+        format!(
+            "cannot fill the hole: hole 1: folds over along its side on face 0 (loop {}, edge {}); \
+             face 0 and face 12x",
+            s.loop_index, s.edge
+        )
+    );
     let holes = HoleChoice::of(&back, None).unwrap().holes;
     assert_eq!(holes.len(), 1, "{holes:?}");
     assert_eq!(holes[0].sides.len(), 4);
