@@ -448,26 +448,27 @@ impl FillInput {
     fn build_strips(&mut self) -> Result<()> {
         let built = self.try_build_strips();
         if built.is_err() {
-            let n = self.file_faces();
-            self.faces.truncate(n);
-            self.kinds.truncate(n);
-            self.stand_ins.truncate(n);
-            self.one_span.truncate(n);
-            self.options.rational_faces.truncate(n);
-            self.options.edge_faces.clear();
-            self.strips.clear();
+            self.drop_strips();
         }
         built
     }
 
-    fn try_build_strips(&mut self) -> Result<()> {
+    /// The input without strips: its per-face lists cut back to the
+    /// file's faces.
+    fn drop_strips(&mut self) {
         let n = self.file_faces();
         self.faces.truncate(n);
         self.kinds.truncate(n);
         self.stand_ins.truncate(n);
         self.one_span.truncate(n);
         self.options.rational_faces.truncate(n);
+        self.options.edge_faces.clear();
         self.strips.clear();
+    }
+
+    fn try_build_strips(&mut self) -> Result<()> {
+        self.drop_strips();
+        let n = self.file_faces();
         let mut edges: Vec<Option<fairsurf::bspline::TrueEdge>> = vec![None; n];
         for (k, t) in self.trimmed.iter().enumerate() {
             let Some((_, loops)) = t else { continue };
