@@ -10,7 +10,10 @@ smooth surface, the centre face left out, sewn and written as STEP:
 - dome: a bi-quintic Bezier patch through a spherical cap (radius 1.5);
 - fillet: examples/cad/fillet_hole.py (planes and cylinders);
 - trimmed: examples/cad/trimmed_hole.py, the bspline sheet as ONE face with
-  a 4-sided hole whose edges are not isolines (a trimmed face).
+  a 4-sided hole whose edges are not isolines (a trimmed face);
+- pipe: examples/cad/trimmed_revolved.py's pipe, a whole cylinder as ONE
+  face with a hole bounded by two arcs and two rulings (a trimmed
+  cylinder; the pipe's ends are rims, not filled).
 
 MakeFilling (degree 3, 15 points per curve, 2 iterations: its defaults) gets the
 hole's four edges with G1 constraints to their faces, in this process;
@@ -158,6 +161,11 @@ def bezier_holes():
     trimmed = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(trimmed)
     yield "trimmed", [trimmed.face()]
+    spec = importlib.util.spec_from_file_location("revolved",
+                                                  ROOT / "examples/cad/trimmed_revolved.py")
+    revolved = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(revolved)
+    yield "pipe", [revolved.faces()[0]]
 
 
 def sew(faces):

@@ -60,20 +60,28 @@ def polygon_wire(s, corners):
     return wire.Wire()
 
 
-def face(sides: int = 4, radius: float = 0.6, centre=(1.5, 1.4)):
-    s = sheet()
-    outer = BRepBuilderAPI_MakeFace(s, 1e-7).Face()
-    # The hole's corners clockwise in (u, v): an inner loop.
-    corners = [(centre[0] + radius * math.cos(-2 * math.pi * k / sides + 0.3),
-                centre[1] + radius * math.sin(-2 * math.pi * k / sides + 0.3))
-               for k in range(sides)]
+def polygon(centre, radius: float, sides: int, turn: float = 0.3):
+    """A regular polygon's corners clockwise in (u, v) (an inner loop)."""
+    return [(centre[0] + radius * math.cos(-2 * math.pi * k / sides + turn),
+             centre[1] + radius * math.sin(-2 * math.pi * k / sides + turn))
+            for k in range(sides)]
+
+
+def with_hole(outer, surface, corners):
+    """The face `outer` of `surface` with the hole through the (u, v)
+    corners (clockwise), its edges' 3-D curves built to 1e-8."""
     make = BRepBuilderAPI_MakeFace(outer)
-    make.Add(polygon_wire(s, corners))
+    make.Add(polygon_wire(surface, corners))
     f = make.Face()
     BRepLib.BuildCurves3d_s(f, 1e-8, GeomAbs_C2, 14, 200)
     fix = ShapeFix_Face(f)
     fix.Perform()
     return fix.Face()
+
+
+def face(sides: int = 4, radius: float = 0.6, centre=(1.5, 1.4)):
+    s = sheet()
+    return with_hole(BRepBuilderAPI_MakeFace(s, 1e-7).Face(), s, polygon(centre, radius, sides))
 
 
 def write(path: str, sides: int = 4) -> None:

@@ -78,16 +78,22 @@ def unit_normal(surface, u: float, v: float):
     return n.Divided(n.Magnitude()), q
 
 
-def seams(shape, samples: int = 65):
-    """Per edge shared by two faces: (face indices, largest normal angle in
-    degrees, largest distance between the faces' foot points), measured by
-    Open CASCADE at `samples` points of the edge (the angle where both
-    faces have a normal)."""
+def faces_of(shape) -> list:
+    """The shape's faces in Open CASCADE's order."""
     faces = []
     ex = TopExp_Explorer(shape, TopAbs_FACE)
     while ex.More():
         faces.append(TopoDS.Face(ex.Current()))
         ex.Next()
+    return faces
+
+
+def seams(shape, samples: int = 65):
+    """Per edge shared by two faces: (face indices, largest normal angle in
+    degrees, largest distance between the faces' foot points), measured by
+    Open CASCADE at `samples` points of the edge (the angle where both
+    faces have a normal)."""
+    faces = faces_of(shape)
     m = EdgeFaces()
     TopExp.MapShapesAndAncestors_s(shape, TopAbs_EDGE, TopAbs_FACE, m)
     out = []

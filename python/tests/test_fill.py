@@ -15,13 +15,14 @@ from occ_check import (
     polygon_nets,
     bspline_surface,
     count,
+    faces_of,
     free_edges_after_sewing,
     read_step,
     seams,
     sewn_step,
 )
 from OCP.BRepBuilderAPI import BRepBuilderAPI_Sewing
-from OCP.TopAbs import TopAbs_FACE
+from OCP.TopAbs import TopAbs_FACE, TopAbs_WIRE
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "cad"
 
@@ -720,6 +721,13 @@ def test_holes_touching_at_a_vertex_are_filled_apart(cli: Path, tmp_path: Path):
     assert free_edges_after_sewing(shape) == 0
 
 
+def filled(cli: Path, step_in: Path, out: Path, *options: str) -> dict:
+    """`fairsurf fill STEP_IN -o OUT --json [OPTIONS]`'s report."""
+    run = subprocess.run([str(cli), "fill", str(step_in), "-o", str(out), "--json", *options],
+                         check=True, capture_output=True, text=True)
+    return json.loads(run.stdout)
+
+
 def test_a_hole_in_a_trimmed_face_is_filled_and_sewn(cli: Path, tmp_path: Path):
     """A wavy B-spline sheet as one face with a 4-sided hole whose edges
     are not isolines (examples/cad/trimmed_hole.step, Open CASCADE's): the
@@ -728,11 +736,7 @@ def test_a_hole_in_a_trimmed_face_is_filled_and_sewn(cli: Path, tmp_path: Path):
     and Open CASCADE measures, and sewn to the trimmed face (written as
     its surface bounded by its two loops): only the rim stays free."""
     out = tmp_path / "filled.step"
-    run = subprocess.run(
-        [str(cli), "fill", str(EXAMPLES / "trimmed_hole.step"), "-o", str(out), "--json"],
-        check=True, capture_output=True, text=True,
-    )
-    report = json.loads(run.stdout)
+    report = filled(cli, EXAMPLES / "trimmed_hole.step", out)
     assert report["faces"] == 1
     assert [h["faces"] for h in report["holes"]] == [[0], [0]]
     strips = [s for s in report["stand_ins"] if s["kind"] == "strip"]
@@ -755,6 +759,50 @@ def test_a_hole_in_a_trimmed_face_is_filled_and_sewn(cli: Path, tmp_path: Path):
         measured, fill["max_angle_deg"])
 
 
+def test_holes_in_trimmed_surfaces_of_revolution_are_filled_and_sewn(cli: Path, tmp_path: Path):
+    """A whole pipe, a cone, a sphere and a torus, each one face with a
+    4-sided hole (examples/cad/trimmed_revolved.step, Open CASCADE's
+    CYLINDRICAL_, CONICAL_, SPHERICAL_ and TOROIDAL_SURFACE faces with two
+    loops): by default the four holes are filled (the outlines and the
+    pipe's ends are rims), each within the tolerance along its sides as
+    fairsurf reports and Open CASCADE measures; the trimmed faces are
+    written as their surfaces (exact rational B-splines) bounded by their
+    loops, and Open CASCADE sews every fill to its face: only the rims
+    stay free."""
+    out = tmp_path / "filled.step"
+    report = filled(cli, EXAMPLES / "trimmed_revolved.step", out)
+    assert report["faces"] == 4
+    rims = [h for h in report["holes"] if h["rim"]]
+    assert len(rims) == 5 and not any(h["chosen"] for h in rims)
+    fills = report["fills"]
+    assert len(fills) == 4
+    faces_filled = set()
+    for fill in fills:
+        assert fill["max_gap"] <= 1e-6 and fill["max_angle_deg"] <= 0.01, fill
+        faces_filled |= {side["face"] for side in fill["sides"]}
+        assert all(not side["exact"] for side in fill["sides"])
+    assert faces_filled == {0, 1, 2, 3}
+    shape = read_step(out)
+    patches = sum(f.get("patches", 1) for f in fills)
+    assert count(shape, TopAbs_FACE) == 4 + patches
+    # The rims: the pipe's two circles and three outlines of four edges.
+    assert free_edges_after_sewing(shape) == 2 + 3 * 4
+    # Open CASCADE's largest angle between each trimmed face (the faces of
+    # two wires) and its fill agrees with the report's.
+    across = seams(shape)
+    trimmed = [k for k, f in enumerate(faces_of(shape)) if count(f, TopAbs_WIRE) == 2]
+    assert len(trimmed) == 4
+    measured = []
+    for t in trimmed:
+        between = [s for s in across if t in s[0] and s[0] != [t, t]]
+        assert len(between) >= 4, (t, between)
+        assert max(s[2] for s in between) <= 1e-6
+        measured.append(max(s[1] for s in between))
+    reported = sorted(f["max_angle_deg"] for f in fills)
+    for m, r in zip(sorted(measured), reported):
+        assert m <= 0.01 and abs(m - r) <= 0.2 * r, (measured, reported)
+
+
 def test_a_five_sided_hole_in_a_trimmed_face_needs_one_piece_sides(cli: Path, tmp_path: Path):
     """A pentagonal hole in the sheet: its sides cross the sheet's knot
     lines, and a fan's side must be one polynomial piece — within 1e-6 it
@@ -773,11 +821,7 @@ def test_a_five_sided_hole_in_a_trimmed_face_needs_one_piece_sides(cli: Path, tm
     assert run.returncode == 2, run.stderr
     assert "must each be one polynomial piece" in run.stderr, run.stderr
     assert not out.exists()
-    run = subprocess.run(
-        [str(cli), "fill", str(step_in), "-o", str(out), "--json", "--tolerance", "1e-5"],
-        check=True, capture_output=True, text=True,
-    )
-    fill = json.loads(run.stdout)["fills"][0]
+    fill = filled(cli, step_in, out, "--tolerance", "1e-5")["fills"][0]
     assert fill["kind"] == "fan" and fill["patches"] == 5
     assert fill["max_gap"] <= 1e-5 and fill["max_angle_deg"] <= 0.01
     shape = read_step(out)

@@ -50,8 +50,7 @@ pub fn run(a: Args) -> Result<(), Failure> {
     let blend = input.blend().map_err(with_file(&a.input))?;
     let surfaces = input.surfaces(&blend);
     let shown: Vec<&BSplineSurface> = input.faces.iter().chain([&blend.surface]).collect();
-    a.outputs
-        .write(&a.output, &surfaces, 0.0, &shown, &shown, &[])?;
+    a.outputs.write(&a.output, &surfaces, 0.0, &shown, &[])?;
     let mut out = blend_json(&input, &blend);
     if a.json {
         out["input"] = json!(a.input.display().to_string());

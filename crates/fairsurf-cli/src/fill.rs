@@ -18,9 +18,10 @@ pub struct Args {
     /// The faces: a STEP file (.step/.stp, as Open CASCADE, CadQuery or
     /// FreeCAD write them: B-spline and Bézier faces, rational or not,
     /// planes bounded by four straight edges, cylinders and cones bounded
-    /// by two arcs and two rulings; B-spline and plane faces trimmed
-    /// otherwise or with holes, met through strips along their edges) or
-    /// a JSON fill scene (`fairsurf schema --type fill`).
+    /// by two arcs and two rulings; B-spline, plane, cylinder, cone,
+    /// sphere and torus faces trimmed otherwise or with holes, met through
+    /// strips along their edges) or a JSON fill scene (`fairsurf schema
+    /// --type fill`).
     input: PathBuf,
     /// The STEP file to write: the input faces and the fills, sewn.
     #[arg(short, long, required_unless_present = "list")]
@@ -30,8 +31,9 @@ pub struct Args {
     #[arg(long)]
     list: bool,
     /// Fill hole K (repeatable; as `--list` numbers them). Default: every
-    /// hole but the outer rim of an open sheet (the longest loop that bounds
-    /// its faces from outside) when there are several.
+    /// hole but the outer rims when there are several (each open sheet's:
+    /// the loops that bound their faces from outside; and a pipe's ends
+    /// when it has a hole).
     #[arg(long = "hole", value_name = "K")]
     holes: Vec<usize>,
     /// Print the report as JSON on standard output instead of the summary.
@@ -124,11 +126,8 @@ pub fn run(a: Args) -> Result<(), Failure> {
         .as_deref()
         .expect("clap requires -o without --list");
     let surfaces = input.surfaces(&fills);
-    // The picture takes every patch; the mesh the four-sided fills as
-    // B-splines and the fans as triangular surfaces (no collapsed corners).
-    let patches: Vec<BSplineSurface> = fills.iter().flat_map(HoleFill::patches).collect();
-    let pictured: Vec<&BSplineSurface> =
-        input.pictured_faces().into_iter().chain(&patches).collect();
+    // The picture and the mesh take the four-sided fills as B-splines and
+    // the fans as triangular surfaces (no collapsed corners).
     let mut meshed: Vec<&BSplineSurface> = input.pictured_faces();
     let mut fans: Vec<&TriSurface> = Vec::new();
     for f in &fills {
@@ -137,14 +136,8 @@ pub fn run(a: Args) -> Result<(), Failure> {
             HoleFill::Fan(t) => fans.push(&t.surface),
         }
     }
-    a.outputs.write(
-        output,
-        &surfaces,
-        input.hole_tolerance(),
-        &pictured,
-        &meshed,
-        &fans,
-    )?;
+    a.outputs
+        .write(output, &surfaces, input.hole_tolerance(), &meshed, &fans)?;
     if a.json {
         let mut out = input.report_json(&choice, &fills, fit);
         out["stand_ins"] = input.stand_ins_json();
@@ -186,11 +179,23 @@ fn summary(
         counted(faces, "face"),
         counted(choice.holes.len(), "hole"),
         choice.chosen,
-        choice
-            .rim
+        match choice
+            .rims
+            .iter()
             .filter(|r| !choice.chosen.contains(r))
-            .map(|r| format!(" (hole {r}, taken as the outer rim)"))
-            .unwrap_or_default()
+            .collect::<Vec<_>>()
+            .as_slice()
+        {
+            [] => String::new(),
+            [r] => format!(" (hole {r}, taken as the outer rim)"),
+            rs => format!(
+                " (holes {}, taken as outer rims)",
+                rs.iter()
+                    .map(|r| r.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        }
     )];
     let rational: Vec<String> = input
         .stand_ins
@@ -390,14 +395,13 @@ pub struct OutputArgs {
 
 impl OutputArgs {
     /// Writes `surfaces` as STEP to `output` and, when asked, the picture
-    /// of `pictured` and the mesh of `meshed` and `triangular` — made in
-    /// memory first, written together (all or none).
+    /// and the mesh of `meshed` and `triangular` — made in memory first,
+    /// written together (all or none).
     pub fn write(
         &self,
         output: &Path,
         surfaces: &[CadSurface],
         sew_within: f64,
-        pictured: &[&BSplineSurface],
         meshed: &[&BSplineSurface],
         triangular: &[&TriSurface],
     ) -> Result<(), Failure> {
@@ -405,7 +409,7 @@ impl OutputArgs {
         let picture = self
             .render
             .as_ref()
-            .map(|p| picture(pictured, self.zebra).map(|png| (p, png)))
+            .map(|p| picture(meshed, triangular, self.zebra).map(|png| (p, png)))
             .transpose()?;
         if let Some((path, _)) = &picture {
             crate::solve::ensure_parent(path)?;
@@ -479,13 +483,34 @@ impl EnergyArgs {
 }
 
 /// The surfaces in one panel, coloured by |H| or striped.
-fn picture(surfaces: &[&BSplineSurface], zebra: bool) -> Result<Vec<u8>, Failure> {
+/// The picture of B-spline surfaces and triangular ones (drawn over their
+/// triangles: their tensor form's collapsed side would put a singular row
+/// of samples in the colour range).
+fn picture(
+    surfaces: &[&BSplineSurface],
+    triangular: &[&TriSurface],
+    zebra: bool,
+) -> Result<Vec<u8>, Failure> {
+    let mut png = Vec::new();
+    drawn(surfaces, triangular, zebra)?
+        .encode_png(&mut png)
+        .map_err(|e| Failure::input(e.to_string()))?;
+    Ok(png)
+}
+
+/// [`picture`] before its encoding.
+fn drawn(
+    surfaces: &[&BSplineSurface],
+    triangular: &[&TriSurface],
+    zebra: bool,
+) -> Result<fairsurf_render::Picture, Failure> {
     let patches = surfaces
         .iter()
         .flat_map(|s| s.bezier_pieces().into_iter().map(|p| p.patch))
         .collect();
     let panel = Panel {
         patches,
+        triangles: triangular.iter().flat_map(|t| t.patches()).collect(),
         ..Panel::default()
     };
     let opts = RenderOptions {
@@ -494,12 +519,7 @@ fn picture(surfaces: &[&BSplineSurface], zebra: bool) -> Result<Vec<u8>, Failure
         zebra: zebra.then_some(20),
         ..RenderOptions::default()
     };
-    let picture = render(&[panel], &opts).map_err(|e| Failure::input(e.to_string()))?;
-    let mut png = Vec::new();
-    picture
-        .encode_png(&mut png)
-        .map_err(|e| Failure::input(e.to_string()))?;
-    Ok(png)
+    render(&[panel], &opts).map_err(|e| Failure::input(e.to_string()))
 }
 
 /// "1 face", "2 faces".
@@ -515,5 +535,48 @@ fn in_degrees(a: f64) -> String {
         format!("{d:.2}")
     } else {
         format!("{d:.1e}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fan on a sphere of radius 1.5 (the bundled trimmed_revolved.step's
+    /// hole in its sphere face) is coloured over |H| ≈ 1/1.5: drawn over
+    /// its triangles, not as tensor patches with a collapsed side (whose
+    /// row of near-singular samples had put the colour range at 2e14).
+    #[test]
+    fn a_fan_is_coloured_by_its_curvature() {
+        let path =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cad/trimmed_revolved.step");
+        let mut input = FillInput::read(&path).unwrap();
+        let sphere = input
+            .kinds
+            .iter()
+            .position(|k| *k == "trimmed sphere")
+            .unwrap();
+        let all = input.choose(None).unwrap();
+        let hole = *all
+            .chosen
+            .iter()
+            .find(|&&h| {
+                all.holes[h]
+                    .faces()
+                    .iter()
+                    .all(|&f| input.face_of(f) == sphere)
+            })
+            .unwrap();
+        let choice = input.choose(Some(&[hole])).unwrap();
+        let fills = choice.fill(&input.faces, &input.options).unwrap();
+        let HoleFill::Fan(fan) = &fills[0] else {
+            panic!("a fan on the sphere")
+        };
+        let Ok(picture) = drawn(&[], &[&fan.surface], false) else {
+            panic!("drawn")
+        };
+        let (lo, hi) = picture.range.unwrap();
+        assert_eq!(lo, 0.0);
+        assert!((hi - 1.0 / 1.5).abs() < 0.05, "{hi}");
     }
 }

@@ -12,17 +12,21 @@ pub struct HoleChoice {
     pub holes: Vec<Hole>,
     /// The indices to fill.
     pub chosen: Vec<usize>,
-    /// The index taken for the outer rim of an open sheet (not filled
-    /// unless asked), when there are several holes.
-    pub rim: Option<usize>,
+    /// The indices taken for outer rims (not filled unless asked), when
+    /// there are several holes: each open sheet's, and the loops that are
+    /// not clearly holes (a pipe's ends) when some are.
+    pub rims: Vec<usize>,
 }
 
 impl HoleChoice {
     /// The holes of `faces`; `asked` (indices) or, without it, every hole
-    /// but the outer rim when there are several: the longest that bounds
-    /// its faces from outside ([`fairsurf::fill::Hole::bounds_from_outside`];
-    /// a closed shell's holes do not), the one hole otherwise. Errors: no hole, an index out of range (named as
-    /// `holes[k]`).
+    /// but the outer rims when there are several: the loops that bound
+    /// their faces from outside ([`fairsurf::fill::Hole::bounds_from_outside`];
+    /// a closed shell's holes do not) — one per open sheet — and, when
+    /// some loop is clearly a hole, those whose sense is unclear too (a
+    /// pipe's ends run across its normals); when that would leave nothing,
+    /// the longest that is not clearly a hole. The one hole otherwise.
+    /// Errors: no hole, an index out of range (named as `holes[k]`).
     pub fn new(faces: &[BSplineSurface], asked: Option<&[usize]>) -> Result<HoleChoice> {
         Self::within(faces, asked, tolerance(faces))
     }
@@ -62,14 +66,28 @@ impl HoleChoice {
                 why: "there is no hole: every face boundary is shared by two faces".into(),
             }));
         }
-        // The outer rim of an open sheet: the longest loop that bounds its
-        // faces from outside (none on a closed shell with holes). A loop
-        // whose sense is unclear counts as a rim only when it is the longest.
-        let rim = (holes.len() > 1)
-            .then(|| {
-                (0..holes.len()).find(|&k| holes[k].bounds_from_outside(faces).unwrap_or(k == 0))
-            })
-            .flatten();
+        // The outer rims of open sheets: the loops that bound their faces
+        // from outside (none on a closed shell with holes); those whose
+        // sense is unclear too when some loop is clearly a hole; else (all
+        // rims or unclear) the longest one only.
+        let n = holes.len();
+        let senses: Vec<Option<bool>> = if n > 1 {
+            holes.iter().map(|h| h.bounds_from_outside(faces)).collect()
+        } else {
+            vec![Some(false)]
+        };
+        let clear_hole = senses.contains(&Some(false));
+        let mut rims: Vec<usize> = (0..n)
+            .filter(|&k| senses[k] == Some(true) || (senses[k].is_none() && clear_hole))
+            .collect();
+        if rims.len() == n {
+            rims.truncate(1);
+        } else if !clear_hole {
+            rims = (0..n)
+                .find(|&k| senses[k].unwrap_or(k == 0))
+                .into_iter()
+                .collect();
+        }
         let chosen = match asked {
             Some(a) => {
                 for (k, &h) in a.iter().enumerate() {
@@ -93,9 +111,13 @@ impl HoleChoice {
                 }
                 c
             }
-            None => (0..holes.len()).filter(|&h| Some(h) != rim).collect(),
+            None => (0..n).filter(|h| !rims.contains(h)).collect(),
         };
-        Ok(HoleChoice { holes, chosen, rim })
+        Ok(HoleChoice {
+            holes,
+            chosen,
+            rims,
+        })
     }
 
     /// Fills the chosen holes: one patch for 4 sides, a fan of triangular
@@ -128,7 +150,7 @@ impl HoleChoice {
                         "sides": h.sides.len(),
                         "length": h.length,
                         "faces": h.faces(),
-                        "rim": self.rim == Some(k),
+                        "rim": self.rims.contains(&k),
                         "chosen": self.chosen.contains(&k),
                     })
                 })

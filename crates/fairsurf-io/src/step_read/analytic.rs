@@ -49,12 +49,20 @@ pub(super) type Arc = (Vec<Vec3>, Vec<f64>, Vec<f64>);
 /// point of its end tangents, and weights 1, cos(φ/2), 1; double interior
 /// knots. Control points, weights, full knot vector.
 pub(super) fn arc(e: &LoopEdge) -> std::result::Result<Arc, String> {
-    let (_, pieces) = e.turning();
-    let (mut points, mut weights) = (vec![e.start], vec![1.0]);
+    arc_along(|s| e.at(s), e.turning().1)
+}
+
+/// [`arc`] of the arc whose point and derivative at s ∈ [0, 1] are
+/// `at(s)`, in `pieces` equal pieces (each of at most 90°).
+pub(super) fn arc_along(
+    at: impl Fn(f64) -> (Vec3, Vec3),
+    pieces: usize,
+) -> std::result::Result<Arc, String> {
+    let (mut points, mut weights) = (vec![at(0.0).0], vec![1.0]);
     let mut knots = vec![0.0; 3];
     for k in 0..pieces {
         let (s0, s1) = (k as f64 / pieces as f64, (k + 1) as f64 / pieces as f64);
-        let ((p0, t0), (p2, t2)) = (e.at(s0), e.at(s1));
+        let ((p0, t0), (p2, t2)) = (at(s0), at(s1));
         // p0 + a t0 = p2 - b t2, least squares in (a, b).
         let r = fairsurf::vector::sub(p2, p0);
         let dot = fairsurf::vector::dot;
@@ -245,25 +253,40 @@ pub(super) fn revolved(edges: &[LoopEdge], kind: &str) -> std::result::Result<Fa
 
 /// The surface swept by the arc `profile` about the axis of the arc
 /// `along` (its circle: centre, unit normal, radius), which starts at the
-/// profile's end, through `along`'s angle: control points and weights of
-/// the profile's arc pieces (≤ 90°) swept in pieces of at most 90° (the
-/// middle points pushed out by 1/cos(φ/2), weights multiplied).
+/// profile's end, through `along`'s angle ([`revolve_arc`]).
 pub(super) fn revolve(
     profile: &LoopEdge,
     along: &LoopEdge,
     (o, k, _): (Vec3, Vec3, f64),
 ) -> std::result::Result<RationalSurface, String> {
-    use fairsurf::vector::{add, dot, scale, sub};
     // The circle's normal turns with the arc (circle_of): a positive turn.
-    let (q, v, kv) = arc(profile)?;
-    let (turning, pieces) = along.turning();
+    revolve_arc(&arc(profile)?, o, k, along.turning().0)
+}
+
+/// The surface swept by a rational profile curve (control points,
+/// weights, full knot vector; its degree what their counts say) turned
+/// about the axis through `o` along the unit vector `k` by `turning`
+/// radians (right-handed about k): control points and weights of the
+/// profile swept in pieces of at most 90° (the middle points pushed out by
+/// 1/cos(φ/2), weights multiplied), u about the axis, v along the
+/// profile (The NURBS Book §8.5, algorithm A8.1).
+pub(super) fn revolve_arc(
+    (q, v, kv): &Arc,
+    o: Vec3,
+    k: Vec3,
+    turning: f64,
+) -> std::result::Result<RationalSurface, String> {
+    use fairsurf::vector::{add, dot, scale, sub};
+    let pieces = ((turning / std::f64::consts::FRAC_PI_2) - 1e-9)
+        .ceil()
+        .max(1.0) as usize;
     let step = turning / pieces as f64;
     let half = (step / 2.0).cos();
     let (mut points, mut weights) = (Vec::new(), Vec::new());
     let mut ku = vec![0.0; 3];
     for i in 0..=2 * pieces {
         let middle = i % 2 == 1;
-        for (qj, vj) in q.iter().zip(&v) {
+        for (qj, vj) in q.iter().zip(v) {
             // The control point about the axis at its own height, pushed to
             // the tangents' meeting point in the middle of a piece.
             let foot = add(o, scale(k, dot(sub(*qj, o), k)));
@@ -280,8 +303,12 @@ pub(super) fn revolve(
         }
     }
     ku.extend([1.0; 3]);
+    let degree = kv
+        .len()
+        .checked_sub(q.len() + 1)
+        .ok_or("a profile with fewer knots than its points need")?;
     let u = KnotVector::new(2, ku).map_err(|e| e.to_string())?;
-    let vk = KnotVector::new(2, kv).map_err(|e| e.to_string())?;
+    let vk = KnotVector::new(degree, kv.clone()).map_err(|e| e.to_string())?;
     let net = BSplineSurface::new(u, vk, points).map_err(|e| e.to_string())?;
     RationalSurface::new(net, weights).map_err(|e| e.to_string())
 }

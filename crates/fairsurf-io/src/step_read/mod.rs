@@ -7,10 +7,10 @@
 //! ([`read_step`]): B-spline and Bézier faces (rational or not), planes
 //! bounded by four straight edges, cylinders and cones bounded by two arcs
 //! and two rulings, spheres and tori bounded by two parallels and two
-//! meridians; or a trimmed B-spline or plane face (bounded otherwise, or
-//! with holes) as its surface and its loops' edges ([`TrimEdge`], the
-//! module `trimmed`). Every other face is refused by name, nothing is
-//! dropped silently.
+//! meridians; or a trimmed face of any of these surfaces (bounded
+//! otherwise, or with holes) as its surface and its loops' edges
+//! ([`TrimEdge`], the module `trimmed`). Every other face (swept surfaces)
+//! is refused by name, nothing is dropped silently.
 
 use crate::{Error, Result};
 use fairsurf::bspline::{BSplineSurface, KnotVector, RationalSurface};
@@ -66,11 +66,13 @@ impl FaceSurface {
 pub struct StepFace {
     /// What the file's surface is: "B-spline", "rational B-spline",
     /// "plane", "cylinder", "cone", "sphere" or "torus"; "trimmed
-    /// B-spline", "trimmed rational B-spline" or "trimmed plane".
+    /// B-spline", "trimmed rational B-spline", "trimmed plane", "trimmed
+    /// cylinder", "trimmed cone", "trimmed sphere" or "trimmed torus".
     pub kind: &'static str,
     /// The surface, whose four sides are the face's boundary; of a trimmed
     /// face the file's surface (a plane: a bilinear patch around the
-    /// loops).
+    /// loops; a cylinder, cone, sphere or torus: the exact rational
+    /// B-spline of the piece its loops lie on).
     pub surface: FaceSurface,
     /// A trimmed face's loops in the order the file lists them (which is
     /// the outer one is not recorded), each edge as it runs with the face
@@ -127,18 +129,19 @@ pub fn read_step_faces(text: &str) -> Result<Vec<BSplineSurface>> {
 /// two rulings (rational quadratic in the arcs' direction, The NURBS Book
 /// §7.5); spheres and tori bounded by two parallels and two meridians (the
 /// rational biquadratic surface of revolution, §8.5) — each conversion
-/// checked against the file's own surface and edges. A B-spline or plane
-/// face bounded otherwise, or with holes, is a trimmed face
+/// checked against the file's own surface and edges. A face of any of
+/// these surfaces bounded otherwise, or with holes, is a trimmed face
 /// ([`StepFace::loops`]): its surface (a plane's as a bilinear patch
-/// around its loops) and its loops' edges, each within
-/// [`TRIM_TOLERANCE`] (or 1e-7 of the loops' size) of the surface, free
-/// when no other face of its shell uses it.
+/// around its loops; a cylinder's, cone's, sphere's or torus's as the
+/// exact rational B-spline of its revolution over the angles and the
+/// stretch of meridian its loops take, 2% wider, §8.5) and its loops'
+/// edges, each within [`TRIM_TOLERANCE`] (or 1e-7 of the loops' size) of
+/// the surface, free when no other face of its shell uses it.
 ///
 /// Errors name what is wrong: not STEP (with the parser's message), no
-/// shell, a face of another kind (a swept surface; a sphere or torus
-/// face bounded otherwise; a trimmed cylinder, cone, sphere or torus), an
-/// edge of a trimmed face off its surface, a face the reader could not
-/// convert.
+/// shell, a face of another kind (a swept surface), an edge of a trimmed
+/// face off its surface, a trimmed face all the way round its axis
+/// without a seam edge, a face the reader could not convert.
 pub fn read_step(text: &str) -> Result<Vec<StepFace>> {
     let mut data = lex::first_data_section(text)
         .map_err(|e| {
@@ -460,11 +463,7 @@ fn step_face(face: &Face, shell: &Shell) -> std::result::Result<Read, String> {
                 .collect::<std::result::Result<Vec<_>, String>>()
         })
         .collect::<std::result::Result<_, String>>()?;
-    let trimmable = match &face.surface {
-        StepSurface::BSplineSurface(_) | StepSurface::NurbsSurface(_) => true,
-        StepSurface::ElementarySurface(e) => matches!(e.as_ref(), ElementarySurface::Plane(_)),
-        _ => false,
-    };
+    let trimmable = !matches!(&face.surface, StepSurface::SweptCurve(_));
     let as_trimmed = |four: String| -> std::result::Result<Read, String> {
         if !trimmable {
             return Err(four);

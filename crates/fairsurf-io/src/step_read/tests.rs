@@ -264,10 +264,15 @@ fn what_is_not_read_is_said() {
         s.points(),
         &[[0.0; 3], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]]
     );
+    // A sphere the square's edges are not on (not a four-sided face of it,
+    // nor a trimmed one).
     let e = read_step(&with(&format!("SPHERICAL_SURFACE('',{axes},1.)")))
         .unwrap_err()
         .to_string();
-    assert!(e.contains("a sphere face"), "{e}");
+    assert!(
+        e.contains("an edge of the face is") && e.contains("off its surface"),
+        "{e}"
+    );
     // A plane the face's edges are not on.
     let tilted = text.replace("DIRECTION('',(0.,0.,1.))", "DIRECTION('',(0.,0.6,0.8))");
     let (id, _) = tilted
@@ -409,4 +414,33 @@ fn guarded_reports_a_panic_as_its_message_and_place() {
     })
     .unwrap_err();
     assert!(e.starts_with("outer ("), "{e}");
+}
+
+/// The range of angles a trimmed surface of revolution is written over:
+/// the complement of the widest gap, across the turn from 2π to 0 too,
+/// widened by 2% each way; none when the angles go all the way round (no
+/// gap of 0.5 rad).
+#[test]
+fn angles_are_ranged_across_the_turn() {
+    use std::f64::consts::TAU;
+    let close = |a: (f64, f64), b: (f64, f64)| {
+        assert!(
+            (a.0 - b.0).abs() < 1e-12 && (a.1 - b.1).abs() < 1e-12,
+            "{a:?} vs {b:?}"
+        );
+    };
+    // 1 to 2 rad, in any order and any turn.
+    let r = circular_range(&[2.0, 1.0 + TAU, 1.5 - TAU]).unwrap();
+    close(r, (1.0 - 0.02, 2.0 + 0.02));
+    // Across 0: from 2π − 0.5 to 2π + 0.5.
+    let r = circular_range(&[TAU - 0.5, 0.0, 0.5]).unwrap();
+    close(r, (TAU - 0.5 - 0.02, TAU + 0.5 + 0.02));
+    // Nearly all round: the one gap of 0.6 rad is left out.
+    let most = TAU - 0.6;
+    let near: Vec<f64> = (0..=20).map(|k| 1.0 + most * k as f64 / 20.0).collect();
+    let r = circular_range(&near).unwrap();
+    close(r, (1.0 - 0.02 * most, 1.0 + 1.02 * most));
+    // All round (gaps of 0.4 rad): none.
+    let all: Vec<f64> = (0..16).map(|k| k as f64 * TAU / 16.0).collect();
+    assert_eq!(circular_range(&all), None);
 }

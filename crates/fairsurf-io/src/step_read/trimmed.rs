@@ -1,11 +1,14 @@
-//! Trimmed faces: a B-spline or plane face bounded otherwise than by four
-//! sides of its surface, or with holes. Kept as its surface and its loops,
-//! each edge as it is ([`TrimEdge`]: the edge's curve and the face's normal
-//! at its foot points), for fills to meet through strip stand-ins
+//! Trimmed faces: a face bounded otherwise than by four sides of its
+//! surface (a B-spline, a plane, a cylinder, cone, sphere or torus), or
+//! with holes. Kept as its surface (a surface of revolution as the exact
+//! rational B-spline of the piece its loops lie on) and its loops, each
+//! edge as it is ([`TrimEdge`]: the edge's curve and the face's normal at
+//! its foot points), for fills to meet through strip stand-ins
 //! ([`fairsurf::bspline::strip_stand_in`]).
 
 use super::*;
 use fairsurf::bspline::{EdgeFrame, TrueEdge};
+use truck_stepio::r#in::alias::{Matrix4, Transform};
 
 /// An edge of a trimmed face's loop as the loop runs (the face on its left
 /// seen from its normal's side).
@@ -35,34 +38,21 @@ pub struct TrimEdge {
 /// How far a trimmed face's edges may lie from its surface (at least).
 pub const TRIM_TOLERANCE: f64 = 1e-5;
 
-/// A trimmed face's surface (the file's B-spline, or a bilinear patch of
-/// the plane around the loops) and its loops, or why not. `loops` are the
-/// face's edges with their shell indices.
+/// A trimmed face's surface (the file's B-spline, a bilinear patch of the
+/// plane around the loops, or a surface of revolution's piece under them:
+/// [`Revolution::around`]) and its loops' frames, or why not.
 pub(super) fn trimmed(
     face: &Face,
     loops: &[Vec<LoopEdge>],
 ) -> std::result::Result<(&'static str, FaceSurface, Vec<Vec<Frames>>), String> {
-    let (kind, surface) = match &face.surface {
-        StepSurface::BSplineSurface(_) | StepSurface::NurbsSurface(_) => {
-            let (kind, s) = spline(&face.surface)?;
-            let kind = if kind == "B-spline" {
-                "trimmed B-spline"
-            } else {
-                "trimmed rational B-spline"
-            };
-            (kind, s)
-        }
-        StepSurface::ElementarySurface(e) if matches!(e.as_ref(), ElementarySurface::Plane(_)) => {
-            ("trimmed plane", plane_around(&face.surface, loops)?)
-        }
-        _ => {
-            return Err(
-                "a trimmed face of this kind of surface: only B-spline and plane faces are \
-                 filled around when trimmed so far"
-                    .into(),
-            )
-        }
-    };
+    if let StepSurface::SweptCurve(_) = &face.surface {
+        return Err(
+            "a trimmed swept surface (extrusion or revolution of a curve): not filled around yet"
+                .into(),
+        );
+    }
+    // The edges on the surface first: the surface written for them is
+    // ranged by their points.
     let all: Vec<Vec3> = loops.iter().flatten().map(|e| e.start).collect();
     let tol = (1e-7 * fairsurf::vector::bounding_diagonal(&all)).max(TRIM_TOLERANCE);
     let frames = loops
@@ -73,6 +63,25 @@ pub(super) fn trimmed(
                 .collect::<std::result::Result<Vec<_>, String>>()
         })
         .collect::<std::result::Result<Vec<_>, String>>()?;
+    let (kind, surface) = match &face.surface {
+        StepSurface::BSplineSurface(_) | StepSurface::NurbsSurface(_) => {
+            let (kind, s) = spline(&face.surface)?;
+            let kind = if kind == "B-spline" {
+                "trimmed B-spline"
+            } else {
+                "trimmed rational B-spline"
+            };
+            (kind, s)
+        }
+        StepSurface::ElementarySurface(e) => match e.as_ref() {
+            ElementarySurface::Plane(_) => ("trimmed plane", plane_around(&face.surface, loops)?),
+            e => {
+                let (kind, axis) = Revolution::of(e)?;
+                (kind, axis.around(&face.surface, loops, kind)?)
+            }
+        },
+        StepSurface::SweptCurve(_) => unreachable!("refused above"),
+    };
     Ok((kind, surface, frames))
 }
 
@@ -128,6 +137,349 @@ fn plane_around(
     Ok(FaceSurface::Polynomial(net))
 }
 
+/// A cylinder, cone, sphere or torus as a surface of revolution: its axis
+/// (through `o` along the unit vector `k`, angles θ counted from `e1`
+/// towards k × e1) and its meridian in the half-plane (ρ, z) of distance
+/// from the axis and height along it.
+struct Revolution {
+    o: Vec3,
+    k: Vec3,
+    e1: Vec3,
+    meridian: Meridian,
+}
+
+/// The meridian of a [`Revolution`] in its (ρ, z) half-plane.
+enum Meridian {
+    /// A cylinder's or cone's ruling, parameter t from `a` (t = 0) to `b`
+    /// (t = 1).
+    Line { a: [f64; 2], b: [f64; 2] },
+    /// A sphere's (centre on the axis) or torus's circle, parameter the
+    /// angle φ about the centre from the ρ direction towards z.
+    Circle { centre: [f64; 2], radius: f64 },
+}
+
+impl Revolution {
+    /// The file's elementary surface (not a plane) as a revolution, and the
+    /// kind of trimmed face it makes.
+    fn of(e: &ElementarySurface) -> std::result::Result<(&'static str, Self), String> {
+        use fairsurf::vector::{cross, dot, norm, normalize, scale, sub};
+        let point = |m: &Matrix4, p: Point3| v3(m.transform_point(p));
+        let along = |m: &Matrix4, x: f64, y: f64, z: f64| {
+            let d = m.transform_vector(Vector3::new(x, y, z));
+            [d.x, d.y, d.z]
+        };
+        // e1 ⟂ k: `hint` without its part along k, or any perpendicular.
+        let across = |k: Vec3, hint: Vec3| {
+            let w = sub(hint, scale(k, dot(hint, k)));
+            normalize(w)
+                .filter(|_| norm(w) > 1e-9 * norm(hint))
+                .or_else(|| {
+                    let x = if k[0].abs() < 0.9 {
+                        [1.0, 0.0, 0.0]
+                    } else {
+                        [0.0, 1.0, 0.0]
+                    };
+                    normalize(cross(k, x))
+                })
+        };
+        let bad = || "a surface of revolution with a degenerate axis".to_string();
+        let (kind, o, k, hint, meridian_world) = match e {
+            ElementarySurface::CylindricalSurface(p) | ElementarySurface::ConicalSurface(p) => {
+                let kind = if matches!(e, ElementarySurface::CylindricalSurface(_)) {
+                    "trimmed cylinder"
+                } else {
+                    "trimmed cone"
+                };
+                let (m, r) = (p.transform(), p.entity());
+                let line = r.entity_curve();
+                let axis = r.axis();
+                let o = point(m, r.origin());
+                let k = normalize(along(m, axis.x, axis.y, axis.z)).ok_or_else(bad)?;
+                let (a, b) = (point(m, line.0), point(m, line.1));
+                let hint = if dist(a, o) > dist(b, o) {
+                    sub(a, o)
+                } else {
+                    sub(b, o)
+                };
+                (kind, o, k, hint, Ok((a, b)))
+            }
+            ElementarySurface::Sphere(p) => {
+                let (m, s) = (p.transform(), &p.entity().0);
+                let o = point(m, s.center());
+                let rim = point(m, s.center() + Vector3::new(s.radius(), 0.0, 0.0));
+                let k = normalize(along(m, 0.0, 0.0, 1.0)).ok_or_else(bad)?;
+                let radius = dist(rim, o);
+                (
+                    "trimmed sphere",
+                    o,
+                    k,
+                    sub(rim, o),
+                    Err(([0.0, 0.0], radius)),
+                )
+            }
+            ElementarySurface::ToroidalSurface(p) => {
+                let (m, t) = (p.transform(), p.entity());
+                let o = point(m, t.center());
+                let k = normalize(along(m, 0.0, 0.0, 1.0)).ok_or_else(bad)?;
+                let x = along(m, 1.0, 0.0, 0.0);
+                let scale_x = norm(x);
+                (
+                    "trimmed torus",
+                    o,
+                    k,
+                    x,
+                    Err((
+                        [t.large_radius() * scale_x, 0.0],
+                        t.small_radius() * scale_x,
+                    )),
+                )
+            }
+            ElementarySurface::Plane(_) => return Err("a plane is not a revolution".into()),
+        };
+        let e1 = across(k, hint).ok_or_else(bad)?;
+        let mut axis = Self {
+            o,
+            k,
+            e1,
+            meridian: Meridian::Circle {
+                centre: [0.0, 0.0],
+                radius: 0.0,
+            },
+        };
+        axis.meridian = match meridian_world {
+            Ok((a, b)) => {
+                let (a, b) = (axis.rz(a), axis.rz(b));
+                if a == b {
+                    return Err(bad());
+                }
+                Meridian::Line { a, b }
+            }
+            Err((centre, radius)) if radius > 0.0 => Meridian::Circle { centre, radius },
+            Err(_) => return Err("a sphere or torus of radius 0".into()),
+        };
+        Ok((kind, axis))
+    }
+
+    /// (ρ, z) of a point.
+    fn rz(&self, p: Vec3) -> [f64; 2] {
+        use fairsurf::vector::{dot, norm, scale, sub};
+        let d = sub(p, self.o);
+        let z = dot(d, self.k);
+        [norm(sub(d, scale(self.k, z))), z]
+    }
+
+    /// θ of a point (its angle about the axis from e1).
+    fn theta(&self, p: Vec3) -> f64 {
+        use fairsurf::vector::{cross, dot, sub};
+        let d = sub(p, self.o);
+        dot(d, cross(self.k, self.e1)).atan2(dot(d, self.e1))
+    }
+
+    /// The meridian parameter of a point (t along the line, or φ).
+    fn along(&self, p: Vec3) -> f64 {
+        let [rho, z] = self.rz(p);
+        match self.meridian {
+            Meridian::Line { a, b } => {
+                let d = [b[0] - a[0], b[1] - a[1]];
+                ((rho - a[0]) * d[0] + (z - a[1]) * d[1]) / (d[0] * d[0] + d[1] * d[1])
+            }
+            Meridian::Circle { centre, .. } => (z - centre[1]).atan2(rho - centre[0]),
+        }
+    }
+
+    /// The point at (θ, t) and its derivative by t.
+    fn at(&self, theta: f64, t: f64) -> (Vec3, Vec3) {
+        use fairsurf::vector::{add, cross, scale};
+        let (s, c) = theta.sin_cos();
+        let out = add(scale(self.e1, c), scale(cross(self.k, self.e1), s));
+        let ([rho, z], [drho, dz]) = match self.meridian {
+            Meridian::Line { a, b } => (
+                [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])],
+                [b[0] - a[0], b[1] - a[1]],
+            ),
+            Meridian::Circle { centre, radius } => {
+                let (s, c) = t.sin_cos();
+                (
+                    [centre[0] + radius * c, centre[1] + radius * s],
+                    [-radius * s, radius * c],
+                )
+            }
+        };
+        (
+            add(self.o, add(scale(out, rho), scale(self.k, z))),
+            add(scale(out, drho), scale(self.k, dz)),
+        )
+    }
+
+    /// The file's surface over the range of θ and of the meridian's
+    /// parameter its loops take, a little wider (2% each way, never past a
+    /// pole or a cone's apex; from a seam edge once round when the loops
+    /// go all the way round), as the exact rational B-spline of the revolution of
+    /// that piece of the meridian (The NURBS Book §8.5), checked on the
+    /// file's surface, its normal the file's.
+    fn around(
+        &self,
+        file: &StepSurface,
+        loops: &[Vec<LoopEdge>],
+        kind: &str,
+    ) -> std::result::Result<FaceSurface, String> {
+        use std::f64::consts::{FRAC_PI_2, PI};
+        let samples: Vec<Vec3> = loops
+            .iter()
+            .flatten()
+            .flat_map(|e| (0..=32).map(move |k| e.at(k as f64 / 32.0).0))
+            .collect();
+        let edges: Vec<&LoopEdge> = loops.iter().flatten().collect();
+        // A closed face's seam for an angle: an edge along which the angle
+        // stays put and which the loops also run the other way.
+        let seam = |angle: &dyn Fn(Vec3) -> f64| {
+            edges.iter().find_map(|e| {
+                let a: Vec<f64> = (0..=8).map(|k| angle(e.at(k as f64 / 8.0).0)).collect();
+                let still = a.iter().all(|x| (x - a[0]).abs() <= 1e-7);
+                let back = edges.iter().any(|f| {
+                    dist(f.start, e.end) <= 1e-9 * (1.0 + dist(e.start, e.end))
+                        && dist(f.end, e.start) <= 1e-9 * (1.0 + dist(e.start, e.end))
+                        && dist(f.at(0.5).0, e.at(0.5).0) <= 1e-7 * (1.0 + dist(e.start, e.end))
+                });
+                (still && back).then_some(a[0])
+            })
+        };
+        let turn = |name: &str, points: &[Vec3], angle: &dyn Fn(Vec3) -> f64| {
+            let values: Vec<f64> = points.iter().map(|p| angle(*p)).collect();
+            match circular_range(&values) {
+                Some(range) => Ok(range),
+                None => seam(angle).map(|s| (s, s + 2.0 * PI)).ok_or_else(|| {
+                    format!(
+                        "a {kind} face whose loops go all the way round {name} without a seam \
+                         edge: not filled around yet"
+                    )
+                }),
+            }
+        };
+        // θ of the points off the axis (a pole has none).
+        let size = fairsurf::vector::bounding_diagonal(&samples);
+        let off_axis: Vec<Vec3> = samples
+            .iter()
+            .copied()
+            .filter(|p| self.rz(*p)[0] > 1e-9 * size)
+            .collect();
+        let theta = turn("its axis", &off_axis, &|p| self.theta(p))?;
+        let t = match self.meridian {
+            Meridian::Line { a, b } => {
+                let ts: Vec<f64> = samples.iter().map(|p| self.along(*p)).collect();
+                let (lo, hi) = ts
+                    .iter()
+                    .fold((f64::MAX, f64::MIN), |(l, h), &x| (l.min(x), h.max(x)));
+                let margin = 0.02 * (hi - lo);
+                let (mut lo, mut hi) = (lo - margin, hi + margin);
+                // Not past a cone's apex (ρ = 0).
+                if a[0] != b[0] {
+                    let apex = a[0] / (a[0] - b[0]);
+                    if apex <= lo + margin {
+                        lo = lo.max(apex);
+                    }
+                    if apex >= hi - margin {
+                        hi = hi.min(apex);
+                    }
+                }
+                (lo, hi)
+            }
+            Meridian::Circle { centre, .. } if centre[0] == 0.0 => {
+                // A sphere's meridian: φ from pole to pole.
+                let ps: Vec<f64> = samples.iter().map(|p| self.along(*p)).collect();
+                let (lo, hi) = ps
+                    .iter()
+                    .fold((f64::MAX, f64::MIN), |(l, h), &x| (l.min(x), h.max(x)));
+                let margin = 0.02 * (hi - lo);
+                ((lo - margin).max(-FRAC_PI_2), (hi + margin).min(FRAC_PI_2))
+            }
+            Meridian::Circle { .. } => turn("its tube", &samples, &|p| self.along(p))?,
+        };
+        if !(theta.1 > theta.0 && t.1 > t.0) {
+            return Err(format!("a {kind} face whose loops enclose no area of it"));
+        }
+        let span = t.1 - t.0;
+        let profile = match self.meridian {
+            Meridian::Line { .. } => {
+                let (p0, p1) = (self.at(theta.0, t.0).0, self.at(theta.0, t.1).0);
+                (vec![p0, p1], vec![1.0, 1.0], vec![0.0, 0.0, 1.0, 1.0])
+            }
+            Meridian::Circle { .. } => {
+                let pieces = ((span / FRAC_PI_2) - 1e-9).ceil().max(1.0) as usize;
+                arc_along(
+                    |s| {
+                        let (p, d) = self.at(theta.0, t.0 + s * span);
+                        (p, fairsurf::vector::scale(d, span))
+                    },
+                    pieces,
+                )?
+            }
+        };
+        let surface = revolve_arc(&profile, self.o, self.k, theta.1 - theta.0)?;
+        on_file_surface(FaceSurface::Rational(surface), file, loops)
+    }
+}
+
+/// The smallest range [a, b] (b − a < 2π) of angles holding `values`
+/// (radians, any turn), widened by 2% of its length each way (together
+/// less than 0.26 rad: the widened ends do not meet); None when the values
+/// leave no gap of 0.5 rad (they go all the way round).
+pub(super) fn circular_range(values: &[f64]) -> Option<(f64, f64)> {
+    use std::f64::consts::TAU;
+    let mut a: Vec<f64> = values.iter().map(|x| x.rem_euclid(TAU)).collect();
+    a.sort_by(f64::total_cmp);
+    let n = a.len();
+    // The largest gap: after a[k], up to a[k + 1] (the last round to the first).
+    let (k, gap) = (0..n)
+        .map(|k| {
+            let next = if k + 1 < n { a[k + 1] } else { a[0] + TAU };
+            (k, next - a[k])
+        })
+        .max_by(|x, y| x.1.total_cmp(&y.1))?;
+    if gap < 0.5 {
+        return None;
+    }
+    let start = if k + 1 < n { a[k + 1] } else { a[0] };
+    let length = TAU - gap;
+    let margin = 0.02 * length;
+    Some((start - margin, start + length + margin))
+}
+
+/// `s` checked on the file's surface (5 × 5 points within the loops'
+/// edge tolerance) and turned, if need be, so that its normal is the
+/// file surface's.
+fn on_file_surface(
+    s: FaceSurface,
+    file: &StepSurface,
+    loops: &[Vec<LoopEdge>],
+) -> std::result::Result<FaceSurface, String> {
+    let edges: Vec<LoopEdge> = loops.iter().flatten().cloned().collect();
+    let tol = edge_tolerance(&edges);
+    let (ku, kv) = net(&s).knots();
+    let ((a, b), (c, d)) = (ku.domain(), kv.domain());
+    let mut agree = 0.0;
+    for i in 0..=4 {
+        for j in 0..=4 {
+            let (u, v) = (a + (b - a) * i as f64 / 4.0, c + (d - c) * j as f64 / 4.0);
+            let der = derivatives(&s, u, v);
+            let Some(((fu, fv), off)) = file_foot(file, der.point, None) else {
+                return Err("the file's surface could not be evaluated near the face".into());
+            };
+            if off > tol {
+                return Err(format!(
+                    "the face's surface as a B-spline is off the file's surface by {off:e} at \
+                     ({}, {}, {})",
+                    der.point[0], der.point[1], der.point[2]
+                ));
+            }
+            let n = file.normal(fu, fv);
+            agree +=
+                fairsurf::vector::dot(fairsurf::vector::cross(der.du, der.dv), [n.x, n.y, n.z]);
+        }
+    }
+    turned(s, agree > 0.0)
+}
+
 /// Foot points on a file's surface along one edge (33 parameters), where
 /// the edge's frames start their Newton steps.
 #[derive(Clone)]
@@ -137,6 +489,8 @@ pub(super) struct Frames {
     hints: Vec<(f64, f64)>,
     /// The largest distance of the points from the surface.
     off: f64,
+    /// How far they may be.
+    tol: f64,
     /// Where along the edge (s ∈ (0, 1)) its curve has a knot or its foot
     /// points cross a knot line of the surface.
     breaks: Vec<f64>,
@@ -151,7 +505,7 @@ impl Frames {
         let mut largest = 0.0f64;
         for k in 0..=HINTS {
             let p = edge.at(k as f64 / HINTS as f64).0;
-            let ((u, v), off) = file_foot(surface, p, hints.last().copied())
+            let ((u, v), off) = foot_within(surface, p, hints.last().copied(), tol)
                 .ok_or("the file's surface could not be evaluated near an edge of the face")?;
             if off > tol {
                 return Err(format!(
@@ -168,6 +522,7 @@ impl Frames {
             surface: surface.clone(),
             hints,
             off: largest,
+            tol,
             breaks: Vec::new(),
         };
         frames.breaks = frames.find_breaks();
@@ -240,7 +595,7 @@ impl Frames {
     fn frame(&self, s: f64) -> EdgeFrame {
         let (point, tangent) = self.edge.at(s);
         let hint = self.hints[((s.clamp(0.0, 1.0) * HINTS as f64).round()) as usize];
-        let (u, v) = file_foot(&self.surface, point, Some(hint)).map_or(hint, |f| f.0);
+        let (u, v) = foot_within(&self.surface, point, Some(hint), self.tol).map_or(hint, |f| f.0);
         let n = self.surface.normal(u, v);
         EdgeFrame {
             point,
@@ -280,6 +635,27 @@ impl Frames {
             length,
             off_surface,
         }
+    }
+}
+
+/// [`file_foot`] from `hint`, or from the surface's own search where that
+/// lands farther than `tol` (Newton steps from a hint stay in a B-spline's
+/// domain: a closed surface's point across its seam is reached from the
+/// other end).
+fn foot_within(
+    file: &StepSurface,
+    p: Vec3,
+    hint: Option<(f64, f64)>,
+    tol: f64,
+) -> Option<((f64, f64), f64)> {
+    let near = file_foot(file, p, hint);
+    match near {
+        Some((_, off)) if off <= tol => near,
+        _ if hint.is_some() => match (near, file_foot(file, p, None)) {
+            (Some(a), Some(b)) => Some(if b.1 < a.1 { b } else { a }),
+            (a, b) => a.or(b),
+        },
+        _ => near,
     }
 }
 
