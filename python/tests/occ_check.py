@@ -17,7 +17,7 @@ from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
 from OCP.gp import gp_Pnt, gp_Vec
 from OCP.ShapeAnalysis import ShapeAnalysis_FreeBounds
 from OCP.STEPControl import STEPControl_Reader
-from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
+from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_REVERSED
 from OCP.TopExp import TopExp, TopExp_Explorer
 from OCP.TopoDS import TopoDS
 
@@ -117,6 +117,34 @@ def seams(shape, samples: int = 65):
             angle = math.degrees(math.atan2(n1.Crossed(n2).Magnitude(), abs(n1.Dot(n2))))
             worst_angle = max(worst_angle, angle)
         out.append((sorted(index), worst_angle, worst_gap))
+    return out
+
+
+def face_normal(face, p: gp_Pnt):
+    """The unit normal of `face` at the foot of p, its orientation counted
+    (reversed for a face used reversed); None where it has none."""
+    surface = BRep_Tool.Surface_s(face)
+    n, _ = unit_normal(surface, *foot(surface, p))
+    if n is not None and face.Orientation() == TopAbs_REVERSED:
+        n.Reverse()
+    return n
+
+
+def normals_agree_across_edges(shape) -> list[bool]:
+    """Per edge shared by two faces (as the file shares it): whether the
+    faces' oriented normals agree at its middle — a consistently oriented
+    shell says True for all."""
+    faces = EdgeFaces()
+    TopExp.MapShapesAndAncestors_s(shape, TopAbs_EDGE, TopAbs_FACE, faces)
+    out = []
+    for i in range(1, faces.Extent() + 1):
+        pair = [TopoDS.Face(f) for f in faces.FindFromIndex(i)]
+        if len(pair) != 2 or pair[0].IsSame(pair[1]):
+            continue
+        curve = BRepAdaptor_Curve(TopoDS.Edge(faces.FindKey(i)))
+        p = curve.Value(0.5 * (curve.FirstParameter() + curve.LastParameter()))
+        n1, n2 = (face_normal(f, p) for f in pair)
+        out.append(n1.Dot(n2) > 0)
     return out
 
 

@@ -15,14 +15,18 @@ from occ_check import (
     polygon_nets,
     bspline_surface,
     count,
+    face_normal,
     faces_of,
     free_edges_after_sewing,
+    normals_agree_across_edges,
     read_step,
     seams,
     sewn_step,
 )
+from OCP.BRep import BRep_Tool
 from OCP.BRepBuilderAPI import BRepBuilderAPI_Sewing
 from OCP.TopAbs import TopAbs_FACE, TopAbs_WIRE
+from OCP.TopoDS import TopoDS
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "cad"
 
@@ -801,6 +805,35 @@ def test_holes_in_trimmed_surfaces_of_revolution_are_filled_and_sewn(cli: Path, 
     reported = sorted(f["max_angle_deg"] for f in fills)
     for m, r in zip(sorted(measured), reported):
         assert m <= 0.01 and abs(m - r) <= 0.2 * r, (measured, reported)
+
+
+def test_a_trimmed_face_used_reversed_keeps_its_sense(cli: Path, tmp_path: Path):
+    """The trimmed sheet written by Open CASCADE as a reversed face
+    (ADVANCED_FACE same_sense .F.): the output shell is oriented as the
+    input — the trimmed face's normal is the input face's at points of it,
+    and the fill's agrees with it across every shared edge."""
+    import importlib.util
+
+    from OCP.BRepTools import BRepTools
+
+    spec = importlib.util.spec_from_file_location("trimmed_hole", EXAMPLES / "trimmed_hole.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    face = TopoDS.Face(module.face().Reversed())
+    step_in, out = tmp_path / "reversed.step", tmp_path / "filled.step"
+    sewn_step([face], step_in)
+    assert ",.F.);" in next(l for l in step_in.read_text().splitlines() if "ADVANCED_FACE" in l)
+    filled(cli, step_in, out)
+    shape = read_step(out)
+    agree = normals_agree_across_edges(shape)
+    assert len(agree) == 4 and all(agree), agree
+    given = faces_of(read_step(step_in))[0]
+    trimmed = next(f for f in faces_of(shape) if count(f, TopAbs_WIRE) == 2)
+    u0, u1, v0, v1 = BRepTools.UVBounds_s(given)
+    surface = BRep_Tool.Surface_s(given)
+    for x, y in [(0.05, 0.05), (0.95, 0.9), (0.1, 0.9)]:
+        p = surface.Value(u0 + (u1 - u0) * x, v0 + (v1 - v0) * y)
+        assert face_normal(given, p).Dot(face_normal(trimmed, p)) > 0.99
 
 
 def test_a_five_sided_hole_in_a_trimmed_face_needs_one_piece_sides(cli: Path, tmp_path: Path):
