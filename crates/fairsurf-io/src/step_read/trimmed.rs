@@ -51,6 +51,14 @@ pub(super) fn trimmed(
                 .into(),
         );
     }
+    // A B-spline evaluated by fairsurf (all derivatives from one pass over
+    // the basis functions; truck's take one each).
+    let own = match &face.surface {
+        StepSurface::BSplineSurface(_) | StepSurface::NurbsSurface(_) => {
+            Some(spline(&face.surface)?)
+        }
+        _ => None,
+    };
     // The edges on the surface first: the surface written for them is
     // ranged by their points.
     let all: Vec<Vec3> = loops.iter().flatten().map(|e| e.start).collect();
@@ -59,13 +67,12 @@ pub(super) fn trimmed(
         .iter()
         .map(|l| {
             l.iter()
-                .map(|e| Frames::new(&face.surface, e, tol))
+                .map(|e| Frames::new(&face.surface, own.as_ref().map(|o| &o.1), e, tol))
                 .collect::<std::result::Result<Vec<_>, String>>()
         })
         .collect::<std::result::Result<Vec<_>, String>>()?;
-    let (kind, surface) = match &face.surface {
-        StepSurface::BSplineSurface(_) | StepSurface::NurbsSurface(_) => {
-            let (kind, s) = spline(&face.surface)?;
+    let (kind, surface) = match (&face.surface, own) {
+        (_, Some((kind, s))) => {
             let kind = if kind == "B-spline" {
                 "trimmed B-spline"
             } else {
@@ -73,14 +80,14 @@ pub(super) fn trimmed(
             };
             (kind, s)
         }
-        StepSurface::ElementarySurface(e) => match e.as_ref() {
+        (StepSurface::ElementarySurface(e), None) => match e.as_ref() {
             ElementarySurface::Plane(_) => ("trimmed plane", plane_around(&face.surface, loops)?),
             e => {
                 let (kind, axis) = Revolution::of(e)?;
                 (kind, axis.around(&face.surface, loops, kind)?)
             }
         },
-        StepSurface::SweptCurve(_) => unreachable!("refused above"),
+        _ => unreachable!("swept surfaces refused above; B-splines converted"),
     };
     Ok((kind, surface, frames))
 }
@@ -486,6 +493,8 @@ fn on_file_surface(
 pub(super) struct Frames {
     edge: LoopEdge,
     surface: StepSurface,
+    /// The surface as fairsurf's B-spline, when it is one (evaluated so).
+    spline: Option<FaceSurface>,
     hints: Vec<(f64, f64)>,
     /// The largest distance of the points from the surface.
     off: f64,
@@ -500,12 +509,17 @@ pub(super) struct Frames {
 const HINTS: usize = 32;
 
 impl Frames {
-    fn new(surface: &StepSurface, edge: &LoopEdge, tol: f64) -> std::result::Result<Self, String> {
+    fn new(
+        surface: &StepSurface,
+        spline: Option<&FaceSurface>,
+        edge: &LoopEdge,
+        tol: f64,
+    ) -> std::result::Result<Self, String> {
         let mut hints = Vec::with_capacity(HINTS + 1);
         let mut largest = 0.0f64;
         for k in 0..=HINTS {
             let p = edge.at(k as f64 / HINTS as f64).0;
-            let ((u, v), off) = foot_within(surface, p, hints.last().copied(), tol)
+            let ((u, v), off) = foot_within((surface, spline), p, hints.last().copied(), tol)
                 .ok_or("the file's surface could not be evaluated near an edge of the face")?;
             if off > tol {
                 return Err(format!(
@@ -520,6 +534,7 @@ impl Frames {
         let mut frames = Self {
             edge: edge.clone(),
             surface: surface.clone(),
+            spline: spline.cloned(),
             hints,
             off: largest,
             tol,
@@ -554,7 +569,7 @@ impl Frames {
         };
         let foot = |s: f64, hint: (f64, f64)| {
             let p = self.edge.at(s).0;
-            file_foot(&self.surface, p, Some(hint)).map_or(hint, |f| f.0)
+            file_foot_on((&self.surface, self.spline.as_ref()), p, Some(hint)).map_or(hint, |f| f.0)
         };
         for (c, knots) in lines.iter().enumerate() {
             let (lo, hi) = (knots[0], knots[knots.len() - 1]);
@@ -595,12 +610,23 @@ impl Frames {
     fn frame(&self, s: f64) -> EdgeFrame {
         let (point, tangent) = self.edge.at(s);
         let hint = self.hints[((s.clamp(0.0, 1.0) * HINTS as f64).round()) as usize];
-        let (u, v) = foot_within(&self.surface, point, Some(hint), self.tol).map_or(hint, |f| f.0);
-        let n = self.surface.normal(u, v);
+        let file = (&self.surface, self.spline.as_ref());
+        let (u, v) = foot_within(file, point, Some(hint), self.tol).map_or(hint, |f| f.0);
+        let normal = match &self.spline {
+            Some(s) => {
+                let d = derivatives(s, u, v);
+                fairsurf::vector::normalize(fairsurf::vector::cross(d.du, d.dv))
+                    .unwrap_or([f64::NAN; 3])
+            }
+            None => {
+                let n = self.surface.normal(u, v);
+                [n.x, n.y, n.z]
+            }
+        };
         EdgeFrame {
             point,
             tangent,
-            normal: [n.x, n.y, n.z],
+            normal,
         }
     }
 
@@ -643,15 +669,15 @@ impl Frames {
 /// domain: a closed surface's point across its seam is reached from the
 /// other end).
 fn foot_within(
-    file: &StepSurface,
+    file: (&StepSurface, Option<&FaceSurface>),
     p: Vec3,
     hint: Option<(f64, f64)>,
     tol: f64,
 ) -> Option<((f64, f64), f64)> {
-    let near = file_foot(file, p, hint);
+    let near = file_foot_on(file, p, hint);
     match near {
         Some((_, off)) if off <= tol => near,
-        _ if hint.is_some() => match (near, file_foot(file, p, None)) {
+        _ if hint.is_some() => match (near, file_foot_on(file, p, None)) {
             (Some(a), Some(b)) => Some(if b.1 < a.1 { b } else { a }),
             (a, b) => a.or(b),
         },
@@ -665,6 +691,16 @@ fn foot_within(
 /// range where that fails: its sphere's at the seam gives NaN).
 pub(super) fn file_foot(
     file: &StepSurface,
+    p: Vec3,
+    hint: Option<(f64, f64)>,
+) -> Option<((f64, f64), f64)> {
+    file_foot_on((file, None), p, hint)
+}
+
+/// [`file_foot`], its Newton steps on `spline` (the file's B-spline as
+/// fairsurf's, the same parameters) when given.
+fn file_foot_on(
+    (file, spline): (&StepSurface, Option<&FaceSurface>),
     p: Vec3,
     hint: Option<(f64, f64)>,
 ) -> Option<((f64, f64), f64)> {
@@ -693,7 +729,7 @@ pub(super) fn file_foot(
         }
     };
     let w = |x: Vector3| [x.x, x.y, x.z];
-    let derivatives = |u: f64, v: f64| fairsurf::SurfaceDerivatives {
+    let truck = |u: f64, v: f64| fairsurf::SurfaceDerivatives {
         point: v3(file.subs(u, v)),
         du: w(file.uder(u, v)),
         dv: w(file.vder(u, v)),
@@ -711,6 +747,14 @@ pub(super) fn file_foot(
         }
         _ => (all, all),
     };
-    let start = dist(v3(file.subs(uv.0, uv.1)), p);
-    Some(foot(&derivatives, p, uv, start, domain))
+    Some(match spline {
+        Some(s) => {
+            let start = dist(eval(s, uv.0, uv.1), p);
+            foot(&|u, v| derivatives(s, u, v), p, uv, start, domain)
+        }
+        None => {
+            let start = dist(v3(file.subs(uv.0, uv.1)), p);
+            foot(&truck, p, uv, start, domain)
+        }
+    })
 }
