@@ -358,9 +358,16 @@ impl BSplineProblem {
         let (pats, gamma) = (&en.pats(), en.guide.as_ref().map_or(0.0, |g| g.0));
         let nf = free.len();
         let (dim, cols) = if coupled { (3 * nf, 1) } else { (nf, 3) };
+        // Room for the triplets at once (growing the vector by doubling
+        // copied it and faulted in fresh pages: a fifth of a 21 × 27
+        // coupled fill's time went to the kernel zeroing pages): per free
+        // point its band of neighbours, one value or (coupled) a 3 × 3
+        // block each, half of them on or below the diagonal.
+        let (p, q) = self.surface.degree();
+        let per_point = (2 * p + 1) * (2 * q + 1) * if coupled { 9 } else { 1 };
         let mut sys = System {
             dim,
-            lower: Vec::new(),
+            lower: Vec::with_capacity(nf * per_point / 2 + dim),
             b: Mat::zeros(dim, cols),
             h_inf: 0.0,
             h_diag: 0.0,
@@ -382,6 +389,26 @@ impl BSplineProblem {
                 }
             }
         };
+        // Coupled: the 3 × 3 blocks between free points, summed into a
+        // store (per free point and free neighbour when the block is small
+        // enough to factor dense, else per free point and neighbour offset)
+        // and then emitted once — the thin plate's diagonal blocks, the
+        // field's and the operators' alike: adding every span's blocks as
+        // triplets made 5 M of them at 50 × 50 (and an operator's every
+        // node's). The fixed neighbours' columns go to the right-hand side
+        // directly.
+        let (wu, wv) = (2 * p + 1, 2 * q + 1);
+        let dense = dim <= super::system::DENSE_UNKNOWNS;
+        let width = if dense { nf } else { wu * wv };
+        let cell = |sk: usize, k: usize, l: usize| -> usize {
+            let off = if dense {
+                slot[l]
+            } else {
+                (l / cv + p - k / cv) * wv + (l % cv + q - k % cv)
+            };
+            (sk * width + off) * 9
+        };
+        let mut store = vec![0.0f64; if coupled { nf * width * 9 } else { 0 }];
         for &k in free {
             let (i, j) = (k / cv, k % cv);
             for i2 in gu.band(i) {
@@ -393,7 +420,12 @@ impl BSplineProblem {
                         .sum::<f64>()
                         + gamma * mu * mv;
                     let l = i2 * cv + j2;
-                    if h != 0.0 {
+                    if h != 0.0 && coupled && slot[l] != usize::MAX {
+                        let blk = &mut store[cell(slot[k], k, l)..][..9];
+                        for c in 0..3 {
+                            blk[4 * c] += h;
+                        }
+                    } else if h != 0.0 {
                         for c in 0..3 {
                             if coupled || c == 0 {
                                 add(&mut sys, k, c, l, c, h);
@@ -418,26 +450,6 @@ impl BSplineProblem {
             }
         }
         if coupled {
-            // The field's and the operators' 3 × 3 blocks between free
-            // points, summed into a store (per free point and free
-            // neighbour when the block is small enough to factor dense,
-            // else per free point and neighbour offset) and then emitted
-            // once: adding every span's blocks as triplets made 5 M of them
-            // at 50 × 50 (and an operator's every node's). The fixed
-            // neighbours' columns go to the right-hand side directly.
-            let (p, q) = self.surface.degree();
-            let (wu, wv) = (2 * p + 1, 2 * q + 1);
-            let dense = dim <= super::system::DENSE_UNKNOWNS;
-            let width = if dense { nf } else { wu * wv };
-            let cell = |sk: usize, k: usize, l: usize| -> usize {
-                let off = if dense {
-                    slot[l]
-                } else {
-                    (l / cv + p - k / cv) * wv + (l % cv + q - k % cv)
-                };
-                (sk * width + off) * 9
-            };
-            let mut store = vec![0.0f64; nf * width * 9];
             for grid in normal.iter().flat_map(|n| n.spans(&self.surface)) {
                 let (su, sv) = grid.span;
                 let (i0, j0) = (su - p, sv - q);
