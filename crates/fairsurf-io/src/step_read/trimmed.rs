@@ -704,6 +704,12 @@ fn file_foot_on(
     p: Vec3,
     hint: Option<(f64, f64)>,
 ) -> Option<((f64, f64), f64)> {
+    // Without a hint: the nearest of a B-spline's 17 × 17 grid, by
+    // fairsurf's evaluation (truck's search evaluates its own grid by its
+    // evaluation, one pass over the basis functions per derivative).
+    if let (Some(s), None) = (spline, hint) {
+        return Some(nearest(s, &Seeds::new(s), p));
+    }
     let q = Point3::new(p[0], p[1], p[2]);
     let uv = match hint {
         Some(uv) => uv,
