@@ -807,6 +807,40 @@ def test_holes_in_trimmed_surfaces_of_revolution_are_filled_and_sewn(cli: Path, 
         assert m <= 0.01 and abs(m - r) <= 0.2 * r, (measured, reported)
 
 
+def test_trimmed_spheres_and_tori_round_a_pole_or_all_round_are_filled(cli: Path, tmp_path: Path):
+    """examples/cad/trimmed_closed.step (Open CASCADE's): a dome up to its
+    pole, a sphere piece wider than half a turn and a whole torus, each
+    with a hole: the three holes filled by default, Open CASCADE reads the
+    output as a valid shape and sews it with only the rims free (the
+    dome's circle, the wide piece's four edges). The whole sphere but a
+    hole (no seam edge) and a cone face up to its apex are refused, saying
+    so, nothing written."""
+    import importlib.util
+
+    from OCP.BRepCheck import BRepCheck_Analyzer
+
+    out = tmp_path / "filled.step"
+    report = filled(cli, EXAMPLES / "trimmed_closed.step", out)
+    assert len(report["fills"]) == 3
+    for fill in report["fills"]:
+        assert fill["max_gap"] <= 1e-6 and fill["max_angle_deg"] <= 0.01, fill
+    shape = read_step(out)
+    assert BRepCheck_Analyzer(shape).IsValid()
+    assert free_edges_after_sewing(shape) == 1 + 4
+    assert all(normals_agree_across_edges(shape))
+    spec = importlib.util.spec_from_file_location("closed", EXAMPLES / "trimmed_closed.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    for face, says in [(module.ball(), "all the way round its axis without a seam edge"),
+                       (module.point(), "whose loops reach its apex")]:
+        step_in = tmp_path / "refused.step"
+        sewn_step([face], step_in)
+        run = subprocess.run([str(cli), "fill", str(step_in), "-o", str(out.with_name("no.step"))],
+                             capture_output=True, text=True)
+        assert run.returncode == 2 and says in run.stderr, run.stderr
+        assert not out.with_name("no.step").exists()
+
+
 def test_a_trimmed_face_used_reversed_keeps_its_sense(cli: Path, tmp_path: Path):
     """The trimmed sheet written by Open CASCADE as a reversed face
     (ADVANCED_FACE same_sense .F.): the output shell is oriented as the

@@ -482,10 +482,10 @@ impl EnergyArgs {
     }
 }
 
-/// The surfaces in one panel, coloured by |H| or striped.
 /// The picture of B-spline surfaces and triangular ones (drawn over their
 /// triangles: their tensor form's collapsed side would put a singular row
-/// of samples in the colour range).
+/// of samples in the colour range), in one panel, coloured by |H| or
+/// striped.
 fn picture(
     surfaces: &[&BSplineSurface],
     triangular: &[&TriSurface],

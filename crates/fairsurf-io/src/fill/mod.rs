@@ -46,9 +46,10 @@ pub struct FillScene {
     /// shares.
     pub faces: Vec<FaceSpec>,
     /// Which holes to fill, by their index in `fairsurf fill --list`
-    /// (longest loop first). Default: every hole but the outer rim of an
-    /// open sheet (the longest loop that bounds its faces from outside; a
-    /// closed shell has none) when there are several, the one loop
+    /// (longest loop first). Default: every hole but the outer rims when
+    /// there are several (the loops that bound their faces from outside,
+    /// one per open sheet — a closed shell has none — and, when some loop
+    /// is clearly a hole, those whose sense is unclear), the one loop
     /// otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub holes: Option<Vec<usize>>,

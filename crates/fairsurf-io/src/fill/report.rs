@@ -24,8 +24,10 @@ impl HoleChoice {
     /// their faces from outside ([`fairsurf::fill::Hole::bounds_from_outside`];
     /// a closed shell's holes do not) — one per open sheet — and, when
     /// some loop is clearly a hole, those whose sense is unclear too (a
-    /// pipe's ends run across its normals); when that would leave nothing,
-    /// the longest that is not clearly a hole. The one hole otherwise.
+    /// pipe's ends run across its normals; an interior hole whose sense
+    /// is unclear is then left too, and named a rim); the longest loop
+    /// when no sense is clear; when every loop would be a rim, the
+    /// longest only. The one hole otherwise.
     /// Errors: no hole, an index out of range (named as `holes[k]`).
     pub fn new(faces: &[BSplineSurface], asked: Option<&[usize]>) -> Result<HoleChoice> {
         Self::within(faces, asked, tolerance(faces))
@@ -68,8 +70,9 @@ impl HoleChoice {
         }
         // The outer rims of open sheets: the loops that bound their faces
         // from outside (none on a closed shell with holes); those whose
-        // sense is unclear too when some loop is clearly a hole; else (all
-        // rims or unclear) the longest one only.
+        // sense is unclear too when some loop is clearly a hole (a pipe's
+        // ends), else none of them; the longest loop when no sense is
+        // clear; the longest one only when every loop would be a rim.
         let n = holes.len();
         let senses: Vec<Option<bool>> = if n > 1 {
             holes.iter().map(|h| h.bounds_from_outside(faces)).collect()
@@ -82,11 +85,9 @@ impl HoleChoice {
             .collect();
         if rims.len() == n {
             rims.truncate(1);
-        } else if !clear_hole {
-            rims = (0..n)
-                .find(|&k| senses[k].unwrap_or(k == 0))
-                .into_iter()
-                .collect();
+        } else if !clear_hole && rims.is_empty() {
+            // No sense clear: the longest loop.
+            rims = vec![0];
         }
         let chosen = match asked {
             Some(a) => {

@@ -503,3 +503,74 @@ fn holes_in_trimmed_surfaces_of_revolution_are_filled() {
         "{holes:?}"
     );
 }
+
+/// Trimmed spheres and a torus that reach a pole, go all the way round or
+/// span more than half a turn (the bundled `trimmed_closed.step`, Open
+/// CASCADE's): each surface is written over the part the face takes — the
+/// dome's up to its pole, the wide piece's over its 4.5 rad and not the
+/// 1.8 rad it leaves out, the torus whole — and every hole is filled
+/// within the tolerance.
+#[test]
+fn trimmed_surfaces_of_revolution_are_taken_where_the_face_lies() {
+    use std::f64::consts::TAU;
+    let mut input = bundled("trimmed_closed.step");
+    assert_eq!(
+        input.kinds[..3],
+        ["trimmed sphere", "trimmed sphere", "trimmed torus"]
+    );
+    // Points of each written surface on a 41 × 41 grid of its domain.
+    let grid = |k: usize| -> Vec<Vec3> {
+        let Some((FaceSurface::Rational(r), _)) = &input.trimmed[k] else {
+            panic!("face {k}: a trimmed rational face");
+        };
+        let ((a, b), (c, d)) = (r.net().knots().0.domain(), r.net().knots().1.domain());
+        (0..=40)
+            .flat_map(|i| (0..=40).map(move |j| (i as f64 / 40.0, j as f64 / 40.0)))
+            .map(|(x, y)| r.eval(a + (b - a) * x, c + (d - c) * y))
+            .collect()
+    };
+    // The dome reaches its pole (4, 0, 1).
+    let pole = grid(0)
+        .iter()
+        .map(|p| fairsurf::vector::norm(fairsurf::vector::sub(*p, [4.0, 0.0, 1.0])))
+        .fold(f64::INFINITY, f64::min);
+    assert!(pole < 1e-12, "{pole}");
+    // The wide piece: its angles about (8, 0, 0) include 4.2 rad (inside
+    // the face, u ∈ [0.3, 4.8]) and leave out 5.5 rad.
+    let angles: Vec<f64> = grid(1)
+        .iter()
+        .map(|p| p[1].atan2(p[0] - 8.0).rem_euclid(TAU))
+        .collect();
+    assert!(angles.iter().any(|a| (a - 4.2).abs() < 0.1));
+    assert!(angles.iter().all(|a| (a - 5.5).abs() > 0.3));
+    // The torus goes round its axis and round its tube: no gap in either
+    // angle wider than the grid's.
+    let widest = |mut a: Vec<f64>| {
+        a.sort_by(f64::total_cmp);
+        let inner = a.windows(2).map(|w| w[1] - w[0]).fold(0.0, f64::max);
+        inner.max(a[0] + TAU - a[a.len() - 1])
+    };
+    let torus = grid(2);
+    let about = torus
+        .iter()
+        .map(|p| (p[1] - 6.0).atan2(p[0]).rem_euclid(TAU));
+    let tube = torus
+        .iter()
+        .map(|p| p[2].atan2(p[0].hypot(p[1] - 6.0) - 2.0).rem_euclid(TAU));
+    assert!(widest(about.collect()) < 0.2);
+    assert!(widest(tube.collect()) < 0.2);
+    // The holes filled by default, within the tolerance.
+    let choice = input.choose(None).unwrap();
+    assert_eq!(choice.rims.len(), 2);
+    let fills = choice.fill(&input.faces, &input.options).unwrap();
+    let tol = FitTolerance::default();
+    assert_eq!(fills.len(), 3);
+    for f in &fills {
+        for s in f.sides() {
+            assert!(s.gap <= tol.position && s.angle <= tol.angle, "{s:?}");
+        }
+    }
+    // (Read back by fairsurf the dome's seam edge, which now ends on its
+    // B-spline's collapsed side, has no normal there for a strip: Open
+    // CASCADE reads it, python/tests/test_fill.py.)
+}

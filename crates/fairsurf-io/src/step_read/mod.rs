@@ -451,7 +451,7 @@ fn dist(a: Vec3, b: Vec3) -> f64 {
 }
 
 /// One face as a polynomial or rational B-spline bounded by its four
-/// sides, or a trimmed B-spline or plane face (with its edges' frames), or
+/// sides, or a trimmed face (with its edges' frames), or
 /// why not.
 fn step_face(face: &Face, shell: &Shell) -> std::result::Result<Read, String> {
     let loops: Vec<Vec<LoopEdge>> = face
@@ -480,8 +480,8 @@ fn step_face(face: &Face, shell: &Shell) -> std::result::Result<Read, String> {
     };
     if loops.len() != 1 {
         return as_trimmed(format!(
-            "the face has {} boundary loops: faces with holes in them are filled around only \
-             when B-spline or plane faces",
+            "the face has {} boundary loops: faces with holes in them are not filled around \
+             when their surface is swept (an extrusion or a revolution of a curve)",
             loops.len()
         ));
     }

@@ -103,10 +103,15 @@ pub(super) struct Seeds {
 
 impl Seeds {
     pub(super) fn new(s: &FaceSurface) -> Self {
+        Self::of(s, 16)
+    }
+
+    /// The (n + 1) × (n + 1) grid.
+    pub(super) fn of(s: &FaceSurface, n: usize) -> Self {
         let (ku, kv) = net(s).knots();
         let ((a, b), (c, d)) = (ku.domain(), kv.domain());
-        let us: Vec<f64> = (0..=16).map(|i| a + (b - a) * i as f64 / 16.0).collect();
-        let vs: Vec<f64> = (0..=16).map(|j| c + (d - c) * j as f64 / 16.0).collect();
+        let us: Vec<f64> = (0..=n).map(|i| a + (b - a) * i as f64 / n as f64).collect();
+        let vs: Vec<f64> = (0..=n).map(|j| c + (d - c) * j as f64 / n as f64).collect();
         let grid = match s {
             FaceSurface::Polynomial(b) => b.derivatives_on(&us, &vs),
             FaceSurface::Rational(r) => r.derivatives_on(&us, &vs),
@@ -149,6 +154,11 @@ pub(super) fn foot(
     let dot = fairsurf::vector::dot;
     // The derivatives at `at`, kept from the step that found it.
     let mut x = s(at.0, at.1);
+    // Where the steps started, kept if they end farther (a start on a
+    // collapsed side, a pole, is moved a little inside once: no step can
+    // leave it).
+    let start = (at, best);
+    let mut nudged = false;
     for _ in 0..40 {
         let (u, v) = at;
         let r = fairsurf::vector::sub(x.point, p);
@@ -157,6 +167,14 @@ pub(super) fn foot(
         let a12 = dot(x.du, x.dv) + dot(r, x.duv);
         let a22 = dot(x.dv, x.dv) + dot(r, x.dvv);
         let det = a11 * a22 - a12 * a12;
+        if (det == 0.0 || det.is_nan()) && !nudged {
+            nudged = true;
+            let inside = |t: f64, lo: f64, hi: f64| t + 1e-3 * ((lo + hi) / 2.0 - t);
+            at = (inside(u, a, b), inside(v, c, d));
+            x = s(at.0, at.1);
+            best = dist(x.point, p);
+            continue;
+        }
         if det == 0.0 || det.is_nan() {
             break;
         }
@@ -176,7 +194,11 @@ pub(super) fn foot(
             break;
         }
     }
-    (at, best)
+    if start.1 < best {
+        start
+    } else {
+        (at, best)
+    }
 }
 
 /// A surface's four sides as written: per side (v = c, v = d, u = a,

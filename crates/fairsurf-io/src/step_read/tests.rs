@@ -416,31 +416,49 @@ fn guarded_reports_a_panic_as_its_message_and_place() {
     assert!(e.starts_with("outer ("), "{e}");
 }
 
-/// The range of angles a trimmed surface of revolution is written over:
-/// the complement of the widest gap, across the turn from 2π to 0 too,
-/// widened by 2% each way; none when the angles go all the way round (no
-/// gap of 0.5 rad).
+/// The range of angles a trimmed surface of revolution is written over
+/// (`periodic_range`): the widest gap between its edges' points that no
+/// edge runs through and that the edges at its ends turn the face away
+/// from is left out, across the turn from 2π to 0 too, and the rest widened
+/// by 2% each way; none when no gap is left out (all the way round).
 #[test]
-fn angles_are_ranged_across_the_turn() {
+fn angles_are_ranged_on_the_face_s_side() {
     use std::f64::consts::TAU;
+    // Equal ranges, up to whole turns.
     let close = |a: (f64, f64), b: (f64, f64)| {
+        let turns = ((a.0 - b.0) / TAU).round() * TAU;
+        let a = (a.0 - turns, a.1 - turns);
         assert!(
             (a.0 - b.0).abs() < 1e-12 && (a.1 - b.1).abs() < 1e-12,
             "{a:?} vs {b:?}"
         );
     };
-    // 1 to 2 rad, in any order and any turn.
-    let r = circular_range(&[2.0, 1.0 + TAU, 1.5 - TAU]).unwrap();
-    close(r, (1.0 - 0.02, 2.0 + 0.02));
-    // Across 0: from 2π − 0.5 to 2π + 0.5.
-    let r = circular_range(&[TAU - 0.5, 0.0, 0.5]).unwrap();
-    close(r, (TAU - 0.5 - 0.02, TAU + 0.5 + 0.02));
-    // Nearly all round: the one gap of 0.6 rad is left out.
-    let most = TAU - 0.6;
-    let near: Vec<f64> = (0..=20).map(|k| 1.0 + most * k as f64 / 20.0).collect();
-    let r = circular_range(&near).unwrap();
-    close(r, (1.0 - 0.02 * most, 1.0 + 1.02 * most));
-    // All round (gaps of 0.4 rad): none.
-    let all: Vec<f64> = (0..16).map(|k| k as f64 * TAU / 16.0).collect();
-    assert_eq!(circular_range(&all), None);
+    // An edge's points from `a` to `b` (9 of them), the face turned by
+    // `rate` from it.
+    let edge = |e: usize, a: f64, b: f64, rate: f64| -> Vec<(f64, usize, f64)> {
+        (0..=8)
+            .map(|k| (a + (b - a) * k as f64 / 8.0, e, rate))
+            .collect()
+    };
+    // Two meridians at 1 and 2 rad (any turn), the face between them.
+    let between = [edge(0, 1.0, 1.0, 1.0), edge(1, 2.0 + TAU, 2.0 + TAU, -1.0)].concat();
+    close(periodic_range(&between).unwrap(), (1.0 - 0.02, 2.0 + 0.02));
+    // The same meridians with the face outside them: the 1 rad between is
+    // left out, the other 2π − 1 taken (its margin at most a quarter gap).
+    let outside = [edge(0, 1.0, 1.0, -1.0), edge(1, 2.0, 2.0, 1.0)].concat();
+    let most = TAU - 1.0;
+    close(
+        periodic_range(&outside).unwrap(),
+        (2.0 - 0.02 * most, 2.0 + 1.02 * most),
+    );
+    // Across 0: an arc from 2π − 0.5 to 2π + 0.5 along the face (rate 0).
+    let arc = edge(0, TAU - 0.5, TAU + 0.5, 0.0);
+    close(periodic_range(&arc).unwrap(), (TAU - 0.52, TAU + 0.52));
+    // A whole circle in 8 steps: every gap is run through: none.
+    assert_eq!(periodic_range(&edge(0, 0.0, TAU, 0.0)), None);
+    // A seam's two sides (the face turned away from it both ways) and a
+    // hole's: no gap the face does not reach.
+    let seam = [edge(0, 0.0, 0.0, 1.0), edge(1, 0.0, 0.0, -1.0)].concat();
+    let hole = [edge(2, 2.0, 2.0, 1.0), edge(3, 3.0, 3.0, -1.0)].concat();
+    assert_eq!(periodic_range(&[seam, hole].concat()), None);
 }

@@ -52,12 +52,27 @@ pub(super) fn trimmed(
         );
     }
     // A B-spline evaluated by fairsurf (all derivatives from one pass over
-    // the basis functions; truck's take one each).
+    // the basis functions; truck's take one each); a surface of revolution
+    // in closed form (truck's parameters are singular at a pole, where
+    // Newton steps on them stall).
     let own = match &face.surface {
         StepSurface::BSplineSurface(_) | StepSurface::NurbsSurface(_) => {
             Some(spline(&face.surface)?)
         }
         _ => None,
+    };
+    let revolution = match &face.surface {
+        StepSurface::ElementarySurface(e) if !matches!(e.as_ref(), ElementarySurface::Plane(_)) => {
+            let (kind, axis) = Revolution::of(e)?;
+            let sign = axis.sense_of(&face.surface, loops)?;
+            Some((kind, axis, sign))
+        }
+        _ => None,
+    };
+    let eval = match (&own, &revolution) {
+        (Some((_, s)), _) => Eval::Spline(s.clone()),
+        (_, Some((_, axis, sign))) => Eval::Revolution(axis.clone(), *sign),
+        _ => Eval::File,
     };
     // The edges on the surface first: the surface written for them is
     // ranged by their points.
@@ -67,7 +82,7 @@ pub(super) fn trimmed(
         .iter()
         .map(|l| {
             l.iter()
-                .map(|e| Frames::new(&face.surface, own.as_ref().map(|o| &o.1), e, tol))
+                .map(|e| Frames::new(&face.surface, &eval, e, tol))
                 .collect::<std::result::Result<Vec<_>, String>>()
         })
         .collect::<std::result::Result<Vec<_>, String>>()?;
@@ -80,14 +95,10 @@ pub(super) fn trimmed(
             };
             (kind, s)
         }
-        (StepSurface::ElementarySurface(e), None) => match e.as_ref() {
-            ElementarySurface::Plane(_) => ("trimmed plane", plane_around(&face.surface, loops)?),
-            e => {
-                let (kind, axis) = Revolution::of(e)?;
-                (kind, axis.around(&face.surface, loops, kind)?)
-            }
+        (_, None) => match revolution {
+            Some((kind, axis, _)) => (kind, axis.around(&face.surface, &frames, kind)?),
+            None => ("trimmed plane", plane_around(&face.surface, loops)?),
         },
-        _ => unreachable!("swept surfaces refused above; B-splines converted"),
     };
     Ok((kind, surface, frames))
 }
@@ -144,11 +155,24 @@ fn plane_around(
     Ok(FaceSurface::Polynomial(net))
 }
 
+/// How [`Frames`] finds foot points and normals on a face's surface.
+#[derive(Clone)]
+pub(super) enum Eval {
+    /// truck's evaluation of the file's surface (a plane).
+    File,
+    /// The file's B-spline as fairsurf's (the same parameters).
+    Spline(FaceSurface),
+    /// A surface of revolution in closed form ([`Revolution::foot`]), its
+    /// normal times the file's sense (±1).
+    Revolution(Revolution, f64),
+}
+
 /// A cylinder, cone, sphere or torus as a surface of revolution: its axis
 /// (through `o` along the unit vector `k`, angles θ counted from `e1`
 /// towards k × e1) and its meridian in the half-plane (ρ, z) of distance
 /// from the axis and height along it.
-struct Revolution {
+#[derive(Clone)]
+pub(super) struct Revolution {
     o: Vec3,
     k: Vec3,
     e1: Vec3,
@@ -156,6 +180,7 @@ struct Revolution {
 }
 
 /// The meridian of a [`Revolution`] in its (ρ, z) half-plane.
+#[derive(Clone, Copy)]
 enum Meridian {
     /// A cylinder's or cone's ruling, parameter t from `a` (t = 0) to `b`
     /// (t = 1).
@@ -267,6 +292,56 @@ impl Revolution {
         Ok((kind, axis))
     }
 
+    /// The distance of p from the surface and the surface's unit normal
+    /// at its foot (the meridian's in p's half-plane, outward from a
+    /// circle's centre; none at a circle's centre).
+    fn foot(&self, p: Vec3) -> (f64, Option<Vec3>) {
+        use fairsurf::vector::{add, cross, scale};
+        let [rho, z] = self.rz(p);
+        let theta = self.theta(p);
+        let (s, c) = theta.sin_cos();
+        let out = add(scale(self.e1, c), scale(cross(self.k, self.e1), s));
+        let (off, n) = match self.meridian {
+            Meridian::Line { a, b } => {
+                let d = [b[0] - a[0], b[1] - a[1]];
+                let l = d[0].hypot(d[1]);
+                let (x, y) = (rho - a[0], z - a[1]);
+                ((x * d[1] - y * d[0]).abs() / l, Some([d[1] / l, -d[0] / l]))
+            }
+            Meridian::Circle { centre, radius } => {
+                let v = [rho - centre[0], z - centre[1]];
+                let r = v[0].hypot(v[1]);
+                ((r - radius).abs(), (r > 0.0).then(|| [v[0] / r, v[1] / r]))
+            }
+        };
+        (off, n.map(|n| add(scale(out, n[0]), scale(self.k, n[1]))))
+    }
+
+    /// The file's sense against [`Revolution::foot`]'s normals (±1): at the
+    /// loops' point farthest from the axis, by truck's normal there.
+    fn sense_of(
+        &self,
+        file: &StepSurface,
+        loops: &[Vec<LoopEdge>],
+    ) -> std::result::Result<f64, String> {
+        let p = loops
+            .iter()
+            .flatten()
+            .flat_map(|e| (0..=8).map(move |k| e.at(k as f64 / 8.0).0))
+            .max_by(|a, b| self.rz(*a)[0].total_cmp(&self.rz(*b)[0]))
+            .ok_or("a face without edges")?;
+        let unknown = || "the file's surface could not be evaluated near the face".to_string();
+        let ((u, v), _) = file_foot(file, p, None).ok_or_else(unknown)?;
+        let n = file.normal(u, v);
+        let ours = self.foot(p).1.ok_or_else(unknown)?;
+        let d = fairsurf::vector::dot(ours, [n.x, n.y, n.z]);
+        if d.is_finite() && d != 0.0 {
+            Ok(d.signum())
+        } else {
+            Err(unknown())
+        }
+    }
+
     /// (ρ, z) of a point.
     fn rz(&self, p: Vec3) -> [f64; 2] {
         use fairsurf::vector::{dot, norm, scale, sub};
@@ -319,88 +394,135 @@ impl Revolution {
     }
 
     /// The file's surface over the range of θ and of the meridian's
-    /// parameter its loops take, a little wider (2% each way, never past a
-    /// pole or a cone's apex; from a seam edge once round when the loops
-    /// go all the way round), as the exact rational B-spline of the revolution of
-    /// that piece of the meridian (The NURBS Book §8.5), checked on the
-    /// file's surface, its normal the file's.
+    /// parameter the face takes, as the exact rational B-spline of the
+    /// revolution of that piece of the meridian (The NURBS Book §8.5),
+    /// checked on the file's surface, its normal the file's. The ranges
+    /// are the loops' points' (2% wider, never past a pole or a cone's
+    /// apex), on the side the face lies: of an angle, the gap left out is
+    /// one no edge runs through and away from which the edges at its ends
+    /// turn the face ([`periodic_range`]); a face all the way round is
+    /// taken from its seam edge once round; a face that runs on past its
+    /// loops' last points along the meridian reaches a pole or apex.
     fn around(
         &self,
         file: &StepSurface,
-        loops: &[Vec<LoopEdge>],
+        frames: &[Vec<Frames>],
         kind: &str,
     ) -> std::result::Result<FaceSurface, String> {
+        use fairsurf::vector::{cross, dot, normalize};
         use std::f64::consts::{FRAC_PI_2, PI};
-        let samples: Vec<Vec3> = loops
-            .iter()
-            .flatten()
-            .flat_map(|e| (0..=32).map(move |k| e.at(k as f64 / 32.0).0))
-            .collect();
-        let edges: Vec<&LoopEdge> = loops.iter().flatten().collect();
-        // A closed face's seam for an angle: an edge along which the angle
-        // stays put and which the loops also run the other way.
-        let seam = |angle: &dyn Fn(Vec3) -> f64| {
-            edges.iter().find_map(|e| {
-                let a: Vec<f64> = (0..=8).map(|k| angle(e.at(k as f64 / 8.0).0)).collect();
-                let still = a.iter().all(|x| (x - a[0]).abs() <= 1e-7);
-                let back = edges.iter().any(|f| {
-                    dist(f.start, e.end) <= 1e-9 * (1.0 + dist(e.start, e.end))
-                        && dist(f.end, e.start) <= 1e-9 * (1.0 + dist(e.start, e.end))
-                        && dist(f.at(0.5).0, e.at(0.5).0) <= 1e-7 * (1.0 + dist(e.start, e.end))
+        // Points of the edges, with the direction into the face there (the
+        // face lies on the loop's left seen from its normal).
+        let mut samples: Vec<(Vec3, usize, Vec3)> = Vec::new();
+        let edges: Vec<&Frames> = frames.iter().flatten().collect();
+        for (e, f) in edges.iter().enumerate() {
+            for k in 0..=32 {
+                let fr = f.frame(k as f64 / 32.0);
+                let into = normalize(cross(fr.normal, fr.tangent)).unwrap_or([0.0; 3]);
+                samples.push((fr.point, e, into));
+            }
+        }
+        let points: Vec<Vec3> = samples.iter().map(|s| s.0).collect();
+        let size = fairsurf::vector::bounding_diagonal(&points);
+        let refuse = |why: &str| format!("a {kind} face {why}: not filled around yet");
+        // An angle's range: (angle, edge, rate into the face) per usable
+        // point; without a gap the face goes round, from a seam edge: one
+        // along which the angle stays put, which another of the face's edges
+        // runs the other way.
+        let turn = |name: &str,
+                    usable: &dyn Fn(Vec3) -> bool,
+                    angle: &dyn Fn(Vec3) -> f64,
+                    ahead: &dyn Fn(Vec3) -> Vec3| {
+            let at: Vec<(f64, usize, f64)> = samples
+                .iter()
+                .filter(|s| usable(s.0))
+                .map(|&(p, e, into)| (angle(p), e, dot(into, ahead(p))))
+                .collect();
+            if let Some(range) = periodic_range(&at) {
+                return Ok(range);
+            }
+            let seam = (0..edges.len()).find_map(|e| {
+                let a: Vec<f64> = at.iter().filter(|x| x.1 == e).map(|x| x.0).collect();
+                let still = a.len() > 1
+                    && a.iter()
+                        .all(|x| ((x - a[0] + PI).rem_euclid(2.0 * PI) - PI).abs() <= 1e-6);
+                let (s, t) = (edges[e].start(), edges[e].end());
+                let near = |x: Vec3, y: Vec3| dist(x, y) <= 1e-9 * size.max(1.0);
+                let back = (0..edges.len()).any(|f| {
+                    f != e
+                        && near(edges[f].start(), t)
+                        && near(edges[f].end(), s)
+                        && near(edges[f].edge.at(0.5).0, edges[e].edge.at(0.5).0)
                 });
                 (still && back).then_some(a[0])
-            })
+            });
+            seam.map(|s| (s, s + 2.0 * PI))
+                .ok_or_else(|| refuse(&format!("all the way round {name} without a seam edge")))
         };
-        let turn = |name: &str, points: &[Vec3], angle: &dyn Fn(Vec3) -> f64| {
-            let values: Vec<f64> = points.iter().map(|p| angle(*p)).collect();
-            match circular_range(&values) {
-                Some(range) => Ok(range),
-                None => seam(angle).map(|s| (s, s + 2.0 * PI)).ok_or_else(|| {
-                    format!(
-                        "a {kind} face whose loops go all the way round {name} without a seam \
-                         edge: not filled around yet"
-                    )
-                }),
-            }
+        // θ where it is defined well (off the axis).
+        let usable = |p: Vec3| self.rz(p)[0] > 1e-3 * size;
+        let around_axis = |p: Vec3| {
+            normalize(cross(self.k, fairsurf::vector::sub(p, self.o))).unwrap_or([0.0; 3])
         };
-        // θ of the points off the axis (a pole has none).
-        let size = fairsurf::vector::bounding_diagonal(&samples);
-        let off_axis: Vec<Vec3> = samples
-            .iter()
-            .copied()
-            .filter(|p| self.rz(*p)[0] > 1e-9 * size)
-            .collect();
-        let theta = turn("its axis", &off_axis, &|p| self.theta(p))?;
+        let theta = turn("its axis", &usable, &|p| self.theta(p), &around_axis)?;
+        // Along the meridian: the direction of increasing t (or φ).
+        let along =
+            |p: Vec3| normalize(self.at(self.theta(p), self.along(p)).1).unwrap_or([0.0; 3]);
         let t = match self.meridian {
-            Meridian::Line { a, b } => {
-                let ts: Vec<f64> = samples.iter().map(|p| self.along(*p)).collect();
-                let (lo, hi) = ts
-                    .iter()
-                    .fold((f64::MAX, f64::MIN), |(l, h), &x| (l.min(x), h.max(x)));
-                let margin = 0.02 * (hi - lo);
-                let (mut lo, mut hi) = (lo - margin, hi + margin);
-                // Not past a cone's apex (ρ = 0).
-                if a[0] != b[0] {
-                    let apex = a[0] / (a[0] - b[0]);
-                    if apex <= lo + margin {
-                        lo = lo.max(apex);
+            Meridian::Circle { centre, .. } if centre[0] != 0.0 => {
+                turn("its tube", &|_| true, &|p| self.along(p), &along)?
+            }
+            meridian => {
+                // From the lowest to the highest point, on to the bound
+                // (a pole, an apex) where the face runs on past them.
+                let bounds = match meridian {
+                    Meridian::Line { a, b } if a[0] != b[0] => {
+                        let apex = a[0] / (a[0] - b[0]);
+                        let ts = samples.iter().map(|s| self.along(s.0));
+                        if ts.clone().all(|t| t >= apex) {
+                            (Some(apex), None)
+                        } else {
+                            (None, Some(apex))
+                        }
                     }
-                    if apex >= hi - margin {
-                        hi = hi.min(apex);
+                    Meridian::Line { .. } => (None, None),
+                    Meridian::Circle { .. } => (Some(-FRAC_PI_2), Some(FRAC_PI_2)),
+                };
+                // A cone's apex on a loop: Open CASCADE read such a face,
+                // written with its collapsed side, as faces of no area.
+                if matches!(meridian, Meridian::Line { .. }) && bounds != (None, None) {
+                    let apex = samples.iter().any(|s| self.rz(s.0)[0] <= 1e-6 * size);
+                    if apex {
+                        return Err(refuse("whose loops reach its apex"));
                     }
                 }
+                let ts: Vec<(f64, f64)> = samples
+                    .iter()
+                    .map(|&(p, _, into)| (self.along(p), dot(into, along(p))))
+                    .collect();
+                let (lo, hi) = ts
+                    .iter()
+                    .fold((f64::MAX, f64::MIN), |(l, h), x| (l.min(x.0), h.max(x.0)));
+                let close = 1e-9 * (hi - lo).max(1e-300);
+                let past_lo = ts.iter().any(|x| x.0 - lo <= close && x.1 < -1e-3);
+                let past_hi = ts.iter().any(|x| hi - x.0 <= close && x.1 > 1e-3);
+                let margin = 0.02 * (hi - lo);
+                let cone = matches!(meridian, Meridian::Line { .. });
+                if cone && ((past_lo && bounds.0.is_some()) || (past_hi && bounds.1.is_some())) {
+                    return Err(refuse("that runs on to its apex"));
+                }
+                let lo = match (past_lo, bounds.0) {
+                    (true, Some(b)) => b,
+                    (true, None) => return Err(refuse("that runs on past its loops")),
+                    (false, b) => (lo - margin).max(b.unwrap_or(f64::MIN)),
+                };
+                let hi = match (past_hi, bounds.1) {
+                    (true, Some(b)) => b,
+                    (true, None) => return Err(refuse("that runs on past its loops")),
+                    (false, b) => (hi + margin).min(b.unwrap_or(f64::MAX)),
+                };
                 (lo, hi)
             }
-            Meridian::Circle { centre, .. } if centre[0] == 0.0 => {
-                // A sphere's meridian: φ from pole to pole.
-                let ps: Vec<f64> = samples.iter().map(|p| self.along(*p)).collect();
-                let (lo, hi) = ps
-                    .iter()
-                    .fold((f64::MAX, f64::MIN), |(l, h), &x| (l.min(x), h.max(x)));
-                let margin = 0.02 * (hi - lo);
-                ((lo - margin).max(-FRAC_PI_2), (hi + margin).min(FRAC_PI_2))
-            }
-            Meridian::Circle { .. } => turn("its tube", &samples, &|p| self.along(p))?,
         };
         if !(theta.1 > theta.0 && t.1 > t.0) {
             return Err(format!("a {kind} face whose loops enclose no area of it"));
@@ -423,51 +545,92 @@ impl Revolution {
             }
         };
         let surface = revolve_arc(&profile, self.o, self.k, theta.1 - theta.0)?;
-        on_file_surface(FaceSurface::Rational(surface), file, loops)
+        let edges: Vec<LoopEdge> = edges.iter().map(|f| f.edge.clone()).collect();
+        on_file_surface(FaceSurface::Rational(surface), file, &edges)
     }
 }
 
-/// The smallest range [a, b] (b − a < 2π) of angles holding `values`
-/// (radians, any turn), widened by 2% of its length each way (together
-/// less than 0.26 rad: the widened ends do not meet); None when the values
-/// leave no gap of 0.5 rad (they go all the way round).
-pub(super) fn circular_range(values: &[f64]) -> Option<(f64, f64)> {
-    use std::f64::consts::TAU;
-    let mut a: Vec<f64> = values.iter().map(|x| x.rem_euclid(TAU)).collect();
-    a.sort_by(f64::total_cmp);
-    let n = a.len();
-    // The largest gap: after a[k], up to a[k + 1] (the last round to the first).
-    let (k, gap) = (0..n)
-        .map(|k| {
-            let next = if k + 1 < n { a[k + 1] } else { a[0] + TAU };
-            (k, next - a[k])
+/// The range [a, b] (b − a < 2π) of angles a face takes, from its edges'
+/// points: per point (angle in radians, any turn; edge; the rate at which
+/// the direction into the face turns the angle, of a unit vector), each
+/// edge's points in order along it. The gap left out is the widest one
+/// that no edge runs through (between two of its consecutive points) and
+/// away from which the edges at its ends turn into the face (rates above
+/// 1e-3 into it refuse it); the range is widened by 2% of its length each
+/// way (at most a quarter of the gap). None when no gap is left out: the
+/// face goes all the way round.
+pub(super) fn periodic_range(points: &[(f64, usize, f64)]) -> Option<(f64, f64)> {
+    use std::f64::consts::{PI, TAU};
+    let wrap = |x: f64| (x + PI).rem_euclid(TAU) - PI;
+    let mut order: Vec<(f64, usize)> = points
+        .iter()
+        .enumerate()
+        .map(|(k, p)| (p.0.rem_euclid(TAU), k))
+        .collect();
+    order.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let n = order.len();
+    // Does an edge run through angle m (between two of its consecutive
+    // points, the short way)?
+    let crossed = |m: f64| {
+        points.windows(2).any(|w| {
+            let (a, b) = (w[0], w[1]);
+            if a.1 != b.1 {
+                return false;
+            }
+            let d = wrap(b.0 - a.0);
+            let x = wrap(m - a.0);
+            (d > 0.0 && x > 0.0 && x < d) || (d < 0.0 && x < 0.0 && x > d)
         })
-        .max_by(|x, y| x.1.total_cmp(&y.1))?;
-    if gap < 0.5 {
-        return None;
+    };
+    let at = |angle: f64| {
+        points
+            .iter()
+            .filter(move |p| wrap(p.0 - angle).abs() <= 1e-7)
+            .map(|p| p.2)
+    };
+    let mut best: Option<(f64, f64)> = None;
+    for k in 0..n {
+        let (a, b) = (
+            order[k].0,
+            if k + 1 < n {
+                order[k + 1].0
+            } else {
+                order[0].0 + TAU
+            },
+        );
+        let gap = b - a;
+        if gap <= 1e-9 || best.is_some_and(|x| x.1 >= gap) {
+            continue;
+        }
+        if crossed(a + gap / 2.0) || at(a).any(|r| r > 1e-3) || at(b).any(|r| r < -1e-3) {
+            continue;
+        }
+        best = Some((b, gap));
     }
-    let start = if k + 1 < n { a[k + 1] } else { a[0] };
+    let (start, gap) = best?;
     let length = TAU - gap;
-    let margin = 0.02 * length;
+    let margin = (0.02 * length).min(0.25 * gap);
     Some((start - margin, start + length + margin))
 }
 
-/// `s` checked on the file's surface (5 × 5 points within the loops'
-/// edge tolerance) and turned, if need be, so that its normal is the
-/// file surface's.
+/// `s` checked on the file's surface (at 5 × 5 points inside its domain,
+/// within the edges' tolerance) and turned, if need be, so that its normal
+/// is the file surface's (where both have one: not at a pole or apex).
 fn on_file_surface(
     s: FaceSurface,
     file: &StepSurface,
-    loops: &[Vec<LoopEdge>],
+    edges: &[LoopEdge],
 ) -> std::result::Result<FaceSurface, String> {
-    let edges: Vec<LoopEdge> = loops.iter().flatten().cloned().collect();
-    let tol = edge_tolerance(&edges);
+    let tol = edge_tolerance(edges);
     let (ku, kv) = net(&s).knots();
     let ((a, b), (c, d)) = (ku.domain(), kv.domain());
     let mut agree = 0.0;
-    for i in 0..=4 {
-        for j in 0..=4 {
-            let (u, v) = (a + (b - a) * i as f64 / 4.0, c + (d - c) * j as f64 / 4.0);
+    for i in 0..5 {
+        for j in 0..5 {
+            let (u, v) = (
+                a + (b - a) * (i as f64 + 0.5) / 5.0,
+                c + (d - c) * (j as f64 + 0.5) / 5.0,
+            );
             let der = derivatives(&s, u, v);
             let Some(((fu, fv), off)) = file_foot(file, der.point, None) else {
                 return Err("the file's surface could not be evaluated near the face".into());
@@ -480,8 +643,10 @@ fn on_file_surface(
                 ));
             }
             let n = file.normal(fu, fv);
-            agree +=
-                fairsurf::vector::dot(fairsurf::vector::cross(der.du, der.dv), [n.x, n.y, n.z]);
+            let x = fairsurf::vector::dot(fairsurf::vector::cross(der.du, der.dv), [n.x, n.y, n.z]);
+            if x.is_finite() {
+                agree += x;
+            }
         }
     }
     turned(s, agree > 0.0)
@@ -493,8 +658,8 @@ fn on_file_surface(
 pub(super) struct Frames {
     edge: LoopEdge,
     surface: StepSurface,
-    /// The surface as fairsurf's B-spline, when it is one (evaluated so).
-    spline: Option<FaceSurface>,
+    /// How the surface is evaluated.
+    eval: Eval,
     hints: Vec<(f64, f64)>,
     /// The largest distance of the points from the surface.
     off: f64,
@@ -511,16 +676,23 @@ const HINTS: usize = 32;
 impl Frames {
     fn new(
         surface: &StepSurface,
-        spline: Option<&FaceSurface>,
+        eval: &Eval,
         edge: &LoopEdge,
         tol: f64,
     ) -> std::result::Result<Self, String> {
+        let spline = match eval {
+            Eval::Spline(s) => Some(s),
+            _ => None,
+        };
         let mut hints = Vec::with_capacity(HINTS + 1);
         let mut largest = 0.0f64;
         for k in 0..=HINTS {
             let p = edge.at(k as f64 / HINTS as f64).0;
-            let ((u, v), off) = foot_within((surface, spline), p, hints.last().copied(), tol)
-                .ok_or("the file's surface could not be evaluated near an edge of the face")?;
+            let ((u, v), off) = match eval {
+                Eval::Revolution(r, _) => ((0.0, 0.0), r.foot(p).0),
+                _ => foot_within((surface, spline), p, hints.last().copied(), tol)
+                    .ok_or("the file's surface could not be evaluated near an edge of the face")?,
+            };
             if off > tol {
                 return Err(format!(
                     "an edge of the face is {off:e} off its surface at ({}, {}, {}) (a trimmed \
@@ -534,7 +706,7 @@ impl Frames {
         let mut frames = Self {
             edge: edge.clone(),
             surface: surface.clone(),
-            spline: spline.cloned(),
+            eval: eval.clone(),
             hints,
             off: largest,
             tol,
@@ -569,7 +741,7 @@ impl Frames {
         };
         let foot = |s: f64, hint: (f64, f64)| {
             let p = self.edge.at(s).0;
-            file_foot_on((&self.surface, self.spline.as_ref()), p, Some(hint)).map_or(hint, |f| f.0)
+            file_foot_on((&self.surface, self.spline()), p, Some(hint)).map_or(hint, |f| f.0)
         };
         for (c, knots) in lines.iter().enumerate() {
             let (lo, hi) = (knots[0], knots[knots.len() - 1]);
@@ -609,10 +781,21 @@ impl Frames {
     /// normal at its foot point.
     fn frame(&self, s: f64) -> EdgeFrame {
         let (point, tangent) = self.edge.at(s);
+        if let Eval::Revolution(r, sign) = &self.eval {
+            let normal = r
+                .foot(point)
+                .1
+                .map_or([f64::NAN; 3], |n| fairsurf::vector::scale(n, *sign));
+            return EdgeFrame {
+                point,
+                tangent,
+                normal,
+            };
+        }
         let hint = self.hints[((s.clamp(0.0, 1.0) * HINTS as f64).round()) as usize];
-        let file = (&self.surface, self.spline.as_ref());
+        let file = (&self.surface, self.spline());
         let (u, v) = foot_within(file, point, Some(hint), self.tol).map_or(hint, |f| f.0);
-        let normal = match &self.spline {
+        let normal = match self.spline() {
             Some(s) => {
                 let d = derivatives(s, u, v);
                 fairsurf::vector::normalize(fairsurf::vector::cross(d.du, d.dv))
@@ -627,6 +810,14 @@ impl Frames {
             point,
             tangent,
             normal,
+        }
+    }
+
+    /// The surface as fairsurf's B-spline, when it is one.
+    fn spline(&self) -> Option<&FaceSurface> {
+        match &self.eval {
+            Eval::Spline(s) => Some(s),
+            _ => None,
         }
     }
 
@@ -674,15 +865,20 @@ fn foot_within(
     hint: Option<(f64, f64)>,
     tol: f64,
 ) -> Option<((f64, f64), f64)> {
-    let near = file_foot_on(file, p, hint);
-    match near {
-        Some((_, off)) if off <= tol => near,
-        _ if hint.is_some() => match (near, file_foot_on(file, p, None)) {
-            (Some(a), Some(b)) => Some(if b.1 < a.1 { b } else { a }),
-            (a, b) => a.or(b),
-        },
-        _ => near,
+    let better = |a: Option<((f64, f64), f64)>, b: Option<((f64, f64), f64)>| match (a, b) {
+        (Some(a), Some(b)) => Some(if b.1 < a.1 { b } else { a }),
+        (a, b) => a.or(b),
+    };
+    let mut near = file_foot_on(file, p, hint);
+    if hint.is_some() && near.is_none_or(|n| n.1 > tol) {
+        near = better(near, file_foot_on(file, p, None));
     }
+    // Near a B-spline's collapsed side (a pole) the 17 × 17 seeds can all
+    // be too far round for Newton steps: a finer grid.
+    if let (Some(s), true) = (file.1, near.is_none_or(|n| n.1 > tol)) {
+        near = better(near, Some(nearest(s, &Seeds::of(s, 64), p)));
+    }
+    near
 }
 
 /// The parameters of the point of a file's surface nearest to p, and the
