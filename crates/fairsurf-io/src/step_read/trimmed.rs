@@ -588,26 +588,24 @@ pub(super) fn periodic_range(points: &[(f64, usize, f64)]) -> Option<(f64, f64)>
             .filter(move |p| wrap(p.0 - angle).abs() <= 1e-7)
             .map(|p| p.2)
     };
-    let mut best: Option<(f64, f64)> = None;
-    for k in 0..n {
-        let (a, b) = (
-            order[k].0,
-            if k + 1 < n {
+    // The gaps, widest first; the first one left out (the edges are
+    // searched for each, so the widest is usually the only one tried).
+    let mut gaps: Vec<(f64, f64)> = (0..n)
+        .map(|k| {
+            let b = if k + 1 < n {
                 order[k + 1].0
             } else {
                 order[0].0 + TAU
-            },
-        );
-        let gap = b - a;
-        if gap <= 1e-9 || best.is_some_and(|x| x.1 >= gap) {
-            continue;
-        }
-        if crossed(a + gap / 2.0) || at(a).any(|r| r > 1e-3) || at(b).any(|r| r < -1e-3) {
-            continue;
-        }
-        best = Some((b, gap));
-    }
-    let (start, gap) = best?;
+            };
+            (order[k].0, b)
+        })
+        .filter(|(a, b)| b - a > 1e-9)
+        .collect();
+    gaps.sort_by(|x, y| (y.1 - y.0).total_cmp(&(x.1 - x.0)));
+    let (start, gap) = gaps.into_iter().find_map(|(a, b)| {
+        let open = !crossed((a + b) / 2.0) && !at(a).any(|r| r > 1e-3) && !at(b).any(|r| r < -1e-3);
+        open.then_some((b, b - a))
+    })?;
     let length = TAU - gap;
     let margin = (0.02 * length).min(0.25 * gap);
     Some((start - margin, start + length + margin))
