@@ -86,8 +86,8 @@ pub(super) fn trimmed(
                 .collect::<std::result::Result<Vec<_>, String>>()
         })
         .collect::<std::result::Result<Vec<_>, String>>()?;
-    let (kind, surface) = match (&face.surface, own) {
-        (_, Some((kind, s))) => {
+    let (kind, surface) = match own {
+        Some((kind, s)) => {
             let kind = if kind == "B-spline" {
                 "trimmed B-spline"
             } else {
@@ -95,7 +95,7 @@ pub(super) fn trimmed(
             };
             (kind, s)
         }
-        (_, None) => match revolution {
+        None => match revolution {
             Some((kind, axis, _)) => (kind, axis.around(&face.surface, &frames, kind)?),
             None => ("trimmed plane", plane_around(&face.surface, loops)?),
         },
