@@ -49,8 +49,8 @@ pub struct FillScene {
     /// (longest loop first). Default: every hole but the outer rims when
     /// there are several (the loops that bound their faces from outside,
     /// one per open sheet — a closed shell has none — and, when some loop
-    /// is clearly a hole, those whose sense is unclear), the one loop
-    /// otherwise.
+    /// is clearly a hole, those whose sense is unclear; the longest loop
+    /// when no sense is clear), the one loop otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub holes: Option<Vec<usize>>,
     /// How to fill.

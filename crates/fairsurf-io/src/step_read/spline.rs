@@ -167,7 +167,9 @@ pub(super) fn foot(
         let a12 = dot(x.du, x.dv) + dot(r, x.duv);
         let a22 = dot(x.dv, x.dv) + dot(r, x.dvv);
         let det = a11 * a22 - a12 * a12;
-        if (det == 0.0 || det.is_nan()) && !nudged {
+        // Singular to rounding (at a pole S_u is 1e-16, not 0).
+        let singular = det.is_nan() || det.abs() <= 1e-12 * (a11.abs() * a22.abs() + a12 * a12);
+        if singular && !nudged {
             nudged = true;
             let inside = |t: f64, lo: f64, hi: f64| t + 1e-3 * ((lo + hi) / 2.0 - t);
             at = (inside(u, a, b), inside(v, c, d));

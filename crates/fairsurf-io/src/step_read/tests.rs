@@ -457,8 +457,17 @@ fn angles_are_ranged_on_the_face_s_side() {
     // A whole circle in 8 steps: every gap is run through: none.
     assert_eq!(periodic_range(&edge(0, 0.0, TAU, 0.0)), None);
     // A seam's two sides (the face turned away from it both ways) and a
-    // hole's: no gap the face does not reach.
+    // hole from 2 to 3 rad (arcs along it, its meridians turning the face
+    // away from it): no gap the face does not reach.
     let seam = [edge(0, 0.0, 0.0, 1.0), edge(1, 0.0, 0.0, -1.0)].concat();
-    let hole = [edge(2, 2.0, 2.0, 1.0), edge(3, 3.0, 3.0, -1.0)].concat();
-    assert_eq!(periodic_range(&[seam, hole].concat()), None);
+    let hole = [
+        edge(2, 2.0, 3.0, 0.0),
+        edge(3, 3.0, 3.0, 1.0),
+        edge(4, 3.0, 2.0, 0.0),
+        edge(5, 2.0, 2.0, -1.0),
+    ]
+    .concat();
+    assert_eq!(periodic_range(&[seam, hole.clone()].concat()), None);
+    // The hole alone (a face all round but for it, no seam): none either.
+    assert_eq!(periodic_range(&hole), None);
 }

@@ -454,7 +454,7 @@ impl Revolution {
                         && near(edges[f].end(), s)
                         && near(edges[f].edge.at(0.5).0, edges[e].edge.at(0.5).0)
                 });
-                (still && back).then_some(a[0])
+                (still && back).then(|| a[0])
             });
             seam.map(|s| (s, s + 2.0 * PI))
                 .ok_or_else(|| refuse(&format!("all the way round {name} without a seam edge")))
@@ -511,12 +511,19 @@ impl Revolution {
                 if cone && ((past_lo && bounds.0.is_some()) || (past_hi && bounds.1.is_some())) {
                     return Err(refuse("that runs on to its apex"));
                 }
-                let lo = match (past_lo, bounds.0) {
+                // Not onto a cone's apex (a collapsed side there was read
+                // back as faces of no area): halfway to it at most.
+                let (lo_bound, hi_bound) = match (cone, bounds) {
+                    (true, (Some(b), _)) => (Some(0.5 * (b + lo)), None),
+                    (true, (_, Some(b))) => (None, Some(0.5 * (b + hi))),
+                    _ => bounds,
+                };
+                let lo = match (past_lo, lo_bound) {
                     (true, Some(b)) => b,
                     (true, None) => return Err(refuse("that runs on past its loops")),
                     (false, b) => (lo - margin).max(b.unwrap_or(f64::MIN)),
                 };
-                let hi = match (past_hi, bounds.1) {
+                let hi = match (past_hi, hi_bound) {
                     (true, Some(b)) => b,
                     (true, None) => return Err(refuse("that runs on past its loops")),
                     (false, b) => (hi + margin).min(b.unwrap_or(f64::MAX)),
