@@ -479,43 +479,46 @@ pub(super) fn oriented_like(
     if !converted {
         return turned(s, face.orientation);
     }
+    turned(on_file_surface(s, &face.surface, edges)?, face.orientation)
+}
+
+/// `s` checked on the file's surface (at 5 × 5 points inside its domain,
+/// within the edges' tolerance) and turned, if need be, so that its normal
+/// is the file surface's (where both have one: not at a pole or apex).
+pub(super) fn on_file_surface(
+    s: FaceSurface,
+    file: &StepSurface,
+    edges: &[LoopEdge],
+) -> std::result::Result<FaceSurface, String> {
     let tol = edge_tolerance(edges);
     let (ku, kv) = net(&s).knots();
     let ((a, b), (c, d)) = (ku.domain(), kv.domain());
-    let mid = ((a + b) / 2.0, (c + d) / 2.0);
-    let der = match &s {
-        FaceSurface::Polynomial(p) => p.derivatives(mid.0, mid.1),
-        FaceSurface::Rational(r) => r.derivatives(mid.0, mid.1),
-    };
-    let ours = fairsurf::vector::cross(der.du, der.dv);
-    let file = &face.surface;
-    let on = |p: Vec3| file_foot(file, p, None);
-    // Points of the converted surface lie on the file's.
-    for i in 0..=4 {
-        for j in 0..=4 {
-            let (u, v) = (a + (b - a) * i as f64 / 4.0, c + (d - c) * j as f64 / 4.0);
-            let p = eval(&s, u, v);
-            match on(p) {
-                Some((_, e)) if e <= tol => {}
-                Some((_, e)) => {
-                    return Err(format!(
-                        "the face as a B-spline is off the file's surface by {e:e} at ({}, {}, {})",
-                        p[0], p[1], p[2]
-                    ))
-                }
-                None => {
-                    return Err("the file's surface could not be evaluated near the face".into())
-                }
+    let mut agree = 0.0;
+    for i in 0..5 {
+        for j in 0..5 {
+            let (u, v) = (
+                a + (b - a) * (i as f64 + 0.5) / 5.0,
+                c + (d - c) * (j as f64 + 0.5) / 5.0,
+            );
+            let der = derivatives(&s, u, v);
+            let Some(((fu, fv), off)) = file_foot(file, der.point, None) else {
+                return Err("the file's surface could not be evaluated near the face".into());
+            };
+            if off > tol {
+                return Err(format!(
+                    "the face's surface as a B-spline is off the file's surface by {off:e} at \
+                     ({}, {}, {})",
+                    der.point[0], der.point[1], der.point[2]
+                ));
+            }
+            let n = file.normal(fu, fv);
+            let x = fairsurf::vector::dot(fairsurf::vector::cross(der.du, der.dv), [n.x, n.y, n.z]);
+            if x.is_finite() {
+                agree += x;
             }
         }
     }
-    let Some(((u, v), _)) = on(der.point) else {
-        return Err("the file's surface could not be evaluated near the face".into());
-    };
-    let n = file.normal(u, v);
-    let theirs = [n.x, n.y, n.z];
-    let agree = fairsurf::vector::dot(ours, theirs) > 0.0;
-    turned(s, agree == face.orientation)
+    turned(s, agree > 0.0)
 }
 
 /// `s`, or with u and v exchanged (its normal reversed) unless `keep`.

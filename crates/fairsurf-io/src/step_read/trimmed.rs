@@ -296,11 +296,9 @@ impl Revolution {
     /// at its foot (the meridian's in p's half-plane, outward from a
     /// circle's centre; none at a circle's centre).
     fn foot(&self, p: Vec3) -> (f64, Option<Vec3>) {
-        use fairsurf::vector::{add, cross, scale};
+        use fairsurf::vector::{add, scale};
         let [rho, z] = self.rz(p);
-        let theta = self.theta(p);
-        let (s, c) = theta.sin_cos();
-        let out = add(scale(self.e1, c), scale(cross(self.k, self.e1), s));
+        let out = self.radial(self.theta(p));
         let (off, n) = match self.meridian {
             Meridian::Line { a, b } => {
                 let d = [b[0] - a[0], b[1] - a[1]];
@@ -369,11 +367,17 @@ impl Revolution {
         }
     }
 
-    /// The point at (θ, t) and its derivative by t.
-    fn at(&self, theta: f64, t: f64) -> (Vec3, Vec3) {
+    /// The unit vector away from the axis at angle θ.
+    fn radial(&self, theta: f64) -> Vec3 {
         use fairsurf::vector::{add, cross, scale};
         let (s, c) = theta.sin_cos();
-        let out = add(scale(self.e1, c), scale(cross(self.k, self.e1), s));
+        add(scale(self.e1, c), scale(cross(self.k, self.e1), s))
+    }
+
+    /// The point at (θ, t) and its derivative by t.
+    fn at(&self, theta: f64, t: f64) -> (Vec3, Vec3) {
+        use fairsurf::vector::{add, scale};
+        let out = self.radial(theta);
         let ([rho, z], [drho, dz]) = match self.meridian {
             Meridian::Line { a, b } => (
                 [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])],
@@ -616,45 +620,6 @@ pub(super) fn periodic_range(points: &[(f64, usize, f64)]) -> Option<(f64, f64)>
     let length = TAU - gap;
     let margin = (0.02 * length).min(0.25 * gap);
     Some((start - margin, start + length + margin))
-}
-
-/// `s` checked on the file's surface (at 5 × 5 points inside its domain,
-/// within the edges' tolerance) and turned, if need be, so that its normal
-/// is the file surface's (where both have one: not at a pole or apex).
-fn on_file_surface(
-    s: FaceSurface,
-    file: &StepSurface,
-    edges: &[LoopEdge],
-) -> std::result::Result<FaceSurface, String> {
-    let tol = edge_tolerance(edges);
-    let (ku, kv) = net(&s).knots();
-    let ((a, b), (c, d)) = (ku.domain(), kv.domain());
-    let mut agree = 0.0;
-    for i in 0..5 {
-        for j in 0..5 {
-            let (u, v) = (
-                a + (b - a) * (i as f64 + 0.5) / 5.0,
-                c + (d - c) * (j as f64 + 0.5) / 5.0,
-            );
-            let der = derivatives(&s, u, v);
-            let Some(((fu, fv), off)) = file_foot(file, der.point, None) else {
-                return Err("the file's surface could not be evaluated near the face".into());
-            };
-            if off > tol {
-                return Err(format!(
-                    "the face's surface as a B-spline is off the file's surface by {off:e} at \
-                     ({}, {}, {})",
-                    der.point[0], der.point[1], der.point[2]
-                ));
-            }
-            let n = file.normal(fu, fv);
-            let x = fairsurf::vector::dot(fairsurf::vector::cross(der.du, der.dv), [n.x, n.y, n.z]);
-            if x.is_finite() {
-                agree += x;
-            }
-        }
-    }
-    turned(s, agree > 0.0)
 }
 
 /// Foot points on a file's surface along one edge (33 parameters), where
