@@ -167,17 +167,29 @@ pub(crate) fn check_patches(path: &Path, patches: &[CadSurface]) -> Result<()> {
 }
 
 /// A finite real with every digit needed to read back the same `f64`
-/// (Rust's shortest round-trip form), always with a decimal point and an
+/// (the shortest round-trip form), always with a decimal point and an
 /// upper-case `E` exponent: `0.1`, `-3.0`, `1.0E-7`, `1.5E16`. Both
 /// ISO 10303-21 §6.3.3 and IGES 5.3 §2.2.2.3 accept this form.
 pub(crate) fn real(x: f64) -> String {
-    debug_assert!(x.is_finite(), "patch coordinates are finite");
-    let x = if x == 0.0 { 0.0 } else { x }; // no "-0.0"
-    let s = format!("{x:?}");
-    match s.split_once('e') {
-        Some((mantissa, exp)) if mantissa.contains('.') => format!("{mantissa}E{exp}"),
-        Some((mantissa, exp)) => format!("{mantissa}.0E{exp}"),
-        None => s,
+    Real(x).to_string()
+}
+
+/// [`real`] as it is written into a text, without allocating.
+#[derive(Clone, Copy)]
+pub(crate) struct Real(pub f64);
+
+impl std::fmt::Display for Real {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let x = self.0;
+        debug_assert!(x.is_finite(), "patch coordinates are finite");
+        let x = if x == 0.0 { 0.0 } else { x }; // no "-0.0"
+        let mut buffer = ryu::Buffer::new();
+        let s = buffer.format(x);
+        match s.split_once('e') {
+            Some((mantissa, exp)) if mantissa.contains('.') => write!(f, "{mantissa}E{exp}"),
+            Some((mantissa, exp)) => write!(f, "{mantissa}.0E{exp}"),
+            None => f.write_str(s),
+        }
     }
 }
 

@@ -5,7 +5,7 @@
 use super::*;
 
 impl Data {
-    pub(super) fn add(&mut self, entity: String) -> usize {
+    pub(super) fn add(&mut self, entity: impl std::fmt::Display) -> usize {
         self.next += 1;
         let _ = writeln!(self.text, "#{}={};", self.next, entity);
         self.next
@@ -14,31 +14,36 @@ impl Data {
     /// Application context, product, its definition and shape, units and
     /// the representation context (the usual AP214 skeleton).
     pub(super) fn header_entities(&mut self) -> Context {
-        let app = self.add(
-            "APPLICATION_CONTEXT('core data for automotive mechanical design processes')".into(),
-        );
-        self.add(format!(
+        let app =
+            self.add("APPLICATION_CONTEXT('core data for automotive mechanical design processes')");
+        self.add(format_args!(
             "APPLICATION_PROTOCOL_DEFINITION('international standard','automotive_design',2000,#{app})"
         ));
-        let pc = self.add(format!("PRODUCT_CONTEXT('',#{app},'mechanical')"));
-        let product = self.add(format!("PRODUCT('fairsurf','fairsurf surface','',(#{pc}))"));
-        self.add(format!(
+        let pc = self.add(format_args!("PRODUCT_CONTEXT('',#{app},'mechanical')"));
+        let product = self.add(format_args!(
+            "PRODUCT('fairsurf','fairsurf surface','',(#{pc}))"
+        ));
+        self.add(format_args!(
             "PRODUCT_RELATED_PRODUCT_CATEGORY('part',$,(#{product}))"
         ));
-        let pdf = self.add(format!("PRODUCT_DEFINITION_FORMATION('','',#{product})"));
-        let pdc = self.add(format!(
+        let pdf = self.add(format_args!(
+            "PRODUCT_DEFINITION_FORMATION('','',#{product})"
+        ));
+        let pdc = self.add(format_args!(
             "PRODUCT_DEFINITION_CONTEXT('part definition',#{app},'design')"
         ));
-        let pd = self.add(format!("PRODUCT_DEFINITION('design','',#{pdf},#{pdc})"));
-        let shape = self.add(format!("PRODUCT_DEFINITION_SHAPE('','',#{pd})"));
-        let mm = self.add("(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.MILLI.,.METRE.))".into());
-        let rad = self.add("(NAMED_UNIT(*)PLANE_ANGLE_UNIT()SI_UNIT($,.RADIAN.))".into());
-        let sr = self.add("(NAMED_UNIT(*)SI_UNIT($,.STERADIAN.)SOLID_ANGLE_UNIT())".into());
-        let unc = self.add(format!(
+        let pd = self.add(format_args!(
+            "PRODUCT_DEFINITION('design','',#{pdf},#{pdc})"
+        ));
+        let shape = self.add(format_args!("PRODUCT_DEFINITION_SHAPE('','',#{pd})"));
+        let mm = self.add("(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.MILLI.,.METRE.))");
+        let rad = self.add("(NAMED_UNIT(*)PLANE_ANGLE_UNIT()SI_UNIT($,.RADIAN.))");
+        let sr = self.add("(NAMED_UNIT(*)SI_UNIT($,.STERADIAN.)SOLID_ANGLE_UNIT())");
+        let unc = self.add(format_args!(
             "UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.0E-7),#{mm},\
              'distance_accuracy_value','confusion accuracy')"
         ));
-        let representation = self.add(format!(
+        let representation = self.add(format_args!(
             "(GEOMETRIC_REPRESENTATION_CONTEXT(3)\
              GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT((#{unc}))\
              GLOBAL_UNIT_ASSIGNED_CONTEXT((#{mm},#{rad},#{sr}))\
@@ -56,7 +61,7 @@ impl Data {
         let points: Vec<usize> = s
             .points
             .iter()
-            .map(|&p| self.add(format!("CARTESIAN_POINT('',{})", coords(p))))
+            .map(|&p| self.add(format_args!("CARTESIAN_POINT('',{})", coords(p))))
             .collect();
         let id = |i: usize, j: usize| points[i * cv + j];
         let rows: Vec<String> = (0..cu)
@@ -65,7 +70,7 @@ impl Data {
         let (ku, mu) = s.distinct_knots(0);
         let (kv, mv) = s.distinct_knots(1);
         let surface = match &s.weights {
-            None => self.add(format!(
+            None => self.add(format_args!(
                 "B_SPLINE_SURFACE_WITH_KNOTS('',{n},{m},({}),.UNSPECIFIED.,.F.,.F.,.F.,\
                  ({}),({}),({}),({}),.UNSPECIFIED.)",
                 rows.join(","),
@@ -80,7 +85,7 @@ impl Data {
                 let weights: Vec<String> = (0..cu)
                     .map(|i| format!("({})", reals(&w[i * cv..(i + 1) * cv])))
                     .collect();
-                self.add(format!(
+                self.add(format_args!(
                     "(BOUNDED_SURFACE() B_SPLINE_SURFACE({n},{m},({}),.UNSPECIFIED.,.F.,.F.,.F.) \
                      B_SPLINE_SURFACE_WITH_KNOTS(({}),({}),({}),({}),.UNSPECIFIED.) \
                      GEOMETRIC_REPRESENTATION_ITEM() RATIONAL_B_SPLINE_SURFACE(({})) \
@@ -133,18 +138,18 @@ impl Data {
             }
             for (edge, same) in edges {
                 let sense = if same == *forward { ".T." } else { ".F." };
-                oriented.push(self.add(format!("ORIENTED_EDGE('',*,*,#{edge},{sense})")));
+                oriented.push(self.add(format_args!("ORIENTED_EDGE('',*,*,#{edge},{sense})")));
             }
         }
         let bound = if oriented.is_empty() {
             // Every side collapsed: the whole boundary is one point.
             let v = self.vertex(s.point(0, 0), id(0, 0));
-            self.add(format!("VERTEX_LOOP('',#{v})"))
+            self.add(format_args!("VERTEX_LOOP('',#{v})"))
         } else {
-            self.add(format!("EDGE_LOOP('',({}))", refs(&oriented)))
+            self.add(format_args!("EDGE_LOOP('',({}))", refs(&oriented)))
         };
-        let outer = self.add(format!("FACE_OUTER_BOUND('',#{bound},.T.)"));
-        self.add(format!("ADVANCED_FACE('',(#{outer}),#{surface},.T.)"))
+        let outer = self.add(format_args!("FACE_OUTER_BOUND('',#{bound},.T.)"));
+        self.add(format_args!("ADVANCED_FACE('',(#{outer}),#{surface},.T.)"))
     }
 
     /// The ADVANCED_FACE of a trimmed surface (its SURFACE entity
@@ -159,7 +164,7 @@ impl Data {
                 let ids: Vec<usize> = c
                     .points
                     .iter()
-                    .map(|&p| self.add(format!("CARTESIAN_POINT('',{})", coords(p))))
+                    .map(|&p| self.add(format_args!("CARTESIAN_POINT('',{})", coords(p))))
                     .collect();
                 let (knots, mults) = crate::cad::distinct(&c.knots);
                 let curve = SideCurve {
@@ -171,13 +176,13 @@ impl Data {
                 };
                 for (edge, same) in self.edges_along(&c.points, &ids, &curve) {
                     let sense = if same { ".T." } else { ".F." };
-                    oriented.push(self.add(format!("ORIENTED_EDGE('',*,*,#{edge},{sense})")));
+                    oriented.push(self.add(format_args!("ORIENTED_EDGE('',*,*,#{edge},{sense})")));
                 }
             }
-            let edges = self.add(format!("EDGE_LOOP('',({}))", refs(&oriented)));
-            bounds.push(self.add(format!("FACE_BOUND('',#{edges},.T.)")));
+            let edges = self.add(format_args!("EDGE_LOOP('',({}))", refs(&oriented)));
+            bounds.push(self.add(format_args!("FACE_BOUND('',#{edges},.T.)")));
         }
-        self.add(format!(
+        self.add(format_args!(
             "ADVANCED_FACE('',({}),#{surface},.T.)",
             refs(&bounds)
         ))
@@ -250,7 +255,7 @@ impl Data {
             .into_iter()
             .map(|(t, q, v)| {
                 let v = v.unwrap_or_else(|| {
-                    let point = self.add(format!("CARTESIAN_POINT('',{})", coords(q)));
+                    let point = self.add(format_args!("CARTESIAN_POINT('',{})", coords(q)));
                     self.vertex(q, point)
                 });
                 (t, v)
@@ -284,7 +289,7 @@ impl Data {
                 Some((k, piece, weights)) => {
                     let ids: Vec<usize> = piece
                         .iter()
-                        .map(|&p| self.add(format!("CARTESIAN_POINT('',{})", coords(p))))
+                        .map(|&p| self.add(format_args!("CARTESIAN_POINT('',{})", coords(p))))
                         .collect();
                     let (knots, mults) = crate::cad::distinct(k.knots());
                     self.add(
@@ -300,7 +305,7 @@ impl Data {
                 }
                 None => self.add(curve.entity(ids)),
             };
-            let e = self.add(format!("EDGE_CURVE('',#{va},#{vb},#{c},.T.)"));
+            let e = self.add(format_args!("EDGE_CURVE('',#{va},#{vb},#{c},.T.)"));
             self.edge_samples.push((samples, e));
             out.push((e, true));
         }
@@ -350,7 +355,7 @@ impl Data {
         let last = pts.len() - 1;
         let start = self.vertex(pts[0], ids[0]);
         let end = self.vertex(pts[last], ids[last]);
-        let e = self.add(format!("EDGE_CURVE('',#{start},#{end},#{curve},.T.)"));
+        let e = self.add(format_args!("EDGE_CURVE('',#{start},#{end},#{curve},.T.)"));
         self.edges.insert(side.key(pts, false), e);
         if let Some(samples) = side.samples(pts) {
             self.edge_samples.push((samples, e));
@@ -369,7 +374,7 @@ impl Data {
         if let Some(&(_, v)) = near {
             return v;
         }
-        let v = self.add(format!("VERTEX_POINT('',#{point})"));
+        let v = self.add(format_args!("VERTEX_POINT('',#{point})"));
         self.vertices.insert(bits(p), v);
         self.vertex_points.push((p, v));
         v

@@ -2,7 +2,7 @@
 //! each patch an ADVANCED_FACE on a B_SPLINE_SURFACE_WITH_KNOTS, the faces
 //! an OPEN_SHELL of a SHELL_BASED_SURFACE_MODEL.
 
-use crate::cad::{real, utc_now, write_cad_text, CadSurface};
+use crate::cad::{utc_now, write_cad_text, CadSurface, Real};
 use crate::Result;
 use fairsurf::{TensorPatch, Vec3};
 use std::collections::HashMap;
@@ -122,17 +122,17 @@ fn step_text_within(file_name: &str, patches: &[CadSurface], tol: f64) -> String
         }
     }
     let faces: Vec<usize> = patches.iter().map(|p| d.face(p)).collect();
-    let shell = d.add(format!("OPEN_SHELL('',({}))", refs(&faces)));
-    let model = d.add(format!("SHELL_BASED_SURFACE_MODEL('',(#{shell}))"));
-    let origin = d.add("CARTESIAN_POINT('',(0.,0.,0.))".into());
-    let z = d.add("DIRECTION('',(0.,0.,1.))".into());
-    let x = d.add("DIRECTION('',(1.,0.,0.))".into());
-    let axes = d.add(format!("AXIS2_PLACEMENT_3D('',#{origin},#{z},#{x})"));
-    let rep = d.add(format!(
+    let shell = d.add(format_args!("OPEN_SHELL('',({}))", refs(&faces)));
+    let model = d.add(format_args!("SHELL_BASED_SURFACE_MODEL('',(#{shell}))"));
+    let origin = d.add("CARTESIAN_POINT('',(0.,0.,0.))");
+    let z = d.add("DIRECTION('',(0.,0.,1.))");
+    let x = d.add("DIRECTION('',(1.,0.,0.))");
+    let axes = d.add(format_args!("AXIS2_PLACEMENT_3D('',#{origin},#{z},#{x})"));
+    let rep = d.add(format_args!(
         "MANIFOLD_SURFACE_SHAPE_REPRESENTATION('fairsurf',(#{axes},#{model}),#{})",
         context.representation
     ));
-    d.add(format!(
+    d.add(format_args!(
         "SHAPE_DEFINITION_REPRESENTATION(#{},#{rep})",
         context.shape
     ));
@@ -267,11 +267,9 @@ fn bits(p: Vec3) -> [u64; 3] {
     p.map(|c| (c + 0.0).to_bits())
 }
 
-fn refs(ids: &[usize]) -> String {
-    ids.iter()
-        .map(|k| format!("#{k}"))
-        .collect::<Vec<_>>()
-        .join(",")
+/// `#1,#2,…`.
+fn refs(ids: &[usize]) -> List<'_, usize> {
+    List(ids, |f, k| write!(f, "#{k}"))
 }
 
 /// A STEP string literal: `'` doubled, `\` doubled, anything outside
@@ -287,17 +285,43 @@ fn string(s: &str) -> String {
         .collect()
 }
 
-fn ints(v: &[usize]) -> String {
-    v.iter()
-        .map(|k| k.to_string())
-        .collect::<Vec<_>>()
-        .join(",")
+/// `1,2,…`.
+fn ints(v: &[usize]) -> List<'_, usize> {
+    List(v, |f, k| write!(f, "{k}"))
 }
 
-fn reals(v: &[f64]) -> String {
-    v.iter().map(|&t| real(t)).collect::<Vec<_>>().join(",")
+/// Reals as [`real`] writes them, comma-separated.
+fn reals(v: &[f64]) -> List<'_, f64> {
+    List(v, |f, x| write!(f, "{}", Real(*x)))
 }
 
-fn coords(p: Vec3) -> String {
-    format!("({},{},{})", real(p[0]), real(p[1]), real(p[2]))
+/// `(x,y,z)`.
+fn coords(p: Vec3) -> impl std::fmt::Display {
+    struct Coords(Vec3);
+    impl std::fmt::Display for Coords {
+        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            let [x, y, z] = self.0.map(Real);
+            write!(f, "({x},{y},{z})")
+        }
+    }
+    Coords(p)
+}
+
+/// Items written one by one, comma-separated, into the text that formats
+/// this (the writer makes no string per number or reference).
+struct List<'a, T>(
+    &'a [T],
+    fn(&mut std::fmt::Formatter<'_>, &T) -> std::fmt::Result,
+);
+
+impl<T> std::fmt::Display for List<'_, T> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        for (k, x) in self.0.iter().enumerate() {
+            if k > 0 {
+                f.write_str(",")?;
+            }
+            (self.1)(f, x)?;
+        }
+        Ok(())
+    }
 }
