@@ -28,7 +28,8 @@ rectangle; checked: the integrated area equals the face's, BRepGProp, to
 1e-6). fairsurf's own reported
 figures are printed beside Open CASCADE's measurement of them.
 
-Times (medians of --repeats runs): MakeFilling's Build(); fairsurf's
+Times (medians of --repeats runs, each tool's runs back to back after one
+pause): MakeFilling's Build(); fairsurf's
 in-library time (its report: boundary data, solve with its check, Willmore
 steps, measurements) and the whole `fairsurf fill` process (read STEP, fill,
 write STEP). The command's library time is a fresh process's (cold caches);
@@ -39,7 +40,7 @@ fill, measure) and the fill's own report of that call.
 
     python3 -m venv target/bench-venv && target/bench-venv/bin/pip install numpy cadquery-ocp
     cargo build --release -p fairsurf-cli
-    target/bench-venv/bin/python bench/fill_vs_makefilling.py [--repeats 5] [--cli target/release/fairsurf] [--keep DIR]
+    target/bench-venv/bin/python bench/fill_vs_makefilling.py [--repeats 9] [--cli target/release/fairsurf] [--keep DIR]
     # with the in-process columns:
     FAIRSURF_PY_PROFILE=release bash python/test.sh
     target/py-venv/bin/python bench/fill_vs_makefilling.py
@@ -345,10 +346,13 @@ def run(args):
             occ_w, occ_h, occ_k, occ_rect = total_curvature(fill)
             step_out = tmp / f"{name}.filled.step"
             ptimes, ltimes, report = [], [], None
+            # Open CASCADE's worker threads spin for a while after a
+            # MakeFilling; on 2 cores they slowed the next process by 3x.
+            # One pause, then the runs back to back, as MakeFilling's are
+            # (a pause before each run made every run a cold start: the
+            # process 5.4 -> 9.4 ms, MakeFilling likewise 4.2 -> 5.4 ms).
+            time.sleep(0.3)
             for _ in range(args.repeats):
-                # Open CASCADE's worker threads spin for a while after a
-                # MakeFilling; on 2 cores they slowed the next process by 3x.
-                time.sleep(0.3)
                 t = time.perf_counter()
                 out = subprocess.run([str(cli), "fill", str(step_in), "-o", str(step_out), "--json"],
                                      check=True, capture_output=True, text=True)
@@ -358,8 +362,8 @@ def run(args):
             # In this process, as MakeFilling: the call (read, holes, fill,
             # measure; no writing) and the fill's own report of it.
             calls, fills = [], []
+            time.sleep(0.3)  # Open CASCADE's spinning threads, as above
             for _ in range(args.repeats if fairsurf else 0):
-                time.sleep(0.3)  # Open CASCADE's spinning threads, as above
                 t = time.perf_counter()
                 filled = fairsurf.fill(step_in)
                 calls.append(time.perf_counter() - t)
@@ -400,7 +404,7 @@ def run(args):
 
 if __name__ == "__main__":
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("--repeats", type=int, default=5)
+    p.add_argument("--repeats", type=int, default=9)
     p.add_argument("--cli", default=str(ROOT / "target" / "release" / "fairsurf"))
     p.add_argument("--keep", help="write the holes' and the fills' STEP files here")
     run(p.parse_args())
