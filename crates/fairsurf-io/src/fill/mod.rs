@@ -11,8 +11,8 @@ use crate::validate::parse_net;
 use crate::{CadCurve, CadSurface, Error, Result};
 use fairsurf::analysis::Edge;
 use fairsurf::bspline::{
-    strip_stand_in, strip_stand_in_towards, BSplineSurface, FitTolerance, KnotVector,
-    RationalSurface,
+    edge_stand_in, strip_stand_in, strip_stand_in_towards, BSplineSurface, FitTolerance,
+    KnotVector, RationalSurface,
 };
 use fairsurf::fill::{
     find_holes_where, tolerance, CornerMismatch, FanFill, Fill, FillOptions, FillSeconds, Hole,
@@ -479,25 +479,37 @@ impl FillInput {
                     let towards = e.ends.and_then(|ends| {
                         strip_stand_in_towards(&e.edge, ends, self.fit, one_span).ok()
                     });
-                    let s = match towards {
-                        Some(s) => s,
-                        None => strip_stand_in(&e.edge, 0.25 * e.length, self.fit, one_span)
-                            .map_err(|err| {
-                                let fan = if one_span {
-                                    " (the edge is a side of a hole a fan of triangular patches \
-                                     fills, whose sides must each be one polynomial piece; a \
-                                     looser tolerance may let one span do)"
-                                } else {
-                                    ""
-                                };
-                                Error::scene(
-                                    format!("face {k}"),
-                                    format!("a {}: loop {l}, edge {j}: {err}{fan}", self.kinds[k]),
-                                )
-                            })?,
+                    let named = |err: fairsurf::Error| {
+                        let fan = if one_span {
+                            " (the edge is a side of a hole a fan of triangular patches \
+                             fills, whose sides must each be one polynomial piece; a \
+                             looser tolerance may let one span do)"
+                        } else {
+                            ""
+                        };
+                        Error::scene(
+                            format!("face {k}"),
+                            format!("a {}: loop {l}, edge {j}: {err}{fan}", self.kinds[k]),
+                        )
+                    };
+                    let (s, kind) = match towards {
+                        Some(s) => (s, "strip"),
+                        None => {
+                            match strip_stand_in(&e.edge, 0.25 * e.length, self.fit, one_span) {
+                                Ok(s) => (s, "strip"),
+                                // No fill meets a shared edge: its curve will
+                                // do (the face may have no normal along it: a
+                                // seam edge into a pole).
+                                Err(err) if !e.free => match edge_stand_in(&e.edge, self.fit) {
+                                    Ok(s) => (s, "edge curve"),
+                                    Err(_) => return Err(named(err)),
+                                },
+                                Err(err) => return Err(named(err)),
+                            }
+                        }
                     };
                     self.faces.push(s.surface);
-                    self.kinds.push("strip");
+                    self.kinds.push(kind);
                     self.stand_ins.push(Some((s.position, s.angle)));
                     self.one_span.push([false; 2]);
                     self.options.rational_faces.push(None);

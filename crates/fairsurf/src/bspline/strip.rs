@@ -169,13 +169,26 @@ pub fn strip_stand_in_towards(
     fit(edge, Across::Towards(turn), tolerance, one_span)
 }
 
+/// The edge alone as a strip of no width (its sides V0 and V1 both the
+/// edge, within `tolerance.position`; fitted as [`strip_stand_in`] fits,
+/// without the face's normal): for an edge no fill meets — one two faces
+/// share — whose curve the STEP writer and the matching of sides still
+/// take, where the face has no normal to make a strip from (a seam edge
+/// running into a pole, a collapsed side of the surface). Its angle is
+/// not measured: 0.
+pub fn edge_stand_in(edge: &TrueEdge, tolerance: FitTolerance) -> Result<StandIn> {
+    fit(edge, Across::None, tolerance, false)
+}
+
 /// How a strip's T runs: across the edge at right angles, this long; or
 /// turned from the edge's tangent by an angle and as long as a length
-/// that run linearly from the first end's (angle, length) to the last's.
+/// that run linearly from the first end's (angle, length) to the last's;
+/// or not at all (the edge alone: [`edge_stand_in`]).
 #[derive(Clone, Copy)]
 enum Across {
     Right(f64),
     Towards([(f64, f64); 2]),
+    None,
 }
 
 /// The strip (see [`strip_stand_in`]).
@@ -199,7 +212,7 @@ fn fit(
             n => format!("{n} pieces of degree {FIRST_DEGREE}"),
         };
         let surface = interpolate(edge, across, knots)?;
-        let (position, angle) = deviation(edge, &surface)?;
+        let (position, angle) = deviation(edge, &surface, !matches!(across, Across::None))?;
         if position <= tolerance.position && angle <= tolerance.angle {
             return Ok(StandIn {
                 surface,
@@ -270,10 +283,14 @@ fn interpolate(edge: &TrueEdge, across: Across, knots: KnotVector) -> Result<BSp
     let mut data = Vec::with_capacity(6 * n);
     for &t in &g {
         let f = edge.frame(t);
-        let (along, right) = axes(&f).ok_or_else(|| no_frame(t))?;
         let d = match across {
-            Across::Right(width) => scale(right, width),
+            Across::None => [0.0; 3],
+            Across::Right(width) => {
+                let (_, right) = axes(&f).ok_or_else(|| no_frame(t))?;
+                scale(right, width)
+            }
             Across::Towards([(a, la), (b, lb)]) => {
+                let (along, right) = axes(&f).ok_or_else(|| no_frame(t))?;
                 let (s, c) = (a + (b - a) * t).sin_cos();
                 let l = la + (lb - la) * t;
                 std::array::from_fn(|k| l * (c * along[k] + s * right[k]))
@@ -306,15 +323,18 @@ fn no_frame(t: f64) -> Error {
 
 /// Largest distance and normal angle between the strip's side V0 and the
 /// edge at the same parameters (Chebyshev–Lobatto on every span, and
-/// where a fill's side is measured).
-fn deviation(edge: &TrueEdge, s: &BSplineSurface) -> Result<(f64, f64)> {
+/// where a fill's side is measured); the angle 0 unless `normals`.
+fn deviation(edge: &TrueEdge, s: &BSplineSurface, normals: bool) -> Result<(f64, f64)> {
     let mut ts = side_parameters(s.knots().0);
     ts.extend(crate::fill::measure_side_parameters());
     let (mut gap, mut ang) = (0.0f64, 0.0f64);
     for (t, d) in ts.iter().zip(s.derivatives_on(&ts, &[0.0])) {
         let f = edge.frame(*t);
-        axes(&f).ok_or_else(|| no_frame(*t))?;
         gap = gap.max(dist(f.point, d.point));
+        if !normals {
+            continue;
+        }
+        axes(&f).ok_or_else(|| no_frame(*t))?;
         // No normal on the strip counts as the worst.
         ang = ang.max(
             d.regular_normal()
@@ -502,5 +522,32 @@ mod tests {
         assert!(e.to_string().contains("512 pieces"), "{e}");
         assert!(strip_stand_in(&kink, 0.0, FitTolerance::default(), true).is_err());
         assert!(strip_stand_in(&kink, f64::NAN, FitTolerance::default(), true).is_err());
+        // Nor can the edge's curve alone follow a kink.
+        let e = edge_stand_in(&kink, FitTolerance::default()).unwrap_err();
+        assert!(e.to_string().contains("could not be approximated"), "{e}");
+    }
+
+    /// An edge whose face has no normal along it (NaN, as at a pole):
+    /// no strip, but its curve alone, within the tolerance of the edge's
+    /// points at 1000 parameters, both sides of no width the edge.
+    #[test]
+    fn an_edge_without_normals_stands_in_by_its_curve_alone() {
+        let quarter = cylinder_cut(0.5, 0.25);
+        let edge = TrueEdge::new(move |t| EdgeFrame {
+            normal: [f64::NAN; 3],
+            ..quarter.frame(t)
+        });
+        let tol = FitTolerance::default();
+        let e = strip_stand_in(&edge, 0.3, tol, false).unwrap_err();
+        assert!(e.to_string().contains("no tangent across"), "{e}");
+        let s = edge_stand_in(&edge, tol).unwrap();
+        assert!(s.position <= tol.position && s.angle == 0.0, "{s:?}");
+        for i in 0..=1000 {
+            let t = i as f64 / 1000.0;
+            let f = edge.frame(t);
+            let (v0, v1) = (s.surface.eval(t, 0.0), s.surface.eval(t, 1.0));
+            assert!(dist(v0, f.point) <= 1.0001 * tol.position, "{t}");
+            assert_eq!(v0, v1, "{t}");
+        }
     }
 }
