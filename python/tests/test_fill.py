@@ -109,8 +109,8 @@ def test_faces_restricted_to_parameter_rectangles_are_filled_exactly(cli: Path, 
     surface to the rectangle exactly (knot insertion): the fill is G1 to
     rounding as with Segment-cut faces. A face trimmed otherwise (a
     triangle of a plane, of the sheet) alone is read as a trimmed face;
-    its outline is then its only hole, with corners turning away from it:
-    refused by name."""
+    its outline is then its only loop, a rim: nothing to fill by default;
+    asked for, its corners turn away from it: refused by name."""
     from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakePolygon
     from OCP.gp import gp_Pnt
 
@@ -136,6 +136,10 @@ def test_faces_restricted_to_parameter_rectangles_are_filled_exactly(cli: Path, 
     out = tmp_path / "x.step"
     run = subprocess.run([str(cli), "fill", str(step_in), "-o", str(out)],
                          capture_output=True, text=True)
+    assert run.returncode == 2 and "no hole to fill" in run.stderr, run.stderr
+    assert not out.exists()
+    run = subprocess.run([str(cli), "fill", str(step_in), "-o", str(out), "--hole", "0"],
+                         capture_output=True, text=True)
     assert run.returncode == 2 and "corner 0 of the hole is concave" in run.stderr, run.stderr
     assert not out.exists()
     # A B-spline face trimmed to a triangle of its parameters.
@@ -155,7 +159,7 @@ def test_faces_restricted_to_parameter_rectangles_are_filled_exactly(cli: Path, 
     BRepLib.BuildCurves3d_s(face)
     step_in = tmp_path / "trimmed.step"
     sewn_step([face], step_in)
-    run = subprocess.run([str(cli), "fill", str(step_in), "-o", str(out)],
+    run = subprocess.run([str(cli), "fill", str(step_in), "-o", str(out), "--hole", "0"],
                          capture_output=True, text=True)
     # (Its edges cross the sheet's knot lines: a fan's side in one
     # polynomial piece is not within the tolerance either, refused first.)

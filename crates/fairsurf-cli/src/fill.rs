@@ -31,9 +31,9 @@ pub struct Args {
     #[arg(long)]
     list: bool,
     /// Fill hole K (repeatable; as `--list` numbers them). Default: every
-    /// hole but the outer rims when there are several (each open sheet's:
-    /// the loops that bound their faces from outside; and a pipe's ends
-    /// when it has a hole).
+    /// hole but the outer rims (each open sheet's: the loops that bound
+    /// their faces from outside, and those that run across their normals,
+    /// as a pipe's ends); none left is an error.
     #[arg(long = "hole", value_name = "K")]
     holes: Vec<usize>,
     /// Print the report as JSON on standard output instead of the summary.

@@ -1667,11 +1667,17 @@ fn bad_fills_exit_2_and_write_nothing() {
     ]});
     let p = write("cube.json", &cube);
     assert!(run(&[p.to_str().unwrap()]).contains("there is no hole: every face boundary is shared"));
-    // One face alone: its rim is the only loop, and the face's cross
-    // derivatives point away from it: no G1 fill.
+    // One face alone: its rim is the only loop, which bounds the face
+    // from outside: nothing to fill by default; asked for, the face's
+    // cross derivatives point away from it: no G1 fill.
     let lone = serde_json::json!({"faces": [corners(&|a, b| [a, b, 0.0])]});
     let p = write("lone.json", &lone);
-    assert!(run(&[p.to_str().unwrap()]).contains("does not point into the hole"));
+    let e = run(&[p.to_str().unwrap()]);
+    assert!(
+        e.contains("no hole to fill: every free loop is taken for an outer rim (hole 0:"),
+        "{e}"
+    );
+    assert!(run(&[p.to_str().unwrap(), "--hole", "0"]).contains("does not point into the hole"));
     let p = write("empty.json", &serde_json::json!({"faces": []}));
     assert!(run(&[p.to_str().unwrap()]).contains("faces: no faces"));
     let p = write("not_json.json", &serde_json::json!(1));

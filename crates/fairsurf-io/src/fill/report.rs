@@ -12,22 +12,22 @@ pub struct HoleChoice {
     pub holes: Vec<Hole>,
     /// The indices to fill.
     pub chosen: Vec<usize>,
-    /// The indices taken for outer rims (not filled unless asked), when
-    /// there are several holes: each open sheet's, and the loops that are
-    /// not clearly holes (a pipe's ends) when some are.
+    /// The indices taken for outer rims (not filled unless asked): each
+    /// open sheet's, and the loops that are not clearly holes (a pipe's
+    /// ends).
     pub rims: Vec<usize>,
 }
 
 impl HoleChoice {
     /// The holes of `faces`; `asked` (indices) or, without it, every hole
-    /// but the outer rims when there are several: the loops that bound
-    /// their faces from outside ([`fairsurf::fill::Hole::bounds_from_outside`];
-    /// a closed shell's holes do not) — one per open sheet — and, when
-    /// some loop is clearly a hole, those whose sense is unclear too (a
-    /// pipe's ends run across its normals; an interior hole whose sense
-    /// is unclear is then left too, and named a rim); the longest loop
-    /// when no sense is clear; when every loop would be a rim, the
-    /// longest only. The one hole otherwise.
+    /// but the outer rims: the loops that bound their faces from outside
+    /// ([`fairsurf::fill::Hole::bounds_from_outside`]; a closed shell's
+    /// holes do not) — one per open sheet — and those whose sense is
+    /// unclear (a pipe's ends and a dome's rim run across their faces'
+    /// normals; an interior hole whose sense is unclear is left too, and
+    /// named a rim). When every loop is a rim (a sheet without holes, a
+    /// file whose holes are all filled) none is chosen, and
+    /// [`Self::fill`] says so.
     /// Errors: no hole, an index out of range (named as `holes[k]`).
     pub fn new(faces: &[BSplineSurface], asked: Option<&[usize]>) -> Result<HoleChoice> {
         Self::within(faces, asked, tolerance(faces))
@@ -69,26 +69,14 @@ impl HoleChoice {
             }));
         }
         // The outer rims of open sheets: the loops that bound their faces
-        // from outside (none on a closed shell with holes); those whose
-        // sense is unclear too when some loop is clearly a hole (a pipe's
-        // ends), else none of them; the longest loop when no sense is
-        // clear; the longest one only when every loop would be a rim.
+        // from outside (none on a closed shell with holes), and those
+        // whose sense is unclear (a pipe's ends, a dome's rim: their faces
+        // run across the loop's area). Every loop may be a rim (a sheet,
+        // a file whose holes are all filled): then none is chosen.
         let n = holes.len();
-        let senses: Vec<Option<bool>> = if n > 1 {
-            holes.iter().map(|h| h.bounds_from_outside(faces)).collect()
-        } else {
-            vec![Some(false)]
-        };
-        let clear_hole = senses.contains(&Some(false));
-        let mut rims: Vec<usize> = (0..n)
-            .filter(|&k| senses[k] == Some(true) || (senses[k].is_none() && clear_hole))
+        let rims: Vec<usize> = (0..n)
+            .filter(|&k| holes[k].bounds_from_outside(faces) != Some(false))
             .collect();
-        if rims.len() == n {
-            rims.truncate(1);
-        } else if !clear_hole && rims.is_empty() {
-            // No sense clear: the longest loop.
-            rims = vec![0];
-        }
         let chosen = match asked {
             Some(a) => {
                 for (k, &h) in a.iter().enumerate() {
@@ -122,8 +110,20 @@ impl HoleChoice {
     }
 
     /// Fills the chosen holes: one patch for 4 sides, a fan of triangular
-    /// patches otherwise.
+    /// patches otherwise. Errors when none is chosen (every loop a rim).
     pub fn fill(&self, faces: &[BSplineSurface], options: &FillOptions) -> Result<Vec<HoleFill>> {
+        if self.chosen.is_empty() {
+            let rims: Vec<String> = self.rims.iter().map(usize::to_string).collect();
+            return Err(Error::Solve(fairsurf::Error::Fill {
+                why: format!(
+                    "no hole to fill: every free loop is taken for an outer rim (hole{} {}: \
+                     loops that bound their faces from outside or run across their normals, \
+                     as a pipe's ends; --list shows them, --hole K fills one)",
+                    if rims.len() == 1 { "" } else { "s" },
+                    rims.join(", ")
+                ),
+            }));
+        }
         self.chosen
             .iter()
             .map(|&h| {

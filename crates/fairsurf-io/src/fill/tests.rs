@@ -496,12 +496,17 @@ fn holes_in_trimmed_surfaces_of_revolution_are_filled() {
     let back = written_and_read(&input, &fills, "revolved");
     assert_eq!(back.kinds[..4], ["trimmed rational B-spline"; 4]);
     let holes = HoleChoice::of(&back, None).unwrap().holes;
-    // The pipe's two circles and the other faces' outer loops.
+    // The pipe's two circles and the other faces' outer loops, all rims:
+    // nothing is left to fill by default, and the fill says so.
     assert_eq!(holes.len(), 5, "{holes:?}");
     assert!(
         holes.iter().all(|h| h.sides.len() == 1 || h.length > 8.0),
         "{holes:?}"
     );
+    let choice = HoleChoice::of(&back, None).unwrap();
+    assert_eq!((choice.rims.len(), choice.chosen.len()), (5, 0));
+    let e = choice.fill(&back.faces, &back.options).unwrap_err();
+    assert!(e.to_string().contains("no hole to fill"), "{e}");
 }
 
 /// Trimmed spheres and a torus that reach a pole, go all the way round or
@@ -570,7 +575,30 @@ fn trimmed_surfaces_of_revolution_are_taken_where_the_face_lies() {
             assert!(s.gap <= tol.position && s.angle <= tol.angle, "{s:?}");
         }
     }
-    // (Read back by fairsurf the dome's seam edge, which now ends on its
-    // B-spline's collapsed side, has no normal there for a strip: Open
-    // CASCADE reads it, python/tests/test_fill.py.)
+    // Written and read back: the dome's seam edge now ends on its
+    // B-spline's collapsed side, where the face has no normal for a strip;
+    // the edge is shared (the seam), so its curve alone stands in, within
+    // the tolerance. The two rims are all that is left, both taken so.
+    let back = written_and_read(&input, &fills, "closed");
+    let curves: Vec<usize> = (0..back.faces.len())
+        .filter(|&k| back.kinds[k] == "edge curve")
+        .collect();
+    // Its two uses in the dome's loop.
+    assert_eq!(curves.len(), 2, "{curves:?}");
+    for &k in &curves {
+        let (position, angle) = back.stand_ins[k].unwrap();
+        assert!(
+            position <= tol.position && angle == 0.0,
+            "{position} {angle}"
+        );
+        // No width: its side V1 is its side V0.
+        let c = &back.faces[k];
+        let (cu, _) = c.counts();
+        assert!((0..cu).all(|i| c.point(i, 0) == c.point(i, 1)));
+        // The dome's (face 0) seam edge.
+        assert_eq!(back.face_of(k), 0);
+    }
+    let choice = HoleChoice::of(&back, None).unwrap();
+    assert_eq!((choice.holes.len(), choice.rims.len()), (2, 2));
+    assert!(choice.chosen.is_empty());
 }
