@@ -70,7 +70,7 @@ pub(super) fn trimmed(
         _ => None,
     };
     let eval = match (&own, &revolution) {
-        (Some((_, s)), _) => Eval::Spline(s.clone()),
+        (Some((_, s)), _) => Eval::Spline(std::sync::Arc::new(SeededSpline::new(s.clone()))),
         (_, Some((_, axis, sign))) => Eval::Revolution(axis.clone(), *sign),
         _ => Eval::File,
     };
@@ -155,13 +155,41 @@ fn plane_around(
     Ok(FaceSurface::Polynomial(net))
 }
 
+/// A face's B-spline and the grids its nearest-point searches start
+/// from, each made at its first use: the 17 × 17 one and, near a
+/// collapsed side, a 65 × 65 one ([`foot_within`]).
+pub(super) struct SeededSpline {
+    surface: FaceSurface,
+    coarse: std::sync::OnceLock<Seeds>,
+    fine: std::sync::OnceLock<Seeds>,
+}
+
+impl SeededSpline {
+    fn new(surface: FaceSurface) -> Self {
+        Self {
+            surface,
+            coarse: std::sync::OnceLock::new(),
+            fine: std::sync::OnceLock::new(),
+        }
+    }
+
+    fn coarse(&self) -> &Seeds {
+        self.coarse.get_or_init(|| Seeds::new(&self.surface))
+    }
+
+    fn fine(&self) -> &Seeds {
+        self.fine.get_or_init(|| Seeds::of(&self.surface, 64))
+    }
+}
+
 /// How [`Frames`] finds foot points and normals on a face's surface.
 #[derive(Clone)]
 pub(super) enum Eval {
     /// truck's evaluation of the file's surface (a plane).
     File,
-    /// The file's B-spline as fairsurf's (the same parameters).
-    Spline(FaceSurface),
+    /// The file's B-spline as fairsurf's (the same parameters), with its
+    /// seed grids (one per face: the face's edges share it).
+    Spline(std::sync::Arc<SeededSpline>),
     /// A surface of revolution in closed form ([`Revolution::foot`]), its
     /// normal times the file's sense (±1).
     Revolution(Revolution, f64),
@@ -651,7 +679,7 @@ impl Frames {
         tol: f64,
     ) -> std::result::Result<Self, String> {
         let spline = match eval {
-            Eval::Spline(s) => Some(s),
+            Eval::Spline(s) => Some(&**s),
             _ => None,
         };
         let mut hints = Vec::with_capacity(HINTS + 1);
@@ -767,7 +795,7 @@ impl Frames {
         let (u, v) = foot_within(file, point, Some(hint), self.tol).map_or(hint, |f| f.0);
         let normal = match self.spline() {
             Some(s) => {
-                let d = derivatives(s, u, v);
+                let d = derivatives(&s.surface, u, v);
                 fairsurf::vector::normalize(fairsurf::vector::cross(d.du, d.dv))
                     .unwrap_or([f64::NAN; 3])
             }
@@ -784,7 +812,7 @@ impl Frames {
     }
 
     /// The surface as fairsurf's B-spline, when it is one.
-    fn spline(&self) -> Option<&FaceSurface> {
+    fn spline(&self) -> Option<&SeededSpline> {
         match &self.eval {
             Eval::Spline(s) => Some(s),
             _ => None,
@@ -830,7 +858,7 @@ impl Frames {
 /// domain: a closed surface's point across its seam is reached from the
 /// other end).
 fn foot_within(
-    file: (&StepSurface, Option<&FaceSurface>),
+    file: (&StepSurface, Option<&SeededSpline>),
     p: Vec3,
     hint: Option<(f64, f64)>,
     tol: f64,
@@ -846,7 +874,7 @@ fn foot_within(
     // Near a B-spline's collapsed side (a pole) the 17 × 17 seeds can all
     // be too far round for Newton steps: a finer grid.
     if let (Some(s), true) = (file.1, near.is_none_or(|n| n.1 > tol)) {
-        near = better(near, Some(nearest(s, &Seeds::of(s, 64), p)));
+        near = better(near, Some(nearest(&s.surface, s.fine(), p)));
     }
     near
 }
@@ -866,7 +894,7 @@ pub(super) fn file_foot(
 /// [`file_foot`], its Newton steps on `spline` (the file's B-spline as
 /// fairsurf's, the same parameters) when given.
 fn file_foot_on(
-    (file, spline): (&StepSurface, Option<&FaceSurface>),
+    (file, spline): (&StepSurface, Option<&SeededSpline>),
     p: Vec3,
     hint: Option<(f64, f64)>,
 ) -> Option<((f64, f64), f64)> {
@@ -874,7 +902,7 @@ fn file_foot_on(
     // fairsurf's evaluation (truck's search evaluates its own grid by its
     // evaluation, one pass over the basis functions per derivative).
     if let (Some(s), None) = (spline, hint) {
-        return Some(nearest(s, &Seeds::new(s), p));
+        return Some(nearest(&s.surface, s.coarse(), p));
     }
     let q = Point3::new(p[0], p[1], p[2]);
     let uv = match hint {
@@ -921,6 +949,7 @@ fn file_foot_on(
     };
     Some(match spline {
         Some(s) => {
+            let s = &s.surface;
             let start = dist(eval(s, uv.0, uv.1), p);
             foot(&|u, v| derivatives(s, u, v), p, uv, start, domain)
         }
