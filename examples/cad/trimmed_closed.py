@@ -12,7 +12,8 @@ its edges approximated to 1e-8):
 
 Also `ball()` (the whole unit sphere but a hole: Open CASCADE writes it
 with no seam edge) and `point()` (a cone face up to its apex), which
-fairsurf refuses.
+fairsurf refuses, and `lune()` (the unit sphere from pole to pole over
+u in [0.3, 4.8], bounded by two meridians only, with a hole).
 
     python examples/cad/trimmed_closed.py examples/cad/trimmed_closed.step
 """
@@ -52,6 +53,11 @@ def faces():
 def ball():
     return holed(Geom_SphericalSurface(ax(0, 0, 0), 1.0), (0, 2 * math.pi, -math.pi / 2, math.pi / 2),
                  polygon((1.0, 0.2), 0.4, 4))
+
+
+def lune():
+    return holed(Geom_SphericalSurface(ax(0, 0, 0), 1.0), (0.3, 4.8, -math.pi / 2, math.pi / 2),
+                 polygon((2.5, 0.0), 0.4, 4))
 
 
 def point():

@@ -845,6 +845,50 @@ def test_trimmed_spheres_and_tori_round_a_pole_or_all_round_are_filled(cli: Path
         assert not out.with_name("no.step").exists()
 
 
+def test_a_sphere_lune_wider_than_half_a_turn_is_written_where_it_lies(cli: Path, tmp_path: Path):
+    """The unit sphere from pole to pole over u in [0.3, 4.8] (4.5 rad, more
+    than half a turn), bounded by two meridians only, with a hole: its
+    edges' points leave two gaps in angle, and the wide one (where the face
+    is) must not be the one left out. The hole filled: within the
+    tolerance, Open CASCADE reads the output as valid, sews it with only
+    the lune's two meridians free, and the written face's surface over its
+    loops' parameter box lies on the sphere at the lune's angles (about
+    the middle, 2.55 rad), none in the 1.78 rad it leaves out."""
+    import importlib.util
+
+    from OCP.BRepAdaptor import BRepAdaptor_Surface
+    from OCP.BRepCheck import BRepCheck_Analyzer
+    from OCP.BRepTools import BRepTools
+
+    spec = importlib.util.spec_from_file_location("closed", EXAMPLES / "trimmed_closed.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    step_in, out = tmp_path / "lune.step", tmp_path / "filled.step"
+    sewn_step([module.lune()], step_in)
+    # The lune's outline bounds the 1.78 rad it leaves out as a hole does
+    # (a sheet curled past a hemisphere): the hole in it is hole 1.
+    report = filled(cli, step_in, out, "--hole", "1")
+    assert [h["sides"] for h in report["holes"]] == [2, 4]
+    fill = report["fills"][0]
+    assert fill["max_gap"] <= 1e-6 and fill["max_angle_deg"] <= 0.01, fill
+    shape = read_step(out)
+    assert BRepCheck_Analyzer(shape).IsValid()
+    assert free_edges_after_sewing(shape) == 2
+    assert all(normals_agree_across_edges(shape))
+    lune = faces_of(shape)[0]
+    u0, u1, v0, v1 = BRepTools.UVBounds_s(lune)
+    surface = BRepAdaptor_Surface(lune)
+    angles = []
+    for i in range(21):
+        for j in range(21):
+            p = surface.Value(u0 + (u1 - u0) * i / 20, v0 + (v1 - v0) * j / 20)
+            assert abs(math.sqrt(p.X() ** 2 + p.Y() ** 2 + p.Z() ** 2) - 1) < 1e-9
+            if math.hypot(p.X(), p.Y()) > 1e-3:
+                angles.append(math.atan2(p.Y(), p.X()) % (2 * math.pi))
+    assert all(0.3 - 0.1 <= a <= 4.8 + 0.1 for a in angles), (min(angles), max(angles))
+    assert any(abs(a - 2.55) < 0.1 for a in angles)
+
+
 def test_a_trimmed_face_used_reversed_keeps_its_sense(cli: Path, tmp_path: Path):
     """The trimmed sheet written by Open CASCADE as a reversed face
     (ADVANCED_FACE same_sense .F.): the output shell is oriented as the
