@@ -493,7 +493,8 @@ def fill(
     (``.step``/``.stp``), or a JSON fill scene as a path, text or dict
     (``schema("fill")``). ``holes`` chooses holes by index (longest loop
     first; default: all but the outer rims — each open sheet's outline,
-    and a pipe's ends when it has a hole). ``normal_weight``, ``elevate``,
+    and a pipe's ends; :class:`SolveError` when every loop is a rim, as in a
+    file whose holes are all filled). ``normal_weight``, ``elevate``,
     ``willmore_steps`` and ``descent_steps`` (steps of L-BFGS on W itself;
     0 for none) override the scene's ``fill`` options. Raises :class:`SceneError` for
     bad input (with ``.path``), :class:`SolveError` for a hole that cannot be

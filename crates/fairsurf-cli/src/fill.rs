@@ -219,9 +219,13 @@ fn summary(
             rational.join(", ")
         ));
     }
-    // Per trimmed face, its strips' largest distances from its edges.
+    // Per trimmed face, its strips' largest distances from its edges (an
+    // edge another face shares stands in by its curve alone: not counted).
     let mut trimmed: Vec<(usize, usize, f64, f64)> = Vec::new();
     for (s, strip) in input.strips().iter().enumerate() {
+        if input.kinds[faces + s] != "strip" {
+            continue;
+        }
         let (gap, angle) = input.stand_ins[faces + s].unwrap_or((0.0, 0.0));
         match trimmed.iter_mut().find(|t| t.0 == strip.face) {
             Some(t) => *t = (t.0, t.1 + 1, t.2.max(gap), t.3.max(angle)),
@@ -240,8 +244,8 @@ fn summary(
             })
             .collect();
         lines.push(format!(
-            "  trimmed faces, met through strip stand-ins along their edges (G1 there to the \
-             strips' tolerance, not exact): {}",
+            "  trimmed faces, met through strip stand-ins along their free edges (G1 there to \
+             the strips' tolerance, not exact): {}",
             list.join(", ")
         ));
     }

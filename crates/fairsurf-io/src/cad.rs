@@ -244,14 +244,22 @@ mod tests {
             123456.789,
             f64::MAX,
             f64::MIN_POSITIVE,
+            5e-5,
+            1.2345678901234568e-5,
+            -9.99e-5,
         ] {
             let s = real(x);
             assert!(s.contains('.'), "{s}");
-            assert!(!s.contains('e') && !s.starts_with("-0.0"), "{s}");
+            assert!(!s.contains('e') && s != "-0.0", "{s}");
             assert_eq!(s.parse::<f64>().unwrap(), x, "{s}");
         }
         assert_eq!(real(1e-7), "1.0E-7");
         assert_eq!(real(0.25), "0.25");
+        // ryu's form: positional down to 1e-5 (Rust's `{:?}` changes to an
+        // exponent below 1e-4: "5.0E-5" before session 37), an exponent
+        // from 1e16.
+        assert_eq!(real(5e-5), "0.00005");
+        assert_eq!(real(1e16), "1.0E16");
     }
 
     #[test]

@@ -46,11 +46,10 @@ pub struct FillScene {
     /// shares.
     pub faces: Vec<FaceSpec>,
     /// Which holes to fill, by their index in `fairsurf fill --list`
-    /// (longest loop first). Default: every hole but the outer rims when
-    /// there are several (the loops that bound their faces from outside,
-    /// one per open sheet — a closed shell has none — and, when some loop
-    /// is clearly a hole, those whose sense is unclear; the longest loop
-    /// when no sense is clear), the one loop otherwise.
+    /// (longest loop first). Default: every hole but the outer rims (the
+    /// loops that bound their faces from outside, one per open sheet — a
+    /// closed shell has none — and, beside other loops, those whose sense
+    /// is unclear, as a pipe's ends); none left is an error.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub holes: Option<Vec<usize>>,
     /// How to fill.
@@ -581,7 +580,7 @@ impl FillInput {
     }
 
     /// The holes to fill ([`HoleChoice::of`]: `asked`, else the input's
-    /// own choice, else every hole but an open sheet's rim), with the
+    /// own choice, else every hole but the outer rims), with the
     /// stand-ins along the sides of those that fans fill made one span
     /// each ([`Self::one_span_sides`]): what [`HoleChoice::fill`] takes.
     pub fn choose(&mut self, asked: Option<&[usize]>) -> Result<HoleChoice> {

@@ -22,10 +22,11 @@ impl HoleChoice {
     /// The holes of `faces`; `asked` (indices) or, without it, every hole
     /// but the outer rims: the loops that bound their faces from outside
     /// ([`fairsurf::fill::Hole::bounds_from_outside`]; a closed shell's
-    /// holes do not) — one per open sheet — and those whose sense is
-    /// unclear (a pipe's ends and a dome's rim run across their faces'
-    /// normals; an interior hole whose sense is unclear is left too, and
-    /// named a rim). When every loop is a rim (a sheet without holes, a
+    /// holes do not) — one per open sheet — and, beside other loops,
+    /// those whose sense is unclear (a pipe's ends and a dome's rim run
+    /// across their faces' normals; an interior hole whose sense is
+    /// unclear is left too, and named a rim; a lone loop of unclear sense
+    /// is a hole). When every loop is a rim (a sheet without holes, a
     /// file whose holes are all filled) none is chosen, and
     /// [`Self::fill`] says so.
     /// Errors: no hole, an index out of range (named as `holes[k]`).
@@ -69,13 +70,19 @@ impl HoleChoice {
             }));
         }
         // The outer rims of open sheets: the loops that bound their faces
-        // from outside (none on a closed shell with holes), and those
-        // whose sense is unclear (a pipe's ends, a dome's rim: their faces
-        // run across the loop's area). Every loop may be a rim (a sheet,
-        // a file whose holes are all filled): then none is chosen.
+        // from outside (none on a closed shell with holes), and, beside
+        // other loops, those whose sense is unclear (a pipe's ends, a
+        // dome's rim: their faces run across the loop's area); a lone loop
+        // of unclear sense is a hole (a sharp box without a face: its
+        // sides meet the opening at right angles). Every loop may be a rim
+        // (a sheet, a file whose holes are all filled): then none is
+        // chosen.
         let n = holes.len();
         let rims: Vec<usize> = (0..n)
-            .filter(|&k| holes[k].bounds_from_outside(faces) != Some(false))
+            .filter(|&k| match holes[k].bounds_from_outside(faces) {
+                Some(outside) => outside,
+                None => n > 1,
+            })
             .collect();
         let chosen = match asked {
             Some(a) => {
@@ -110,15 +117,17 @@ impl HoleChoice {
     }
 
     /// Fills the chosen holes: one patch for 4 sides, a fan of triangular
-    /// patches otherwise. Errors when none is chosen (every loop a rim).
+    /// patches otherwise. Errors when none is chosen and every loop is a
+    /// rim (nothing asked for and nothing left: a file whose holes are all
+    /// filled); none asked for otherwise is no fill.
     pub fn fill(&self, faces: &[BSplineSurface], options: &FillOptions) -> Result<Vec<HoleFill>> {
-        if self.chosen.is_empty() {
+        if self.chosen.is_empty() && !self.holes.is_empty() && self.rims.len() == self.holes.len() {
             let rims: Vec<String> = self.rims.iter().map(usize::to_string).collect();
             return Err(Error::Solve(fairsurf::Error::Fill {
                 why: format!(
                     "no hole to fill: every free loop is taken for an outer rim (hole{} {}: \
                      loops that bound their faces from outside or run across their normals, \
-                     as a pipe's ends; --list shows them, --hole K fills one)",
+                     as a pipe's ends); asked for by its index, one is filled",
                     if rims.len() == 1 { "" } else { "s" },
                     rims.join(", ")
                 ),

@@ -23,6 +23,48 @@ fn holes_are_chosen_once() {
     assert!(e.starts_with("holes[1]: there is no hole 2"), "{e}");
 }
 
+/// Rims by sense: a sharp box without its top (five bilinear faces) has
+/// one loop whose sides meet it at right angles (sense unclear): a hole,
+/// filled by default. Two such boxes side by side (two loops, both
+/// unclear) keep both as rims: nothing chosen, and the fill says so. The
+/// network with no hole asked for is no fill, not that error.
+#[test]
+fn a_lone_loop_of_unclear_sense_is_a_hole_and_nothing_asked_is_no_fill() {
+    let quad = |f: &dyn Fn(f64, f64) -> Vec3| {
+        let points = vec![f(0.0, 0.0), f(0.0, 1.0), f(1.0, 0.0), f(1.0, 1.0)];
+        BSplineSurface::new(KnotVector::bezier(1), KnotVector::bezier(1), points).unwrap()
+    };
+    let open_box = |x: f64| -> Vec<BSplineSurface> {
+        vec![
+            quad(&|a, b| [x + b, a, 0.0]),
+            quad(&|a, b| [x + a, 0.0, b]),
+            quad(&|a, b| [x + 1.0, a, b]),
+            quad(&|a, b| [x + b, 1.0, a]),
+            quad(&|a, b| [x, b, a]),
+        ]
+    };
+    let one = open_box(0.0);
+    let c = HoleChoice::new(&one, None).unwrap();
+    assert_eq!(c.holes.len(), 1);
+    assert_eq!(c.holes[0].bounds_from_outside(&one), None);
+    assert_eq!((c.chosen, c.rims), (vec![0], vec![]));
+    let mut two = open_box(0.0);
+    two.extend(open_box(3.0));
+    let c = HoleChoice::new(&two, None).unwrap();
+    assert_eq!((c.chosen.len(), c.rims.len()), (0, 2));
+    let e = c
+        .fill(&two, &FillOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("no hole to fill: every free loop is taken for an outer rim (holes 0, 1:"),
+        "{e}"
+    );
+    let faces = network();
+    let c = HoleChoice::new(&faces, Some(&[])).unwrap();
+    assert!(c.fill(&faces, &FillOptions::default()).unwrap().is_empty());
+}
+
 /// The approximate case (the bundled `fillet_hole.step`, written by
 /// Open CASCADE): planes read as exact bilinear faces, cylinders as
 /// rational faces met through stand-ins; the fill is exact along the
@@ -601,8 +643,19 @@ fn trimmed_surfaces_of_revolution_are_taken_where_the_face_lies() {
         let (cu, _) = c.counts();
         assert!((0..cu).all(|i| c.point(i, 0) == c.point(i, 1)));
     }
-    // The dome's (face 0) seam edge, used twice, and its fill's sides.
-    assert!(curves.iter().filter(|&&k| back.face_of(k) == 0).count() >= 3);
+    // The dome's (face 0): every edge of its loops but the rim's circle —
+    // the seam, used twice, and the hole's sides as the fill's patches
+    // meet them.
+    let Some((_, loops)) = &back.trimmed[0] else {
+        panic!("the dome is trimmed")
+    };
+    let shared = loops.iter().flatten().filter(|e| !e.free).count();
+    assert_eq!(loops.iter().flatten().count(), shared + 1);
+    assert!(shared >= 6, "{shared}");
+    assert_eq!(
+        curves.iter().filter(|&&k| back.face_of(k) == 0).count(),
+        shared
+    );
     let choice = HoleChoice::of(&back, None).unwrap();
     assert_eq!((choice.holes.len(), choice.rims.len()), (2, 2));
     assert!(choice.chosen.is_empty());

@@ -90,6 +90,7 @@ pub fn bernstein_derivatives(n: usize, t: f64, order: usize) -> Vec<Vec<f64>> {
 /// a triangle per order.
 pub fn bernstein_derivatives_into(n: usize, t: f64, out: &mut [f64]) {
     let w = n + 1;
+    debug_assert_eq!(out.len() % w, 0, "rows of n + 1 values");
     let orders = out.len() / w;
     let out = &mut out[..orders * w];
     out.fill(0.0);
