@@ -480,9 +480,6 @@ impl FillInput {
             for (l, edges_) in loops.iter().enumerate() {
                 for (j, e) in edges_.iter().enumerate() {
                     let one_span = self.strip_one_span.get(self.strips.len()) == Some(&true);
-                    let towards = e.ends.and_then(|ends| {
-                        strip_stand_in_towards(&e.edge, ends, self.fit, one_span).ok()
-                    });
                     let named = |err: fairsurf::Error| {
                         let fan = if one_span {
                             " (the edge is a side of a hole a fan of triangular patches \
@@ -499,17 +496,21 @@ impl FillInput {
                     // No fill meets an edge another face shares: its
                     // curve alone stands in (the face may have no normal
                     // along it: a seam edge into a pole).
-                    let (s, kind) = match towards {
-                        _ if !e.free => (
+                    let (s, kind) = if e.free {
+                        let towards = e.ends.and_then(|ends| {
+                            strip_stand_in_towards(&e.edge, ends, self.fit, one_span).ok()
+                        });
+                        let s = match towards {
+                            Some(s) => s,
+                            None => strip_stand_in(&e.edge, 0.25 * e.length, self.fit, one_span)
+                                .map_err(named)?,
+                        };
+                        (s, "strip")
+                    } else {
+                        (
                             edge_stand_in(&e.edge, self.fit).map_err(named)?,
                             "edge curve",
-                        ),
-                        Some(s) => (s, "strip"),
-                        None => (
-                            strip_stand_in(&e.edge, 0.25 * e.length, self.fit, one_span)
-                                .map_err(named)?,
-                            "strip",
-                        ),
+                        )
                     };
                     self.faces.push(s.surface);
                     self.kinds.push(kind);

@@ -99,22 +99,10 @@ pub fn bernstein_derivatives_into(n: usize, t: f64, out: &mut [f64]) {
         return;
     }
     let s = 1.0 - t;
-    // Row `top − 1` (the highest order) runs the triangle from degree 0; at
-    // degree n − r its values are copied into row r, which goes on from
-    // there. All rows are one triangle: run it in row top − 1 and copy.
+    // Row `top − 1` (the highest order) runs the triangle up to its
+    // degree n − (top − 1); each lower row goes on from the one above.
     let last = top - 1;
-    {
-        let row = &mut out[last * w..(last + 1) * w];
-        row[0] = 1.0;
-        for k in 1..=n - last {
-            let mut prev = 0.0;
-            for i in 0..=k {
-                let cur = row[i];
-                row[i] = s * cur + t * prev;
-                prev = cur;
-            }
-        }
-    }
+    bernstein_all_into(t, &mut out[last * w..last * w + n - last + 1]);
     // Degrees n − last + 1 … n: each lower order's row starts as a copy of
     // the one above it, raised one degree.
     for r in (0..last).rev() {
