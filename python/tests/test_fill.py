@@ -944,3 +944,86 @@ def test_a_five_sided_hole_in_a_trimmed_face_needs_one_piece_sides(cli: Path, tm
     assert free_edges_after_sewing(shape) == 4
     across = [s for s in seams(shape) if 0 in s[0]]
     assert len(across) == 5 and max(s[1] for s in across) <= 0.01
+
+
+def kinked_frame(path: Path, leave_out: int | None = None) -> None:
+    """A flat frame round a square hole in the plane z = 0: four
+    trapezoids, the bottom one cut in two by a zigzag (one degree-1
+    B-spline edge, C0 at its three inner vertices) the two faces share;
+    written by Open CASCADE, sewn, `leave_out` (a face's index) left out."""
+    from OCP.BRepBuilderAPI import (
+        BRepBuilderAPI_MakeEdge,
+        BRepBuilderAPI_MakeFace,
+        BRepBuilderAPI_MakePolygon,
+        BRepBuilderAPI_MakeWire,
+    )
+    from OCP.Geom import Geom_BSplineCurve
+    from OCP.collections import Array1_double, Array1_gp_Pnt, Array1_int
+    from OCP.gp import gp_Pnt
+
+    zigzag = [(0, -2, 0), (0.2, -1.75, 0), (-0.15, -1.5, 0), (0.1, -1.25, 0), (0, -1, 0)]
+    poles, knots, mults = (Array1_gp_Pnt(1, 5), Array1_double(1, 5), Array1_int(1, 5))
+    for i, p in enumerate(zigzag):
+        poles.SetValue(i + 1, gp_Pnt(*p))
+        knots.SetValue(i + 1, float(i))
+        mults.SetValue(i + 1, 2 if i in (0, 4) else 1)
+    z = BRepBuilderAPI_MakeEdge(Geom_BSplineCurve(poles, knots, mults, 1)).Edge()
+
+    def line(a, b):
+        return BRepBuilderAPI_MakeEdge(gp_Pnt(*a), gp_Pnt(*b)).Edge()
+
+    def face(edges):
+        wire = BRepBuilderAPI_MakeWire()
+        for e in edges:
+            wire.Add(e)
+        return BRepBuilderAPI_MakeFace(wire.Wire(), True).Face()
+
+    outer = [(-2, -2, 0), (2, -2, 0), (2, 2, 0), (-2, 2, 0)]
+    inner = [(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)]
+    faces = [
+        face([line(outer[0], (0, -2, 0)), z, line((0, -1, 0), inner[0]), line(inner[0], outer[0])]),
+        face([line((0, -2, 0), outer[1]), line(outer[1], inner[1]), line(inner[1], (0, -1, 0)), z]),
+    ]
+    for k in (1, 2, 3):
+        ring = [outer[k], outer[(k + 1) % 4], inner[(k + 1) % 4], inner[k]]
+        polygon = BRepBuilderAPI_MakePolygon(*(gp_Pnt(*p) for p in ring), True)
+        faces.append(BRepBuilderAPI_MakeFace(polygon.Wire(), True).Face())
+    sewn_step([f for k, f in enumerate(faces) if k != leave_out], path)
+
+
+def test_an_edge_with_kinks_two_faces_share_is_read_and_written_sewn(cli: Path, tmp_path: Path):
+    """Two trimmed planes sharing a zigzag edge (a degree-1 B-spline: its
+    curve only C0 at its vertices): the edge is met by its curve alone,
+    exactly (pieces joined C0 at the kinks); the hole beside is filled; Open
+    CASCADE reads the faces and the fill sewn, the zigzag shared, only the
+    rim free. (The curve's knots were taken as C2 breaks: the read failed
+    after 2048 pieces, 4.6e-5 off.)"""
+    step_in, out = tmp_path / "frame.step", tmp_path / "filled.step"
+    kinked_frame(step_in)
+    report = filled(cli, step_in, out)
+    curves = [s for s in report["stand_ins"] if s["kind"] == "edge curve"]
+    assert {s["of_face"] for s in curves} == {0, 1}
+    assert all(s["gap"] <= 1e-12 for s in report["stand_ins"]), report["stand_ins"]
+    assert [h["rim"] for h in report["holes"]] == [True, False]
+    fill = report["fills"][0]
+    assert fill["max_gap"] <= 1e-12 and fill["max_angle_deg"] <= 1e-9 and fill["curvature_w"] <= 1e-12
+    shape = read_step(out)
+    assert count(shape, TopAbs_FACE) == 6
+    assert free_edges_after_sewing(shape) == 5  # the rim: the bottom side is two edges
+    across = seams(shape)
+    assert [0, 1] in [s[0] for s in across]  # the zigzag
+    assert max(s[2] for s in across) <= 1e-9
+
+
+def test_a_free_edge_with_a_kink_is_refused_by_its_corner(cli: Path, tmp_path: Path):
+    """The zigzag free (the face beyond it left out): no strip follows the
+    jump of the direction across it at a kink — refused at once, naming the
+    corner; nothing written."""
+    step_in, out = tmp_path / "frame.step", tmp_path / "filled.step"
+    kinked_frame(step_in, leave_out=1)
+    run = subprocess.run([str(cli), "fill", str(step_in), "-o", str(out)],
+                         capture_output=True, text=True)
+    assert run.returncode == 2, run
+    assert "turns by" in run.stderr and "split the edge there" in run.stderr, run.stderr
+    assert "(0.2, -1.75, 0)" in run.stderr, run.stderr
+    assert not out.exists()

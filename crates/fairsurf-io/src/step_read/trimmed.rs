@@ -7,7 +7,7 @@
 //! ([`fairsurf::bspline::strip_stand_in`]).
 
 use super::*;
-use fairsurf::bspline::{EdgeFrame, TrueEdge};
+use fairsurf::bspline::{Break, EdgeFrame, TrueEdge};
 use truck_stepio::r#in::alias::{Matrix4, Transform};
 
 /// An edge of a trimmed face's loop as the loop runs (the face on its left
@@ -664,8 +664,8 @@ pub(super) struct Frames {
     /// How far they may be.
     tol: f64,
     /// Where along the edge (s ∈ (0, 1)) its curve has a knot or its foot
-    /// points cross a knot line of the surface.
-    breaks: Vec<f64>,
+    /// points cross a knot line of the surface, and how smooth it is there.
+    breaks: Vec<Break>,
 }
 
 /// Parameters at which [`Frames`] keeps foot points.
@@ -717,23 +717,33 @@ impl Frames {
     /// Where the edge is less smooth: its curve's interior knots (a
     /// B-spline curve's, mapped onto s ∈ (0, 1); none through a seam),
     /// and where its foot points cross an interior knot line of a
-    /// B-spline surface (bisection between the samples that straddle it).
-    fn find_breaks(&self) -> Vec<f64> {
+    /// B-spline surface (bisection between the samples that straddle it);
+    /// each C^(p − m) there (degree p, the knot's multiplicity m).
+    fn find_breaks(&self) -> Vec<Break> {
         let mut out = Vec::new();
         let (a, b) = self.edge.range;
-        let knots: Option<Vec<f64>> = match &self.edge.curve {
-            Curve3D::BSplineCurve(c) => Some(c.knot_vec().to_vec()),
-            Curve3D::NurbsCurve(c) => Some(c.knot_vec().to_vec()),
+        let knots: Option<(Vec<f64>, usize)> = match &self.edge.curve {
+            Curve3D::BSplineCurve(c) => Some((c.knot_vec().to_vec(), c.degree())),
+            Curve3D::NurbsCurve(c) => Some((c.knot_vec().to_vec(), c.degree())),
             _ => None,
         };
-        if let (Some(k), None) = (knots, self.edge.seam) {
-            out.extend(k.iter().map(|t| (t - a) / (b - a)));
+        if let (Some((k, p)), None) = (knots, self.edge.seam) {
+            out.extend(k.iter().map(|&t| Break {
+                at: (t - a) / (b - a),
+                continuity: p.saturating_sub(multiplicity(&k, t)),
+            }));
         }
-        let lines: [Vec<f64>; 2] = match &self.surface {
-            StepSurface::BSplineSurface(s) => [s.uknot_vec().to_vec(), s.vknot_vec().to_vec()],
+        let lines: [(Vec<f64>, usize); 2] = match &self.surface {
+            StepSurface::BSplineSurface(s) => [
+                (s.uknot_vec().to_vec(), s.udegree()),
+                (s.vknot_vec().to_vec(), s.vdegree()),
+            ],
             StepSurface::NurbsSurface(s) => {
                 let s = s.non_rationalized();
-                [s.uknot_vec().to_vec(), s.vknot_vec().to_vec()]
+                [
+                    (s.uknot_vec().to_vec(), s.udegree()),
+                    (s.vknot_vec().to_vec(), s.vdegree()),
+                ]
             }
             _ => return out,
         };
@@ -741,7 +751,7 @@ impl Frames {
             let p = self.edge.at(s).0;
             file_foot_on((&self.surface, self.spline()), p, Some(hint)).map_or(hint, |f| f.0)
         };
-        for (c, knots) in lines.iter().enumerate() {
+        for (c, (knots, degree)) in lines.iter().enumerate() {
             let (lo, hi) = (knots[0], knots[knots.len() - 1]);
             let inner: Vec<f64> = knots
                 .iter()
@@ -768,7 +778,10 @@ impl Frames {
                             s1 = m;
                         }
                     }
-                    out.push(0.5 * (s0 + s1));
+                    out.push(Break {
+                        at: 0.5 * (s0 + s1),
+                        continuity: degree.saturating_sub(multiplicity(knots, kn)),
+                    });
                 }
             }
         }
@@ -851,6 +864,11 @@ impl Frames {
             off_surface,
         }
     }
+}
+
+/// How many of `knots` are t.
+fn multiplicity(knots: &[f64], t: f64) -> usize {
+    knots.iter().filter(|&&k| k == t).count()
 }
 
 /// [`file_foot`] from `hint`, or from the surface's own search where that

@@ -53,7 +53,9 @@ pub(crate) use knots::{Bases, BasesView};
 pub use problem::BSplineProblem;
 pub use rational::{FitTolerance, RationalSurface, StandIn, ONE_SPAN_DEGREE};
 pub use solve::{BSplineSolution, ENERGY_TOLERANCE};
-pub use strip::{edge_stand_in, strip_stand_in, strip_stand_in_towards, EdgeFrame, TrueEdge};
+pub use strip::{
+    edge_stand_in, strip_stand_in, strip_stand_in_towards, Break, EdgeFrame, TrueEdge,
+};
 pub use surface::{BSplineSurface, BezierPiece};
 pub(crate) use system::{BSplineFactor, Reuse};
 

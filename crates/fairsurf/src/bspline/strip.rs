@@ -47,7 +47,36 @@ pub struct EdgeFrame {
 /// point), with the parameters where it is less smooth (its breaks).
 /// Compared by identity.
 #[derive(Clone)]
-pub struct TrueEdge(Arc<dyn Fn(f64) -> EdgeFrame + Send + Sync>, Arc<[f64]>);
+pub struct TrueEdge(Arc<dyn Fn(f64) -> EdgeFrame + Send + Sync>, Arc<[Break]>);
+
+/// A parameter t ∈ (0, 1) where an edge is less smooth: its points are
+/// only C^`continuity` there (a knot of the edge's curve of degree p and
+/// multiplicity m: C^(p − m); a knot line of the face's surface crossed,
+/// likewise in that direction). The face's normal along the edge, and the
+/// direction across it, are then one order less smooth.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Break {
+    /// Where, t ∈ (0, 1).
+    pub at: f64,
+    /// The order of continuity of the edge's points there.
+    pub continuity: usize,
+}
+
+impl Break {
+    /// The multiplicity of a strip's knot at the break (degree 5): 5 − k
+    /// for C^k, k ≥ 2 (the strip is as smooth as the points there; the
+    /// direction across, one order less, is within the tolerance on few
+    /// pieces: measured); 5 below (the strip only C⁰ there: a kink of the
+    /// edge's curve, or a crease of the face across it, is followed
+    /// exactly).
+    fn multiplicity(self) -> usize {
+        if self.continuity >= 2 {
+            FIRST_DEGREE.saturating_sub(self.continuity).max(1)
+        } else {
+            FIRST_DEGREE
+        }
+    }
+}
 
 impl TrueEdge {
     /// The edge given by `frame`.
@@ -55,19 +84,25 @@ impl TrueEdge {
         Self(Arc::new(frame), Arc::new([]))
     }
 
-    /// The same edge with its breaks: parameters in (0, 1) where the edge
-    /// or the face's normal along it is only C² (a knot of the edge's
-    /// curve, a knot line of the face's surface crossed). A strip of
-    /// several pieces puts knots there ([`strip_stand_in`]).
-    pub fn with_breaks(self, mut breaks: Vec<f64>) -> Self {
-        breaks.retain(|t| t.is_finite() && *t > 1e-9 && *t < 1.0 - 1e-9);
-        breaks.sort_by(f64::total_cmp);
-        breaks.dedup_by(|a, b| (*a - *b).abs() <= 1e-9);
+    /// The same edge with its breaks ([`Break`]; those outside (0, 1) or
+    /// not finite dropped, those within 1e-9 of each other one, the least
+    /// smooth). A strip of several pieces puts knots there
+    /// ([`strip_stand_in`]).
+    pub fn with_breaks(self, mut breaks: Vec<Break>) -> Self {
+        breaks.retain(|b| b.at.is_finite() && b.at > 1e-9 && b.at < 1.0 - 1e-9);
+        breaks.sort_by(|a, b| a.at.total_cmp(&b.at));
+        breaks.dedup_by(|a, b| {
+            let same = (a.at - b.at).abs() <= 1e-9;
+            if same {
+                b.continuity = b.continuity.min(a.continuity);
+            }
+            same
+        });
         Self(self.0, breaks.into())
     }
 
-    /// The breaks ([`Self::with_breaks`]).
-    pub fn breaks(&self) -> &[f64] {
+    /// The breaks ([`Self::with_breaks`]), in order.
+    pub fn breaks(&self) -> &[Break] {
         &self.1
     }
 
@@ -108,7 +143,7 @@ const FIRST_DEGREE: usize = 5;
 /// strip is within `tolerance`; with `one_span` (a fan of triangular
 /// patches needs each side one polynomial piece) one Bézier span of
 /// degree 5 to [`ONE_SPAN_DEGREE`] instead. The pieces: the edge's breaks
-/// ([`TrueEdge::breaks`], knots of multiplicity 3: C² there) cut in equal
+/// ([`TrueEdge::breaks`], knots as smooth as the edge there) cut in equal
 /// parts. Interpolates the edge's points and
 /// inward directions at Chebyshev–Lobatto nodes (one span) or the
 /// Greville abscissae; measured at Chebyshev–Lobatto parameters on every
@@ -198,6 +233,11 @@ fn fit(
     tolerance: FitTolerance,
     one_span: bool,
 ) -> Result<StandIn> {
+    if !matches!(across, Across::None) {
+        if let Some(e) = corner_inside(edge, tolerance) {
+            return Err(e);
+        }
+    }
     let mut best: Option<(f64, f64, String)> = None;
     let one = (FIRST_DEGREE..=ONE_SPAN_DEGREE)
         .filter(|_| one_span)
@@ -234,19 +274,49 @@ fn fit(
     })
 }
 
+/// The refusal of a strip along an edge that turns inside (a break of its
+/// points only C⁰ where its tangent turns by more than the angle
+/// tolerance): the direction across the edge jumps there, which no strip
+/// follows — a corner of the hole inside one edge, named by its point and
+/// turn. None when there is none.
+fn corner_inside(edge: &TrueEdge, tolerance: FitTolerance) -> Option<Error> {
+    edge.breaks()
+        .iter()
+        .filter(|b| b.continuity == 0)
+        .find_map(|b| {
+            let (before, after) = (edge.frame(b.at - 1e-9), edge.frame(b.at + 1e-9));
+            let turn = angle(before.tangent, after.tangent);
+            (turn.is_nan() || turn > tolerance.angle).then(|| {
+                let p = edge.frame(b.at).point;
+                Error::Fill {
+                    why: format!(
+                        "a trimmed face's edge turns by {:.3}° at ({}, {}, {}), {:.1}% along it \
+                         (its curve has a kink there): a corner of a hole inside one edge is not \
+                         followed by a strip; split the edge there",
+                        turn.to_degrees(),
+                        p[0],
+                        p[1],
+                        p[2],
+                        100.0 * b.at
+                    ),
+                }
+            })
+        })
+}
+
 /// Degree-5 knots on [0, 1]: the intervals between `breaks` (knots of
-/// multiplicity 3 there) each cut in `n` equal pieces.
-fn pieces(breaks: &[f64], n: usize) -> Result<KnotVector> {
+/// [`Break::multiplicity`] there) each cut in `n` equal pieces.
+fn pieces(breaks: &[Break], n: usize) -> Result<KnotVector> {
     let d = FIRST_DEGREE;
     let mut t = vec![0.0; d + 1];
-    let ends: Vec<f64> = breaks.iter().copied().chain([1.0]).collect();
     let mut a = 0.0;
-    for (k, &b) in ends.iter().enumerate() {
-        t.extend((1..n).map(|i| a + (b - a) * i as f64 / n as f64));
-        if k + 1 < ends.len() {
-            t.extend([b; 3]);
+    for b in breaks.iter().map(Some).chain([None]) {
+        let end = b.map_or(1.0, |b| b.at);
+        t.extend((1..n).map(|i| a + (end - a) * i as f64 / n as f64));
+        if let Some(b) = b {
+            t.extend(std::iter::repeat_n(b.at, b.multiplicity()));
         }
-        a = b;
+        a = end;
     }
     t.extend([1.0; FIRST_DEGREE + 1]);
     KnotVector::new(d, t)
@@ -467,8 +537,15 @@ mod tests {
             angle: 1e-7,
         };
         let plain = strip_stand_in(&TrueEdge::new(frame), 0.5, tol, false).unwrap();
-        let broken = TrueEdge::new(frame).with_breaks(vec![0.3, 1.0, -0.2, f64::NAN, 0.3]);
-        assert_eq!(broken.breaks(), &[0.3]);
+        let at = |at, continuity| Break { at, continuity };
+        let broken = TrueEdge::new(frame).with_breaks(vec![
+            at(0.3, 2),
+            at(1.0, 0),
+            at(-0.2, 0),
+            at(f64::NAN, 0),
+            at(0.3, 3),
+        ]);
+        assert_eq!(broken.breaks(), &[at(0.3, 2)]);
         let s = strip_stand_in(&broken, 0.5, tol, false).unwrap();
         // Quintic pieces joined C² at the break hold the cubics: C is
         // exact (T = n × c′/|c′| is no polynomial: within the tolerance);
@@ -525,6 +602,88 @@ mod tests {
         // Nor can the edge's curve alone follow a kink.
         let e = edge_stand_in(&kink, FitTolerance::default()).unwrap_err();
         assert!(e.to_string().contains("could not be approximated"), "{e}");
+    }
+
+    /// A kink the edge declares (a break of continuity 0: a polyline's
+    /// vertex): its curve alone is followed exactly, by pieces joined C⁰
+    /// there (a knot of multiplicity 5); a strip across it is refused at
+    /// once, naming the corner (the direction across jumps by the turn).
+    #[test]
+    fn a_declared_kink_is_followed_by_the_curve_and_refused_for_a_strip() {
+        let kink = TrueEdge::new(|t| EdgeFrame {
+            point: [t, (t - 0.3).abs(), 0.0],
+            tangent: [1.0, (t - 0.3).signum(), 0.0],
+            normal: [0.0, 0.0, 1.0],
+        })
+        .with_breaks(vec![Break {
+            at: 0.3,
+            continuity: 0,
+        }]);
+        let tol = FitTolerance::default();
+        let s = edge_stand_in(&kink, tol).unwrap();
+        assert!(s.position <= 1e-14, "{s:?}");
+        let knots = s.surface.knots().0;
+        assert_eq!((knots.spans().len(), knots.multiplicity(0.3)), (2, 5));
+        for i in 0..=1000 {
+            let t = i as f64 / 1000.0;
+            assert!(
+                dist(s.surface.eval(t, 0.0), kink.frame(t).point) <= 1e-14,
+                "{t}"
+            );
+        }
+        for e in [
+            strip_stand_in(&kink, 0.5, tol, false).unwrap_err(),
+            strip_stand_in_towards(&kink, [[0.0, 1.0, 0.0]; 2], tol, false).unwrap_err(),
+        ] {
+            let e = e.to_string();
+            assert!(e.contains("turns by 90.000° at (0.3, 0"), "{e}");
+            assert!(
+                e.contains("30.0% along it") && e.contains("split the edge"),
+                "{e}"
+            );
+        }
+        // A smooth vertex of a C⁰-written curve (the tangent does not
+        // turn): a strip follows it.
+        let line = TrueEdge::new(|t| EdgeFrame {
+            point: [t, 0.0, 0.0],
+            tangent: [1.0, 0.0, 0.0],
+            normal: [0.0, 0.0, 1.0],
+        })
+        .with_breaks(vec![Break {
+            at: 0.3,
+            continuity: 0,
+        }]);
+        let s = strip_stand_in(&line, 0.5, tol, false).unwrap();
+        assert!(s.position <= 1e-15 && s.angle <= 1e-15, "{s:?}");
+    }
+
+    /// The knots at breaks: as smooth as the edge's points there from C²
+    /// up (5 − k), C⁰ below.
+    #[test]
+    fn a_break_gets_the_knot_its_continuity_needs() {
+        let m = |continuity| {
+            Break {
+                at: 0.5,
+                continuity,
+            }
+            .multiplicity()
+        };
+        assert_eq!([0, 1, 2, 3, 4, 5, 9].map(m), [5, 5, 3, 2, 1, 1, 1]);
+        let breaks = [
+            Break {
+                at: 0.25,
+                continuity: 0,
+            },
+            Break {
+                at: 0.5,
+                continuity: 3,
+            },
+        ];
+        let k = pieces(&breaks, 2).unwrap();
+        assert_eq!(
+            (k.multiplicity(0.25), k.multiplicity(0.5), k.spans().len()),
+            (5, 2, 6)
+        );
     }
 
     /// An edge whose face has no normal along it (NaN, as at a pole):
