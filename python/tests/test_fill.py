@@ -233,6 +233,54 @@ def test_a_closed_cylinder_has_no_hole(cli: Path, tmp_path: Path):
     assert not out.exists()
 
 
+def test_edges_away_from_the_hole_stay_shared_whatever_their_curves(cli: Path, tmp_path: Path):
+    """A capped cylinder whose side Open CASCADE split into pieces (planes
+    x = ±0.5, z = 0.7 and 1.3), the middle front piece left out: the
+    pieces are written as the rational surfaces they are (their arcs exact
+    rational quadratics), the caps as trimmed planes whose circles are
+    polynomial stand-ins within the fit — the same edges parametrized
+    otherwise. Each is still one edge of two faces in the output: Open
+    CASCADE finds no free edge (the writer matched edges at equal
+    parameters only: 20 free, open even after sewing at 1e-7)."""
+    from OCP.BRepAlgoAPI import BRepAlgoAPI_Splitter
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+    from OCP.BRepGProp import BRepGProp
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakeCylinder
+    from OCP.GProp import GProp_GProps
+    from OCP.TopAbs import TopAbs_SHELL
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.collections import List_TopoDS_Shape
+    from OCP.gp import gp_Dir, gp_Pln, gp_Pnt
+
+    args, tools = List_TopoDS_Shape(), List_TopoDS_Shape()
+    shell = TopExp_Explorer(BRepPrimAPI_MakeCylinder(1.0, 2.0).Shape(), TopAbs_SHELL)
+    args.Append(shell.Current())  # its faces, not the solid (no faces inside)
+    for p, n in [((0, 0, 0.7), (0, 0, 1)), ((0, 0, 1.3), (0, 0, 1)),
+                 ((-0.5, 0, 0), (1, 0, 0)), ((0.5, 0, 0), (1, 0, 0))]:
+        tools.Append(BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(*p), gp_Dir(*n)), -9, 9, -9, 9).Face())
+    splitter = BRepAlgoAPI_Splitter()
+    splitter.SetArguments(args)
+    splitter.SetTools(tools)
+    splitter.Build()
+    assert splitter.IsDone()
+
+    def centre(f):
+        props = GProp_GProps()
+        BRepGProp.SurfaceProperties_s(f, props)
+        c = props.CentreOfMass()
+        return (c.X() - 0.0) ** 2 + (c.Y() + 1.0) ** 2 + (c.Z() - 1.0) ** 2
+
+    faces = faces_of(splitter.Shape())
+    front = min(range(len(faces)), key=lambda k: centre(faces[k]))
+    step_in, out = tmp_path / "cylinder.step", tmp_path / "filled.step"
+    sewn_step([f for k, f in enumerate(faces) if k != front], step_in)
+    report = filled(cli, step_in, out)
+    assert len(report["holes"]) == 1 and report["fills"][0]["kind"] == "patch"
+    shape = read_step(out)
+    assert count(shape, TopAbs_FACE) == len(faces)
+    assert free_edges_after_sewing(shape) == 0
+
+
 def test_a_hole_next_to_cylinders_is_filled_within_tolerance(cli: Path, tmp_path: Path):
     """The approximate case: a filleted corner written by Open CASCADE
     (PLANE and CYLINDRICAL_SURFACE faces, CIRCLE and LINE edges) with the

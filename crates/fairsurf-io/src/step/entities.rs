@@ -285,28 +285,39 @@ impl Data {
             // reader that projects the vertices onto a longer curve finds
             // their parameters only to its own tolerance: Open CASCADE put
             // them 3e-8 off).
-            let c = match cut_curve(&kv, pts, w, ta, tb) {
+            let (c, written) = match cut_curve(&kv, pts, w, ta, tb) {
                 Some((k, piece, weights)) => {
                     let ids: Vec<usize> = piece
                         .iter()
                         .map(|&p| self.add(format_args!("CARTESIAN_POINT('',{})", coords(p))))
                         .collect();
                     let (knots, mults) = crate::cad::distinct(k.knots());
-                    self.add(
+                    let c = self.add(
                         SideCurve {
                             d: k.degree(),
                             knots: &knots,
                             mults: &mults,
                             full: &k.knots().to_vec(),
-                            weights,
+                            weights: weights.clone(),
                         }
                         .entity(&ids),
-                    )
+                    );
+                    (c, (k, piece, weights))
                 }
-                None => self.add(curve.entity(ids)),
+                None => (
+                    self.add(curve.entity(ids)),
+                    (kv.clone(), pts.to_vec(), curve.weights.clone()),
+                ),
             };
             let e = self.add(format_args!("EDGE_CURVE('',#{va},#{vb},#{c},.T.)"));
-            self.edge_samples.push((samples, e));
+            let (knots, points, weights) = written;
+            self.edge_samples.push(WrittenEdge {
+                samples,
+                edge: e,
+                knots,
+                points,
+                weights,
+            });
             out.push((e, true));
         }
         out
@@ -325,21 +336,45 @@ impl Data {
     }
 
     /// An edge written before through `samples` (first to last, or last to
-    /// first), and whether it runs the same way.
+    /// first), and whether it runs the same way: at the same parameters,
+    /// or — a curve parametrized otherwise, as a cylinder's rational arc
+    /// and a trimmed cap's polynomial stand-in of it — with the same ends
+    /// and every sample within the tolerance of the written curve (its
+    /// nearest point).
     pub(super) fn matching_edge(&self, samples: &[Vec3; EDGE_SAMPLES]) -> Option<(usize, bool)> {
         let tol = self.tol;
         let close = |a: &[Vec3], b: &mut dyn Iterator<Item = Vec3>| {
             a.iter().zip(b).all(|(p, q)| dist(*p, q) <= tol)
         };
-        for (other, e) in &self.edge_samples {
-            if close(other, &mut samples.iter().copied()) {
-                return Some((*e, true));
+        for w in &self.edge_samples {
+            if close(&w.samples, &mut samples.iter().copied()) {
+                return Some((w.edge, true));
             }
-            if close(other, &mut samples.iter().rev().copied()) {
-                return Some((*e, false));
+            if close(&w.samples, &mut samples.iter().rev().copied()) {
+                return Some((w.edge, false));
             }
         }
-        None
+        let last = EDGE_SAMPLES - 1;
+        let on = |w: &WrittenEdge| {
+            samples[1..last].iter().all(|&q| {
+                project(&w.knots, &w.points, w.weights.as_deref(), q).is_some_and(|t| {
+                    dist(curve_point(&w.knots, &w.points, w.weights.as_deref(), t), q) <= tol
+                })
+            })
+        };
+        self.edge_samples.iter().find_map(|w| {
+            let ends = |a: usize, b: usize| {
+                dist(w.samples[0], samples[a]) <= tol && dist(w.samples[last], samples[b]) <= tol
+            };
+            let same = if ends(0, last) {
+                true
+            } else if ends(last, 0) {
+                false
+            } else {
+                return None;
+            };
+            on(w).then_some((w.edge, same))
+        })
     }
 
     /// A new EDGE_CURVE along the control polygon `pts` (CARTESIAN_POINTs
@@ -357,8 +392,17 @@ impl Data {
         let end = self.vertex(pts[last], ids[last]);
         let e = self.add(format_args!("EDGE_CURVE('',#{start},#{end},#{curve},.T.)"));
         self.edges.insert(side.key(pts, false), e);
-        if let Some(samples) = side.samples(pts) {
-            self.edge_samples.push((samples, e));
+        if let (Some(samples), Ok(knots)) = (
+            side.samples(pts),
+            fairsurf::bspline::KnotVector::new(side.d, side.full.clone()),
+        ) {
+            self.edge_samples.push(WrittenEdge {
+                samples,
+                edge: e,
+                knots,
+                points: pts.to_vec(),
+                weights: side.weights.clone(),
+            });
         }
         (e, true)
     }

@@ -165,9 +165,9 @@ struct Data {
     edges: HashMap<Vec<[u64; 3]>, usize>,
     /// Every vertex: its point and VERTEX_POINT.
     vertex_points: Vec<(Vec3, usize)>,
-    /// Every edge: points at nine parameters (first to last) and its
-    /// EDGE_CURVE.
-    edge_samples: Vec<([Vec3; EDGE_SAMPLES], usize)>,
+    /// Every edge: points at nine parameters (first to last), its
+    /// EDGE_CURVE and its curve.
+    edge_samples: Vec<WrittenEdge>,
     /// Points closer than this are one.
     tol: f64,
     /// Every surface's corner points (a VERTEX_POINT is made for one when
@@ -177,6 +177,17 @@ struct Data {
 
 /// Points compared per edge when matching edges by their geometry.
 const EDGE_SAMPLES: usize = 9;
+
+/// An edge written: its samples ([`SideCurve::samples`]), EDGE_CURVE,
+/// and curve (knots, control points, weights), on which another curve's
+/// points are found by projection.
+struct WrittenEdge {
+    samples: [Vec3; EDGE_SAMPLES],
+    edge: usize,
+    knots: fairsurf::bspline::KnotVector,
+    points: Vec<Vec3>,
+    weights: Option<Vec<f64>>,
+}
 
 /// A side of a face as a curve: degree, distinct knots and
 /// multiplicities, the full knot vector, and the side's weights when the
