@@ -674,7 +674,16 @@ impl FillInput {
     /// from its face when that is larger (two stand-ins of one edge may
     /// differ by twice that).
     pub fn hole_tolerance(&self) -> f64 {
-        sew_tolerance(&self.faces, &self.stand_ins)
+        // Two faces' edges meet at a vertex the file wrote off their
+        // curves: within twice its offset of each other, and some.
+        let file = self
+            .trimmed
+            .iter()
+            .flatten()
+            .flat_map(|(_, loops)| loops.iter().flatten())
+            .map(|e| e.vertex_off)
+            .fold(0.0, f64::max);
+        sew_tolerance(&self.faces, &self.stand_ins).max(2.5 * file)
     }
 
     /// The faces to picture and mesh: the file's, but trimmed ones (their

@@ -132,6 +132,7 @@ fn edges_that_are_their_surfaces_sides_are_recognised_on_their_points() {
             seam: None,
             start: [0.0; 3],
             end: [0.0; 3],
+            vertex_off: 0.0,
         };
         (e.start, e.end) = (e.point(range.0), e.point(range.1));
         e

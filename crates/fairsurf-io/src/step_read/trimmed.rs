@@ -33,6 +33,10 @@ pub struct TrimEdge {
     /// approximate its boundary: Open CASCADE's BuildCurves3d to 1e-5 by
     /// default); at most [`TRIM_TOLERANCE`] or 1e-7 of the loops' size.
     pub off_surface: f64,
+    /// The larger distance of the file's vertices at its ends from the
+    /// edge's curve (the file's precision there: Open CASCADE's loft 1000
+    /// across had 1.6e-5).
+    pub vertex_off: f64,
 }
 
 /// How far a trimmed face's edges may lie from its surface (at least).
@@ -855,6 +859,7 @@ impl Frames {
         let pts: Vec<Vec3> = (0..=32).map(|k| self.edge.at(k as f64 / 32.0).0).collect();
         let length = pts.windows(2).map(|w| dist(w[0], w[1])).sum();
         let off_surface = self.off;
+        let vertex_off = self.edge.vertex_off;
         let breaks = self.breaks.clone();
         TrimEdge {
             edge: TrueEdge::new(move |t| self.frame(t)).with_breaks(breaks),
@@ -862,6 +867,7 @@ impl Frames {
             ends,
             length,
             off_surface,
+            vertex_off,
         }
     }
 }
