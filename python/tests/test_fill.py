@@ -233,6 +233,43 @@ def test_a_closed_cylinder_has_no_hole(cli: Path, tmp_path: Path):
     assert not out.exists()
 
 
+def split_shell(shape, planes):
+    """The faces of `shape`'s first shell cut by Open CASCADE (Splitter)
+    along planes given as (point, normal): its faces, not a solid's (no
+    faces inside)."""
+    from OCP.BRepAlgoAPI import BRepAlgoAPI_Splitter
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+    from OCP.TopAbs import TopAbs_SHELL
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.collections import List_TopoDS_Shape
+    from OCP.gp import gp_Dir, gp_Pln, gp_Pnt
+
+    args, tools = List_TopoDS_Shape(), List_TopoDS_Shape()
+    args.Append(TopExp_Explorer(shape, TopAbs_SHELL).Current())
+    for p, n in planes:
+        tools.Append(BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(*p), gp_Dir(*n)), -9, 9, -9, 9).Face())
+    splitter = BRepAlgoAPI_Splitter()
+    splitter.SetArguments(args)
+    splitter.SetTools(tools)
+    splitter.Build()
+    assert splitter.IsDone()
+    return splitter.Shape()
+
+
+def nearest_face(faces, point) -> int:
+    """The index of the face whose centre of mass is nearest `point`."""
+    from OCP.BRepGProp import BRepGProp
+    from OCP.GProp import GProp_GProps
+
+    def away(f):
+        props = GProp_GProps()
+        BRepGProp.SurfaceProperties_s(f, props)
+        c = props.CentreOfMass()
+        return (c.X() - point[0]) ** 2 + (c.Y() - point[1]) ** 2 + (c.Z() - point[2]) ** 2
+
+    return min(range(len(faces)), key=lambda k: away(faces[k]))
+
+
 def test_edges_away_from_the_hole_stay_shared_whatever_their_curves(cli: Path, tmp_path: Path):
     """A capped cylinder whose side Open CASCADE split into pieces (planes
     x = ±0.5, z = 0.7 and 1.3), the middle front piece left out: the
@@ -241,37 +278,13 @@ def test_edges_away_from_the_hole_stay_shared_whatever_their_curves(cli: Path, t
     polynomial stand-ins within the fit — the same edges parametrized
     otherwise. Each is still one edge of two faces in the output: Open
     CASCADE finds no free edge (the writer matched edges at equal
-    parameters only: 20 free, open even after sewing at 1e-7)."""
-    from OCP.BRepAlgoAPI import BRepAlgoAPI_Splitter
-    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
-    from OCP.BRepGProp import BRepGProp
+    parameters only: 16 free, open even after sewing at 1e-7)."""
     from OCP.BRepPrimAPI import BRepPrimAPI_MakeCylinder
-    from OCP.GProp import GProp_GProps
-    from OCP.TopAbs import TopAbs_SHELL
-    from OCP.TopExp import TopExp_Explorer
-    from OCP.collections import List_TopoDS_Shape
-    from OCP.gp import gp_Dir, gp_Pln, gp_Pnt
 
-    args, tools = List_TopoDS_Shape(), List_TopoDS_Shape()
-    shell = TopExp_Explorer(BRepPrimAPI_MakeCylinder(1.0, 2.0).Shape(), TopAbs_SHELL)
-    args.Append(shell.Current())  # its faces, not the solid (no faces inside)
-    for p, n in [((0, 0, 0.7), (0, 0, 1)), ((0, 0, 1.3), (0, 0, 1)),
-                 ((-0.5, 0, 0), (1, 0, 0)), ((0.5, 0, 0), (1, 0, 0))]:
-        tools.Append(BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(*p), gp_Dir(*n)), -9, 9, -9, 9).Face())
-    splitter = BRepAlgoAPI_Splitter()
-    splitter.SetArguments(args)
-    splitter.SetTools(tools)
-    splitter.Build()
-    assert splitter.IsDone()
-
-    def centre(f):
-        props = GProp_GProps()
-        BRepGProp.SurfaceProperties_s(f, props)
-        c = props.CentreOfMass()
-        return (c.X() - 0.0) ** 2 + (c.Y() + 1.0) ** 2 + (c.Z() - 1.0) ** 2
-
-    faces = faces_of(splitter.Shape())
-    front = min(range(len(faces)), key=lambda k: centre(faces[k]))
+    faces = faces_of(split_shell(BRepPrimAPI_MakeCylinder(1.0, 2.0).Shape(), [
+        ((0, 0, 0.7), (0, 0, 1)), ((0, 0, 1.3), (0, 0, 1)),
+        ((-0.5, 0, 0), (1, 0, 0)), ((0.5, 0, 0), (1, 0, 0))]))
+    front = nearest_face(faces, (0, -1, 1))
     step_in, out = tmp_path / "cylinder.step", tmp_path / "filled.step"
     sewn_step([f for k, f in enumerate(faces) if k != front], step_in)
     report = filled(cli, step_in, out)
@@ -291,20 +304,13 @@ def test_a_loft_a_thousand_across_is_read_to_the_files_precision(cli: Path, tmp_
     leaves is reported beyond the 1e-6 tolerance, not hidden. (Refused at
     scale 100 and above: "an edge whose vertex is 1.6e-6 off its
     curve".)"""
-    from OCP.BRepAlgoAPI import BRepAlgoAPI_Splitter
     from OCP.BRepBuilderAPI import (
         BRepBuilderAPI_MakeEdge,
-        BRepBuilderAPI_MakeFace,
         BRepBuilderAPI_MakeWire,
         BRepBuilderAPI_Transform,
     )
-    from OCP.BRepGProp import BRepGProp
     from OCP.BRepOffsetAPI import BRepOffsetAPI_ThruSections
-    from OCP.GProp import GProp_GProps
-    from OCP.TopAbs import TopAbs_SHELL
-    from OCP.TopExp import TopExp_Explorer
-    from OCP.collections import List_TopoDS_Shape
-    from OCP.gp import gp_Ax2, gp_Circ, gp_Dir, gp_Elips, gp_Pln, gp_Pnt, gp_Trsf
+    from OCP.gp import gp_Ax2, gp_Circ, gp_Dir, gp_Elips, gp_Pnt, gp_Trsf
 
     def wire(c):
         return BRepBuilderAPI_MakeWire(BRepBuilderAPI_MakeEdge(c).Edge()).Wire()
@@ -314,28 +320,14 @@ def test_a_loft_a_thousand_across_is_read_to_the_files_precision(cli: Path, tmp_
     loft.AddWire(wire(gp_Elips(gp_Ax2(gp_Pnt(0.3, 0, 2), gp_Dir(0, 0, 1)), 2.2, 1.3)))
     loft.AddWire(wire(gp_Circ(gp_Ax2(gp_Pnt(0, 0, 4), gp_Dir(0, 0, 1)), 1.2)))
     loft.Build()
-    args, tools = List_TopoDS_Shape(), List_TopoDS_Shape()
-    args.Append(TopExp_Explorer(loft.Shape(), TopAbs_SHELL).Current())
-    for p, n in [((0, 0, 1.5), (0, 0, 1)), ((0, 0, 2.5), (0, 0, 1)),
-                 ((-0.6, 0, 0), (1, 0, 0)), ((0.6, 0, 0), (1, 0, 0))]:
-        tools.Append(BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(*p), gp_Dir(*n)), -9, 9, -9, 9).Face())
-    splitter = BRepAlgoAPI_Splitter()
-    splitter.SetArguments(args)
-    splitter.SetTools(tools)
-    splitter.Build()
-    assert splitter.IsDone()
+    pieces = split_shell(loft.Shape(), [((0, 0, 1.5), (0, 0, 1)), ((0, 0, 2.5), (0, 0, 1)),
+                                        ((-0.6, 0, 0), (1, 0, 0)), ((0.6, 0, 0), (1, 0, 0))])
     thousand = gp_Trsf()
     thousand.SetScale(gp_Pnt(0, 0, 0), 1000.0)
-    shape = BRepBuilderAPI_Transform(splitter.Shape(), thousand, True).Shape()
-
-    def off_front(f):
-        props = GProp_GProps()
-        BRepGProp.SurfaceProperties_s(f, props)
-        c = props.CentreOfMass()
-        return c.X() ** 2 + (c.Y() + 1300.0) ** 2 + (c.Z() - 2000.0) ** 2
+    shape = BRepBuilderAPI_Transform(pieces, thousand, True).Shape()
 
     faces = faces_of(shape)
-    front = min(range(len(faces)), key=lambda k: off_front(faces[k]))
+    front = nearest_face(faces, (0, -1300, 2000))
     step_in, out = tmp_path / "loft.step", tmp_path / "filled.step"
     sewn_step([f for k, f in enumerate(faces) if k != front], step_in)
     report = filled(cli, step_in, out)
