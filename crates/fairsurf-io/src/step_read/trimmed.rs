@@ -225,7 +225,7 @@ enum Meridian {
 impl Revolution {
     /// The file's elementary surface (not a plane) as a revolution, and the
     /// kind of trimmed face it makes.
-    fn of(e: &ElementarySurface) -> std::result::Result<(&'static str, Self), String> {
+    pub(super) fn of(e: &ElementarySurface) -> std::result::Result<(&'static str, Self), String> {
         use fairsurf::vector::{cross, dot, norm, normalize, scale, sub};
         let point = |m: &Matrix4, p: Point3| v3(m.transform_point(p));
         let along = |m: &Matrix4, x: f64, y: f64, z: f64| {
@@ -327,7 +327,7 @@ impl Revolution {
     /// The distance of p from the surface and the surface's unit normal
     /// at its foot (the meridian's in p's half-plane, outward from a
     /// circle's centre; none at a circle's centre).
-    fn foot(&self, p: Vec3) -> (f64, Option<Vec3>) {
+    pub(super) fn foot(&self, p: Vec3) -> (f64, Option<Vec3>) {
         use fairsurf::vector::{add, scale};
         let [rho, z] = self.rz(p);
         let out = self.radial(self.theta(p));
