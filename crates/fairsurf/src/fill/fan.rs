@@ -1331,8 +1331,9 @@ impl FanFill {
     /// steps along the kept G¹ rows, the rows 0 and 1 fixed
     /// ([`fan_willmore`]), until three steps in a row gain less than
     /// [`FAN_DESCENT_REL`] of W, or one when the next step's model promises
-    /// less too (without the solve's factorization — a
-    /// solve that had to loosen its row tolerance keeps none — no steps);
+    /// less too (along the rows the solve kept, with its factorization,
+    /// at whichever row tolerance it took; without one — nothing free — no
+    /// steps);
     /// then measured: the largest normal angle between the patches (the
     /// sides, measured by the candidate, stay: the descent keeps rows 0
     /// and 1).
@@ -1352,8 +1353,8 @@ impl FanFill {
             _ if options.descent_steps == 0 => {}
             None => {
                 self.report.descent_note = Some(
-                    "no descent on W: the thin plate's KKT factorization was not kept (its G1 \
-                     rows needed a looser pivot tolerance)"
+                    "no descent on W: the thin plate's solve left no KKT factorization (no \
+                     point was free)"
                         .into(),
                 );
             }

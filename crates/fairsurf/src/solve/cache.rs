@@ -97,6 +97,10 @@ impl FactorCache {
             Factor::Reused(k) => {
                 self.touch(|e| matches!(e, Kept::Triangular(f) if Arc::ptr_eq(f, &kept[k])));
             }
+            // One a fresh solve of another right-hand side would not come
+            // to is not kept (its rows needed a looser tolerance for this
+            // right-hand side's sake).
+            Factor::New(f) if !f.reusable => {}
             Factor::New(f) => {
                 let f: Arc<TriFactored> = Arc::from(f);
                 self.keep(

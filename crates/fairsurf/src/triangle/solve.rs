@@ -100,6 +100,13 @@ pub struct TriFactored {
     /// The free coordinates (3g + c for point g, coordinate c) in the
     /// factor's order.
     free: Vec<usize>,
+    /// Whether a fresh solve of another right-hand side would come to it
+    /// (its rows classified at the first tolerance, or the looser ones
+    /// needed for want of a factorization, not for this right-hand side's
+    /// sake): only then is it kept for later solves ([`crate::FactorCache`]).
+    /// Either way it is the matrix of this solve's kept rows, which the
+    /// fill's descent on W steps along.
+    pub(crate) reusable: bool,
 }
 
 impl TriFactored {
@@ -399,10 +406,9 @@ impl TriProblem {
         Ok(self.solve_kept(&[])?.0)
     }
 
-    /// Solves, and returns the KKT factorization too when a fresh solve
-    /// of another right-hand side would come to it (as
-    /// [`crate::FactorCache`] keeps it): the fill's descent on W steps
-    /// along the rows with it.
+    /// Solves, and returns the KKT factorization of the rows it kept too
+    /// (reusable or not, [`TriFactored::reusable`]): the fill's descent on
+    /// W steps along the rows with it.
     pub(crate) fn solve_factored(&self) -> Result<(TriSolution, Option<Box<TriFactored>>)> {
         let (solution, factor) = self.solve_kept(&[])?;
         Ok((

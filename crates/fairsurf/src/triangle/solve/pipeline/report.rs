@@ -138,13 +138,14 @@ impl TriProblem {
         let ([stretch, bend, external, total_energy], check) =
             self.energies(&surface, external, sol.verified)?;
         let mut factor = solved.factor;
-        if let Some((kkt, true)) = solved.fresh {
+        if let Some((kkt, reusable)) = solved.fresh {
             factor = Factor::New(Box::new(TriFactored {
                 kkt: *kkt,
                 tolerance: solved.row_tolerance,
                 rows: reduced.into_iter().map(|(terms, _)| terms).collect(),
                 user_rows,
                 free: free.clone(),
+                reusable,
             }));
         }
         let coords = known.len();
