@@ -377,9 +377,10 @@ pub(crate) fn descend(
 /// L-BFGS (Nocedal & Wright, Alg. 7.4, ten pairs) on a function given with
 /// its gradient, from an initial inverse Hessian H0. Each step is halved
 /// until the function falls by at least 1e-4 of the predicted amount
-/// (Armijo), at most 60 times (an H0 of the thin plate is off W's
-/// curvature by the model's size squared: a sphere 0.004 across needed
-/// more than 20). Stops after `steps` steps, after three steps in a row that
+/// (Armijo), at most 20 times (60 for the first step of a rescaled H0,
+/// [`Lbfgs::rescale`]: the fan's thin plate is off W's curvature by the
+/// model's size squared, and a sphere 0.004 across needed more than 20).
+/// Stops after `steps` steps, after three steps in a row that
 /// lower it by less than `rel` of itself, after one such step when the
 /// next step's quadratic model (−½ gᵀd, with at least one curvature pair)
 /// promises less than `rel` too, or
@@ -459,7 +460,15 @@ impl Lbfgs<'_> {
                     return (x, history);
                 }
                 t = 1.0;
-                for _ in 0..60 {
+                // A rescaled H0 (the fan's thin plate, off W's curvature by
+                // the model's size squared) before a pair scales it: more
+                // halvings.
+                let halvings = if pairs.is_empty() && self.rescale.is_some() {
+                    60
+                } else {
+                    20
+                };
+                for _ in 0..halvings {
                     let cand: Vec<f64> = x.iter().zip(&d).map(|(a, b)| a + t * b).collect();
                     // Value and gradient at once: the first candidate is
                     // almost always taken, and then its gradient is the next.
