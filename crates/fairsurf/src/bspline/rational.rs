@@ -278,16 +278,21 @@ impl RationalSurface {
                         format!("{n} pieces")
                     }
                 };
+                // The tolerance is a distance: on a large face it asks for
+                // more digits than doubles hold.
+                let size = crate::vec3::bounding_diagonal(self.surface.points());
                 return Err(Error::Fill {
                     why: format!(
                         "a rational face could not be approximated by a polynomial one within \
                          {:e} in position and {:e}° in angle (reached {position:e} and {:e}° \
-                         with {} in u and {} in v)",
+                         with {} in u and {} in v; the face is {size:.3e} across, the position \
+                         tolerance {:.0e} of that: a looser one may do)",
                         tolerance.position,
                         tolerance.angle.to_degrees(),
                         angle.to_degrees(),
                         what(varies_u, one[0], su),
                         what(varies_v, one[1], sv),
+                        tolerance.position / size,
                     ),
                 });
             }
