@@ -187,8 +187,15 @@ impl BSplineProblem {
         // ε² · max H_ii · Σ x_i²: below that, neither the energy's two roads
         // nor the excess tell anything (the scale of both, as the tensor
         // check's).
-        let scale = check::scale(total, sys.h_diag * solved.xx);
-        let energy_error = (total - check_energy).abs() / scale;
+        let rounding = sys.h_diag * solved.xx;
+        let scale = check::scale(total, rounding);
+        // Both roads sum the net's derivatives in doubles: a small energy of
+        // a large net (a nearly flat sliver 1e-3 wide: E 1.4e-11 of points
+        // about 1) comes from derivatives that cancelled, each off by about
+        // ε·√(max H_ii · Σ x_i²), so the roads may differ by about
+        // ε·√(E · max H_ii · Σ x_i²) — 2e-9 of E there.
+        let roads = scale.max(f64::EPSILON * (total.abs() * rounding).sqrt() / ENERGY_TOLERANCE);
+        let energy_error = (total - check_energy).abs() / roads;
         // A zero energy (a reproduced linear surface) is confirmed when the
         // second road finds it at rounding level of the data.
         if energy_error > ENERGY_TOLERANCE && (total - check_energy).abs() > 1e-24 {
