@@ -407,6 +407,45 @@ def test_a_sliver_of_a_cylinder_is_filled_and_its_energy_checked(cli: Path, tmp_
         assert free_edges_after_sewing(read_step(out)) == 0
 
 
+def test_a_ring_between_two_loops_is_refused_not_covered(cli: Path, tmp_path: Path):
+    """A plate with a boss whose foot Open CASCADE filleted (a torus band
+    all round), the band left out: two loops, the plate's circle of radius
+    1.3 round the boss's of radius 1, 0.3 above it. The missing face is a
+    ring; a disc over the plate's circle would cut through the boss (it
+    was so filled, exit 0, the boss's loop taken for a rim). Refused,
+    naming both loops; nothing written."""
+    from OCP.BRepAdaptor import BRepAdaptor_Curve, BRepAdaptor_Surface
+    from OCP.BRepAlgoAPI import BRepAlgoAPI_Fuse
+    from OCP.BRepFilletAPI import BRepFilletAPI_MakeFillet
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakeBox, BRepPrimAPI_MakeCylinder
+    from OCP.GeomAbs import GeomAbs_Circle, GeomAbs_Torus
+    from OCP.TopAbs import TopAbs_EDGE
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.gp import gp_Ax2, gp_Dir, gp_Pnt
+
+    box = BRepPrimAPI_MakeBox(gp_Pnt(-3, -3, -1), 6.0, 6.0, 1.0).Shape()
+    boss = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), 1.0, 1.5).Shape()
+    solid = BRepAlgoAPI_Fuse(box, boss).Shape()
+    fillet = BRepFilletAPI_MakeFillet(solid)
+    edges = TopExp_Explorer(solid, TopAbs_EDGE)
+    while edges.More():
+        curve = BRepAdaptor_Curve(TopoDS.Edge(edges.Current()))
+        if curve.GetType() == GeomAbs_Circle and abs(curve.Value(curve.FirstParameter()).Z()) < 1e-9:
+            fillet.Add(0.3, TopoDS.Edge(edges.Current()))
+        edges.Next()
+    fillet.Build()
+    faces = [f for f in faces_of(fillet.Shape())
+             if BRepAdaptor_Surface(f).GetType() != GeomAbs_Torus]
+    step_in, out = tmp_path / "boss.step", tmp_path / "filled.step"
+    sewn_step(faces, step_in)
+    run = subprocess.run([str(cli), "fill", str(step_in), "-o", str(out)],
+                         capture_output=True, text=True)
+    assert run.returncode == 2, run
+    assert "its loop encloses hole 1's" in run.stderr, run.stderr
+    assert "the missing face is a ring between the two loops" in run.stderr, run.stderr
+    assert not out.exists()
+
+
 def test_a_hole_next_to_cylinders_is_filled_within_tolerance(cli: Path, tmp_path: Path):
     """The approximate case: a filleted corner written by Open CASCADE
     (PLANE and CYLINDRICAL_SURFACE faces, CIRCLE and LINE edges) with the

@@ -23,6 +23,28 @@ fn holes_are_chosen_once() {
     assert!(e.starts_with("holes[1]: there is no hole 2"), "{e}");
 }
 
+/// The network's outline encloses its hole (the hole's loop lies inside
+/// it, in its plane's slab), not the other way round; asked for, the
+/// outline is refused naming the ring it would cover.
+#[test]
+fn a_loop_inside_another_is_found_and_the_outer_refused() {
+    let faces = network();
+    let c = HoleChoice::new(&faces, Some(&[0])).unwrap();
+    let (rim, hole) = (&c.holes[0], &c.holes[1]);
+    let height = rim.encloses(&faces, hole).unwrap();
+    assert!(height < 0.5, "{height}");
+    assert!(hole.encloses(&faces, rim).is_none());
+    let e = c
+        .fill(&faces, &FillOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("hole 0: its loop encloses hole 1's"), "{e}");
+    assert!(
+        e.contains("the missing face is a ring between the two loops"),
+        "{e}"
+    );
+}
+
 /// Rims by sense: a sharp box without its top (five bilinear faces) has
 /// one loop whose sides meet it at right angles (sense unclear): a hole,
 /// filled by default. Two such boxes side by side (two loops, both

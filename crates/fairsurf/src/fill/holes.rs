@@ -9,7 +9,7 @@
 use crate::analysis::Edge;
 use crate::basis::GaussLegendre;
 use crate::bspline::BSplineSurface;
-use crate::vec3::{add, bounding_diagonal, cross, dist, dot, norm, scale};
+use crate::vec3::{add, bounding_diagonal, cross, dist, dot, norm, scale, sub};
 use crate::{Error, Result, Vec3};
 
 /// One side of a hole: a boundary of one face, or the part `range` of it,
@@ -59,7 +59,7 @@ impl Side {
 pub struct Hole {
     /// The sides.
     pub sides: Vec<Side>,
-    /// The loop's length (polygon through 33 points per side).
+    /// The loop's length (its sides' arc lengths).
     pub length: f64,
 }
 
@@ -92,25 +92,8 @@ impl Hole {
     /// the loop's area scale, or a face without a normal at every side's
     /// middle).
     pub fn bounds_from_outside(&self, faces: &[BSplineSurface]) -> Option<bool> {
-        const PER_SIDE: usize = 16;
-        let mut points = Vec::with_capacity(PER_SIDE * self.sides.len());
-        for side in &self.sides {
-            let face = faces.get(side.face)?;
-            let [a, b] = side.range;
-            for j in 0..PER_SIDE {
-                let x = j as f64 / PER_SIDE as f64;
-                let t = if side.reversed {
-                    b - (b - a) * x
-                } else {
-                    a + (b - a) * x
-                };
-                points.push(edge_point(face, side.edge, t));
-            }
-        }
-        let mut area = [0.0; 3];
-        for (k, p) in points.iter().enumerate() {
-            area = add(area, scale(cross(*p, points[(k + 1) % points.len()]), 0.5));
-        }
+        let points = self.points(faces, 16)?;
+        let area = vector_area(&points);
         let mut sense = 0.0;
         for side in &self.sides {
             let face = &faces[side.face];
@@ -123,6 +106,66 @@ impl Hole {
         }
         let scale_ = norm(area) * self.sides.len() as f64;
         (sense.abs() > 1e-9 * scale_ && scale_ > 0.0).then_some(sense > 0.0)
+    }
+
+    /// Points of the loop as it runs, `per_side` on each side from its
+    /// start; None when a side names no face.
+    fn points(&self, faces: &[BSplineSurface], per_side: usize) -> Option<Vec<Vec3>> {
+        let mut points = Vec::with_capacity(per_side * self.sides.len());
+        for side in &self.sides {
+            let face = faces.get(side.face)?;
+            let [a, b] = side.range;
+            for j in 0..per_side {
+                let x = j as f64 / per_side as f64;
+                let t = if side.reversed {
+                    b - (b - a) * x
+                } else {
+                    a + (b - a) * x
+                };
+                points.push(edge_point(face, side.edge, t));
+            }
+        }
+        Some(points)
+    }
+
+    /// Whether `other`'s loop lies inside this one's: seen along this
+    /// loop's vector area (its mean normal), every point of `other` inside
+    /// the outline by more than 1e-3 of its size and no farther from the
+    /// outline's mean plane than the outline is wide. A fill of this loop
+    /// would then cover `other`'s faces: the missing face is a ring between
+    /// the two loops (a fillet round a boss, whose band left a circle on
+    /// the plate and one on the boss). The largest distance of `other`'s
+    /// points from the plane, or None.
+    pub fn encloses(&self, faces: &[BSplineSurface], other: &Hole) -> Option<f64> {
+        let outline = self.points(faces, 32)?;
+        let inner = other.points(faces, 8)?;
+        let area = vector_area(&outline);
+        let n = crate::vec3::normalize(area)?;
+        let size = bounding_diagonal(&outline);
+        let centre = scale(
+            outline.iter().fold([0.0; 3], |c, p| add(c, *p)),
+            1.0 / outline.len() as f64,
+        );
+        // Axes of the plane.
+        let e1 = crate::vec3::normalize(sub(outline[0], centre))
+            .map(|e| sub(e, scale(n, dot(e, n))))
+            .and_then(crate::vec3::normalize)?;
+        let e2 = cross(n, e1);
+        let flat = |p: Vec3| {
+            let d = sub(p, centre);
+            [dot(d, e1), dot(d, e2)]
+        };
+        let polygon: Vec<[f64; 2]> = outline.iter().map(|&p| flat(p)).collect();
+        let mut height = 0.0f64;
+        for &q in &inner {
+            let h = dot(sub(q, centre), n).abs();
+            let q2 = flat(q);
+            if !(h <= size && inside(&polygon, q2) && edge_distance(&polygon, q2) > 1e-3 * size) {
+                return None;
+            }
+            height = height.max(h);
+        }
+        Some(height)
     }
 
     /// The faces around the hole, each once, in order of first appearance.
@@ -380,6 +423,47 @@ fn split_at_repeated_vertices<T: Copy>(
     }
     loops.push(walk);
     loops
+}
+
+/// ½ Σ p_k × p_(k+1) over a closed polygon: its vector area.
+fn vector_area(points: &[Vec3]) -> Vec3 {
+    let mut area = [0.0; 3];
+    for (k, p) in points.iter().enumerate() {
+        area = add(area, scale(cross(*p, points[(k + 1) % points.len()]), 0.5));
+    }
+    area
+}
+
+/// Whether q is inside the closed polygon (its winding number is not 0).
+fn inside(polygon: &[[f64; 2]], q: [f64; 2]) -> bool {
+    let mut winding = 0i64;
+    for (k, a) in polygon.iter().enumerate() {
+        let b = polygon[(k + 1) % polygon.len()];
+        let side = (b[0] - a[0]) * (q[1] - a[1]) - (q[0] - a[0]) * (b[1] - a[1]);
+        if a[1] <= q[1] && b[1] > q[1] && side > 0.0 {
+            winding += 1;
+        } else if a[1] > q[1] && b[1] <= q[1] && side < 0.0 {
+            winding -= 1;
+        }
+    }
+    winding != 0
+}
+
+/// The distance from q to the closed polygon's edges.
+fn edge_distance(polygon: &[[f64; 2]], q: [f64; 2]) -> f64 {
+    (0..polygon.len())
+        .map(|k| {
+            let (a, b) = (polygon[k], polygon[(k + 1) % polygon.len()]);
+            let d = [b[0] - a[0], b[1] - a[1]];
+            let l2 = d[0] * d[0] + d[1] * d[1];
+            let t = if l2 > 0.0 {
+                (((q[0] - a[0]) * d[0] + (q[1] - a[1]) * d[1]) / l2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            (q[0] - a[0] - t * d[0]).hypot(q[1] - a[1] - t * d[1])
+        })
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// The length of the edge's part `range`: ∫ |dS/dt| dt by 16-point
