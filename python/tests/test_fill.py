@@ -441,8 +441,9 @@ def test_a_ring_between_two_loops_is_refused_not_covered(cli: Path, tmp_path: Pa
     run = subprocess.run([str(cli), "fill", str(step_in), "-o", str(out)],
                          capture_output=True, text=True)
     assert run.returncode == 2, run
-    assert "its loop encloses hole 1's" in run.stderr, run.stderr
-    assert "the missing face is a ring between the two loops" in run.stderr, run.stderr
+    assert "hole 0: the missing face is a ring between its loop and hole 1's" in run.stderr, \
+        run.stderr
+    assert "the missing face leaving each loop towards the other" in run.stderr, run.stderr
     assert not out.exists()
 
 

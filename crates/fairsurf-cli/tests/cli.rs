@@ -1597,8 +1597,8 @@ fn bad_fills_exit_2_and_write_nothing() {
     assert!(
         run(&[s, "--hole", "7"]).contains("--hole: there is no hole 7: the faces have 2 (0 to 1)")
     );
-    // The rim: 12 edges, 4 corners, the faces inside it, and hole 1 too.
-    assert!(run(&[s, "--hole", "0"]).contains("hole 0: its loop encloses hole 1's"));
+    // The rim: 12 edges, 4 corners, the faces outside it.
+    assert!(run(&[s, "--hole", "0"]).contains("hole 0: at the corner where side 0 starts"));
     assert!(run(&[s, "--lambda=-1"]).contains("--lambda: expected a number ≥ 0, got -1"));
     assert!(
         run(&[s, "--tolerance", "0"]).contains("--tolerance: expected a positive number, got 0")

@@ -120,8 +120,8 @@ impl HoleChoice {
     /// patches otherwise. Errors when none is chosen and every loop is a
     /// rim (nothing asked for and nothing left: a file whose holes are all
     /// filled); none asked for otherwise is no fill. Errors too when a
-    /// chosen hole's loop encloses another loop
-    /// ([`fairsurf::fill::Hole::encloses`]: the missing face is a ring).
+    /// chosen hole's loop and another bound one ring, either inside the
+    /// other ([`fairsurf::fill::Hole::ring_with`]).
     pub fn fill(&self, faces: &[BSplineSurface], options: &FillOptions) -> Result<Vec<HoleFill>> {
         if self.chosen.is_empty() && !self.holes.is_empty() && self.rims.len() == self.holes.len() {
             let rims: Vec<String> = self.rims.iter().map(usize::to_string).collect();
@@ -135,22 +135,27 @@ impl HoleChoice {
                 ),
             }));
         }
-        // A loop inside another (seen along its normal, near its plane):
-        // the missing face is a ring between them, which no fill of one
-        // loop makes — a disc over the outer loop would cover the inner
-        // loop's faces (a fillet round a boss left out: a disc through the
-        // boss, the boss left open).
+        // A loop inside another, the missing face leaving each towards the
+        // other: it is a ring between them, which no fill of one loop
+        // makes — a disc over the outer loop would cover the inner loop's
+        // faces (a fillet round a boss left out: a disc through the boss,
+        // the boss left open).
         for &h in &self.chosen {
-            let inner = (0..self.holes.len())
-                .filter(|&j| j != h)
-                .find_map(|j| Some((j, self.holes[h].encloses(faces, &self.holes[j])?)));
-            if let Some((j, height)) = inner {
+            let ring = (0..self.holes.len()).filter(|&j| j != h).find_map(|j| {
+                let (outer, inner) = (&self.holes[h], &self.holes[j]);
+                let height = outer
+                    .ring_with(faces, inner)
+                    .or_else(|| inner.ring_with(faces, outer))?;
+                Some((j, height))
+            });
+            if let Some((j, height)) = ring {
                 return Err(Error::Solve(fairsurf::Error::Fill {
                     why: format!(
-                        "hole {h}: its loop encloses hole {j}'s (inside it seen along its \
-                         normal, {height:.3e} from its plane): the missing face is a ring \
-                         between the two loops, which a fill of one loop does not make (it \
-                         would cover hole {j}'s faces)"
+                        "hole {h}: the missing face is a ring between its loop and hole {j}'s \
+                         (one inside the other seen along the outer's normal, {height:.3e} from \
+                         its plane, the missing face leaving each loop towards the other); a \
+                         fill of one loop does not make it (it would cover the inner loop's \
+                         faces)"
                     ),
                 }));
             }

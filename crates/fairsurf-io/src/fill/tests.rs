@@ -23,26 +23,112 @@ fn holes_are_chosen_once() {
     assert!(e.starts_with("holes[1]: there is no hole 2"), "{e}");
 }
 
-/// The network's outline encloses its hole (the hole's loop lies inside
-/// it, in its plane's slab), not the other way round; asked for, the
-/// outline is refused naming the ring it would cover.
+/// A bilinear face with corners f(0, 0), f(0, 1), f(1, 0), f(1, 1).
+fn quad(f: &dyn Fn(f64, f64) -> Vec3) -> BSplineSurface {
+    let points = vec![f(0.0, 0.0), f(0.0, 1.0), f(1.0, 0.0), f(1.0, 1.0)];
+    BSplineSurface::new(KnotVector::bezier(1), KnotVector::bezier(1), points).unwrap()
+}
+
+/// The faces of an n × n grid of squares `side` wide from `origin` at
+/// height z, those `keep` takes by (i, j).
+fn grid(
+    n: usize,
+    side: f64,
+    origin: f64,
+    z: f64,
+    keep: &dyn Fn(usize, usize) -> bool,
+) -> Vec<BSplineSurface> {
+    let mut faces = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            if keep(i, j) {
+                let at = |a: f64, b: f64| {
+                    [
+                        origin + side * (i as f64 + a),
+                        origin + side * (j as f64 + b),
+                        z,
+                    ]
+                };
+                faces.push(quad(&at));
+            }
+        }
+    }
+    faces
+}
+
+/// A ring left out of a plane: a 5 × 5 grid of unit squares keeping its
+/// outer ring of 16 and the centre square. The loop round the missing ring
+/// of 8 encloses the centre's, the missing face leaving each towards the
+/// other: asked for (it is the one hole; the outline and the island's
+/// loop bound their faces from outside), it is refused naming the island.
+/// The sheet's outline lies round both but its missing face leaves it
+/// outwards: no ring.
 #[test]
-fn a_loop_inside_another_is_found_and_the_outer_refused() {
-    let faces = network();
-    let c = HoleChoice::new(&faces, Some(&[0])).unwrap();
-    let (rim, hole) = (&c.holes[0], &c.holes[1]);
-    let height = rim.encloses(&faces, hole).unwrap();
-    assert!(height < 0.5, "{height}");
-    assert!(hole.encloses(&faces, rim).is_none());
-    let e = c
-        .fill(&faces, &FillOptions::default())
-        .unwrap_err()
-        .to_string();
-    assert!(e.contains("hole 0: its loop encloses hole 1's"), "{e}");
-    assert!(
-        e.contains("the missing face is a ring between the two loops"),
-        "{e}"
-    );
+fn a_ring_between_two_loops_is_refused_naming_both() {
+    let faces = grid(5, 1.0, 0.0, 0.0, &|i, j| {
+        i == 0 || j == 0 || i == 4 || j == 4 || (i, j) == (2, 2)
+    });
+    let c = HoleChoice::new(&faces, None).unwrap();
+    let by_length = |l: f64| {
+        c.holes
+            .iter()
+            .position(|h| (h.length - l).abs() < 1e-9)
+            .unwrap()
+    };
+    let (outline, hole, island) = (by_length(20.0), by_length(12.0), by_length(4.0));
+    assert_eq!(c.chosen, vec![hole]);
+    let h = &c.holes;
+    assert_eq!(h[hole].ring_with(&faces, &h[island]), Some(0.0));
+    assert_eq!(h[island].ring_with(&faces, &h[hole]), None);
+    assert_eq!(h[outline].ring_with(&faces, &h[hole]), None);
+    assert_eq!(h[outline].ring_with(&faces, &h[island]), None);
+    // The ring's loops, either asked for, are refused naming the other.
+    for (asked, other) in [(hole, island), (island, hole)] {
+        let c = HoleChoice::new(&faces, Some(&[asked])).unwrap();
+        let e = c
+            .fill(&faces, &FillOptions::default())
+            .unwrap_err()
+            .to_string();
+        let ring =
+            format!("hole {asked}: the missing face is a ring between its loop and hole {other}'s");
+        assert!(e.contains(&ring), "{e}");
+    }
+}
+
+/// Two holes of a closed shell, one over the other: a slab 3 × 3 × 0.2
+/// whose top (3 × 3 squares) lacks its middle square and whose bottom
+/// (5 × 5) lacks its middle one. The bottom's loop lies inside the top's
+/// seen from above, 0.2 below it, but the missing faces leave their loops
+/// inwards, not towards each other: two holes, both filled flat (the
+/// slab's walls stand between them).
+#[test]
+fn two_holes_one_over_the_other_are_not_a_ring() {
+    let mut faces = grid(3, 1.0, 0.0, 0.2, &|i, j| (i, j) != (1, 1));
+    faces.extend(grid(5, 0.6, 0.0, 0.0, &|i, j| (i, j) != (2, 2)));
+    faces.push(quad(&|a, b| [3.0 * a, 0.0, 0.2 * b]));
+    faces.push(quad(&|a, b| [3.0 * a, 3.0, 0.2 * b]));
+    faces.push(quad(&|a, b| [0.0, 3.0 * a, 0.2 * b]));
+    faces.push(quad(&|a, b| [3.0, 3.0 * a, 0.2 * b]));
+    let c = HoleChoice::new(&faces, None).unwrap();
+    assert_eq!(c.holes.len(), 2);
+    assert_eq!(c.chosen.len(), 2);
+    let top = c
+        .holes
+        .iter()
+        .position(|h| (h.length - 4.0).abs() < 1e-9)
+        .unwrap();
+    let bottom = 1 - top;
+    assert!((c.holes[bottom].length - 2.4).abs() < 1e-9);
+    assert_eq!(c.holes[top].ring_with(&faces, &c.holes[bottom]), None);
+    let fills = c.fill(&faces, &FillOptions::default()).unwrap();
+    assert_eq!(fills.len(), 2);
+    for f in &fills {
+        let HoleFill::Patch(p) = f else {
+            panic!("a square hole is one patch")
+        };
+        let z = p.surface.points()[0][2];
+        assert!(p.surface.points().iter().all(|q| (q[2] - z).abs() < 1e-12));
+    }
 }
 
 /// Rims by sense: a sharp box without its top (five bilinear faces) has
@@ -52,10 +138,6 @@ fn a_loop_inside_another_is_found_and_the_outer_refused() {
 /// network with no hole asked for is no fill, not that error.
 #[test]
 fn a_lone_loop_of_unclear_sense_is_a_hole_and_nothing_asked_is_no_fill() {
-    let quad = |f: &dyn Fn(f64, f64) -> Vec3| {
-        let points = vec![f(0.0, 0.0), f(0.0, 1.0), f(1.0, 0.0), f(1.0, 1.0)];
-        BSplineSurface::new(KnotVector::bezier(1), KnotVector::bezier(1), points).unwrap()
-    };
     let open_box = |x: f64| -> Vec<BSplineSurface> {
         vec![
             quad(&|a, b| [x + b, a, 0.0]),

@@ -128,15 +128,24 @@ impl Hole {
         Some(points)
     }
 
-    /// Whether `other`'s loop lies inside this one's: seen along this
-    /// loop's vector area (its mean normal), every point of `other` inside
+    /// Whether the missing face is a ring between this loop and `other`'s
+    /// (a fillet round a boss, whose band left a circle on the plate and
+    /// one on the boss; an island face in a hole), so that a fill of this
+    /// loop alone would cover `other`'s faces: seen along this loop's
+    /// vector area (its mean normal), every point of `other` lies inside
     /// the outline by more than 1e-3 of its size and no farther from the
-    /// outline's mean plane than the outline is wide. A fill of this loop
-    /// would then cover `other`'s faces: the missing face is a ring between
-    /// the two loops (a fillet round a boss, whose band left a circle on
-    /// the plate and one on the boss). The largest distance of `other`'s
-    /// points from the plane, or None.
-    pub fn encloses(&self, faces: &[BSplineSurface], other: &Hole) -> Option<f64> {
+    /// outline's mean plane than the outline is wide, **and** the missing
+    /// face leaves each loop towards the other (the mean over a loop's
+    /// points of D̂ · (q − p)/|q − p|, D the cross-boundary derivative into
+    /// the hole, q the nearest point of the other loop, above
+    /// [`RING_HEADING`] both ways). The second test keeps apart two holes
+    /// of a closed shell one above the other (a sphere open at both poles,
+    /// a slab with a hole in its top and a smaller one in its bottom: each
+    /// missing face leaves its loop away from the other) and a sheet's
+    /// outline round a hole in it (the outline's missing face leaves it
+    /// outwards). The largest distance of `other`'s points from the plane,
+    /// or None.
+    pub fn ring_with(&self, faces: &[BSplineSurface], other: &Hole) -> Option<f64> {
         let outline = self.points(faces, 32)?;
         let inner = other.points(faces, 8)?;
         let area = vector_area(&outline);
@@ -165,7 +174,36 @@ impl Hole {
             }
             height = height.max(h);
         }
-        Some(height)
+        let towards = |a: &Hole, b: &[Vec3]| a.heading(faces, b).is_some_and(|c| c > RING_HEADING);
+        (towards(self, &inner) && towards(other, &outline)).then_some(height)
+    }
+
+    /// The mean over the loop's points p (8 per side) of D̂ · (q − p)/|q − p|,
+    /// D the cross-boundary derivative into the hole (the way the missing
+    /// face leaves the loop), q the nearest of `targets`: near 1 when the
+    /// missing face heads for them, negative when it turns away. Points
+    /// where D vanishes (a collapsed corner) are left out; None when every
+    /// point is, or a side's strip cannot be taken.
+    fn heading(&self, faces: &[BSplineSurface], targets: &[Vec3]) -> Option<f64> {
+        const PER_SIDE: usize = 8;
+        let (mut sum, mut count) = (0.0, 0usize);
+        for side in &self.sides {
+            let strip = super::strip::Strip::of_side(faces.get(side.face)?, *side).ok()?;
+            for j in 0..PER_SIDE {
+                let at = strip.at((j as f64 + 0.5) / PER_SIDE as f64);
+                let Some(d) = crate::vec3::normalize(at.der) else {
+                    continue;
+                };
+                let q = targets
+                    .iter()
+                    .min_by(|a, b| dist(**a, at.pos).total_cmp(&dist(**b, at.pos)))?;
+                if let Some(towards) = crate::vec3::normalize(sub(*q, at.pos)) {
+                    sum += dot(d, towards);
+                    count += 1;
+                }
+            }
+        }
+        (count > 0).then(|| sum / count as f64)
     }
 
     /// The faces around the hole, each once, in order of first appearance.
@@ -193,6 +231,13 @@ pub fn surface_param(face: &BSplineSurface, edge: Edge, t: f64) -> (f64, f64) {
     let ((a, b), (c, d)) = (ku.domain(), kv.domain());
     (a + s * (b - a), c + r * (d - c))
 }
+
+/// How firmly the missing face must head from each of two nested loops
+/// for the other for them to bound one ring ([`Hole::ring_with`]): a
+/// fillet band a quarter circle wide heads 0.71 both ways, a flat annulus
+/// 1; two holes of a closed shell one above the other head away from each
+/// other at least one way (below 0).
+pub const RING_HEADING: f64 = 0.25;
 
 /// Points compared per edge.
 const SAMPLES: usize = 9;

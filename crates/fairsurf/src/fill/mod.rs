@@ -82,7 +82,7 @@ pub use blend::{blend, Blend, BlendOptions, BlendReport, Bulge, BulgeSearch};
 pub use fan::{fill_fan, fill_triangle, FanFill, FanReport, FAN_DESCENT_REL, RICH_DEGREE};
 pub use holes::{
     edge_point, find_holes, find_holes_where, find_holes_within, surface_param, tolerance, Hole,
-    Side,
+    Side, RING_HEADING,
 };
 pub(crate) use measure::side_parameters as measure_side_parameters;
 pub use measure::{
@@ -98,8 +98,8 @@ use crate::energy::SampleGrid;
 use crate::vec3::{add, cross, dist, dot, scale};
 use crate::SolveReport;
 use crate::{Error, Result, Vec3};
-pub use boundary::RICH_SIDES;
 use boundary::*;
+pub use boundary::RICH_SIDES;
 use fair::*;
 use std::ops::Range;
 use std::sync::Arc;
