@@ -64,16 +64,24 @@ pub struct Break {
 
 impl Break {
     /// The multiplicity of a strip's knot at the break (degree 5): 5 − k
-    /// for C^k, k ≥ 2 (the strip is as smooth as the points there; the
-    /// direction across, one order less, is within the tolerance on few
-    /// pieces: measured); 5 below (the strip only C⁰ there: a kink of the
-    /// edge's curve, or a crease of the face across it, is followed
-    /// exactly).
-    fn multiplicity(self) -> usize {
-        if self.continuity >= 2 {
-            FIRST_DEGREE.saturating_sub(self.continuity).max(1)
+    /// for C^k, k ≥ 1 (as smooth as the points there; the direction
+    /// across, one order less, is within the tolerance on few pieces:
+    /// measured). At a C⁰ break, 4 (C¹) for a strip across a free edge,
+    /// whose C⁰ breaks are smooth in fact ([`corner_inside`] refuses a
+    /// turn of the tangent or the normal): a fill takes the strip's knots,
+    /// and a C⁰ knot would let it crease there at no cost in energy (its
+    /// pieces' integrals do not see a kink between them), while a C¹ one
+    /// keeps it in H², where the thin plate's integral is whole. C² there
+    /// (3) was tried: a loft's C¹ knot lines 1000 across were then met only
+    /// after 512 pieces, a fill of 69,144 free points. With `kinks` (the
+    /// edge alone, [`edge_stand_in`], which no fill takes: a polyline two
+    /// faces share) 5 down to C⁰, the kinks followed exactly.
+    fn multiplicity(self, kinks: bool) -> usize {
+        let exact = FIRST_DEGREE.saturating_sub(self.continuity).max(1);
+        if kinks {
+            exact
         } else {
-            FIRST_DEGREE
+            exact.min(FIRST_DEGREE - 1)
         }
     }
 }
@@ -244,7 +252,7 @@ fn fit(
         .map(KnotVector::bezier);
     let pieces = std::iter::successors(Some(1usize), |n| (*n < MAX_PIECES).then_some(n * 2))
         .filter(|_| !one_span)
-        .map(|n| pieces(edge.breaks(), n))
+        .map(|n| pieces(edge.breaks(), n, matches!(across, Across::None)))
         .collect::<Result<Vec<_>>>()?;
     for knots in one.chain(pieces) {
         let what = match knots.spans().len() {
@@ -275,10 +283,11 @@ fn fit(
 }
 
 /// The refusal of a strip along an edge that turns inside (a break of its
-/// points only C⁰ where its tangent turns by more than the angle
-/// tolerance): the direction across the edge jumps there, which no strip
-/// follows — a corner of the hole inside one edge, named by its point and
-/// turn. None when there is none.
+/// points only C⁰ where its tangent, or the face's normal, turns by more
+/// than the angle tolerance): the direction across the edge jumps there,
+/// which no strip follows — a corner of the hole inside one edge, or a
+/// crease of the face running into it, named by its point and turn. None
+/// when there is none.
 fn corner_inside(edge: &TrueEdge, tolerance: FitTolerance) -> Option<Error> {
     edge.breaks()
         .iter()
@@ -286,27 +295,34 @@ fn corner_inside(edge: &TrueEdge, tolerance: FitTolerance) -> Option<Error> {
         .find_map(|b| {
             let (before, after) = (edge.frame(b.at - 1e-9), edge.frame(b.at + 1e-9));
             let turn = angle(before.tangent, after.tangent);
-            (turn.is_nan() || turn > tolerance.angle).then(|| {
-                let p = edge.frame(b.at).point;
-                Error::Fill {
-                    why: format!(
-                        "a trimmed face's edge turns by {:.3}° at ({}, {}, {}), {:.1}% along it \
-                         (its curve has a kink there): a corner of a hole inside one edge is not \
-                         followed by a strip; split the edge there",
-                        turn.to_degrees(),
-                        p[0],
-                        p[1],
-                        p[2],
-                        100.0 * b.at
-                    ),
-                }
+            let crease = angle(before.normal, after.normal);
+            let (what, by) = if turn.is_nan() || turn > tolerance.angle {
+                ("edge turns", turn)
+            } else if crease > tolerance.angle {
+                ("face creases across the edge", crease)
+            } else {
+                return None;
+            };
+            let p = edge.frame(b.at).point;
+            Some(Error::Fill {
+                why: format!(
+                    "a trimmed face's {what} by {:.3}° at ({}, {}, {}), {:.1}% along it (its \
+                     curve or surface has a kink there): a corner of a hole inside one edge is \
+                     not followed by a strip; split the edge there",
+                    by.to_degrees(),
+                    p[0],
+                    p[1],
+                    p[2],
+                    100.0 * b.at
+                ),
             })
         })
 }
 
 /// Degree-5 knots on [0, 1]: the intervals between `breaks` (knots of
-/// [`Break::multiplicity`] there) each cut in `n` equal pieces.
-fn pieces(breaks: &[Break], n: usize) -> Result<KnotVector> {
+/// [`Break::multiplicity`] there, `kinks` as it says) each cut in `n`
+/// equal pieces.
+fn pieces(breaks: &[Break], n: usize, kinks: bool) -> Result<KnotVector> {
     let d = FIRST_DEGREE;
     let mut t = vec![0.0; d + 1];
     let mut a = 0.0;
@@ -314,7 +330,7 @@ fn pieces(breaks: &[Break], n: usize) -> Result<KnotVector> {
         let end = b.map_or(1.0, |b| b.at);
         t.extend((1..n).map(|i| a + (end - a) * i as f64 / n as f64));
         if let Some(b) = b {
-            t.extend(std::iter::repeat_n(b.at, b.multiplicity()));
+            t.extend(std::iter::repeat_n(b.at, b.multiplicity(kinks)));
         }
         a = end;
     }
@@ -655,20 +671,49 @@ mod tests {
         }]);
         let s = strip_stand_in(&line, 0.5, tol, false).unwrap();
         assert!(s.position <= 1e-15 && s.angle <= 1e-15, "{s:?}");
+        // Its knot there is C¹, not C⁰: a fill taking it must not crease.
+        assert_eq!(s.surface.knots().0.multiplicity(0.3), 4);
+        // The face creasing across a straight edge (its normal turns by
+        // 30° about the edge): refused alike, naming the crease.
+        let crease = TrueEdge::new(|t| EdgeFrame {
+            point: [t, 0.0, 0.0],
+            tangent: [1.0, 0.0, 0.0],
+            normal: if t < 0.3 {
+                [0.0, 0.0, 1.0]
+            } else {
+                [0.0, -0.5, 0.75f64.sqrt()]
+            },
+        })
+        .with_breaks(vec![Break {
+            at: 0.3,
+            continuity: 0,
+        }]);
+        let e = strip_stand_in(&crease, 0.5, tol, false)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("face creases across the edge by 30.000° at (0.3, 0, 0)"),
+            "{e}"
+        );
+        assert!(edge_stand_in(&crease, tol).is_ok());
     }
 
-    /// The knots at breaks: as smooth as the edge's points there from C²
-    /// up (5 − k), C⁰ below.
+    /// The knots at breaks: as smooth as the edge's points there from C¹
+    /// up (5 − k); at C⁰, C¹ for a strip a fill takes (no crease), C⁰ for
+    /// the edge alone (kinks followed).
     #[test]
     fn a_break_gets_the_knot_its_continuity_needs() {
-        let m = |continuity| {
-            Break {
-                at: 0.5,
-                continuity,
+        let m = |kinks| {
+            move |continuity| {
+                Break {
+                    at: 0.5,
+                    continuity,
+                }
+                .multiplicity(kinks)
             }
-            .multiplicity()
         };
-        assert_eq!([0, 1, 2, 3, 4, 5, 9].map(m), [5, 5, 3, 2, 1, 1, 1]);
+        assert_eq!([0, 1, 2, 3, 4, 5, 9].map(m(true)), [5, 4, 3, 2, 1, 1, 1]);
+        assert_eq!([0, 1, 2, 3, 4, 5, 9].map(m(false)), [4, 4, 3, 2, 1, 1, 1]);
         let breaks = [
             Break {
                 at: 0.25,
@@ -679,11 +724,13 @@ mod tests {
                 continuity: 3,
             },
         ];
-        let k = pieces(&breaks, 2).unwrap();
-        assert_eq!(
-            (k.multiplicity(0.25), k.multiplicity(0.5), k.spans().len()),
-            (5, 2, 6)
-        );
+        for (kinks, first) in [(true, 5), (false, 4)] {
+            let k = pieces(&breaks, 2, kinks).unwrap();
+            assert_eq!(
+                (k.multiplicity(0.25), k.multiplicity(0.5), k.spans().len()),
+                (first, 2, 6)
+            );
+        }
     }
 
     /// An edge whose face has no normal along it (NaN, as at a pole):

@@ -219,6 +219,13 @@ pub(super) fn rings(
 /// cylinders for the same W to 1e-6, at three times the cost.
 pub const RICH_SIDES: usize = 12;
 
+/// The most control points one fill patch may have (128 × 128): its
+/// sparse solve takes seconds and its factor hundreds of megabytes there
+/// (a 27 × 42 patch took 0.28 s); a loft's strips cut in 512 pieces each
+/// asked for 69,144 free points, and the factorization was killed for its
+/// memory (over 5 GB).
+pub const MAX_FILL_POINTS: usize = 128 * 128;
+
 /// Sides on one degree and knot vector per direction (at least the larger
 /// degree of opposite sides, plus `elevate` unless they have
 /// [`RICH_SIDES`] control points — then at least 3), with at least
@@ -244,6 +251,20 @@ pub(super) fn unified(s: &[Strip; 4], options: &FillOptions) -> Result<[Strip; 4
         let (s0, s2) = unify(&s[0], &s[2], du)?;
         let (s3, s1) = unify(&s[3], &s[1], dv)?;
         let (cu, cv) = (s0.knots.count(), s3.knots.count());
+        if cu * cv > MAX_FILL_POINTS {
+            return Err(Error::Fill {
+                why: format!(
+                    "one patch over the hole would need {cu} × {cv} control points (its sides \
+                     brought to common knots: {} and {} knot spans), more than the {} a fill \
+                     takes; the neighbours' edges are cut in many pieces (a strip fitted to a \
+                     tight tolerance, or edges of many knots): a looser position tolerance, \
+                     or fewer pieces in the neighbours, lets it be filled",
+                    s0.knots.spans().len(),
+                    s3.knots.spans().len(),
+                    MAX_FILL_POINTS
+                ),
+            });
+        }
         if cu >= min_points && cv >= min_points {
             return Ok([s0, s1, s2, s3]);
         }

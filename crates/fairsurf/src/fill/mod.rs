@@ -99,7 +99,7 @@ use crate::vec3::{add, cross, dist, dot, scale};
 use crate::SolveReport;
 use crate::{Error, Result, Vec3};
 use boundary::*;
-pub use boundary::RICH_SIDES;
+pub use boundary::{MAX_FILL_POINTS, RICH_SIDES};
 use fair::*;
 use std::ops::Range;
 use std::sync::Arc;

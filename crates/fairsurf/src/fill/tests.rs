@@ -1766,3 +1766,41 @@ fn strips_leaving_their_ends_along_the_next_side_make_corners_that_agree() {
     // 0.75°.
     assert!(a <= 0.15f64.to_radians() && b >= 5.0 * a, "{a} {b}");
 }
+
+/// A hole whose sides carry many knots (a flat B-spline of 200 spans each
+/// way, its four sides the strips) would need a patch of 203 × 203
+/// control points (rich sides keep their cubic degree): refused before any solve, naming the size and the
+/// limit, whose own square (128 × 128) is taken.
+#[test]
+fn a_fill_too_large_to_solve_is_refused_before_solving() {
+    use super::boundary::unified;
+    use super::strip::Strip;
+    use crate::bspline::{BSplineSurface, KnotVector};
+    let plane = |spans: usize| {
+        let k = KnotVector::uniform(3, spans);
+        let n = spans + 3;
+        let points = (0..n)
+            .flat_map(|i| (0..n).map(move |j| [i as f64, j as f64, 0.0]))
+            .collect();
+        BSplineSurface::new(k.clone(), k, points).unwrap()
+    };
+    let strips = |s: &BSplineSurface| -> [Strip; 4] {
+        [
+            Strip::from_side(s, Edge::V0, false).unwrap(),
+            Strip::from_side(s, Edge::U1, false).unwrap(),
+            Strip::from_side(s, Edge::V1, true).unwrap(),
+            Strip::from_side(s, Edge::U0, true).unwrap(),
+        ]
+    };
+    let options = FillOptions::default();
+    let e = unified(&strips(&plane(200)), &options)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("would need 203 × 203 control points") && e.contains("more than the 16384"),
+        "{e}"
+    );
+    // 125 spans: 128 × 128 is taken.
+    let [s0, _, _, s3] = unified(&strips(&plane(125)), &options).unwrap();
+    assert_eq!((s0.knots.count(), s3.knots.count()), (128, 128));
+}
