@@ -340,7 +340,8 @@ impl Data {
     /// or — a curve parametrized otherwise, as a cylinder's rational arc
     /// and a trimmed cap's polynomial stand-in of it — with the same ends
     /// and every sample within the tolerance of the written curve (its
-    /// nearest point).
+    /// nearest point), their parameters on it running one way: the way
+    /// they run tells the sense (a closed edge's ends do not).
     pub(super) fn matching_edge(&self, samples: &[Vec3; EDGE_SAMPLES]) -> Option<(usize, bool)> {
         let tol = self.tol;
         let close = |a: &[Vec3], b: &mut dyn Iterator<Item = Vec3>| {
@@ -355,25 +356,36 @@ impl Data {
             }
         }
         let last = EDGE_SAMPLES - 1;
-        let on = |w: &WrittenEdge| {
-            samples[1..last].iter().all(|&q| {
-                project(&w.knots, &w.points, w.weights.as_deref(), q).is_some_and(|t| {
-                    dist(curve_point(&w.knots, &w.points, w.weights.as_deref(), t), q) <= tol
+        // The written curve's parameters of the samples inside, each on it
+        // within the tolerance: rising when the edge runs the curve's way,
+        // falling when it runs back (a closed edge's ends tell nothing).
+        let run = |w: &WrittenEdge| -> Option<bool> {
+            let weights = w.weights.as_deref();
+            let t: Vec<f64> = samples[1..last]
+                .iter()
+                .map(|&q| {
+                    project(&w.knots, &w.points, weights, q)
+                        .filter(|&t| dist(curve_point(&w.knots, &w.points, weights, t), q) <= tol)
                 })
-            })
+                .collect::<Option<_>>()?;
+            if t.windows(2).all(|p| p[1] > p[0]) {
+                Some(true)
+            } else if t.windows(2).all(|p| p[1] < p[0]) {
+                Some(false)
+            } else {
+                None
+            }
         };
         self.edge_samples.iter().find_map(|w| {
             let ends = |a: usize, b: usize| {
                 dist(w.samples[0], samples[a]) <= tol && dist(w.samples[last], samples[b]) <= tol
             };
-            let same = if ends(0, last) {
-                true
-            } else if ends(last, 0) {
-                false
-            } else {
+            let (forward, back) = (ends(0, last), ends(last, 0));
+            if !(forward || back) {
                 return None;
-            };
-            on(w).then_some((w.edge, same))
+            }
+            let same = run(w)?;
+            (if same { forward } else { back }).then_some((w.edge, same))
         })
     }
 

@@ -103,3 +103,59 @@ fn a_side_is_split_at_corners_of_faces_written_later() {
         assert_eq!(back, written);
     }
 }
+
+/// An edge matched by its geometry takes its sense from the way its
+/// points run along the written curve: a closed edge (a whole circle,
+/// written as a rational quadratic) met by points on the circle spaced
+/// otherwise, run one way or the other, or back and forth.
+#[test]
+fn a_closed_edge_matched_by_projection_gets_its_sense_from_its_run() {
+    let w = std::f64::consts::FRAC_1_SQRT_2;
+    let points = vec![
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [-1.0, 1.0, 0.0],
+        [-1.0, 0.0, 0.0],
+        [-1.0, -1.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [1.0, -1.0, 0.0],
+        [1.0, 0.0, 0.0],
+    ];
+    let weights = vec![1.0, w, 1.0, w, 1.0, w, 1.0, w, 1.0];
+    let knots = fairsurf::bspline::KnotVector::new(
+        2,
+        vec![
+            0.0, 0.0, 0.0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1.0, 1.0, 1.0,
+        ],
+    )
+    .unwrap();
+    let circle = |theta: f64| [theta.cos(), theta.sin(), 0.0];
+    let tau = std::f64::consts::TAU;
+    let mut d = Data {
+        tol: 1e-9,
+        ..Data::default()
+    };
+    d.edge_samples.push(WrittenEdge {
+        samples: std::array::from_fn(|k| circle(tau * k as f64 / 8.0)),
+        edge: 7,
+        knots,
+        points,
+        weights: Some(weights),
+    });
+    let run = |theta: &dyn Fn(f64) -> f64| -> [Vec3; EDGE_SAMPLES] {
+        std::array::from_fn(|k| circle(theta(k as f64 / 8.0)))
+    };
+    assert_eq!(d.matching_edge(&run(&|s| tau * s * s)), Some((7, true)));
+    assert_eq!(
+        d.matching_edge(&run(&|s| tau * (1.0 - s * s))),
+        Some((7, false))
+    );
+    // Out and back: not one run along the curve.
+    let there_and_back = |s: f64| tau * if s <= 0.5 { s } else { 1.0 - s };
+    assert_eq!(d.matching_edge(&run(&there_and_back)), None);
+    // Off the circle by 1e-6: not this edge.
+    let mut off = run(&|s| tau * s * s);
+    off[4][2] += 1e-6;
+    assert_eq!(d.matching_edge(&off), None);
+}
