@@ -493,7 +493,7 @@ pub(super) fn on_file_surface(
     let tol = edge_tolerance(edges);
     let (ku, kv) = net(&s).knots();
     let ((a, b), (c, d)) = (ku.domain(), kv.domain());
-    let mut agree = 0.0;
+    let (mut agree, mut votes) = (0.0, 0usize);
     for i in 0..5 {
         for j in 0..5 {
             let (u, v) = (
@@ -508,7 +508,8 @@ pub(super) fn on_file_surface(
                 // truck's search can stop short near a sphere's pole (0.045
                 // of the radius off, on spheres of some sizes but not
                 // others): a surface of revolution tells its distance
-                // itself, and a point on it has no vote on the sense.
+                // itself, and a point on it has no vote on the sense (the
+                // file's normal there is not known).
                 let analytic = match file {
                     StepSurface::ElementarySurface(e) => {
                         Revolution::of(e).ok().map(|(_, r)| r.foot(der.point).0)
@@ -529,10 +530,18 @@ pub(super) fn on_file_surface(
             }
             let n = file.normal(fu, fv);
             let x = fairsurf::vector::dot(fairsurf::vector::cross(der.du, der.dv), [n.x, n.y, n.z]);
-            if x.is_finite() {
+            if x.is_finite() && x != 0.0 {
                 agree += x;
+                votes += 1;
             }
         }
+    }
+    if votes == 0 {
+        return Err(
+            "the face's sense against the file's surface could not be told (no point of it \
+             where the file's surface has a normal was found)"
+                .into(),
+        );
     }
     turned(s, agree > 0.0)
 }

@@ -198,7 +198,8 @@ impl BSplineProblem {
         let energy_error = (total - check_energy).abs() / roads;
         // A zero energy (a reproduced linear surface) is confirmed when the
         // second road finds it at rounding level of the data.
-        if energy_error > ENERGY_TOLERANCE && (total - check_energy).abs() > 1e-24 {
+        // (Written so that a NaN on either road fails.)
+        if !(energy_error <= ENERGY_TOLERANCE || (total - check_energy).abs() <= 1e-24) {
             return Err(Error::Unverified {
                 degree: format!("{:?} (B-spline)", surface.degree()),
                 checked: check_energy,

@@ -377,9 +377,11 @@ pub(crate) fn descend(
 /// L-BFGS (Nocedal & Wright, Alg. 7.4, ten pairs) on a function given with
 /// its gradient, from an initial inverse Hessian H0. Each step is halved
 /// until the function falls by at least 1e-4 of the predicted amount
-/// (Armijo), at most 20 times (60 for the first step of a rescaled H0,
-/// [`Lbfgs::rescale`]: the fan's thin plate is off W's curvature by the
-/// model's size squared, and a sphere 0.004 across needed more than 20).
+/// (Armijo), at most 20 times (60 while a rescaled H0,
+/// [`Lbfgs::rescale`], has not been scaled yet: the fan's thin plate is
+/// off W's curvature by the model's size squared, and a sphere 0.004
+/// across needed more than 20), and not below a step that leaves x as it
+/// is in doubles.
 /// Stops after `steps` steps, after three steps in a row that
 /// lower it by less than `rel` of itself, after one such step when the
 /// next step's quadratic model (−½ gᵀd, with at least one curvature pair)
@@ -461,14 +463,19 @@ impl Lbfgs<'_> {
                 }
                 t = 1.0;
                 // A rescaled H0 (the fan's thin plate, off W's curvature by
-                // the model's size squared) before a pair scales it: more
-                // halvings.
-                let halvings = if pairs.is_empty() && self.rescale.is_some() {
+                // the model's size squared) before a pair has scaled it:
+                // more halvings; none once the step would not move x in
+                // doubles (an unchanged W would pass the test).
+                let halvings = if gamma == 1.0 && self.rescale.is_some() {
                     60
                 } else {
                     20
                 };
+                let (x_inf, d_inf) = (inf_norm(&x), inf_norm(&d));
                 for _ in 0..halvings {
+                    if t * d_inf <= f64::EPSILON * x_inf {
+                        break;
+                    }
                     let cand: Vec<f64> = x.iter().zip(&d).map(|(a, b)| a + t * b).collect();
                     // Value and gradient at once: the first candidate is
                     // almost always taken, and then its gradient is the next.
@@ -515,6 +522,11 @@ impl Lbfgs<'_> {
         }
         (x, history)
     }
+}
+
+/// max |v_i|.
+fn inf_norm(v: &[f64]) -> f64 {
+    v.iter().fold(0.0, |m, a| m.max(a.abs()))
 }
 
 /// ∂W/∂P over the free points ([`w_and_gradient`]'s).
