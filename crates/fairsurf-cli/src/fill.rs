@@ -153,7 +153,8 @@ pub fn run(a: Args) -> Result<(), Failure> {
                 &input,
                 &choice,
                 &fills,
-                (a.tolerance, a.angle_tolerance)
+                (a.tolerance, a.angle_tolerance),
+                options.descent_steps
             )
         );
     }
@@ -167,6 +168,7 @@ fn summary(
     choice: &HoleChoice,
     fills: &[HoleFill],
     (gap_tolerance, degrees): (f64, f64),
+    budget: usize,
 ) -> String {
     let tolerance = FitTolerance {
         position: gap_tolerance,
@@ -272,6 +274,7 @@ fn summary(
                     r.solve.check.map_or(f64::NAN, |c| c.energy_error),
                     1e3 * r.seconds.total_with(&r.others)
                 ));
+                lines.extend(budget_ran_out(&r.willmore, budget));
                 let c = &r.corners;
                 if c.position > 0.0 || c.tangent > 1e-12 || c.twist > 1e-12 {
                     lines.push(format!(
@@ -314,6 +317,7 @@ fn summary(
                         r.solve.triangular.as_ref().map_or(0, |t| t.rows),
                     )
                 });
+                lines.extend(budget_ran_out(&r.willmore, budget));
                 if let Some(note) = &r.descent_note {
                     lines.push(format!("    {note}"));
                 }
@@ -451,6 +455,21 @@ impl OutputArgs {
     }
 }
 
+/// The summary's line when the descent on W took every step of its
+/// `budget` (W from the thin plate's, then after each step): it stopped
+/// short of its own ending, W still falling.
+fn budget_ran_out(history: &[f64], budget: usize) -> Option<String> {
+    let n = history.len();
+    (budget > 0 && n > budget).then(|| {
+        let gain = (history[n - 2] - history[n - 1]) / history[n - 1].abs();
+        format!(
+            "    W still falling when the descent's {budget} steps ran out (the last lowered it \
+             by {gain:.1e} of itself; from {:.6} at the thin plate): --descent-steps lets it go on",
+            history[0]
+        )
+    })
+}
+
 /// Energy options a fill and a blend take from the command line.
 #[derive(clap::Args)]
 pub struct EnergyArgs {
@@ -463,6 +482,10 @@ pub struct EnergyArgs {
     /// Degrees the patch gets above its sides' largest.
     #[arg(long, value_parser = clap::value_parser!(u32).range(0..=10))]
     elevate: Option<u32>,
+    /// The most steps that lower W itself after the thin plate (200 by
+    /// default; 0 for none).
+    #[arg(long)]
+    descent_steps: Option<usize>,
 }
 
 impl EnergyArgs {
@@ -481,6 +504,9 @@ impl EnergyArgs {
         }
         if let Some(e) = self.elevate {
             options.elevate = e as usize;
+        }
+        if let Some(n) = self.descent_steps {
+            options.descent_steps = n;
         }
         Ok(())
     }

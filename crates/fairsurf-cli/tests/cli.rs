@@ -1478,6 +1478,28 @@ fn fill_fills_a_pentagonal_hole_with_a_fan() {
         s.contains(&format!("W-lowering steps kept: {steps}")),
         "{s}"
     );
+    assert!(!s.contains("W still falling"), "{s}");
+    // A budget of 2 steps (the descent took more) runs out, and says so.
+    assert!(steps > 2, "{history:?}");
+    let o = fairsurf(&[
+        "fill",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--descent-steps",
+        "2",
+    ]);
+    let s = String::from_utf8_lossy(&o.stdout);
+    assert!(s.contains("W-lowering steps kept: 2"), "{s}");
+    let gain = (history[1] - history[2]) / history[2];
+    assert!(
+        s.contains(&format!(
+            "W still falling when the descent's 2 steps ran out (the last lowered it by \
+             {gain:.1e} of itself; from {:.6} at the thin plate)",
+            history[0]
+        )),
+        "{s}"
+    );
 }
 
 /// A fill measured beyond the tolerances is flagged, not passed off: the
