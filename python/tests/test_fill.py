@@ -340,6 +340,29 @@ def test_a_loft_a_thousand_across_is_read_to_the_files_precision(cli: Path, tmp_
     assert free_edges_after_sewing(shape) == 0
 
 
+def test_a_torus_cut_across_its_tube_is_filled(cli: Path, tmp_path: Path):
+    """A torus (R 2, r 0.7) cut by Open CASCADE along x = ±0.5 and
+    z = ±0.3, the outer band's piece at +y left out. The pieces next to
+    it were refused, 'all the way round its tube without a seam edge': a
+    cut edge leaving the parallel z = 0.3 at an acute corner points
+    across it, and its rate there refused the gap the face does not
+    reach. Now the hole is one patch within tolerance, sewn with no free
+    edge, the angle Open CASCADE measures as reported."""
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakeTorus
+
+    pieces = split_shell(BRepPrimAPI_MakeTorus(2.0, 0.7).Shape(), [
+        ((0.5, 0, 0), (1, 0, 0)), ((-0.5, 0, 0), (1, 0, 0)),
+        ((0, 0, 0.3), (0, 0, 1)), ((0, 0, -0.3), (0, 0, 1))])
+    faces = faces_of(pieces)
+    gone = nearest_face(faces, (0, 2.7, 0))
+    step_in, out = tmp_path / "torus.step", tmp_path / "filled.step"
+    sewn_step([f for k, f in enumerate(faces) if k != gone], step_in)
+    fill = filled(cli, step_in, out)["fills"][0]
+    assert fill["kind"] == "patch", fill["kind"]
+    assert fill["max_angle_deg"] <= 0.01 and fill["max_gap"] <= 1e-6, fill
+    assert free_edges_after_sewing(read_step(out)) == 0
+
+
 def test_a_hole_in_a_split_sphere_is_filled_alike_at_every_scale(cli: Path, tmp_path: Path):
     """A sphere of radius 2 cut by Open CASCADE along x = ±0.7 and
     y = ±0.5, the top piece left out, the model scaled by 0.001, 1 and

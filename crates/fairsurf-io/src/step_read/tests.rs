@@ -471,4 +471,15 @@ fn angles_are_ranged_on_the_face_s_side() {
     assert_eq!(periodic_range(&[seam, hole.clone()].concat()), None);
     // The hole alone (a face all round but for it, no seam): none either.
     assert_eq!(periodic_range(&hole), None);
+    // A face between 1 and 2 rad whose side edge meets the meridian at 2
+    // at an acute corner: its direction into the face points across the
+    // meridian there (rate 0.3), the meridian's inside away from the gap.
+    let acute = [
+        edge(0, 1.0, 1.0, 1.0),
+        edge(1, 1.0, 2.0, 0.3),
+        edge(2, 2.0, 2.0, -1.0),
+        edge(3, 2.0, 1.0, 0.0),
+    ]
+    .concat();
+    close(periodic_range(&acute).unwrap(), (1.0 - 0.02, 2.0 + 0.02));
 }

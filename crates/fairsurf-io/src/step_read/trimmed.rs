@@ -599,7 +599,7 @@ impl Revolution {
 /// edge's points in order along it. The gap left out is the widest one
 /// that no edge runs through (between two of its consecutive points) and
 /// away from which the edges at its ends turn into the face (rates above
-/// 1e-3 into it refuse it); the range is widened by 2% of its length each
+/// 1e-3 into it, at points inside their edges, refuse it); the range is widened by 2% of its length each
 /// way (at most a quarter of the gap). None when no gap is left out: the
 /// face goes all the way round.
 pub(super) fn periodic_range(points: &[(f64, usize, f64)]) -> Option<(f64, f64)> {
@@ -625,11 +625,23 @@ pub(super) fn periodic_range(points: &[(f64, usize, f64)]) -> Option<(f64, f64)>
             (d > 0.0 && x > 0.0 && x < d) || (d < 0.0 && x < 0.0 && x > d)
         })
     };
+    // The rates at an angle, of points inside their edges: at an edge's
+    // end the direction into the face is the edge's alone, not the
+    // corner's — an edge leaving a parallel at an acute corner points
+    // across it, into the gap the face does not reach (a torus cut by
+    // planes across its tube was taken as going all the way round it).
+    let inside = |k: usize| {
+        k > 0
+            && k + 1 < points.len()
+            && points[k - 1].1 == points[k].1
+            && points[k + 1].1 == points[k].1
+    };
     let at = |angle: f64| {
         points
             .iter()
-            .filter(move |p| wrap(p.0 - angle).abs() <= 1e-7)
-            .map(|p| p.2)
+            .enumerate()
+            .filter(move |&(k, p)| inside(k) && wrap(p.0 - angle).abs() <= 1e-7)
+            .map(|(_, p)| p.2)
     };
     // The gaps, widest first; the first one left out (the edges are
     // searched for each, so the widest is usually the only one tried).
