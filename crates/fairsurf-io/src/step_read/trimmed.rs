@@ -599,7 +599,8 @@ impl Revolution {
 /// edge's points in order along it. The gap left out is the widest one
 /// that no edge runs through (between two of its consecutive points) and
 /// away from which the edges at its ends turn into the face (rates above
-/// 1e-3 into it, at points inside their edges, refuse it); the range is widened by 2% of its length each
+/// 1e-3 into it refuse it: of points inside their edges where there are
+/// any, else of the edges' ends there); the range is widened by 2% of its length each
 /// way (at most a quarter of the gap). None when no gap is left out: the
 /// face goes all the way round.
 pub(super) fn periodic_range(points: &[(f64, usize, f64)]) -> Option<(f64, f64)> {
@@ -625,23 +626,33 @@ pub(super) fn periodic_range(points: &[(f64, usize, f64)]) -> Option<(f64, f64)>
             (d > 0.0 && x > 0.0 && x < d) || (d < 0.0 && x < 0.0 && x > d)
         })
     };
-    // The rates at an angle, of points inside their edges: at an edge's
-    // end the direction into the face is the edge's alone, not the
-    // corner's — an edge leaving a parallel at an acute corner points
-    // across it, into the gap the face does not reach (a torus cut by
-    // planes across its tube was taken as going all the way round it).
+    // The rates at an angle: of points inside their edges where there
+    // are any — at an edge's end the direction into the face is the
+    // edge's alone, not the corner's: an edge leaving a parallel at an
+    // acute corner points across it, into the gap the face does not reach
+    // (a torus cut by planes across its tube was taken as going all the
+    // way round it) — else of the edges' ends there (a corner that is the
+    // extreme: a hole's corner turns the face into the gap beyond it).
     let inside = |k: usize| {
         k > 0
             && k + 1 < points.len()
             && points[k - 1].1 == points[k].1
             && points[k + 1].1 == points[k].1
     };
-    let at = |angle: f64| {
-        points
+    let at = |angle: f64| -> Vec<f64> {
+        let here: Vec<usize> = (0..points.len())
+            .filter(|&k| wrap(points[k].0 - angle).abs() <= 1e-7)
+            .collect();
+        let within: Vec<f64> = here
             .iter()
-            .enumerate()
-            .filter(move |&(k, p)| inside(k) && wrap(p.0 - angle).abs() <= 1e-7)
-            .map(|(_, p)| p.2)
+            .filter(|&&k| inside(k))
+            .map(|&k| points[k].2)
+            .collect();
+        if within.is_empty() {
+            here.iter().map(|&k| points[k].2).collect()
+        } else {
+            within
+        }
     };
     // The gaps, widest first; the first one left out (the edges are
     // searched for each, so the widest is usually the only one tried).
@@ -658,7 +669,9 @@ pub(super) fn periodic_range(points: &[(f64, usize, f64)]) -> Option<(f64, f64)>
         .collect();
     gaps.sort_by(|x, y| (y.1 - y.0).total_cmp(&(x.1 - x.0)));
     let (start, gap) = gaps.into_iter().find_map(|(a, b)| {
-        let open = !crossed((a + b) / 2.0) && !at(a).any(|r| r > 1e-3) && !at(b).any(|r| r < -1e-3);
+        let open = !crossed((a + b) / 2.0)
+            && !at(a).iter().any(|&r| r > 1e-3)
+            && !at(b).iter().any(|&r| r < -1e-3);
         open.then_some((b, b - a))
     })?;
     let length = TAU - gap;
