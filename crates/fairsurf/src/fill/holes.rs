@@ -148,6 +148,12 @@ impl Hole {
     pub fn ring_with(&self, faces: &[BSplineSurface], other: &Hole) -> Option<f64> {
         let outline = self.points(faces, 32)?;
         let inner = other.points(faces, 8)?;
+        let towards = |a: &Hole, b: &[Vec3]| a.heading(faces, b).is_some_and(|c| c > RING_HEADING);
+        // The cheap test first: a hole's missing face seldom heads for
+        // another loop (a sheet's outline heads away from its holes).
+        if !towards(self, &inner) {
+            return None;
+        }
         let area = vector_area(&outline);
         let n = crate::vec3::normalize(area)?;
         let size = bounding_diagonal(&outline);
@@ -169,13 +175,15 @@ impl Hole {
         for &q in &inner {
             let h = dot(sub(q, centre), n).abs();
             let q2 = flat(q);
-            if !(h <= size && inside(&polygon, q2) && edge_distance(&polygon, q2) > 1e-3 * size) {
+            if !(h <= size
+                && inside(&polygon, q2)
+                && edge_distance2(&polygon, q2) > (1e-3 * size).powi(2))
+            {
                 return None;
             }
             height = height.max(h);
         }
-        let towards = |a: &Hole, b: &[Vec3]| a.heading(faces, b).is_some_and(|c| c > RING_HEADING);
-        (towards(self, &inner) && towards(other, &outline)).then_some(height)
+        towards(other, &outline).then_some(height)
     }
 
     /// The mean over the loop's points p (8 per side) of D̂ · (q − p)/|q − p|,
@@ -194,10 +202,16 @@ impl Hole {
                 let Some(d) = crate::vec3::normalize(at.der) else {
                     continue;
                 };
-                let q = targets
-                    .iter()
-                    .min_by(|a, b| dist(**a, at.pos).total_cmp(&dist(**b, at.pos)))?;
-                if let Some(towards) = crate::vec3::normalize(sub(*q, at.pos)) {
+                // The nearest target (squared distances: no roots).
+                let (mut near, mut q) = (f64::INFINITY, None);
+                for t in targets {
+                    let e = sub(*t, at.pos);
+                    let d2 = dot(e, e);
+                    if d2 < near {
+                        (near, q) = (d2, Some(*t));
+                    }
+                }
+                if let Some(towards) = crate::vec3::normalize(sub(q?, at.pos)) {
                     sum += dot(d, towards);
                     count += 1;
                 }
@@ -494,8 +508,8 @@ fn inside(polygon: &[[f64; 2]], q: [f64; 2]) -> bool {
     winding != 0
 }
 
-/// The distance from q to the closed polygon's edges.
-fn edge_distance(polygon: &[[f64; 2]], q: [f64; 2]) -> f64 {
+/// The squared distance from q to the closed polygon's edges.
+fn edge_distance2(polygon: &[[f64; 2]], q: [f64; 2]) -> f64 {
     (0..polygon.len())
         .map(|k| {
             let (a, b) = (polygon[k], polygon[(k + 1) % polygon.len()]);
@@ -506,7 +520,8 @@ fn edge_distance(polygon: &[[f64; 2]], q: [f64; 2]) -> f64 {
             } else {
                 0.0
             };
-            (q[0] - a[0] - t * d[0]).hypot(q[1] - a[1] - t * d[1])
+            let e = [q[0] - a[0] - t * d[0], q[1] - a[1] - t * d[1]];
+            e[0] * e[0] + e[1] * e[1]
         })
         .fold(f64::INFINITY, f64::min)
 }
