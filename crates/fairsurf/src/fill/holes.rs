@@ -146,7 +146,6 @@ impl Hole {
     /// outwards). The largest distance of `other`'s points from the plane,
     /// or None.
     pub fn ring_with(&self, faces: &[BSplineSurface], other: &Hole) -> Option<f64> {
-        let outline = self.points(faces, 32)?;
         let inner = other.points(faces, 8)?;
         let towards = |a: &Hole, b: &[Vec3]| a.heading(faces, b).is_some_and(|c| c > RING_HEADING);
         // The cheap test first: a hole's missing face seldom heads for
@@ -154,6 +153,7 @@ impl Hole {
         if !towards(self, &inner) {
             return None;
         }
+        let outline = self.points(faces, 32)?;
         let area = vector_area(&outline);
         let n = crate::vec3::normalize(area)?;
         let size = bounding_diagonal(&outline);
