@@ -84,6 +84,7 @@ pub(crate) fn descend_tri(
         steps,
         rel,
         rescale: Some(&curvature),
+        rescale_once_cut: false,
     };
     let (x, steps) = descent.run(
         x0,

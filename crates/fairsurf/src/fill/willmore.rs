@@ -316,7 +316,12 @@ fn system(
 /// by L-BFGS ([`lbfgs`]) whose initial inverse Hessian is (2A)⁻¹, A the
 /// frozen-metric operator of E at the start (E's Hessian is 2A, and E
 /// models W near the surface): the first step is the linearized one, the
-/// pairs learn what the frozen metric misses. W and its gradient by the
+/// pairs learn what the frozen metric misses. Once a step has to be cut
+/// (the frozen metric far from W's: an octant of a torus filled from its
+/// thin plate, W 12.59 → 8.99, took steps of 1e-3 after ten halvings
+/// each), H0 is rescaled by each latest pair ([`Lbfgs::rescale_once_cut`]):
+/// there 60 steps took 252 evaluations instead of 683 and reached a lower
+/// W (9.69 against 9.92). W and its gradient by the
 /// same Gauss rule as [`super::total_curvature`], so the gradient is exact
 /// for the W that is reported. Returns the surface and W after each
 /// accepted step.
@@ -362,10 +367,20 @@ pub(crate) fn descend(
         .flat_map(|(pt, _)| *pt)
         .collect();
     let g0 = flat(&w_and_gradient(&start, &slot, &nodes).1);
+    // sᵀ H0⁻¹ s = 2 sᵀ A s, coordinate by coordinate.
+    let curvature = |s: &[f64]| -> f64 {
+        let m = Mat::<f64>::from_fn(nf, 3, |r, k| s[3 * r + k]);
+        let am = &a * &m;
+        2.0 * (0..nf)
+            .flat_map(|r| (0..3).map(move |k| (r, k)))
+            .map(|(r, k)| m[(r, k)] * am[(r, k)])
+            .sum::<f64>()
+    };
     let descent = Lbfgs {
         steps,
         rel,
-        rescale: None,
+        rescale: Some(&curvature),
+        rescale_once_cut: true,
     };
     let (x, history) = descent.run(x0, w0, g0, h0, |x| {
         let (w, g) = w_and_gradient(&at(x), &slot, &nodes);
@@ -396,6 +411,11 @@ pub(crate) struct Lbfgs<'a> {
     /// (γH0)⁻¹ has the function's curvature along s (the s-side
     /// counterpart of Nocedal & Wright's eq. 7.20). None: H0 as it is.
     pub rescale: Option<&'a Curvature<'a>>,
+    /// With `rescale`: H0 is scaled only from the first step that had to
+    /// be cut (t < 1) on; until then it is taken as it is (an H0 of the
+    /// right size — the frozen-metric operator near W's minimum — keeps
+    /// its steps whole, and γ from a pair would only blur it).
+    pub rescale_once_cut: bool,
 }
 
 /// s ↦ sᵀH0⁻¹s ([`Lbfgs::rescale`]).
@@ -419,6 +439,7 @@ impl Lbfgs<'_> {
         let mut pairs: Vec<(Vec<f64>, Vec<f64>, f64)> = Vec::new();
         let mut gamma = 1.0;
         let mut small = 0;
+        let mut cut = false;
         for _ in 0..self.steps {
             // The two-loop recursion: d = −H g; when no step along it lowers
             // the function (or it is not a descent direction) the pairs are
@@ -466,7 +487,7 @@ impl Lbfgs<'_> {
                 // the model's size squared) before a pair has scaled it:
                 // more halvings; none once the step would not move x in
                 // doubles (an unchanged W would pass the test).
-                let halvings = if gamma == 1.0 && self.rescale.is_some() {
+                let halvings = if gamma == 1.0 && self.rescale.is_some() && !self.rescale_once_cut {
                     60
                 } else {
                     20
@@ -502,8 +523,9 @@ impl Lbfgs<'_> {
             let sk: Vec<f64> = d.iter().map(|v| t * v).collect();
             let yk: Vec<f64> = gn.iter().zip(&g).map(|(a, b)| a - b).collect();
             let sy = dot(&sk, &yk);
+            cut |= t < 1.0;
             if sy > 0.0 {
-                if let Some(curvature) = self.rescale {
+                if let Some(curvature) = self.rescale.filter(|_| cut || !self.rescale_once_cut) {
                     let shs = curvature(&sk);
                     if shs > 0.0 && shs.is_finite() {
                         gamma = shs / sy;
@@ -883,6 +905,7 @@ mod tests {
                 steps,
                 rel,
                 rescale: None,
+                rescale_once_cut: false,
             };
             descent.run(x0.clone(), w0, g0.clone(), |q| Some(q.to_vec()), f)
         };
@@ -902,5 +925,68 @@ mod tests {
             history.len()
         );
         assert!(w - 1.0 <= 10.0 * rel, "W {w}");
+    }
+
+    /// Rescaling once a step is cut, on f(x) = 1 + ½ xᵀAx + ¼ Σ x⁴ (A
+    /// diagonal, condition 1000 over 40 unknowns): with H0 = A⁻¹ (the
+    /// quadratic part's inverse: the frozen-metric operator's role) steps
+    /// are taken whole and the run is the same as without rescaling, step
+    /// for step; with H0 = 300 A⁻¹ (300 times too long, as the torus
+    /// octant's operator was: steps of 1e-3 accepted after ten halvings
+    /// each) it reaches the same f in a quarter of the evaluations or
+    /// fewer (21 against 213 here).
+    #[test]
+    fn lbfgs_rescales_only_once_a_step_was_cut() {
+        let n = 40;
+        let a: Vec<f64> = (0..n)
+            .map(|i| 10f64.powf(3.0 * i as f64 / (n - 1) as f64))
+            .collect();
+        let f = |x: &[f64]| {
+            let w = 1.0
+                + x.iter()
+                    .zip(&a)
+                    .map(|(x, a)| 0.5 * a * x * x + 0.25 * x.powi(4))
+                    .sum::<f64>();
+            let g = x
+                .iter()
+                .zip(&a)
+                .map(|(x, a)| a * x + x.powi(3))
+                .collect::<Vec<f64>>();
+            (w, g)
+        };
+        let x0: Vec<f64> = (0..n).map(|i| ((i * 7 % 11) as f64 - 5.0) / 5.0).collect();
+        let (w0, g0) = f(&x0);
+        let run = |scale: f64, once_cut: Option<bool>| {
+            // s ↦ sᵀH0⁻¹s.
+            let curvature =
+                |s: &[f64]| s.iter().zip(&a).map(|(s, a)| a * s * s).sum::<f64>() / scale;
+            let evals = std::cell::Cell::new(0usize);
+            let descent = Lbfgs {
+                steps: 2000,
+                rel: 1e-12,
+                rescale: once_cut.map(|_| &curvature as &Curvature),
+                rescale_once_cut: once_cut.unwrap_or(false),
+            };
+            let h0 = |q: &[f64]| Some(q.iter().zip(&a).map(|(q, a)| scale * q / a).collect());
+            let (_, history) = descent.run(x0.clone(), w0, g0.clone(), h0, |x| {
+                evals.set(evals.get() + 1);
+                f(x)
+            });
+            (history, evals.get())
+        };
+        let (plain, _) = run(1.0, None);
+        let (rescaled, _) = run(1.0, Some(true));
+        assert_eq!(plain, rescaled, "an H0 of the right size: the same run");
+        let (long, long_evals) = run(300.0, None);
+        let (cut, cut_evals) = run(300.0, Some(true));
+        let (wl, wc) = (*long.last().unwrap(), *cut.last().unwrap());
+        assert!(
+            (wl - 1.0).abs() < 1e-9 && (wc - 1.0).abs() < 1e-9,
+            "{wl} {wc}"
+        );
+        assert!(
+            4 * cut_evals < long_evals,
+            "{cut_evals} evaluations rescaled, {long_evals} not"
+        );
     }
 }
