@@ -158,7 +158,39 @@ pub fn run(a: Args) -> Result<(), Failure> {
             )
         );
     }
-    Ok(())
+    beyond_tolerances(&choice.chosen, &fills, fit)
+}
+
+/// Exit status 3 when a written fill is measured beyond the tolerances
+/// along some side (the summary and the JSON say where): the output is
+/// whole, but not what was asked for — a script must not take it for a
+/// fill within them.
+fn beyond_tolerances(
+    holes: &[usize],
+    fills: &[HoleFill],
+    fit: FitTolerance,
+) -> Result<(), Failure> {
+    let beyond: Vec<String> = holes
+        .iter()
+        .zip(fills)
+        .filter_map(|(h, f)| {
+            let sides = sides_beyond(f, fit);
+            (!sides.is_empty()).then(|| format!("hole {h} along sides {sides:?}"))
+        })
+        .collect();
+    if beyond.is_empty() {
+        return Ok(());
+    }
+    Err(Failure {
+        code: 3,
+        message: format!(
+            "written, but the fill is beyond the tolerances (gap {:e}, angle {:e}°): {} \
+             (--tolerance and --angle-tolerance set them)",
+            fit.position,
+            fit.angle.to_degrees(),
+            beyond.join("; ")
+        ),
+    })
 }
 
 fn summary(

@@ -1507,7 +1507,10 @@ fn fill_fills_a_pentagonal_hole_with_a_fan() {
 /// next to the corner lifted by 0.02; the faces still share their edges)
 /// is filled, but 1.8° from the bent face along the two pieces next to
 /// that corner. The summary says so and names the corner disagreement; the
-/// JSON lists those sides. The exact lens flags nothing.
+/// JSON lists those sides; the output is written whole and the exit status
+/// is 3 with a warning naming the hole and sides (a script must not take it
+/// for a fill within the tolerances); a looser --angle-tolerance accepts
+/// it (exit 0). The exact lens flags nothing.
 #[test]
 fn fill_flags_sides_beyond_the_tolerances() {
     let d = tmpdir("fill-beyond");
@@ -1520,12 +1523,27 @@ fn fill_flags_sides_beyond_the_tolerances() {
     std::fs::write(&bent, v.to_string()).unwrap();
     let out = d.join("bent.step");
     let run = |scene: &Path, json: bool| {
+        let _ = std::fs::remove_file(&out);
         let mut args = vec!["fill", scene.to_str().unwrap(), "-o", out.to_str().unwrap()];
         if json {
             args.push("--json");
         }
         let o = fairsurf(&args);
-        assert!(o.status.success(), "{}", stderr(&o));
+        let beyond = scene == bent.as_path();
+        assert_eq!(
+            o.status.code(),
+            Some(if beyond { 3 } else { 0 }),
+            "{}",
+            stderr(&o)
+        );
+        assert!(out.exists(), "the output is written");
+        if beyond {
+            assert_eq!(
+                stderr(&o).trim(),
+                "warning: written, but the fill is beyond the tolerances (gap 1e-6, angle \
+                 1e-2°): hole 1 along sides [1, 2] (--tolerance and --angle-tolerance set them)"
+            );
+        }
         o
     };
     let s = String::from_utf8_lossy(&run(&bent, false).stdout).into_owned();
@@ -1544,6 +1562,16 @@ fn fill_flags_sides_beyond_the_tolerances() {
     assert!(worst > 1.0 && worst < 3.0, "{worst}");
     let angle = r["tolerances"]["angle_deg"].as_f64().unwrap();
     assert!((angle - 0.01).abs() < 1e-15, "{angle}");
+    let loose = format!("{}", 1.01 * worst);
+    let o = fairsurf(&[
+        "fill",
+        bent.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--angle-tolerance",
+        &loose,
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
     let s = String::from_utf8_lossy(&run(&lens, false).stdout).into_owned();
     assert!(!s.contains("beyond the tolerances"), "{s}");
     let r: serde_json::Value = serde_json::from_slice(&run(&lens, true).stdout).unwrap();
