@@ -494,6 +494,8 @@ pub(super) fn on_file_surface(
     let (ku, kv) = net(&s).knots();
     let ((a, b), (c, d)) = (ku.domain(), kv.domain());
     let (mut agree, mut votes) = (0.0, 0usize);
+    // A surface of revolution, made once if a point needs it.
+    let revolution = std::cell::OnceCell::new();
     for i in 0..5 {
         for j in 0..5 {
             let (u, v) = (
@@ -511,9 +513,10 @@ pub(super) fn on_file_surface(
                 // itself, and a point on it has no vote on the sense (the
                 // file's normal there is not known).
                 let analytic = match file {
-                    StepSurface::ElementarySurface(e) => {
-                        Revolution::of(e).ok().map(|(_, r)| r.foot(der.point).0)
-                    }
+                    StepSurface::ElementarySurface(e) => revolution
+                        .get_or_init(|| Revolution::of(e).ok().map(|(_, r)| r))
+                        .as_ref()
+                        .map(|r| r.foot(der.point).0),
                     _ => None,
                 };
                 if analytic.is_some_and(|d| d <= tol) {

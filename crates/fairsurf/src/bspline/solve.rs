@@ -189,17 +189,8 @@ impl BSplineProblem {
         // check's).
         let rounding = sys.h_diag * solved.xx;
         let scale = check::scale(total, rounding);
-        // Both roads sum the net's derivatives in doubles: a small energy of
-        // a large net (a nearly flat sliver 1e-3 wide: E 1.4e-11 of points
-        // about 1) comes from derivatives that cancelled, each off by about
-        // ε·√(max H_ii · Σ x_i²), so the roads may differ by about
-        // ε·√(E · max H_ii · Σ x_i²) — 2e-9 of E there.
-        let roads = scale.max(f64::EPSILON * (total.abs() * rounding).sqrt() / ENERGY_TOLERANCE);
-        let energy_error = (total - check_energy).abs() / roads;
-        // A zero energy (a reproduced linear surface) is confirmed when the
-        // second road finds it at rounding level of the data.
-        // (Written so that a NaN on either road fails.)
-        if !(energy_error <= ENERGY_TOLERANCE || (total - check_energy).abs() <= 1e-24) {
+        let (energy_error, agree) = roads_agree(total, check_energy, rounding);
+        if !agree {
             return Err(Error::Unverified {
                 degree: format!("{:?} (B-spline)", surface.degree()),
                 checked: check_energy,
@@ -573,4 +564,26 @@ impl BSplineProblem {
         sys.h_diag = diag.iter().fold(0.0, |m, &v| m.max(v));
         sys
     }
+}
+
+/// The energy's two roads — the closed forms' `total` and the quadrature's
+/// `checked` — compared: their difference over the check's scale
+/// ([`check::scale`] of the energy and `rounding`, max H_ii · Σ x_i²) or,
+/// when larger, over what cancelled derivatives leave. Both roads sum the
+/// net's derivatives in doubles: a small energy of a large net (a nearly
+/// flat sliver 1e-3 wide: E 1.4e-11 of points about 1) comes from
+/// derivatives that cancelled, each off by about ε·√(max H_ii · Σ x_i²), so
+/// the roads may differ by about ε·√(E · max H_ii · Σ x_i²) — 2e-9 of E
+/// there. Returns that relative difference and whether it is within
+/// [`ENERGY_TOLERANCE`]; a zero energy (a reproduced linear surface) is
+/// confirmed when the second road finds it at rounding level of the data,
+/// and a NaN on either road fails.
+pub(crate) fn roads_agree(total: f64, checked: f64, rounding: f64) -> (f64, bool) {
+    let scale = check::scale(total, rounding);
+    let roads = scale.max(f64::EPSILON * (total.abs() * rounding).sqrt() / ENERGY_TOLERANCE);
+    let error = (total - checked).abs() / roads;
+    (
+        error,
+        error <= ENERGY_TOLERANCE || (total - checked).abs() <= 1e-24,
+    )
 }

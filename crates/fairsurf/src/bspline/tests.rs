@@ -1005,3 +1005,34 @@ fn an_undetermined_free_set_is_the_same_error_dense_or_sparse() {
         );
     }
 }
+
+/// The energy check allows for derivatives that cancel (a nearly flat
+/// sliver's small energy from a net of points about 1) and no more: on
+/// the sliver's figures (E 1.4e-11, max H_ii · Σ x² = 1e3; the allowance
+/// ε·√(E · 1e3) is 1.9e-9 of E) two roads 1e-9 of E apart agree and 1e-8
+/// apart are refused; on an energy of 1 from the same net the allowance
+/// is the plain 1e-10 of E (5e-11 agrees, 2e-10 is refused); a zero
+/// energy agrees with 1e-25 on the other road but not with 1e-20; a NaN
+/// on either road is refused.
+#[test]
+fn the_energy_check_allows_for_cancellation_and_no_more() {
+    use super::solve::roads_agree;
+    let rounding = 1e3;
+    let sliver = 1.4e-11;
+    assert!(roads_agree(sliver, sliver * (1.0 + 1e-9), rounding).1);
+    assert!(!roads_agree(sliver, sliver * (1.0 + 1e-8), rounding).1);
+    assert!(!roads_agree(sliver, 2.0 * sliver, rounding).1);
+    assert!(roads_agree(1.0, 1.0 + 5e-11, rounding).1);
+    assert!(!roads_agree(1.0, 1.0 + 2e-10, rounding).1);
+    assert!(roads_agree(0.0, 1e-25, rounding).1);
+    assert!(!roads_agree(0.0, 1e-20, rounding).1);
+    assert!(!roads_agree(f64::NAN, 1.0, rounding).1);
+    assert!(!roads_agree(1.0, f64::NAN, rounding).1);
+    // The figure reported is the difference over the allowance.
+    let (error, _) = roads_agree(sliver, sliver * (1.0 + 1e-8), rounding);
+    let allowance = f64::EPSILON * (sliver * rounding).sqrt() / super::ENERGY_TOLERANCE;
+    assert!(
+        (error - 1e-8 * sliver / allowance).abs() < 1e-6 * error,
+        "{error}"
+    );
+}
