@@ -8,7 +8,14 @@ use fairsurf_io::FillInput;
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let n: usize = args.get(2).map_or(100, |a| a.parse().expect("a count"));
-    let mut input = FillInput::read(std::path::Path::new(&args[1])).unwrap();
+    let path = std::path::Path::new(&args[1]);
+    let t = std::time::Instant::now();
+    let reads = 20;
+    for _ in 0..reads {
+        std::hint::black_box(FillInput::read(path).unwrap());
+    }
+    eprintln!("{:.3} ms per read", t.elapsed().as_secs_f64() * 1e3 / reads as f64);
+    let mut input = FillInput::read(path).unwrap();
     let choice = input.choose(None).unwrap();
     let t = std::time::Instant::now();
     let mut s = [0.0; 8];
