@@ -14,7 +14,10 @@ fn main() {
     for _ in 0..reads {
         std::hint::black_box(FillInput::read(path).unwrap());
     }
-    eprintln!("{:.3} ms per read", t.elapsed().as_secs_f64() * 1e3 / reads as f64);
+    eprintln!(
+        "{:.3} ms per read",
+        t.elapsed().as_secs_f64() * 1e3 / reads as f64
+    );
     let mut input = FillInput::read(path).unwrap();
     let choice = input.choose(None).unwrap();
     let t = std::time::Instant::now();
