@@ -158,7 +158,7 @@ pub fn run(a: Args) -> Result<(), Failure> {
             )
         );
     }
-    beyond_tolerances(&choice.chosen, &fills, fit)
+    beyond_tolerances(&choice.chosen, &fills, (a.tolerance, a.angle_tolerance))
 }
 
 /// Exit status 3 when a written fill is measured beyond the tolerances
@@ -168,14 +168,22 @@ pub fn run(a: Args) -> Result<(), Failure> {
 fn beyond_tolerances(
     holes: &[usize],
     fills: &[HoleFill],
-    fit: FitTolerance,
+    (gap, degrees): (f64, f64),
 ) -> Result<(), Failure> {
+    let fit = FitTolerance {
+        position: gap,
+        angle: degrees.to_radians(),
+    };
     let beyond: Vec<String> = holes
         .iter()
         .zip(fills)
         .filter_map(|(h, f)| {
             let sides = sides_beyond(f, fit);
-            (!sides.is_empty()).then(|| format!("hole {h} along sides {sides:?}"))
+            let cut = match f {
+                HoleFill::Patch(_) => "",
+                HoleFill::Fan(_) => " (as cut for the fan)",
+            };
+            (!sides.is_empty()).then(|| format!("hole {h} along sides{cut} {sides:?}"))
         })
         .collect();
     if beyond.is_empty() {
@@ -186,8 +194,8 @@ fn beyond_tolerances(
         message: format!(
             "written, but the fill is beyond the tolerances (gap {:e}, angle {:e}°): {} \
              (--tolerance and --angle-tolerance set them)",
-            fit.position,
-            fit.angle.to_degrees(),
+            gap,
+            degrees,
             beyond.join("; ")
         ),
     })

@@ -1,6 +1,7 @@
 //! The `fairsurf` command: solve scene files, evaluate surfaces, print the
 //! scene schema. Exit status: 0 success, 2 bad input (unreadable or invalid
-//! scene, a problem the solver refuses), 1 anything else (e.g. a failed write).
+//! scene, a problem the solver refuses), 1 anything else (e.g. a failed write),
+//! 3 `fairsurf fill` wrote a fill measured beyond its tolerances.
 
 /// Prints a line on standard output; a closed pipe (`fairsurf … | head`)
 /// is not an error worth a panic, so write failures are ignored.

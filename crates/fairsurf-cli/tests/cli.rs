@@ -1541,7 +1541,7 @@ fn fill_flags_sides_beyond_the_tolerances() {
             assert_eq!(
                 stderr(&o).trim(),
                 "warning: written, but the fill is beyond the tolerances (gap 1e-6, angle \
-                 1e-2°): hole 1 along sides [1, 2] (--tolerance and --angle-tolerance set them)"
+                 1e-2°): hole 1 along sides (as cut for the fan) [1, 2] (--tolerance and --angle-tolerance set them)"
             );
         }
         o

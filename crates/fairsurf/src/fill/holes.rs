@@ -202,16 +202,21 @@ impl Hole {
                 let Some(d) = crate::vec3::normalize(at.der) else {
                     continue;
                 };
-                // The nearest target (squared distances: no roots).
-                let (mut near, mut q) = (f64::INFINITY, None);
-                for t in targets {
+                // The nearest target (squared distances: no roots; the
+                // first of equals, NaN ordered as `total_cmp` orders it).
+                let d2 = |t: &Vec3| {
                     let e = sub(*t, at.pos);
-                    let d2 = dot(e, e);
-                    if d2 < near {
-                        (near, q) = (d2, Some(*t));
+                    dot(e, e)
+                };
+                let mut q = *targets.first()?;
+                let mut near = d2(&q);
+                for t in &targets[1..] {
+                    let d = d2(t);
+                    if d.total_cmp(&near).is_lt() {
+                        (near, q) = (d, *t);
                     }
                 }
-                if let Some(towards) = crate::vec3::normalize(sub(q?, at.pos)) {
+                if let Some(towards) = crate::vec3::normalize(sub(q, at.pos)) {
                     sum += dot(d, towards);
                     count += 1;
                 }

@@ -393,10 +393,10 @@ pub(crate) fn descend(
 /// its gradient, from an initial inverse Hessian H0. Each step is halved
 /// until the function falls by at least 1e-4 of the predicted amount
 /// (Armijo), at most 20 times (60 while a rescaled H0,
-/// [`Lbfgs::rescale`], has not been scaled yet: the fan's thin plate is
-/// off W's curvature by the model's size squared, and a sphere 0.004
-/// across needed more than 20), and not below a step that leaves x as it
-/// is in doubles.
+/// [`Lbfgs::rescale`] without [`Lbfgs::rescale_once_cut`], has not been
+/// scaled yet: the fan's thin plate is off W's curvature by the model's
+/// size squared, and a sphere 0.004 across needed more than 20), and not
+/// below a step that leaves x as it is in doubles.
 /// Stops after `steps` steps, after three steps in a row that
 /// lower it by less than `rel` of itself, after one such step when the
 /// next step's quadratic model (−½ gᵀd, with at least one curvature pair)
