@@ -71,37 +71,51 @@ pub(super) fn fair(
     let solve_seconds = t1.elapsed().as_secs_f64();
     let t2 = Instant::now();
     let mut surface = solved.surface;
-    let mut curvature = total_curvature(&surface);
-    let mut history = vec![curvature.value];
     let free = problem.free().to_vec();
+    // W's rule on the fill's knots (every candidate below keeps them). With
+    // no linearized steps asked the descent's first evaluation is W at the
+    // solve, and its last accepted step's W is the fill's: W by the main
+    // rule is evaluated once per surface, the half rule once at the end.
+    let nodes = willmore::Rule::of(&surface);
+    let mut history = Vec::new();
+    let mut w = None;
     for _ in 0..options.willmore_steps {
+        let now = *w.get_or_insert_with(|| nodes.w(&surface));
+        if history.is_empty() {
+            history.push(now);
+        }
         // A step whose system is not positive definite ends the steps; the
         // surface so far stands (its W and side fits are measured after).
         let Ok(next) = willmore::step(&surface, &free) else {
             break;
         };
-        let w = total_curvature(&next);
-        history.push(w.value);
-        if w.value.is_nan() || w.value >= curvature.value {
+        let wn = nodes.w(&next);
+        history.push(wn);
+        if wn.is_nan() || wn >= now {
             break;
         }
-        let done = curvature.value - w.value <= 1e-6 * curvature.value;
+        let done = now - wn <= 1e-6 * now;
         surface = next;
-        curvature = w;
+        w = Some(wn);
         if done {
             break;
         }
     }
     if options.descent_steps > 0 {
-        let (s, steps) =
-            willmore::descend(surface, curvature.value, &free, options.descent_steps, 1e-8);
+        let (s, w0, steps) = willmore::descend(surface, &nodes, &free, options.descent_steps, 1e-8);
         surface = s;
-        if let Some(&w) = steps.last() {
-            curvature = total_curvature(&surface);
-            debug_assert!((curvature.value - w).abs() <= 1e-12 * w.abs().max(1.0));
+        debug_assert!(w.is_none_or(|w| (w - w0).abs() <= 1e-12 * w.abs().max(1.0)));
+        if history.is_empty() {
+            history.push(w0);
         }
+        w = Some(steps.last().copied().unwrap_or(w0));
         history.extend(steps);
     }
+    let w = w.unwrap_or_else(|| nodes.w(&surface));
+    if history.is_empty() {
+        history.push(w);
+    }
+    let curvature = measure::with_error(&surface, w);
     Ok(Faired {
         surface,
         solve: solved.report,
