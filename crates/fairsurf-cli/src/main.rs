@@ -131,6 +131,13 @@ static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 /// solve, whose matrices fill their pages, took the same time either way.
 /// (mimalloc's `MIMALLOC_ALLOW_THP=0` does the same from the environment.)
 /// Failure (an old kernel) leaves the default, which is only slower.
+/// This flag comes too late for mimalloc's first arena, which it advises
+/// for huge pages and touches in the runtime's start-up before `main`: the
+/// workspace builds mimalloc with its `no_thp` feature (no such advice),
+/// which took a 2 MB zeroing — 9% of a `fairsurf fill` of the bench's
+/// bezier hole, `perf record` — out of every process (task-clock 9.3 →
+/// 8.4 ms, three interleaved `perf stat -r 40` pairs; where the kernel's
+/// THP mode is `always` the first arena is still huge).
 fn no_huge_pages() {
     #[cfg(target_os = "linux")]
     let _ = nix::sys::prctl::set_thp_disable(true);
