@@ -548,18 +548,38 @@ fn arc_length(face: &BSplineSurface, edge: Edge, range: [f64; 2]) -> f64 {
     );
     cuts.push(range[1]);
     cuts.dedup();
-    let rule = GaussLegendre::new(16);
+    static RULE: std::sync::OnceLock<GaussLegendre> = std::sync::OnceLock::new();
+    let rule = RULE.get_or_init(|| GaussLegendre::new(16));
+    // Every node's surface parameter along the edge (the other is fixed),
+    // the basis functions once per node.
+    let ts: Vec<f64> = cuts
+        .windows(2)
+        .flat_map(|w| rule.nodes.iter().map(move |&x| w[0] + (w[1] - w[0]) * x))
+        .collect();
+    let params: Vec<(f64, f64)> = ts.iter().map(|&t| surface_param(face, edge, t)).collect();
+    let Some(&(u0, v0)) = params.first() else {
+        return 0.0;
+    };
+    let speeds: Vec<f64> = if along_u {
+        let us: Vec<f64> = params.iter().map(|p| p.0).collect();
+        let d = face.derivatives_on(&us, &[v0]);
+        d.iter().map(|d| norm(d.du) * (b - a)).collect()
+    } else {
+        let vs: Vec<f64> = params.iter().map(|p| p.1).collect();
+        let d = face.derivatives_on(&[u0], &vs);
+        d.iter().map(|d| norm(d.dv) * (b - a)).collect()
+    };
+    let n = rule.nodes.len();
     cuts.windows(2)
-        .map(|w| {
-            rule.integrate_on(w[0], w[1], |t| {
-                let (u, v) = surface_param(face, edge, t);
-                let d = face.derivatives(u, v);
-                if along_u {
-                    norm(d.du) * (b - a)
-                } else {
-                    norm(d.dv) * (b - a)
-                }
-            })
+        .zip(speeds.chunks_exact(n))
+        .map(|(w, f)| {
+            (w[1] - w[0])
+                * rule
+                    .weights
+                    .iter()
+                    .zip(f)
+                    .map(|(&w, &f)| w * f)
+                    .sum::<f64>()
         })
         .sum()
 }
