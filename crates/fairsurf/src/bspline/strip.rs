@@ -147,8 +147,9 @@ const FIRST_DEGREE: usize = 5;
 
 /// The strip stand-in of `edge` (module doc): degree (d, 1) on [0, 1]²,
 /// its side V0 the edge, T across it at right angles, `width` long.
-/// Degree 5 on equal pieces, their number doubled from one until the
-/// strip is within `tolerance`; with `one_span` (a fan of triangular
+/// Degree 5 on equal pieces, their number the least power of two with
+/// which the strip is within `tolerance` (found in fewer fits than
+/// doubling from one: [`least_pieces`]); with `one_span` (a fan of triangular
 /// patches needs each side one polynomial piece) one Bézier span of
 /// degree 5 to [`ONE_SPAN_DEGREE`] instead. The pieces: the edge's breaks
 /// ([`TrueEdge::breaks`], knots as smooth as the edge there) cut in equal
@@ -246,29 +247,40 @@ fn fit(
             return Err(e);
         }
     }
+    let frames = Frames::new(edge);
+    let normals = !matches!(across, Across::None);
     let mut best: Option<(f64, f64, String)> = None;
-    let one = (FIRST_DEGREE..=ONE_SPAN_DEGREE)
-        .filter(|_| one_span)
-        .map(KnotVector::bezier);
-    let pieces = std::iter::successors(Some(1usize), |n| (*n < MAX_PIECES).then_some(n * 2))
-        .filter(|_| !one_span)
-        .map(|n| pieces(edge.breaks(), n, matches!(across, Across::None)))
-        .collect::<Result<Vec<_>>>()?;
-    for knots in one.chain(pieces) {
+    let mut attempt = |knots: KnotVector| -> Result<(StandIn, bool)> {
         let what = match knots.spans().len() {
             1 => format!("one span of degree {}", knots.degree()),
             n => format!("{n} pieces of degree {FIRST_DEGREE}"),
         };
-        let surface = interpolate(edge, across, knots)?;
-        let (position, angle) = deviation(edge, &surface, !matches!(across, Across::None))?;
-        if position <= tolerance.position && angle <= tolerance.angle {
-            return Ok(StandIn {
-                surface,
-                position,
-                angle,
-            });
+        let surface = interpolate(&frames, across, knots)?;
+        let (position, angle) = deviation(&frames, &surface, normals)?;
+        let within = position <= tolerance.position && angle <= tolerance.angle;
+        if !within {
+            best = Some((position, angle, what));
         }
-        best = Some((position, angle, what));
+        let fit = StandIn {
+            surface,
+            position,
+            angle,
+        };
+        Ok((fit, within))
+    };
+    if one_span {
+        for degree in FIRST_DEGREE..=ONE_SPAN_DEGREE {
+            if let (fit, true) = attempt(KnotVector::bezier(degree))? {
+                return Ok(fit);
+            }
+        }
+    } else if let Some(fit) = least_pieces(|n| {
+        attempt(pieces(edge.breaks(), n, !normals)?).map(|(fit, within)| {
+            let (p, a) = (fit.position, fit.angle);
+            (fit, within, [p / tolerance.position, a / tolerance.angle])
+        })
+    })? {
+        return Ok(fit);
     }
     let (position, angle, what) = best.expect("at least one fit");
     Err(Error::Fill {
@@ -280,6 +292,84 @@ fn fit(
             angle.to_degrees(),
         ),
     })
+}
+
+/// The fit of the least power of two n ≤ [`MAX_PIECES`] of pieces per
+/// interval between breaks that `fit(n)` finds within the tolerance (it
+/// returns the fit, whether it is within, and its errors over the
+/// tolerances in position and angle), None when 512 are not enough —
+/// the first of 1, 2, 4, … that passes, as long as a fit of more pieces
+/// is never worse, with fewer fits than trying each in turn: after a fit
+/// that fails, the next n is predicted from its errors (position falls as
+/// h⁶, the angle as h⁵, h the pieces' length: n·max(e_p^(1/6),
+/// e_a^(1/5)) rounded up to a power of two, at least twice n and at most
+/// 16 times), and once one passes the powers of two between the last
+/// failure and it are bisected. A pipe's rim, a whole circle, took fits at
+/// 1, 8 and 16 pieces instead of 1, 2, 4, 8 and 16.
+fn least_pieces<T>(mut fit: impl FnMut(usize) -> Result<(T, bool, [f64; 2])>) -> Result<Option<T>> {
+    // Powers of two by their exponents: `failed` the largest known to
+    // fail, `passed` the least known to pass.
+    let most = MAX_PIECES.trailing_zeros();
+    let mut failed: Option<u32> = None;
+    let mut k = 0;
+    let mut passed = loop {
+        let (f, within, [p, a]) = fit(1 << k)?;
+        if within {
+            break (k, f);
+        }
+        failed = Some(k);
+        if k >= most {
+            return Ok(None);
+        }
+        let ratio = p.max(0.0).powf(1.0 / 6.0).max(a.max(0.0).powf(0.2));
+        // NaN (no error to go by): twice; infinite: 16 times.
+        let grow = if ratio.is_nan() {
+            1
+        } else {
+            ratio.log2().ceil().clamp(1.0, 4.0) as u32
+        };
+        k = (k + grow).min(most);
+    };
+    while let Some(lo) = failed {
+        if passed.0 <= lo + 1 {
+            break;
+        }
+        let mid = lo + (passed.0 - lo) / 2;
+        let (f, within, _) = fit(1 << mid)?;
+        if within {
+            passed = (mid, f);
+        } else {
+            failed = Some(mid);
+        }
+    }
+    Ok(Some(passed.1))
+}
+
+/// An edge's frames ([`TrueEdge::frame`]), each parameter's computed once:
+/// a fit tries several knot vectors, and the parameters a side is measured
+/// at, and the ends of pieces halved, come back each time (a frame of a
+/// STEP edge is a foot-point search on its face).
+struct Frames<'a> {
+    edge: &'a TrueEdge,
+    seen: std::cell::RefCell<std::collections::HashMap<u64, EdgeFrame>>,
+}
+
+impl<'a> Frames<'a> {
+    fn new(edge: &'a TrueEdge) -> Self {
+        Self {
+            edge,
+            seen: Default::default(),
+        }
+    }
+
+    fn at(&self, t: f64) -> EdgeFrame {
+        if let Some(f) = self.seen.borrow().get(&t.to_bits()) {
+            return *f;
+        }
+        let f = self.edge.frame(t);
+        self.seen.borrow_mut().insert(t.to_bits(), f);
+        f
+    }
 }
 
 /// The refusal of a strip along an edge that turns inside (a break of its
@@ -352,7 +442,7 @@ fn axes(f: &EdgeFrame) -> Option<(Vec3, Vec3)> {
 
 /// The strip on `knots` × Bézier(1) through the edge's points and its
 /// T (`across`) at the interpolation nodes.
-fn interpolate(edge: &TrueEdge, across: Across, knots: KnotVector) -> Result<BSplineSurface> {
+fn interpolate(edge: &Frames, across: Across, knots: KnotVector) -> Result<BSplineSurface> {
     // One span: Chebyshev–Lobatto nodes (near-best polynomial
     // interpolation; equally spaced Greville abscissae of a high degree
     // amplify the edge's own approximation error, Runge); several spans:
@@ -368,7 +458,7 @@ fn interpolate(edge: &TrueEdge, across: Across, knots: KnotVector) -> Result<BSp
     let n = g.len();
     let mut data = Vec::with_capacity(6 * n);
     for &t in &g {
-        let f = edge.frame(t);
+        let f = edge.at(t);
         let d = match across {
             Across::None => [0.0; 3],
             Across::Right(width) => {
@@ -410,12 +500,12 @@ fn no_frame(t: f64) -> Error {
 /// Largest distance and normal angle between the strip's side V0 and the
 /// edge at the same parameters (Chebyshev–Lobatto on every span, and
 /// where a fill's side is measured); the angle 0 unless `normals`.
-fn deviation(edge: &TrueEdge, s: &BSplineSurface, normals: bool) -> Result<(f64, f64)> {
+fn deviation(edge: &Frames, s: &BSplineSurface, normals: bool) -> Result<(f64, f64)> {
     let mut ts = side_parameters(s.knots().0);
     ts.extend(crate::fill::measure_side_parameters());
     let (mut gap, mut ang) = (0.0f64, 0.0f64);
     for (t, d) in ts.iter().zip(s.derivatives_on(&ts, &[0.0])) {
-        let f = edge.frame(*t);
+        let f = edge.at(*t);
         gap = gap.max(dist(f.point, d.point));
         if !normals {
             continue;
@@ -478,6 +568,90 @@ mod tests {
             assert!(d.dv[2] < 0.0, "{t}: {:?}", d.dv);
             assert!(dot(d.dv, f.normal).abs() <= 1e-4 * norm(d.dv), "{t}");
             assert!((norm(d.dv) - 0.3).abs() <= 1e-4, "{t}: width");
+        }
+    }
+
+    /// The search for the pieces per interval returns the least power of
+    /// two that passes: on errors falling as h⁶ with fewer fits than
+    /// trying 1, 2, 4, … in turn; where the prediction overshoots (the
+    /// first fit's error far from the asymptote), bisecting back down.
+    #[test]
+    fn least_pieces_finds_the_least_power_of_two_that_passes() {
+        // e(n) = c / n⁶ over the tolerance: passes from n ≥ c^(1/6).
+        for c in [0.5, 3.0, 1e3, 1e6, 7e12, 1e17] {
+            let mut tried = Vec::new();
+            let got = least_pieces(|n| {
+                tried.push(n);
+                let e = c / (n as f64).powi(6);
+                Ok((n, e <= 1.0, [e, 0.0]))
+            })
+            .unwrap();
+            let least = (0..=9)
+                .map(|k| 1usize << k)
+                .find(|&n| c / (n as f64).powi(6) <= 1.0);
+            assert_eq!(got, least, "{c}: {tried:?}");
+            let doubling = least.map_or(10, |n| n.trailing_zeros() as usize + 1);
+            assert!(tried.len() <= doubling, "{c}: {tried:?}");
+            if c >= 1e6 {
+                assert!(tried.len() < doubling, "{c}: {tried:?}");
+            }
+        }
+        // A first error far above the rest: the jump to 16 passes, and
+        // bisection finds 4 (2 fails).
+        let mut tried = Vec::new();
+        let got = least_pieces(|n| {
+            tried.push(n);
+            let e = match n {
+                1 => 1e6,
+                2 => 2.0,
+                _ => 0.5,
+            };
+            Ok((n, e <= 1.0, [e, 0.0]))
+        })
+        .unwrap();
+        assert_eq!((got, tried.as_slice()), (Some(4), &[1, 16, 4, 2][..]));
+        // In angle (h⁵) as in position, and NaN errors just double.
+        let mut tried = Vec::new();
+        let got = least_pieces(|n| {
+            tried.push(n);
+            let within = n >= 8;
+            let e = if within { 0.5 } else { f64::NAN };
+            Ok((n, within, [e, e]))
+        })
+        .unwrap();
+        assert_eq!((got, tried.as_slice()), (Some(8), &[1, 2, 4, 8][..]));
+        // Nothing passes: 512 is the last tried, None.
+        let mut tried = Vec::new();
+        let got = least_pieces(|n| {
+            tried.push(n);
+            Ok((n, false, [2.0, 0.0]))
+        })
+        .unwrap();
+        assert_eq!(got, None);
+        assert_eq!(tried.last(), Some(&MAX_PIECES));
+    }
+
+    /// On a cut cylinder's edge, a whole turn or two, at tolerances from
+    /// 1e-3 to 1e-11: the strip's pieces are a power of two, and half as
+    /// many, fitted directly, miss the tolerance.
+    #[test]
+    fn a_strip_takes_the_least_power_of_two_of_pieces_that_meets_the_tolerance() {
+        for (turn, position) in [(1.0, 1e-3), (1.0, 1e-6), (1.0, 1e-9), (2.0, 1e-11)] {
+            let tol = FitTolerance {
+                position,
+                angle: 0.01f64.to_radians(),
+            };
+            let edge = cylinder_cut(0.5, turn);
+            let s = strip_stand_in(&edge, 0.3, tol, false).unwrap();
+            let n = s.surface.knots().0.spans().len();
+            assert!(n.is_power_of_two(), "{n}");
+            assert!(s.position <= tol.position && s.angle <= tol.angle);
+            assert!(n > 1, "{turn} {position}");
+            let frames = Frames::new(&edge);
+            let half = pieces(&[], n / 2, false).unwrap();
+            let strip = interpolate(&frames, Across::Right(0.3), half).unwrap();
+            let (p, a) = deviation(&frames, &strip, true).unwrap();
+            assert!(p > tol.position || a > tol.angle, "{n}: {p} {a}");
         }
     }
 
