@@ -149,8 +149,9 @@ const FIRST_DEGREE: usize = 5;
 /// its side V0 the edge, T across it at right angles, `width` long.
 /// Degree 5 on equal pieces, their number the least power of two with
 /// which the strip is within `tolerance` (found in fewer fits than
-/// doubling from one: predicted from each fit's errors, then bisected); with `one_span` (a fan of triangular
-/// patches needs each side one polynomial piece) one Bézier span of
+/// doubling from one: predicted from each fit's errors, then bisected);
+/// with `one_span` (a fan of triangular patches needs each side one
+/// polynomial piece) one Bézier span of
 /// degree 5 to [`ONE_SPAN_DEGREE`] instead. The pieces: the edge's breaks
 /// ([`TrueEdge::breaks`], knots as smooth as the edge there) cut in equal
 /// parts. Interpolates the edge's points and
