@@ -582,6 +582,20 @@ mod tests {
         }
     }
 
+    /// [`least_pieces`] on errors `e(n)` over the tolerance in position
+    /// and angle (passing when both are at most 1): what it returns and
+    /// the n it tried, in order.
+    fn search(e: impl Fn(usize) -> [f64; 2]) -> (Option<usize>, Vec<usize>) {
+        let mut tried = Vec::new();
+        let got = least_pieces(|n| {
+            tried.push(n);
+            let [p, a] = e(n);
+            Ok((n, p <= 1.0 && a <= 1.0, [p, a]))
+        })
+        .unwrap();
+        (got, tried)
+    }
+
     /// The search for the pieces per interval returns the least power of
     /// two that passes: on errors falling as h⁶ with fewer fits than
     /// trying 1, 2, 4, … in turn; where the prediction overshoots (the
@@ -590,13 +604,7 @@ mod tests {
     fn least_pieces_finds_the_least_power_of_two_that_passes() {
         // e(n) = c / n⁶ over the tolerance: passes from n ≥ c^(1/6).
         for c in [0.5, 3.0, 1e3, 1e6, 7e12, 1e17] {
-            let mut tried = Vec::new();
-            let got = least_pieces(|n| {
-                tried.push(n);
-                let e = c / (n as f64).powi(6);
-                Ok((n, e <= 1.0, [e, 0.0]))
-            })
-            .unwrap();
+            let (got, tried) = search(|n| [c / (n as f64).powi(6), 0.0]);
             let least = (0..=9)
                 .map(|k| 1usize << k)
                 .find(|&n| c / (n as f64).powi(6) <= 1.0);
@@ -609,53 +617,38 @@ mod tests {
         }
         // A first error far above the rest: the jump to 16 passes, and
         // bisection finds 4 (2 fails).
-        let mut tried = Vec::new();
-        let got = least_pieces(|n| {
-            tried.push(n);
+        let (got, tried) = search(|n| {
             let e = match n {
                 1 => 1e6,
                 2 => 2.0,
                 _ => 0.5,
             };
-            Ok((n, e <= 1.0, [e, 0.0]))
-        })
-        .unwrap();
+            [e, 0.0]
+        });
         assert_eq!((got, tried.as_slice()), (Some(4), &[1, 16, 4, 2][..]));
         // In angle (h⁵) as in position, and NaN errors just double.
-        let mut tried = Vec::new();
-        let got = least_pieces(|n| {
-            tried.push(n);
-            let within = n >= 8;
-            let e = if within { 0.5 } else { f64::NAN };
-            Ok((n, within, [e, e]))
-        })
-        .unwrap();
+        let (got, tried) = search(|n| {
+            let e = if n >= 8 { 0.5 } else { f64::NAN };
+            [e, e]
+        });
         assert_eq!((got, tried.as_slice()), (Some(8), &[1, 2, 4, 8][..]));
         // Errors that grow with n past the one that passes (2): the jump
         // skips it, 16 to 512 fail, and the powers skipped are tried in
         // turn before giving up: 2, as doubling from one finds.
-        let mut tried = Vec::new();
-        let got = least_pieces(|n| {
-            tried.push(n);
+        let (got, tried) = search(|n| {
             let e = match n {
                 1 => 1e6,
                 2 => 0.5,
                 _ => 2.0,
             };
-            Ok((n, e <= 1.0, [e, 0.0]))
-        })
-        .unwrap();
+            [e, 0.0]
+        });
         assert_eq!(
             (got, tried.as_slice()),
             (Some(2), &[1, 16, 32, 64, 128, 256, 512, 2][..])
         );
         // Nothing passes: every power tried, None.
-        let mut tried = Vec::new();
-        let got = least_pieces(|n| {
-            tried.push(n);
-            Ok((n, false, [2.0, 0.0]))
-        })
-        .unwrap();
+        let (got, mut tried) = search(|_| [2.0, 0.0]);
         assert_eq!(got, None);
         tried.sort();
         assert_eq!(tried, (0..=9).map(|k| 1 << k).collect::<Vec<usize>>());

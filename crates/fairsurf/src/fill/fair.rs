@@ -77,13 +77,11 @@ pub(super) fn fair(
     // solve, and its last accepted step's W is the fill's: W by the main
     // rule is evaluated once per surface, the half rule once at the end.
     let nodes = willmore::Rule::of(&surface);
-    let mut history = Vec::new();
-    let mut w = None;
+    // W of `surface` when known.
+    let mut w = (options.willmore_steps > 0).then(|| nodes.w(&surface));
+    let mut history: Vec<f64> = w.into_iter().collect();
     for _ in 0..options.willmore_steps {
-        let now = *w.get_or_insert_with(|| nodes.w(&surface));
-        if history.is_empty() {
-            history.push(now);
-        }
+        let now = w.expect("W before the steps");
         // A step whose system is not positive definite ends the steps; the
         // surface so far stands (its W and side fits are measured after).
         let Ok(next) = willmore::step(&surface, &free) else {

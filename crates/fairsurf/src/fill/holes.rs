@@ -552,11 +552,11 @@ fn arc_length(face: &BSplineSurface, edge: Edge, range: [f64; 2]) -> f64 {
     let rule = RULE.get_or_init(|| GaussLegendre::new(16));
     // Every node's surface parameter along the edge (the other is fixed),
     // the basis functions once per node.
-    let ts: Vec<f64> = cuts
+    let params: Vec<(f64, f64)> = cuts
         .windows(2)
         .flat_map(|w| rule.nodes.iter().map(move |&x| w[0] + (w[1] - w[0]) * x))
+        .map(|t| surface_param(face, edge, t))
         .collect();
-    let params: Vec<(f64, f64)> = ts.iter().map(|&t| surface_param(face, edge, t)).collect();
     let Some(&(u0, v0)) = params.first() else {
         return 0.0;
     };
