@@ -496,7 +496,9 @@ def fill(
     and a pipe's ends; :class:`SolveError` when every loop is a rim, as in a
     file whose holes are all filled). ``normal_weight``, ``elevate``,
     ``willmore_steps`` and ``descent_steps`` (steps of L-BFGS on W itself;
-    0 for none) override the scene's ``fill`` options. Raises :class:`SceneError` for
+    0 for none) override the scene's ``fill`` options (a ``normal_weight``
+    given guides the thin plate before the descent too; by default the
+    normal field guides it only when the descent is off). Raises :class:`SceneError` for
     bad input (with ``.path``), :class:`SolveError` for a hole that cannot be
     filled (e.g. an N-sided hole whose sides have interior knots). For Open CASCADE shapes see
     :func:`fairsurf.occ.fill_shape`."""

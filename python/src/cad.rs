@@ -94,6 +94,7 @@ pub(super) fn fill(
         let mut options = input.options.clone();
         if let Some(w) = normal_weight {
             options.normal_weight = w;
+            options.guide_with_descent = true;
         }
         if let Some(e) = elevate {
             options.elevate = e;
@@ -205,6 +206,7 @@ pub(super) fn blend(
         }
         if let Some(w) = normal_weight {
             o.fill.normal_weight = w;
+            o.fill.guide_with_descent = true;
         }
         if let Some(e) = elevate {
             o.fill.elevate = e;

@@ -513,10 +513,14 @@ fn budget_ran_out(history: &[f64], budget: usize) -> Option<String> {
 /// Energy options a fill and a blend take from the command line.
 #[derive(clap::Args)]
 pub struct EnergyArgs {
-    /// The plain thin plate (no normal field from the boundary data).
+    /// The plain thin plate (no normal field from the boundary data), with
+    /// or without the descent on W (by default the normal field guides the
+    /// thin plate only when `--descent-steps 0` turns the descent off).
     #[arg(long, conflicts_with = "lambda")]
     plain: bool,
-    /// λ of the normal field from the boundary data, per unit area.
+    /// λ of the normal field from the boundary data, per unit area: it then
+    /// guides the thin plate before the descent on W too (default: 100,
+    /// only with `--descent-steps 0`).
     #[arg(long)]
     lambda: Option<f64>,
     /// Degrees the patch gets above its sides' largest.
@@ -541,6 +545,7 @@ impl EnergyArgs {
                 )));
             }
             options.normal_weight = l;
+            options.guide_with_descent = true;
         }
         if let Some(e) = self.elevate {
             options.elevate = e as usize;

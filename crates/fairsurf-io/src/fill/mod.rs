@@ -100,8 +100,10 @@ pub struct FillSpec {
     /// Thin-plate weight (default 1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bend: Option<f64>,
-    /// λ of the normal field from the boundary data, per unit area
-    /// (default 100; 0: the plain thin plate).
+    /// λ of the normal field from the boundary data, per unit area, that
+    /// guides the thin plate (0: the plain thin plate). Not given: 100, used
+    /// only when `descent_steps` is 0 (the descent on W reaches the same W
+    /// from the plain thin plate, faster); given: used either way.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub normal_weight: Option<f64>,
     /// Normal samples per control point and direction (default 3).
@@ -173,6 +175,8 @@ impl FillSpec {
             stretch: weight("stretch", self.stretch, d.stretch)?,
             bend: weight("bend", self.bend, d.bend)?,
             normal_weight: weight("normal_weight", self.normal_weight, d.normal_weight)?,
+            // A λ the scene gives guides the solve before the descent too.
+            guide_with_descent: self.normal_weight.is_some(),
             samples,
             willmore_steps,
             descent_steps,

@@ -1,5 +1,5 @@
-//! The fill made fair inside its fixed rings: the thin plate guided by the
-//! boundary's normal field, then W lowered (linearized Willmore steps if
+//! The fill made fair inside its fixed rings: the thin plate (guided by the
+//! boundary's normal field when no descent follows), then W lowered (linearized Willmore steps if
 //! asked, then the descent on W itself).
 
 use super::*;
@@ -55,14 +55,17 @@ pub(super) fn fair(
     if options.bend != 0.0 {
         problem = problem.with_term(Bend::new(options.bend));
     }
-    if options.normal_weight > 0.0 {
+    // The normal field guides the solve unless the descent on W follows
+    // (then the plain thin plate: the same W, see `guide_with_descent`).
+    let lambda = options.guiding_weight();
+    if lambda > 0.0 {
         let grid = SampleGrid::try_new(options.samples * cu, options.samples * cv)?;
         let normals = patch
             .on_grid(&grid.us(), &grid.vs())
             .into_iter()
             .map(|(_, fu, fv)| cross(fu, fv))
             .collect();
-        let weight = options.normal_weight / grid.len() as f64;
+        let weight = lambda / grid.len() as f64;
         problem = problem.with_term(NormalField::sampled(weight, grid, normals, None));
     }
     let setup = t0.elapsed().as_secs_f64();

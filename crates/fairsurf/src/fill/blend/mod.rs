@@ -433,7 +433,7 @@ fn blend_with(
             bulge_search: None,
             curvature: faired.curvature,
             willmore: faired.willmore,
-            normal_weight: options.fill.normal_weight,
+            normal_weight: options.fill.guiding_weight(),
             seconds: FillSeconds {
                 setup: faired.setup,
                 solve: faired.solve_seconds,
