@@ -93,8 +93,7 @@ pub(super) fn fill(
         let choice = input.choose(holes.as_deref())?;
         let mut options = input.options.clone();
         if let Some(w) = normal_weight {
-            options.normal_weight = w;
-            options.guide_with_descent = true;
+            options.guide_with(w);
         }
         if let Some(e) = elevate {
             options.elevate = e;
@@ -205,8 +204,7 @@ pub(super) fn blend(
             o.bulge = fairsurf::fill::Bulge::Fixed(b);
         }
         if let Some(w) = normal_weight {
-            o.fill.normal_weight = w;
-            o.fill.guide_with_descent = true;
+            o.fill.guide_with(w);
         }
         if let Some(e) = elevate {
             o.fill.elevate = e;

@@ -544,8 +544,7 @@ impl EnergyArgs {
                     "--lambda: expected a number ≥ 0, got {l}"
                 )));
             }
-            options.normal_weight = l;
-            options.guide_with_descent = true;
+            options.guide_with(l);
         }
         if let Some(e) = self.elevate {
             options.elevate = e as usize;

@@ -1,6 +1,6 @@
 //! The fill made fair inside its fixed rings: the thin plate (guided by the
-//! boundary's normal field when no descent follows), then W lowered (linearized Willmore steps if
-//! asked, then the descent on W itself).
+//! boundary's normal field when no descent follows), then W lowered
+//! (linearized Willmore steps if asked, then the descent on W itself).
 
 use super::*;
 use crate::{Bend, NormalField, Stretch};

@@ -205,6 +205,13 @@ impl FillOptions {
         }
     }
 
+    /// A λ the user gives: the normal field of that weight guides the
+    /// solve whether or not the descent on W follows.
+    pub fn guide_with(&mut self, lambda: f64) {
+        self.normal_weight = lambda;
+        self.guide_with_descent = true;
+    }
+
     /// The rational surface face `face` stands in for, if any.
     pub fn rational(&self, face: usize) -> Option<&RationalSurface> {
         self.rational_faces.get(face).and_then(|r| r.as_deref())

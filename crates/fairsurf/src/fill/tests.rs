@@ -255,7 +255,7 @@ fn the_normal_field_guides_the_solve_only_where_no_descent_follows() {
             (w_plain - w_guided).abs() <= 1e-8 * w_guided,
             "{w_plain} vs {w_guided}"
         );
-        // No descent: guided by default, and fairer than the plain plate.
+        // No descent: guided by default.
         let no_descent = |normal_weight| {
             with(FillOptions {
                 descent_steps: 0,

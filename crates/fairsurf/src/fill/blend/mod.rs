@@ -24,10 +24,12 @@
 //!    W depends on them more than on anything else.
 //!    For a ruled S(u, v) = a(u) + v·b(u) cut in three this is exactly the
 //!    missing piece's speed, and the blend reproduces the piece.
-//! 4. **Fair inside**, as a fill: thin plate guided by the normals of the
-//!    Hermite–Coons patch of the four sides (the made sides' cross
+//! 4. **Fair inside**, as a fill: the thin plate — guided by the normals of
+//!    the Hermite–Coons patch of the four sides (the made sides' cross
 //!    derivatives the Hermite interpolants of the corner tangents and
-//!    twists), then W lowered by the fill's descent on W.
+//!    twists) where no descent follows, as in the bulge search
+//!    ([`FillOptions::guiding_weight`]) — then W lowered by the fill's
+//!    descent on W.
 //! 5. **Measured** on the returned surface: gap and normal angle against A
 //!    and against B along their edges, W, and the corner agreement.
 
