@@ -75,10 +75,10 @@ pub(super) fn fair(
     let t2 = Instant::now();
     let mut surface = solved.surface;
     let free = problem.free().to_vec();
-    // W's rule on the fill's knots (every candidate below keeps them). With
-    // no linearized steps asked the descent's first evaluation is W at the
-    // solve, and its last accepted step's W is the fill's: W by the main
-    // rule is evaluated once per surface, the half rule once at the end.
+    // W's rule on the fill's knots (every candidate below keeps them). The
+    // descent's last accepted step's W is the fill's, and when that step
+    // was one of its coarse phase it knows the coarse rule's W too (the
+    // error estimate's other W).
     let nodes = willmore::Rule::of(&surface);
     // W of `surface` when known.
     let mut w = (options.willmore_steps > 0).then(|| nodes.w(&surface));
@@ -102,22 +102,28 @@ pub(super) fn fair(
             break;
         }
     }
+    // W by the coarse rule at `surface`, when the descent knows it.
+    let mut coarse = None;
     if options.descent_steps > 0 {
-        let (s, w0, steps) = willmore::descend(surface, &nodes, &free, options.descent_steps, 1e-8);
-        surface = s;
+        let d = willmore::descend(surface, &nodes, &free, options.descent_steps, 1e-8);
+        surface = d.surface;
         // The same sum in the same order (NaN included).
-        debug_assert!(w.is_none_or(|w| w.to_bits() == w0.to_bits()));
+        debug_assert!(w.is_none_or(|w| w.to_bits() == d.start.to_bits()));
         if history.is_empty() {
-            history.push(w0);
+            history.push(d.start);
         }
-        w = Some(steps.last().copied().unwrap_or(w0));
-        history.extend(steps);
+        w = Some(d.steps.last().copied().unwrap_or(d.start));
+        history.extend(d.steps);
+        coarse = d.coarse;
     }
     let w = w.unwrap_or_else(|| nodes.w(&surface));
     if history.is_empty() {
         history.push(w);
     }
-    let curvature = measure::with_error(&surface, w);
+    let curvature = match coarse {
+        Some(c) => measure::with_coarse(w, c),
+        None => measure::with_error(&surface, w),
+    };
     Ok(Faired {
         surface,
         solve: solved.report,

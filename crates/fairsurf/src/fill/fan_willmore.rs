@@ -46,24 +46,37 @@ pub(crate) fn w_and_gradient_tri(surface: &TriSurface, rule: &Rule) -> (f64, Vec
     (w, g)
 }
 
-/// W's rule for the patches of a degree-n triangular surface (their
-/// tensor forms are all of degree n × n on [0, 1]²).
-fn rule(surface: &TriSurface) -> Rule {
-    Rule::of(&BSplineSurface::from_bezier(&surface.patch(0).to_tensor()))
+/// The rules for the patches of a degree-n triangular surface (their
+/// tensor forms are all of degree n × n on [0, 1]²): the descent's coarse
+/// one and W's.
+fn rules(surface: &TriSurface) -> [Rule; 2] {
+    let tensor = BSplineSurface::from_bezier(&surface.patch(0).to_tensor());
+    [Rule::coarse(&tensor), Rule::of(&tensor)]
+}
+
+/// W of every patch of `surface` by `rule`, summed patch by patch.
+fn w_tri(surface: &TriSurface, rule: &Rule) -> f64 {
+    surface
+        .patches()
+        .map(|p| rule.w(&BSplineSurface::from_bezier(&p.to_tensor())))
+        .sum()
 }
 
 /// Lowers W over the free coordinates of `factor` (the solve of `start`'s
 /// thin plate under its kept rows), at most `steps` steps, stopping after
 /// three in a row that gain less than `rel` of W, or after one when the
-/// next step's model promises less too ([`Lbfgs`]). Returns the surface and
-/// W before the first step and after each accepted one.
+/// next step's model promises less too ([`Lbfgs`]); by the coarse rule,
+/// then the main one ([`Lbfgs::coarse_then_main`]). Returns the surface and
+/// W before the first step and after each accepted one (as
+/// [`Lbfgs::coarse_then_main`] gives them: the coarse phase's steps but its
+/// last by the coarse rule).
 pub(crate) fn descend_tri(
     start: TriSurface,
     factor: &TriFactored,
     steps: usize,
     rel: f64,
 ) -> (TriSurface, Vec<f64>) {
-    let rule = rule(&start);
+    let [coarse, main] = rules(&start);
     let free = factor.free();
     let base: Vec<f64> = start.points().iter().flatten().copied().collect();
     let at = |x: &[f64]| -> Option<TriSurface> {
@@ -77,7 +90,7 @@ pub(crate) fn descend_tri(
         Some(s)
     };
     let on_free = |g: Vec<f64>| -> Vec<f64> { free.iter().map(|&i| g[i]).collect() };
-    let (w0, g0) = w_and_gradient_tri(&start, &rule);
+    let w0 = w_tri(&start, &main);
     let x0: Vec<f64> = free.iter().map(|&i| base[i]).collect();
     let curvature = |s: &[f64]| factor.h_norm2(s);
     let descent = Lbfgs {
@@ -86,14 +99,14 @@ pub(crate) fn descend_tri(
         rescale: Some(&curvature),
         rescale_once_cut: false,
     };
-    let (x, steps) = descent.run(
+    let (x, steps, _) = descent.coarse_then_main(
         x0,
         w0,
-        on_free(g0),
+        [&coarse, &main],
         |q| factor.projected(q),
-        |x| match at(x) {
+        |rule, x| match at(x) {
             Some(s) => {
-                let (w, g) = w_and_gradient_tri(&s, &rule);
+                let (w, g) = w_and_gradient_tri(&s, rule);
                 (w, on_free(g))
             }
             None => (f64::INFINITY, Vec::new()),
@@ -146,7 +159,7 @@ mod tests {
     #[test]
     fn the_gradient_is_the_derivative_of_the_reported_w() {
         let s = wavy();
-        let rule = rule(&s);
+        let [_, rule] = rules(&s);
         let (w, g) = w_and_gradient_tri(&s, &rule);
         assert!((w - reported_w(&s)).abs() <= 1e-12 * w, "{w}");
         let h = 1e-6;

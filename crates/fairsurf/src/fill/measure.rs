@@ -190,7 +190,8 @@ pub(crate) fn compare(
 pub struct TotalCurvature {
     /// W with p + q + 4 nodes per span and direction.
     pub value: f64,
-    /// |W − W'| with W' from half as many nodes plus one: an error estimate.
+    /// |W − W'| with W' from half as many nodes plus one (the descent's
+    /// coarse rule): an error estimate.
     pub error: f64,
 }
 
@@ -202,12 +203,16 @@ pub fn total_curvature(s: &BSplineSurface) -> TotalCurvature {
 
 /// [`TotalCurvature`] of `s` whose W by the main rule (p + q + 4 nodes,
 /// [`super::willmore::Rule::of`]) is `value`, known already: only the
-/// half rule's W for the error estimate is evaluated.
+/// coarse rule's W for the error estimate is evaluated.
 pub(crate) fn with_error(s: &BSplineSurface, value: f64) -> TotalCurvature {
-    let (p, q) = s.degree();
-    let half = (p + q + 4) / 2 + 1;
+    with_coarse(value, super::willmore::Rule::coarse(s).w(s))
+}
+
+/// [`TotalCurvature`] from W of one surface by the main rule (`value`) and
+/// by [`super::willmore::Rule::coarse`] (`coarse`).
+pub(crate) fn with_coarse(value: f64, coarse: f64) -> TotalCurvature {
     TotalCurvature {
         value,
-        error: (value - super::willmore::Rule::new(s, half).w(s)).abs(),
+        error: (value - coarse).abs(),
     }
 }

@@ -281,7 +281,10 @@ pub struct FillReport {
     pub curvature: TotalCurvature,
     /// W after the solve, after each linearized Willmore step tried (the
     /// last one tried is dropped when it did not lower W; none by default)
-    /// and after each descent step.
+    /// and after each descent step — by the main rule, but for the descent's
+    /// coarse phase: its steps before its last are measured by the coarse
+    /// rule (`fill::willmore::Rule::coarse`, within about the error
+    /// estimate of the main rule's W).
     pub willmore: Vec<f64>,
     /// λ used (0: plain thin plate).
     pub normal_weight: f64,
