@@ -26,7 +26,8 @@ use super::rational::{side_parameters, FitTolerance, StandIn};
 use super::{solve_dense_wide, BSplineSurface, KnotVector, ONE_SPAN_DEGREE};
 use crate::vec3::{angle, cross, dist, dot, norm, scale};
 use crate::{Error, Result, Vec3};
-use std::sync::Arc;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 
 /// A point of a face's edge, the edge's tangent there (as the face's loop
 /// runs) and the face's unit normal.
@@ -47,7 +48,16 @@ pub struct EdgeFrame {
 /// point), with the parameters where it is less smooth (its breaks).
 /// Compared by identity.
 #[derive(Clone)]
-pub struct TrueEdge(Arc<dyn Fn(f64) -> EdgeFrame + Send + Sync>, Arc<[Break]>);
+pub struct TrueEdge(
+    Arc<dyn Fn(f64) -> EdgeFrame + Send + Sync>,
+    Arc<[Break]>,
+    /// The frames computed so far, by t's bits: a strip's fits try several
+    /// knot vectors at parameters that come back (Chebyshev–Lobatto ones,
+    /// the ends of halved pieces), and a fill's side is measured at the
+    /// parameters the fits checked already (a frame of a STEP edge is a
+    /// foot-point search on its face).
+    Arc<Mutex<HashMap<u64, EdgeFrame>>>,
+);
 
 /// A parameter t ∈ (0, 1) where an edge is less smooth: its points are
 /// only C^`continuity` there (a knot of the edge's curve of degree p and
@@ -89,7 +99,7 @@ impl Break {
 impl TrueEdge {
     /// The edge given by `frame`.
     pub fn new(frame: impl Fn(f64) -> EdgeFrame + Send + Sync + 'static) -> Self {
-        Self(Arc::new(frame), Arc::new([]))
+        Self(Arc::new(frame), Arc::new([]), Default::default())
     }
 
     /// The same edge with its breaks ([`Break`]; those outside (0, 1) or
@@ -106,7 +116,7 @@ impl TrueEdge {
             }
             same
         });
-        Self(self.0, breaks.into())
+        Self(self.0, breaks.into(), self.2)
     }
 
     /// The breaks ([`Self::with_breaks`]), in order.
@@ -114,9 +124,15 @@ impl TrueEdge {
         &self.1
     }
 
-    /// The edge's frame at t ∈ [0, 1].
+    /// The edge's frame at t ∈ [0, 1] (computed once per t).
     pub fn frame(&self, t: f64) -> EdgeFrame {
-        (self.0)(t)
+        let seen = || self.2.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(f) = seen().get(&t.to_bits()) {
+            return *f;
+        }
+        let f = (self.0)(t);
+        seen().insert(t.to_bits(), f);
+        f
     }
 
     /// The tangents at t of a surface with the edge's point and normal
@@ -248,7 +264,6 @@ fn fit(
             return Err(e);
         }
     }
-    let frames = Frames::new(edge);
     let normals = !matches!(across, Across::None);
     let mut best: Option<(usize, f64, f64, String)> = None;
     let mut attempt = |knots: KnotVector| -> Result<(StandIn, bool)> {
@@ -256,8 +271,8 @@ fn fit(
             1 => format!("one span of degree {}", knots.degree()),
             n => format!("{n} pieces of degree {FIRST_DEGREE}"),
         };
-        let surface = interpolate(&frames, across, knots)?;
-        let (position, angle) = deviation(&frames, &surface, normals)?;
+        let surface = interpolate(edge, across, knots)?;
+        let (position, angle) = deviation(edge, &surface, normals)?;
         let within = position <= tolerance.position && angle <= tolerance.angle;
         // The refusal names the failed fit of the most pieces (the last
         // tried of one span's degrees).
@@ -356,33 +371,6 @@ fn least_pieces<T>(mut fit: impl FnMut(usize) -> Result<(T, bool, [f64; 2])>) ->
     Ok(Some(passed.1))
 }
 
-/// An edge's frames ([`TrueEdge::frame`]), each parameter's computed once:
-/// a fit tries several knot vectors, and the parameters a side is measured
-/// at, and the ends of pieces halved, come back each time (a frame of a
-/// STEP edge is a foot-point search on its face).
-struct Frames<'a> {
-    edge: &'a TrueEdge,
-    seen: std::cell::RefCell<std::collections::HashMap<u64, EdgeFrame>>,
-}
-
-impl<'a> Frames<'a> {
-    fn new(edge: &'a TrueEdge) -> Self {
-        Self {
-            edge,
-            seen: Default::default(),
-        }
-    }
-
-    fn at(&self, t: f64) -> EdgeFrame {
-        if let Some(f) = self.seen.borrow().get(&t.to_bits()) {
-            return *f;
-        }
-        let f = self.edge.frame(t);
-        self.seen.borrow_mut().insert(t.to_bits(), f);
-        f
-    }
-}
-
 /// The refusal of a strip along an edge that turns inside (a break of its
 /// points only C⁰ where its tangent, or the face's normal, turns by more
 /// than the angle tolerance): the direction across the edge jumps there,
@@ -453,7 +441,7 @@ fn axes(f: &EdgeFrame) -> Option<(Vec3, Vec3)> {
 
 /// The strip on `knots` × Bézier(1) through the edge's points and its
 /// T (`across`) at the interpolation nodes.
-fn interpolate(frames: &Frames, across: Across, knots: KnotVector) -> Result<BSplineSurface> {
+fn interpolate(edge: &TrueEdge, across: Across, knots: KnotVector) -> Result<BSplineSurface> {
     // One span: Chebyshev–Lobatto nodes (near-best polynomial
     // interpolation; equally spaced Greville abscissae of a high degree
     // amplify the edge's own approximation error, Runge); several spans:
@@ -469,7 +457,7 @@ fn interpolate(frames: &Frames, across: Across, knots: KnotVector) -> Result<BSp
     let n = g.len();
     let mut data = Vec::with_capacity(6 * n);
     for &t in &g {
-        let f = frames.at(t);
+        let f = edge.frame(t);
         let d = match across {
             Across::None => [0.0; 3],
             Across::Right(width) => {
@@ -511,12 +499,12 @@ fn no_frame(t: f64) -> Error {
 /// Largest distance and normal angle between the strip's side V0 and the
 /// edge at the same parameters (Chebyshev–Lobatto on every span, and
 /// where a fill's side is measured); the angle 0 unless `normals`.
-fn deviation(frames: &Frames, s: &BSplineSurface, normals: bool) -> Result<(f64, f64)> {
+fn deviation(edge: &TrueEdge, s: &BSplineSurface, normals: bool) -> Result<(f64, f64)> {
     let mut ts = side_parameters(s.knots().0);
     ts.extend(crate::fill::measure_side_parameters());
     let (mut gap, mut ang) = (0.0f64, 0.0f64);
     for (t, d) in ts.iter().zip(s.derivatives_on(&ts, &[0.0])) {
-        let f = frames.at(*t);
+        let f = edge.frame(*t);
         gap = gap.max(dist(f.point, d.point));
         if !normals {
             continue;
@@ -553,6 +541,36 @@ mod tests {
                 normal: [c, -s, 0.0],
             }
         })
+    }
+
+    /// An edge's frame is computed once per parameter, by the edge and
+    /// the copies that share it (with its breaks too): after a strip's
+    /// fit, a side measured at the fit's parameters (forwards or
+    /// backwards: the set is closed under t ↦ 1 − t) computes none.
+    #[test]
+    fn an_edge_computes_each_frame_once() {
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        let calls = Arc::new(AtomicUsize::new(0));
+        let counted = calls.clone();
+        let inner = cylinder_cut(0.5, 0.25);
+        let edge = TrueEdge::new(move |t| {
+            counted.fetch_add(1, Ordering::Relaxed);
+            inner.frame(t)
+        })
+        .with_breaks(vec![Break {
+            at: 0.5,
+            continuity: 2,
+        }]);
+        let a = edge.frame(0.25);
+        assert_eq!(edge.clone().frame(0.25), a);
+        assert_eq!(calls.load(Ordering::Relaxed), 1);
+        strip_stand_in(&edge, 0.3, FitTolerance::default(), false).unwrap();
+        let fitted = calls.load(Ordering::Relaxed);
+        for t in crate::fill::measure_side_parameters() {
+            edge.frame(t);
+            edge.frame(1.0 - t);
+        }
+        assert_eq!(calls.load(Ordering::Relaxed), fitted);
     }
 
     #[test]
@@ -670,10 +688,9 @@ mod tests {
             assert!(n.is_power_of_two(), "{n}");
             assert!(s.position <= tol.position && s.angle <= tol.angle);
             assert!(n > 1, "{turn} {position}");
-            let frames = Frames::new(&edge);
             let half = pieces(&[], n / 2, false).unwrap();
-            let strip = interpolate(&frames, Across::Right(0.3), half).unwrap();
-            let (p, a) = deviation(&frames, &strip, true).unwrap();
+            let strip = interpolate(&edge, Across::Right(0.3), half).unwrap();
+            let (p, a) = deviation(&edge, &strip, true).unwrap();
             assert!(p > tol.position || a > tol.angle, "{n}: {p} {a}");
         }
     }

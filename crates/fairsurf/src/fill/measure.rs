@@ -139,12 +139,22 @@ pub(crate) fn neighbour_tangents(
 }
 
 /// The [`SIDE_SAMPLES`] parameters on [0, 1] a side is compared at:
-/// Chebyshev–Lobatto points, clustered at the corners.
+/// Chebyshev–Lobatto points, clustered at the corners, rounded to
+/// multiples of 2⁻⁴⁰ and mirrored, so that t ↦ 1 − t maps the set onto
+/// itself exactly: a side traversed the other way is measured at the same
+/// parameters of its edge (whose frames a strip's fit has computed
+/// already, [`crate::bspline::TrueEdge::frame`]).
 pub(crate) fn side_parameters() -> Vec<f64> {
     let n = SIDE_SAMPLES - 1;
-    (0..=n)
-        .map(|i| 0.5 - 0.5 * (std::f64::consts::PI * i as f64 / n as f64).cos())
-        .collect()
+    let grid = (40f64).exp2();
+    let half: Vec<f64> = (0..=n / 2)
+        .map(|i| {
+            let t = 0.5 - 0.5 * (std::f64::consts::PI * i as f64 / n as f64).cos();
+            (t * grid).round() / grid
+        })
+        .collect();
+    let mirrored = half[..n.div_ceil(2)].iter().rev().map(|t| 1.0 - t);
+    half.iter().copied().chain(mirrored).collect()
 }
 
 /// The neighbour's (u, v) at parameter t of the hole's side.

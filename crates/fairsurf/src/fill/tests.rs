@@ -1862,3 +1862,23 @@ fn a_fill_too_large_to_solve_is_refused_before_solving() {
     let [s0, _, _, s3] = unified(&strips(&plane(125)), &options).unwrap();
     assert_eq!((s0.knots.count(), s3.knots.count()), (128, 128));
 }
+
+/// A side's sample parameters: 129 of them from 0 to 1, increasing,
+/// within 1e-12 of the Chebyshev–Lobatto points, and t ↦ 1 − t maps the
+/// set onto itself bit for bit (a side traversed backwards meets the
+/// parameters its edge's frames were computed at).
+#[test]
+fn side_parameters_are_lobatto_points_closed_under_reversal() {
+    let ts = super::measure::side_parameters();
+    assert_eq!(ts.len(), SIDE_SAMPLES);
+    assert_eq!((ts[0], ts[SIDE_SAMPLES - 1]), (0.0, 1.0));
+    let n = (SIDE_SAMPLES - 1) as f64;
+    for (i, &t) in ts.iter().enumerate() {
+        let lobatto = 0.5 - 0.5 * (std::f64::consts::PI * i as f64 / n).cos();
+        assert!((t - lobatto).abs() <= 1e-12, "{i}: {t} vs {lobatto}");
+        assert_eq!(1.0 - t, ts[SIDE_SAMPLES - 1 - i], "{i}");
+        if i > 0 {
+            assert!(t > ts[i - 1], "{i}");
+        }
+    }
+}
