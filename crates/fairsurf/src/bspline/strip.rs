@@ -97,7 +97,8 @@ impl Break {
 }
 
 impl TrueEdge {
-    /// The edge given by `frame`.
+    /// The edge given by `frame`, a function of t alone: each t's frame
+    /// is computed once and kept ([`Self::frame`]).
     pub fn new(frame: impl Fn(f64) -> EdgeFrame + Send + Sync + 'static) -> Self {
         Self(Arc::new(frame), Arc::new([]), Default::default())
     }
@@ -131,7 +132,11 @@ impl TrueEdge {
             return *f;
         }
         let f = (self.0)(t);
-        seen().insert(t.to_bits(), f);
+        let mut cache = seen();
+        if cache.len() >= MAX_CACHED_FRAMES {
+            cache.clear();
+        }
+        cache.insert(t.to_bits(), f);
         f
     }
 
@@ -155,6 +160,11 @@ impl PartialEq for TrueEdge {
         Arc::ptr_eq(&self.0, &other.0)
     }
 }
+
+/// The most frames an edge keeps ([`TrueEdge::frame`]; it forgets them
+/// all past that: ~6 MB, far more than a strip's fits and a fill's sides
+/// ask, which stay well under 10,000).
+const MAX_CACHED_FRAMES: usize = 65_536;
 
 /// The most pieces a strip cuts its edge into.
 const MAX_PIECES: usize = 512;

@@ -141,7 +141,8 @@ pub struct FanReport {
     /// W = ∫∫ κ₁² + κ₂² dA of the whole fan.
     pub curvature: TotalCurvature,
     /// W of the thin-plate fill, then after each step of the descent on W
-    /// (one entry: no descent).
+    /// (one entry: no descent); the descent's coarse-phase steps but its
+    /// last are measured by the coarse rule (as [`super::FillReport::willmore`]).
     pub willmore: Vec<f64>,
     /// Seconds: rows, solve, measurements.
     pub seconds: FillSeconds,

@@ -3,8 +3,9 @@
 //!
 //! Each patch is W-integrated as its exact tensor form (the degree n × n
 //! patch with one side collapsed, [`crate::TriPatch::to_tensor`]) by the
-//! 4-sided fill's Gauss rule, so W and its gradient are those of
-//! [`super::total_curvature`] on the patches the fill returns; the
+//! 4-sided fill's Gauss rules — the coarse one first, then the main one,
+//! whose W and gradient are those of [`super::total_curvature`] on the
+//! patches the fill returns ([`super::willmore::Lbfgs::coarse_then_main`]); the
 //! gradient with respect to the triangular points is the tensor one pulled
 //! back through the conversion's weights (its transpose). The descent is
 //! the 4-sided fill's L-BFGS ([`super::willmore::Lbfgs`]) with, as first

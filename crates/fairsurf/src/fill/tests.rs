@@ -215,6 +215,11 @@ fn the_default_fill_is_exact_and_as_fair_as_the_missing_piece() {
         }
         let (w0, w) = (total_curvature(&centre).value, fill.report.curvature.value);
         assert!(w <= w0 * (1.0 + 1e-9), "{w} > {w0}");
+        // W and its error estimate are the returned surface's, bit for bit
+        // (the estimate's coarse W taken from the descent where it knew
+        // it), and W is the descent's last.
+        assert_eq!(fill.report.curvature, total_curvature(&fill.surface));
+        assert_eq!(fill.report.willmore.last(), Some(&w));
     }
 }
 

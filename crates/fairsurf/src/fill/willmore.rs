@@ -464,7 +464,9 @@ fn descend_by(
 /// next step's quadratic model (−½ gᵀd, with at least one curvature pair)
 /// promises less than `rel` too, or
 /// when no step lowers it (along the L-BFGS direction nor, the pairs
-/// forgotten, along −H0 g).
+/// forgotten, along −H0 g). [`Lbfgs::resume`] carries the pairs, H0's
+/// scale, the cut flag and the run of small steps from one run to the
+/// next ([`Memory`]).
 pub(crate) struct Lbfgs<'a> {
     pub steps: usize,
     pub rel: f64,
@@ -509,7 +511,11 @@ impl Lbfgs<'_> {
     /// last accepted point, W after each accepted step (the coarse rule's
     /// W for the coarse phase's steps but its last, whose W is replaced by
     /// the main rule's) and W at that point by the coarse rule when the
-    /// last accepted step was a coarse one (else None).
+    /// last accepted step was a coarse one (else None). The polish counts
+    /// its run of small steps anew (but for the coarse phase's last: its
+    /// first model test may end it at once); where the coarse steps raised
+    /// the main rule's W above `w0` (NaN included) it starts over from
+    /// `x0` by the main rule alone, so the W reported never exceeds `w0`.
     pub(crate) fn coarse_then_main(
         &self,
         x0: Vec<f64>,
@@ -522,22 +528,39 @@ impl Lbfgs<'_> {
         let (wc, gc) = eval(rules[0], &x0);
         // Gains below the coarse rule's own error are its noise: the
         // coarse phase stops there (the main rule goes on).
+        let error = if w0 > 0.0 { (wc - w0).abs() / w0 } else { 0.0 };
         let coarse = Lbfgs {
-            rel: self.rel.max((wc - w0).abs() / w0.abs()),
+            rel: self.rel.max(error),
             ..*self
         };
-        let (x, mut history) = coarse.resume(&mut memory, x0, wc, gc, &h0, |x| eval(rules[0], x));
+        let (x, mut history) =
+            coarse.resume(&mut memory, x0.clone(), wc, gc, &h0, |x| eval(rules[0], x));
         let last_coarse = history.last().copied().unwrap_or(wc);
-        let (w, g) = eval(rules[1], &x);
+        let (mut x, (mut w, mut g)) = {
+            let main = eval(rules[1], &x);
+            (x, main)
+        };
         if let Some(last) = history.last_mut() {
             *last = w;
         }
+        let restarted = w.is_nan() || w > w0;
+        if restarted {
+            // The coarse steps raised the main rule's W: the main rule
+            // alone from the start.
+            history.clear();
+            memory = Memory::default();
+            (w, g) = eval(rules[1], &x0);
+            x = x0;
+        }
+        // The polish's run of small steps counts the main rule's: at most
+        // the coarse phase's last (its first model test may end it at once).
+        memory.small = memory.small.min(1);
         let polish = Lbfgs {
             steps: self.steps - history.len(),
             ..*self
         };
         let (x, steps) = polish.resume(&mut memory, x, w, g, &h0, |x| eval(rules[1], x));
-        let coarse = steps.is_empty().then_some(last_coarse);
+        let coarse = (steps.is_empty() && !restarted).then_some(last_coarse);
         history.extend(steps);
         (x, history, coarse)
     }
