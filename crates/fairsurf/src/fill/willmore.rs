@@ -350,7 +350,7 @@ pub(crate) struct Descent {
 ///
 /// In two phases: W, its gradient and A by [`Rule::coarse`] (about a
 /// third of the nodes) until that descent stops, then the same L-BFGS
-/// ([`Lbfgs::resume`]: its pairs and its run of small steps kept) on W by
+/// ([`Lbfgs::coarse_then_main`]: its pairs kept) on W by
 /// the main rule `nodes` ([`Rule::of`] the surface's knots, the rule of
 /// [`super::total_curvature`]): its gradient is exact for the W that is
 /// reported, and the descent stops only when the main rule's W says so.
@@ -536,10 +536,8 @@ impl Lbfgs<'_> {
         let (x, mut history) =
             coarse.resume(&mut memory, x0.clone(), wc, gc, &h0, |x| eval(rules[0], x));
         let last_coarse = history.last().copied().unwrap_or(wc);
-        let (mut x, (mut w, mut g)) = {
-            let main = eval(rules[1], &x);
-            (x, main)
-        };
+        let mut x = x;
+        let (mut w, mut g) = eval(rules[1], &x);
         if let Some(last) = history.last_mut() {
             *last = w;
         }
